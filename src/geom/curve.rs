@@ -1,0 +1,487 @@
+//! NURBS curves in 2-D (profiles drawn in a view) and 3-D (die-face curves).
+//!
+//! Evaluation follows Piegl & Tiller: basis functions and their derivatives (A2.2,
+//! eq. 2.9), the homogeneous curve and its derivatives (A3.2 in `(wP, w)` space), then
+//! the rational derivatives (A4.2). Arc length is integrated per knot span with
+//! Gauss-Legendre quadrature.
+
+use glam::{DVec2, DVec3};
+
+use super::error::{GeomError, Result};
+use super::knots::{check_degree, KnotVector};
+use super::ops::{self, Spline};
+use super::point::{Homogeneous, Point};
+use super::MAX_DERIVATIVE;
+
+/// A (possibly rational) B-spline curve with clamped knots.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NurbsCurve<P> {
+    degree: usize,
+    knots: KnotVector,
+    points: Vec<P>,
+    /// `None` for a polynomial B-spline (all weights 1).
+    weights: Option<Vec<f64>>,
+}
+
+/// A curve drawn in a 2-D view.
+pub type Curve2 = NurbsCurve<DVec2>;
+/// A curve in press coordinates.
+pub type Curve3 = NurbsCurve<DVec3>;
+
+impl<P: Point> NurbsCurve<P> {
+    /// A polynomial B-spline from its degree, flat clamped knot vector and control points.
+    pub fn new(degree: usize, knots: Vec<f64>, points: Vec<P>) -> Result<Self> {
+        check_degree(degree)?;
+        check_points(&points)?;
+        let knots = KnotVector::new(knots, degree, points.len())?;
+        Ok(Self { degree, knots, points, weights: None })
+    }
+
+    /// A rational B-spline; weights must be finite and positive, one per control point.
+    /// All-equal weights are kept as given (the curve is then polynomial in shape).
+    pub fn new_rational(degree: usize, knots: Vec<f64>, points: Vec<P>, weights: Vec<f64>) -> Result<Self> {
+        let mut c = Self::new(degree, knots, points)?;
+        check_weights(&weights, c.points.len())?;
+        c.weights = Some(weights);
+        Ok(c)
+    }
+
+    /// A polynomial Bezier curve on [0, 1] through its control polygon's ends.
+    pub fn bezier(points: Vec<P>) -> Result<Self> {
+        if points.len() < 2 {
+            return Err(GeomError::TooFewPoints { needed: 2, given: points.len() });
+        }
+        let degree = points.len() - 1;
+        Self::new(degree, KnotVector::bezier(degree).into_vec(), points)
+    }
+
+    /// The straight segment from `a` to `b` on [0, 1], as a degree-1 curve.
+    pub fn line(a: P, b: P) -> Result<Self> {
+        Self::new(1, vec![0.0, 0.0, 1.0, 1.0], vec![a, b])
+    }
+
+    /// Builds from parts the kernel produced itself (already valid).
+    pub(crate) fn from_parts(degree: usize, knots: Vec<f64>, points: Vec<P>, weights: Option<Vec<f64>>) -> Self {
+        Self { degree, knots: KnotVector::trusted(knots), points, weights }
+    }
+
+    /// Builds from a homogeneous spline, dropping the weights when all are 1.
+    pub(crate) fn from_homogeneous(s: Spline<Homogeneous<P>>, rational: bool) -> Self {
+        let points = s.points.iter().map(|h| h.to_point()).collect();
+        let weights = rational.then(|| s.points.iter().map(|h| h.weight).collect());
+        Self::from_parts(s.degree, s.knots, points, weights)
+    }
+
+    /// The control points in homogeneous form, for algorithms that treat rational
+    /// curves as polynomial ones in one more dimension.
+    pub(crate) fn to_homogeneous(&self) -> Spline<Homogeneous<P>> {
+        let points = (0..self.points.len()).map(|i| Homogeneous::from_point(self.points[i], self.weight(i))).collect();
+        Spline { degree: self.degree, knots: self.knots.as_slice().to_vec(), points }
+    }
+
+    /// Polynomial degree.
+    pub fn degree(&self) -> usize {
+        self.degree
+    }
+
+    /// The knot vector.
+    pub fn knots(&self) -> &KnotVector {
+        &self.knots
+    }
+
+    /// Control points (Euclidean, not weighted).
+    pub fn control_points(&self) -> &[P] {
+        &self.points
+    }
+
+    /// Weights, or `None` for a polynomial curve.
+    pub fn weights(&self) -> Option<&[f64]> {
+        self.weights.as_deref()
+    }
+
+    /// Weight of control point `i` (1 for polynomial curves).
+    pub fn weight(&self, i: usize) -> f64 {
+        self.weights.as_ref().map_or(1.0, |w| w[i])
+    }
+
+    /// Whether the curve carries weights.
+    pub fn is_rational(&self) -> bool {
+        self.weights.is_some()
+    }
+
+    /// Parameter domain `[t0, t1]`.
+    pub fn domain(&self) -> (f64, f64) {
+        self.knots.domain()
+    }
+
+    /// First point, `C(t0)`.
+    pub fn start_point(&self) -> P {
+        self.points[0]
+    }
+
+    /// Last point, `C(t1)`.
+    pub fn end_point(&self) -> P {
+        self.points[self.points.len() - 1]
+    }
+
+    /// The point `C(t)`. Parameters outside the domain evaluate the end spans' polynomial
+    /// pieces; callers that must not extrapolate clamp first.
+    pub fn point_at(&self, t: f64) -> P {
+        let span = self.knots.span(self.degree, t);
+        let basis = self.knots.basis(span, self.degree, t);
+        let first = span - self.degree;
+        match &self.weights {
+            None => {
+                let mut acc = P::ZERO;
+                for r in 0..=self.degree {
+                    acc = acc + self.points[first + r] * basis[r];
+                }
+                acc
+            }
+            Some(w) => {
+                let mut acc = P::ZERO;
+                let mut wsum = 0.0;
+                for r in 0..=self.degree {
+                    let nw = basis[r] * w[first + r];
+                    acc = acc + self.points[first + r] * nw;
+                    wsum += nw;
+                }
+                acc * (1.0 / wsum)
+            }
+        }
+    }
+
+    /// The point and its first `N - 1` derivatives with respect to `t`:
+    /// `[C, C', C'', ...]` (P&T A3.2 and A4.2). At a knot the derivatives are those of the
+    /// span to its right (the left one at the domain's end), as OpenCascade evaluates them.
+    pub fn derivatives<const N: usize>(&self, t: f64) -> [P; N] {
+        const { assert!(N >= 1 && N <= MAX_DERIVATIVE + 1, "at most third derivatives") };
+        let p = self.degree;
+        let span = self.knots.span(p, t);
+        let mut basis = [[0.0; super::MAX_DEGREE + 1]; MAX_DERIVATIVE + 1];
+        self.knots.basis_derivatives(span, p, t, N - 1, &mut basis);
+        let first = span - p;
+        let mut a = [P::ZERO; N];
+        let mut w = [0.0; N];
+        for k in 0..N {
+            for r in 0..=p {
+                let wi = self.weight(first + r);
+                a[k] = a[k] + self.points[first + r] * (basis[k][r] * wi);
+                w[k] += basis[k][r] * wi;
+            }
+        }
+        if self.weights.is_none() {
+            return a;
+        }
+        rational_derivatives(&a, &w)
+    }
+
+    /// First derivative `C'(t)`.
+    pub fn derivative_at(&self, t: f64) -> P {
+        self.derivatives::<2>(t)[1]
+    }
+
+    /// Unit tangent at `t`, or an error where the derivative vanishes.
+    pub fn unit_tangent(&self, t: f64) -> Result<P> {
+        let d = self.derivative_at(t);
+        let len = d.length();
+        if len <= f64::EPSILON * (1.0 + self.control_scale()) {
+            return Err(GeomError::ZeroVector { what: "curve derivative" });
+        }
+        Ok(d * (1.0 / len))
+    }
+
+    /// Curvature `|C' x C''| / |C'|^3` at `t` (0 where the derivative vanishes).
+    pub fn curvature(&self, t: f64) -> f64 {
+        let [_, d1, d2] = self.derivatives::<3>(t);
+        curvature_of(d1, d2)
+    }
+
+    /// A size for relative tolerances: the largest control-point coordinate magnitude.
+    pub fn control_scale(&self) -> f64 {
+        self.points.iter().map(|p| p.length()).fold(0.0, f64::max)
+    }
+
+    /// Parameters that split the domain into the non-empty knot spans, ends included.
+    pub fn span_breaks(&self) -> Vec<f64> {
+        self.knots.distinct().into_iter().map(|(k, _)| k).collect()
+    }
+
+    /// Arc length of the whole curve.
+    pub fn length(&self) -> f64 {
+        let (a, b) = self.domain();
+        self.length_between(a, b)
+    }
+
+    /// Arc length between parameters `a` and `b` (signed: negative when `b < a`),
+    /// integrated span by span with adaptive Gauss-Legendre quadrature to about 1e-12
+    /// relative accuracy.
+    pub fn length_between(&self, a: f64, b: f64) -> f64 {
+        if b < a {
+            return -self.length_between(b, a);
+        }
+        let mut total = 0.0;
+        let mut lo = a;
+        for k in self.span_breaks() {
+            if k > lo && k < b {
+                total += adaptive_length(self, lo, k, 0);
+                lo = k;
+            }
+        }
+        if b > lo {
+            total += adaptive_length(self, lo, b, 0);
+        }
+        total
+    }
+
+    /// The parameter at arc length `s` from the start (clamped to the domain), by
+    /// safeguarded Newton iteration on `length_between(t0, t) - s`.
+    pub fn parameter_at_length(&self, s: f64) -> Result<f64> {
+        if !s.is_finite() {
+            return Err(GeomError::NotFinite { what: "arc length" });
+        }
+        let (t0, t1) = self.domain();
+        let total = self.length();
+        if s <= 0.0 {
+            return Ok(t0);
+        }
+        if s >= total {
+            return Ok(t1);
+        }
+        // Bracket [lo, hi] with lengths at the bracket ends; Newton inside it.
+        let (mut lo, mut hi) = (t0, t1);
+        let mut t = t0 + (t1 - t0) * s / total;
+        let tol = 1e-12 * total.max(1.0);
+        for _ in 0..100 {
+            let f = self.length_between(t0, t) - s;
+            if f.abs() <= tol {
+                return Ok(t);
+            }
+            if f > 0.0 {
+                hi = t;
+            } else {
+                lo = t;
+            }
+            let speed = self.derivative_at(t).length();
+            let newton = t - f / speed;
+            t = if speed > 0.0 && newton > lo && newton < hi { newton } else { 0.5 * (lo + hi) };
+            if hi - lo <= 1e-15 * (t1 - t0) {
+                return Ok(t);
+            }
+        }
+        Err(GeomError::NoConvergence {
+            what: "parameter at arc length",
+            iterations: 100,
+            residual: (self.length_between(t0, t) - s).abs(),
+        })
+    }
+
+    /// The same curve run backwards: `reversed(t0 + t1 - t) = C(t)`.
+    pub fn reversed(&self) -> Self {
+        let (a, b) = self.domain();
+        let knots = self.knots.as_slice().iter().rev().map(|&k| a + b - k).collect();
+        let points = self.points.iter().rev().copied().collect();
+        let weights = self.weights.as_ref().map(|w| w.iter().rev().copied().collect());
+        Self::from_parts(self.degree, knots, points, weights)
+    }
+
+    /// The same curve on the domain `[a, b]` (linear reparametrization of the knots).
+    pub fn reparametrized(&self, a: f64, b: f64) -> Result<Self> {
+        if !(a.is_finite() && b.is_finite()) {
+            return Err(GeomError::NotFinite { what: "domain bound" });
+        }
+        if b <= a {
+            return Err(GeomError::NotPositive { what: "domain length", value: b - a });
+        }
+        let (t0, t1) = self.domain();
+        let scale = (b - a) / (t1 - t0);
+        let mut knots: Vec<f64> = self.knots.as_slice().iter().map(|&k| a + (k - t0) * scale).collect();
+        // Pin the clamped ends exactly, whatever the rounding.
+        for k in knots.iter_mut().take(self.degree + 1) {
+            *k = a;
+        }
+        let n = knots.len();
+        for k in knots.iter_mut().skip(n - self.degree - 1) {
+            *k = b;
+        }
+        Ok(Self::from_parts(self.degree, knots, self.points.clone(), self.weights.clone()))
+    }
+
+    /// Inserts the knot `t` up to `times` times (P&T A5.1); the shape is unchanged.
+    /// Insertion stops at multiplicity = degree (a C0 point).
+    pub fn insert_knot(&self, t: f64, times: usize) -> Result<Self> {
+        let (a, b) = self.domain();
+        if !t.is_finite() || t <= a || t >= b {
+            return Err(GeomError::ParameterOutOfRange { value: t, min: a, max: b });
+        }
+        Ok(Self::from_homogeneous(ops::insert_knot(&self.to_homogeneous(), t, times), self.is_rational()))
+    }
+
+    /// Inserts several knots at once (P&T A5.4); each value must lie inside the domain and
+    /// no multiplicity may exceed the degree.
+    pub fn refine(&self, new_knots: &[f64]) -> Result<Self> {
+        let x = checked_refinement(&self.knots, self.degree, new_knots)?;
+        Ok(Self::from_homogeneous(ops::refine(&self.to_homogeneous(), &x), self.is_rational()))
+    }
+
+    /// Raises the degree by `by` without changing the shape (P&T A5.9).
+    pub fn elevate_degree(&self, by: usize) -> Result<Self> {
+        check_degree(self.degree + by)?;
+        Ok(Self::from_homogeneous(ops::elevate_degree(&self.to_homogeneous(), by), self.is_rational()))
+    }
+
+    /// Splits at `t` into the pieces on `[t0, t]` and `[t, t1]`, each keeping its part of
+    /// the parameter range.
+    pub fn split_at(&self, t: f64) -> Result<(Self, Self)> {
+        let (a, b) = self.domain();
+        if !t.is_finite() || t <= a || t >= b {
+            return Err(GeomError::ParameterOutOfRange { value: t, min: a, max: b });
+        }
+        let p = self.degree;
+        let full = ops::insert_knot(&self.to_homogeneous(), t, p);
+        // After insertion t has multiplicity p, so the control point shared by the two
+        // halves lies on the curve at t.
+        let mut left_knots: Vec<f64> = full.knots.iter().copied().filter(|&k| k < t).collect();
+        left_knots.extend(std::iter::repeat_n(t, p + 1));
+        let mut right_knots: Vec<f64> = vec![t; p + 1];
+        right_knots.extend(full.knots.iter().copied().filter(|&k| k > t));
+        let left_count = left_knots.len() - p - 1;
+        let left = Spline { degree: p, knots: left_knots, points: full.points[..left_count].to_vec() };
+        let right = Spline { degree: p, knots: right_knots, points: full.points[left_count - 1..].to_vec() };
+        let rational = self.is_rational();
+        Ok((Self::from_homogeneous(left, rational), Self::from_homogeneous(right, rational)))
+    }
+
+    /// Applies `f` to every control point (weights unchanged). Exact for affine maps,
+    /// which is how transforms and view embeddings act on NURBS.
+    pub fn map_points<Q: Point>(&self, f: impl Fn(P) -> Q) -> NurbsCurve<Q> {
+        NurbsCurve {
+            degree: self.degree,
+            knots: self.knots.clone(),
+            points: self.points.iter().map(|&p| f(p)).collect(),
+            weights: self.weights.clone(),
+        }
+    }
+
+    /// The curve embedded in 3-D with z = 0 (a 2-D curve in the XY plane).
+    pub fn to_3d(&self) -> Curve3 {
+        self.map_points(|p| p.to_3d())
+    }
+
+    /// Axis-aligned bounds of the control polygon (which contains the curve).
+    pub fn control_bounds(&self) -> (DVec3, DVec3) {
+        bounds(self.points.iter().map(|p| p.to_3d()))
+    }
+}
+
+/// Curvature from the first and second derivatives, valid in 2-D and 3-D:
+/// `sqrt(|d1|^2 |d2|^2 - (d1.d2)^2) / |d1|^3`.
+pub fn curvature_of<P: Point>(d1: P, d2: P) -> f64 {
+    let a = d1.dot(d1);
+    if a == 0.0 {
+        return 0.0;
+    }
+    let b = d2.dot(d2);
+    let c = d1.dot(d2);
+    (a * b - c * c).max(0.0).sqrt() / (a * a.sqrt())
+}
+
+/// Rational derivatives from homogeneous ones (P&T A4.2):
+/// `C^(k) = (A^(k) - sum_{i=1..k} binom(k,i) w^(i) C^(k-i)) / w`.
+pub(crate) fn rational_derivatives<P: Point, const N: usize>(a: &[P; N], w: &[f64; N]) -> [P; N] {
+    let mut c = [P::ZERO; N];
+    for k in 0..N {
+        let mut v = a[k];
+        let mut binom = 1.0;
+        for i in 1..=k {
+            binom = binom * (k + 1 - i) as f64 / i as f64;
+            v = v - c[k - i] * (binom * w[i]);
+        }
+        c[k] = v * (1.0 / w[0]);
+    }
+    c
+}
+
+/// Axis-aligned bounds of a set of points.
+pub(crate) fn bounds(points: impl Iterator<Item = DVec3>) -> (DVec3, DVec3) {
+    points.fold((DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)), |(lo, hi), p| (lo.min(p), hi.max(p)))
+}
+
+/// Checks knots to insert: finite, inside the open domain, and not pushing any knot's
+/// multiplicity above the degree. Returns them sorted.
+pub(crate) fn checked_refinement(knots: &KnotVector, degree: usize, new: &[f64]) -> Result<Vec<f64>> {
+    let (a, b) = knots.domain();
+    let mut x = new.to_vec();
+    for &t in &x {
+        if !t.is_finite() || t <= a || t >= b {
+            return Err(GeomError::ParameterOutOfRange { value: t, min: a, max: b });
+        }
+    }
+    x.sort_by(f64::total_cmp);
+    let mut i = 0;
+    while i < x.len() {
+        let j = x[i..].iter().take_while(|&&v| v == x[i]).count();
+        if knots.multiplicity(x[i]) + j > degree {
+            return Err(GeomError::KnotVector {
+                reason: format!("inserting {} would repeat it more than degree = {degree} times", x[i]),
+            });
+        }
+        i += j;
+    }
+    Ok(x)
+}
+
+fn check_points<P: Point>(points: &[P]) -> Result<()> {
+    if points.iter().any(|p| !p.is_finite()) {
+        return Err(GeomError::NotFinite { what: "control point" });
+    }
+    Ok(())
+}
+
+pub(crate) fn check_weights(weights: &[f64], count: usize) -> Result<()> {
+    if weights.len() != count {
+        return Err(GeomError::LengthMismatch { what: "weights", expected: count, given: weights.len() });
+    }
+    if let Some((index, &value)) = weights.iter().enumerate().find(|(_, w)| !(w.is_finite() && **w > 0.0)) {
+        return Err(GeomError::Weight { index, value });
+    }
+    Ok(())
+}
+
+/// 10-point Gauss-Legendre nodes and weights on [-1, 1].
+const GAUSS_X: [f64; 5] = [
+    0.148_874_338_981_631_2,
+    0.433_395_394_129_247_2,
+    0.679_409_568_299_024_4,
+    0.865_063_366_688_984_5,
+    0.973_906_528_517_171_7,
+];
+const GAUSS_W: [f64; 5] = [
+    0.295_524_224_714_752_9,
+    0.269_266_719_309_996_4,
+    0.219_086_362_515_982_0,
+    0.149_451_349_150_580_6,
+    0.066_671_344_308_688_1,
+];
+
+fn gauss_length<P: Point>(c: &NurbsCurve<P>, a: f64, b: f64) -> f64 {
+    let half = 0.5 * (b - a);
+    let mid = 0.5 * (a + b);
+    let mut s = 0.0;
+    for i in 0..5 {
+        let dx = half * GAUSS_X[i];
+        s += GAUSS_W[i] * (c.derivative_at(mid - dx).length() + c.derivative_at(mid + dx).length());
+    }
+    s * half
+}
+
+fn adaptive_length<P: Point>(c: &NurbsCurve<P>, a: f64, b: f64, depth: usize) -> f64 {
+    let whole = gauss_length(c, a, b);
+    let m = 0.5 * (a + b);
+    let halves = gauss_length(c, a, m) + gauss_length(c, m, b);
+    if depth >= 20 || (whole - halves).abs() <= 1e-13 * halves.max(1e-300) {
+        halves
+    } else {
+        adaptive_length(c, a, m, depth + 1) + adaptive_length(c, m, b, depth + 1)
+    }
+}

@@ -1,0 +1,85 @@
+//! Typed failures of the geometry kernel.
+//!
+//! The kernel never panics on user input: every degenerate or invalid input comes back
+//! as a [`GeomError`]. The language layer turns these into diagnostics, adding which
+//! declaration and which argument fed the failing operation, so each variant carries
+//! the index or value that lets it point at the culprit.
+
+use thiserror::Error;
+
+/// Everything that can go wrong inside the geometry kernel.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum GeomError {
+    /// A knot vector that is not non-decreasing, has the wrong length for its degree
+    /// and control points, is not clamped, or has a knot repeated too often.
+    #[error("invalid knot vector: {reason}")]
+    KnotVector { reason: String },
+
+    /// A degree of zero, or above [`crate::geom::MAX_DEGREE`].
+    #[error("degree {degree} is not supported (allowed: 1 to {max})")]
+    Degree { degree: usize, max: usize },
+
+    /// Fewer input points (or control points) than the operation needs.
+    #[error("too few points: {needed} needed, {given} given")]
+    TooFewPoints { needed: usize, given: usize },
+
+    /// Two consecutive input points coincide, so no parameter step can separate them.
+    #[error("points {first} and {second} coincide")]
+    CoincidentPoints { first: usize, second: usize },
+
+    /// A tangent or direction of zero length where a direction is required.
+    #[error("the {what} has zero length")]
+    ZeroVector { what: &'static str },
+
+    /// A weight that is not finite and strictly positive.
+    #[error("weight {index} is {value}; weights must be finite and positive")]
+    Weight { index: usize, value: f64 },
+
+    /// A coordinate, parameter or scalar that is NaN or infinite.
+    #[error("the {what} is not a finite number")]
+    NotFinite { what: &'static str },
+
+    /// Arrays that must agree in length do not.
+    #[error("{what}: expected {expected} items, got {given}")]
+    LengthMismatch { what: &'static str, expected: usize, given: usize },
+
+    /// A parameter outside the curve's or surface's domain.
+    #[error("parameter {value} lies outside the domain [{min}, {max}]")]
+    ParameterOutOfRange { value: f64, min: f64, max: f64 },
+
+    /// A value that must be positive (a tolerance, a radius, a length) is not.
+    #[error("the {what} must be positive, got {value}")]
+    NotPositive { what: &'static str, value: f64 },
+
+    /// Boundary curves that should meet at a corner leave a gap there.
+    #[error("boundary curves do not meet at corner {corner}: gap {gap}")]
+    CornersDoNotMeet { corner: usize, gap: f64 },
+
+    /// An iterative solver (Newton, bisection) did not reach its tolerance.
+    #[error("{what} did not converge after {iterations} iterations (residual {residual})")]
+    NoConvergence { what: &'static str, iterations: usize, residual: f64 },
+
+    /// A ray, plane or curve that has no intersection with the target.
+    #[error("no intersection: {what}")]
+    NoIntersection { what: &'static str },
+
+    /// A linear system that is singular (for example interpolation through points whose
+    /// parameters make the collocation matrix degenerate).
+    #[error("singular system in {what}")]
+    Singular { what: &'static str },
+
+    /// A matrix given as an affine transform has a projective last row or is singular.
+    #[error("the matrix is not an invertible affine transform")]
+    NotAffine,
+
+    /// An operation that is defined only for polynomial (non-rational) geometry.
+    #[error("{what} needs non-rational (polynomial) input")]
+    RationalNotSupported { what: &'static str },
+
+    /// A mesh face or index that does not describe valid geometry.
+    #[error("invalid mesh: {reason}")]
+    InvalidMesh { reason: String },
+}
+
+/// The kernel's result type.
+pub type Result<T> = std::result::Result<T, GeomError>;

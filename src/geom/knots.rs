@@ -1,0 +1,251 @@
+//! Knot vectors and B-spline basis functions.
+//!
+//! A [`KnotVector`] is always *clamped* (the first and last knots repeated degree + 1
+//! times), as OpenCascade's non-periodic B-splines are: the curve then starts and ends at
+//! its first and last control points, which every die-face construction relies on.
+//! Basis functions follow Piegl & Tiller, *The NURBS Book* (A2.1 span search, A2.2
+//! basis functions); derivatives use the recurrence of eq. 2.9 applied order by order.
+
+use super::error::{GeomError, Result};
+use super::{MAX_DEGREE, MAX_DERIVATIVE};
+
+/// Basis values of one span: index `r` holds `N_{span-p+r, p}`.
+pub(crate) type BasisRow = [f64; MAX_DEGREE + 1];
+
+/// A validated, clamped, non-decreasing knot vector.
+#[derive(Debug, Clone, PartialEq)]
+pub struct KnotVector {
+    knots: Vec<f64>,
+}
+
+impl KnotVector {
+    /// Validates `knots` for a B-spline of `degree` with `control_count` control points:
+    /// length `control_count + degree + 1`, finite, non-decreasing, clamped at both ends,
+    /// no interior knot repeated more than `degree` times, and a non-empty domain.
+    pub fn new(knots: Vec<f64>, degree: usize, control_count: usize) -> Result<Self> {
+        check_degree(degree)?;
+        if control_count < degree + 1 {
+            return Err(GeomError::TooFewPoints { needed: degree + 1, given: control_count });
+        }
+        let expected = control_count + degree + 1;
+        if knots.len() != expected {
+            return Err(GeomError::KnotVector {
+                reason: format!(
+                    "{} knots given; degree {degree} with {control_count} control points needs {expected}",
+                    knots.len()
+                ),
+            });
+        }
+        if let Some(i) = knots.iter().position(|k| !k.is_finite()) {
+            return Err(GeomError::KnotVector { reason: format!("knot {i} is not finite") });
+        }
+        if let Some(i) = knots.windows(2).position(|w| w[1] < w[0]) {
+            return Err(GeomError::KnotVector {
+                reason: format!("knot {} ({}) is smaller than knot {i} ({})", i + 1, knots[i + 1], knots[i]),
+            });
+        }
+        let (first, last) = (knots[0], knots[expected - 1]);
+        if last <= first {
+            return Err(GeomError::KnotVector { reason: "the parameter domain is empty".into() });
+        }
+        let clamped_start = knots[..=degree].iter().all(|&k| k == first);
+        let clamped_end = knots[expected - degree - 1..].iter().all(|&k| k == last);
+        if !clamped_start || !clamped_end {
+            return Err(GeomError::KnotVector {
+                reason: format!("the first and last knots must each repeat degree + 1 = {} times", degree + 1),
+            });
+        }
+        let interior = &knots[degree + 1..expected - degree - 1];
+        let mut run = 1;
+        for i in 0..interior.len() {
+            run = if i > 0 && interior[i] == interior[i - 1] { run + 1 } else { 1 };
+            if run > degree || interior[i] == first || interior[i] == last {
+                return Err(GeomError::KnotVector {
+                    reason: format!(
+                        "interior knot {} is repeated more than degree = {degree} times",
+                        interior[i]
+                    ),
+                });
+            }
+        }
+        Ok(Self { knots })
+    }
+
+    /// Wraps knots that the kernel itself produced and knows to be valid.
+    pub(crate) fn trusted(knots: Vec<f64>) -> Self {
+        Self { knots }
+    }
+
+    /// A clamped knot vector with uniformly spaced interior knots on [0, 1].
+    pub fn uniform(degree: usize, control_count: usize) -> Result<Self> {
+        check_degree(degree)?;
+        if control_count < degree + 1 {
+            return Err(GeomError::TooFewPoints { needed: degree + 1, given: control_count });
+        }
+        let spans = control_count - degree;
+        let mut knots = vec![0.0; degree + 1];
+        knots.extend((1..spans).map(|i| i as f64 / spans as f64));
+        knots.extend(std::iter::repeat_n(1.0, degree + 1));
+        Ok(Self { knots })
+    }
+
+    /// The Bezier knot vector `[0; p+1] ++ [1; p+1]`.
+    pub fn bezier(degree: usize) -> Self {
+        let mut knots = vec![0.0; degree + 1];
+        knots.extend(std::iter::repeat_n(1.0, degree + 1));
+        Self { knots }
+    }
+
+    /// The flat knot sequence.
+    pub fn as_slice(&self) -> &[f64] {
+        &self.knots
+    }
+
+    /// Consumes the vector and returns the flat knot sequence.
+    pub fn into_vec(self) -> Vec<f64> {
+        self.knots
+    }
+
+    /// Number of knots.
+    pub fn len(&self) -> usize {
+        self.knots.len()
+    }
+
+    /// Always false for a validated vector; present for API symmetry with `len`.
+    pub fn is_empty(&self) -> bool {
+        self.knots.is_empty()
+    }
+
+    /// Parameter domain `[first, last]`.
+    pub fn domain(&self) -> (f64, f64) {
+        (self.knots[0], self.knots[self.knots.len() - 1])
+    }
+
+    /// Distinct knot values with their multiplicities, in increasing order.
+    pub fn distinct(&self) -> Vec<(f64, usize)> {
+        let mut out: Vec<(f64, usize)> = Vec::new();
+        for &k in &self.knots {
+            match out.last_mut() {
+                Some((v, m)) if *v == k => *m += 1,
+                _ => out.push((k, 1)),
+            }
+        }
+        out
+    }
+
+    /// How many times `u` appears in the vector.
+    pub fn multiplicity(&self, u: f64) -> usize {
+        self.knots.iter().filter(|&&k| k == u).count()
+    }
+
+    /// The knot span index `i` with `u_i <= u < u_{i+1}` for a B-spline of `degree`
+    /// (P&T A2.1); `u` at or beyond the end maps to the last non-empty span, and `u`
+    /// before the start to the first, so evaluation extends continuously.
+    pub fn span(&self, degree: usize, u: f64) -> usize {
+        let n = self.knots.len() - degree - 2; // index of the last control point
+        if u >= self.knots[n + 1] {
+            return n;
+        }
+        if u <= self.knots[degree] {
+            return degree;
+        }
+        // Binary search on the knots between degree and n + 1.
+        let slice = &self.knots[degree..=n + 1];
+        let pos = slice.partition_point(|&k| k <= u);
+        degree + pos - 1
+    }
+
+    /// Basis functions of `degree` that are non-zero at `u` in `span` (P&T A2.2).
+    pub(crate) fn basis(&self, span: usize, degree: usize, u: f64) -> BasisRow {
+        let mut rows = [[0.0; MAX_DEGREE + 1]; 1];
+        self.basis_with_lower(span, degree, u, 0, &mut rows);
+        rows[0]
+    }
+
+    /// Basis functions and their derivatives up to `order` at `u` in `span`:
+    /// `out[k][r]` is the k-th derivative of `N_{span-p+r, p}`. Orders above the degree
+    /// are zero. Eq. 2.9 of P&T, `N'_{i,q} = q (N_{i,q-1}/(u_{i+q}-u_i) - N_{i+1,q-1}/(u_{i+q+1}-u_{i+1}))`,
+    /// is applied to the basis of degrees `p - order ..= p`.
+    pub(crate) fn basis_derivatives(
+        &self,
+        span: usize,
+        degree: usize,
+        u: f64,
+        order: usize,
+        out: &mut [BasisRow; MAX_DERIVATIVE + 1],
+    ) {
+        let order = order.min(MAX_DERIVATIVE);
+        let d = order.min(degree);
+        // lower[k] holds the basis of degree p - k (k = 0..=d), index r -> N_{span-(p-k)+r, p-k}.
+        let mut lower = [[0.0; MAX_DEGREE + 1]; MAX_DERIVATIVE + 1];
+        self.basis_with_lower(span, degree, u, d, &mut lower[..=d]);
+        for row in out.iter_mut() {
+            *row = [0.0; MAX_DEGREE + 1];
+        }
+        out[0] = lower[0];
+        let k = &self.knots;
+        // For derivative order j, start from degree q0 = p - j (plain basis) and raise
+        // the degree j times, each time differentiating once.
+        for j in 1..=d {
+            let mut cur = lower[j];
+            for step in 0..j {
+                let q = degree - j + step + 1; // degree after this step
+                let mut next = [0.0; MAX_DEGREE + 1];
+                for r in 0..=q {
+                    let i = span + r - q; // global index of N_{i,q}
+                    let left = if r >= 1 {
+                        let den = k[i + q] - k[i];
+                        if den != 0.0 { cur[r - 1] / den } else { 0.0 }
+                    } else {
+                        0.0
+                    };
+                    let right = if r < q {
+                        let den = k[i + q + 1] - k[i + 1];
+                        if den != 0.0 { cur[r] / den } else { 0.0 }
+                    } else {
+                        0.0
+                    };
+                    next[r] = q as f64 * (left - right);
+                }
+                cur = next;
+            }
+            out[j] = cur;
+        }
+    }
+
+    /// Runs the triangular recurrence of P&T A2.2 up to `degree`, saving the rows of
+    /// degrees `degree - k` for `k < rows.len()` into `rows[k]`.
+    fn basis_with_lower(&self, span: usize, degree: usize, u: f64, keep: usize, rows: &mut [BasisRow]) {
+        let k = &self.knots;
+        let mut n = [0.0; MAX_DEGREE + 1];
+        let mut left = [0.0; MAX_DEGREE + 1];
+        let mut right = [0.0; MAX_DEGREE + 1];
+        n[0] = 1.0;
+        if degree <= keep {
+            rows[degree] = n;
+        }
+        for j in 1..=degree {
+            left[j] = u - k[span + 1 - j];
+            right[j] = k[span + j] - u;
+            let mut saved = 0.0;
+            for r in 0..j {
+                let den = right[r + 1] + left[j - r];
+                let temp = if den != 0.0 { n[r] / den } else { 0.0 };
+                n[r] = saved + right[r + 1] * temp;
+                saved = left[j - r] * temp;
+            }
+            n[j] = saved;
+            if degree - j <= keep {
+                rows[degree - j] = n;
+            }
+        }
+    }
+}
+
+/// Rejects degree 0 and degrees above [`MAX_DEGREE`].
+pub(crate) fn check_degree(degree: usize) -> Result<()> {
+    if degree == 0 || degree > MAX_DEGREE {
+        return Err(GeomError::Degree { degree, max: MAX_DEGREE });
+    }
+    Ok(())
+}

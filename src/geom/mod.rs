@@ -1,0 +1,34 @@
+//! The geometry kernel: NURBS curves and surfaces, meshes and tessellation.
+//!
+//! This stage of the pipeline knows nothing of the language. Everything is f64 and glam
+//! (`DVec2`, `DVec3`, `DMat4`); nalgebra is used only for linear solves. Every operation
+//! that can fail on user input returns [`GeomError`] instead of panicking.
+//!
+//! Conventions: millimetres and radians (the language converts units before calling),
+//! clamped knot vectors, control points and weights stored separately (Euclidean points,
+//! like OpenCascade), surfaces with control points indexed `[i][j]`, `i` along u.
+
+pub mod arc;
+pub mod compat;
+pub mod curve;
+pub mod error;
+pub mod interpolate;
+pub mod knots;
+pub mod ops;
+pub mod point;
+pub mod surface;
+pub mod transform;
+
+pub use curve::{Curve2, Curve3, NurbsCurve};
+pub use error::{GeomError, Result};
+pub use knots::KnotVector;
+pub use point::{Homogeneous, Linear, Point};
+// surface
+
+
+/// Highest degree the kernel evaluates. OpenCascade allows 25; die-face geometry stays
+/// below 10, and a small fixed bound keeps basis evaluation on the stack.
+pub const MAX_DEGREE: usize = 15;
+
+/// Highest derivative order evaluated in one call (point, first, second, third).
+pub const MAX_DERIVATIVE: usize = 3;
