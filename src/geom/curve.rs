@@ -293,17 +293,7 @@ impl<P: Point> NurbsCurve<P> {
         if b <= a {
             return Err(GeomError::NotPositive { what: "domain length", value: b - a });
         }
-        let (t0, t1) = self.domain();
-        let scale = (b - a) / (t1 - t0);
-        let mut knots: Vec<f64> = self.knots.as_slice().iter().map(|&k| a + (k - t0) * scale).collect();
-        // Pin the clamped ends exactly, whatever the rounding.
-        for k in knots.iter_mut().take(self.degree + 1) {
-            *k = a;
-        }
-        let n = knots.len();
-        for k in knots.iter_mut().skip(n - self.degree - 1) {
-            *k = b;
-        }
+        let knots = super::surface::remap_knots(self.knots.as_slice(), self.degree, a, b);
         Ok(Self::from_parts(self.degree, knots, self.points.clone(), self.weights.clone()))
     }
 

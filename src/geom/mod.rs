@@ -10,20 +10,25 @@
 
 pub mod arc;
 pub mod compat;
+pub mod construct;
 pub mod curve;
 pub mod error;
 pub mod interpolate;
+pub mod intersect;
+pub mod inversion;
 pub mod knots;
+pub mod mesh;
 pub mod ops;
 pub mod point;
 pub mod surface;
+pub mod tessellate;
 pub mod transform;
 
 pub use curve::{Curve2, Curve3, NurbsCurve};
 pub use error::{GeomError, Result};
 pub use knots::KnotVector;
 pub use point::{Homogeneous, Linear, Point};
-// surface
+pub use surface::{Direction, NurbsSurface};
 
 
 /// Highest degree the kernel evaluates. OpenCascade allows 25; die-face geometry stays

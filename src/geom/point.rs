@@ -6,7 +6,7 @@
 //! linear combinations (knot insertion, degree elevation) work on any [`Linear`] type,
 //! including homogeneous points.
 
-use glam::{DVec2, DVec3};
+use glam::{DVec2, DVec3, DVec4};
 use std::fmt::Debug;
 use std::ops::{Add, Mul, Sub};
 
@@ -39,6 +39,8 @@ pub trait Point: Linear + Send + Sync + 'static {
     fn coord(self, i: usize) -> f64;
     /// Whether every coordinate is finite.
     fn is_finite(self) -> bool;
+    /// The unit vector along coordinate axis `i` (zero for `i >= DIM`).
+    fn axis(i: usize) -> Self;
 }
 
 impl Linear for f64 {
@@ -51,6 +53,10 @@ impl Linear for DVec2 {
 
 impl Linear for DVec3 {
     const ZERO: Self = DVec3::ZERO;
+}
+
+impl Linear for DVec4 {
+    const ZERO: Self = DVec4::ZERO;
 }
 
 impl Point for DVec2 {
@@ -67,6 +73,9 @@ impl Point for DVec2 {
     fn is_finite(self) -> bool {
         DVec2::is_finite(self)
     }
+    fn axis(i: usize) -> Self {
+        [DVec2::X, DVec2::Y].get(i).copied().unwrap_or(DVec2::ZERO)
+    }
 }
 
 impl Point for DVec3 {
@@ -82,6 +91,30 @@ impl Point for DVec3 {
     }
     fn is_finite(self) -> bool {
         DVec3::is_finite(self)
+    }
+    fn axis(i: usize) -> Self {
+        [DVec3::X, DVec3::Y, DVec3::Z].get(i).copied().unwrap_or(DVec3::ZERO)
+    }
+}
+
+/// 4-D points: 3-D control points in homogeneous form `(wx, wy, wz, w)`, so that
+/// interpolation can run across rational sections (skinning) as if they were polynomial.
+impl Point for DVec4 {
+    const DIM: usize = 4;
+    fn dot(self, other: Self) -> f64 {
+        DVec4::dot(self, other)
+    }
+    fn to_3d(self) -> DVec3 {
+        self.truncate()
+    }
+    fn coord(self, i: usize) -> f64 {
+        self.to_array().get(i).copied().unwrap_or(0.0)
+    }
+    fn is_finite(self) -> bool {
+        DVec4::is_finite(self)
+    }
+    fn axis(i: usize) -> Self {
+        [DVec4::X, DVec4::Y, DVec4::Z, DVec4::W].get(i).copied().unwrap_or(DVec4::ZERO)
     }
 }
 

@@ -1,0 +1,269 @@
+//! Operations that derive a new mesh or per-vertex data from a [`Mesh`]:
+//! triangulation, vertex normals, concatenation and welding.
+
+use super::ids::to_u32;
+use super::{check_counts, Face, FaceId, Group, Mesh, VertexId};
+use crate::geom::error::{GeomError, Result};
+use glam::DVec3;
+use std::collections::HashMap;
+
+impl Mesh {
+    /// The mesh with every quad split into two triangles along its shorter diagonal
+    /// (ties: diagonal 0–2), keeping winding, vertices, normals and groups. Rolling-ball
+    /// rounding and most intersection code want triangles; the shorter diagonal keeps
+    /// the triangles better shaped and, for a non-planar quad, is the split
+    /// [`Mesh::face_area`] measures. Triangles are copied unchanged.
+    pub fn triangulated(&self) -> Mesh {
+        self.triangulated_with_map().0
+    }
+
+    /// [`Mesh::triangulated`], also returning for every new face the original face it
+    /// came from (ascending), so per-face data can be carried over.
+    pub fn triangulated_with_map(&self) -> (Mesh, Vec<FaceId>) {
+        let mut faces = Vec::with_capacity(self.faces.len() * 2);
+        let mut origin = Vec::with_capacity(self.faces.len() * 2);
+        for (f, face) in self.faces.iter().enumerate() {
+            let v = face.indices();
+            let mut p = [DVec3::ZERO; 4];
+            for (slot, &i) in p.iter_mut().zip(v) {
+                // Mesh::new checked every face index against the positions.
+                *slot = self.positions[i as usize];
+            }
+            let (first, second) = face.split_corners(&p);
+            for [a, b, c] in std::iter::once(first).chain(second) {
+                faces.push(Face::triangle(v[a], v[b], v[c]));
+                origin.push(FaceId(to_u32(f)));
+            }
+        }
+        let groups = remap_groups(&self.groups, self.faces.len(), &origin);
+        let mesh = Mesh {
+            positions: self.positions.clone(),
+            faces,
+            normals: self.normals.clone(),
+            groups,
+        };
+        (mesh, origin)
+    }
+
+    /// Angle-weighted vertex normals (Thürmer and Wüthrich): each face adds its unit
+    /// normal times its corner angle at the vertex, and the sum is normalised. Unlike
+    /// area weighting, this does not depend on how a surface is cut into faces, so a
+    /// quad and its two triangles give the same normals. Vertices without faces (or
+    /// only degenerate ones) get the zero vector.
+    pub fn compute_vertex_normals(&self) -> Vec<DVec3> {
+        let mut sums = vec![DVec3::ZERO; self.positions.len()];
+        for (f, face) in self.faces.iter().enumerate() {
+            let Some(normal) = self.face_normal(FaceId(to_u32(f))) else { continue };
+            let v = face.indices();
+            let n = v.len();
+            for i in 0..n {
+                // Mesh::new checked every face index against the positions.
+                let here = self.positions[v[i] as usize];
+                let to_next = self.positions[v[(i + 1) % n] as usize] - here;
+                let to_prev = self.positions[v[(i + n - 1) % n] as usize] - here;
+                let angle = to_next.cross(to_prev).length().atan2(to_next.dot(to_prev));
+                sums[v[i] as usize] += normal * angle;
+            }
+        }
+        sums.into_iter().map(DVec3::normalize_or_zero).collect()
+    }
+
+    /// Appends `other` to this mesh: its vertices and faces come after this mesh's,
+    /// with indices offset accordingly. Groups of `other` are offset too; a group whose
+    /// name already exists here is merged into that group. If only one mesh has
+    /// normals, the other's are computed ([`Mesh::compute_vertex_normals`]) so no normal
+    /// is lost. Fails (leaving this mesh unchanged) if the result would be too large.
+    pub fn append(&mut self, other: &Mesh) -> Result<()> {
+        check_counts(
+            self.positions.len().saturating_add(other.positions.len()),
+            self.faces.len().saturating_add(other.faces.len()),
+        )?;
+        let vertex_offset = to_u32(self.positions.len());
+        let face_offset = to_u32(self.faces.len());
+
+        self.normals = match (self.normals.take(), &other.normals) {
+            (None, None) => None,
+            (mine, theirs) => {
+                let mut normals = mine.unwrap_or_else(|| self.compute_vertex_normals());
+                match theirs {
+                    Some(t) => normals.extend_from_slice(t),
+                    None => normals.extend(other.compute_vertex_normals()),
+                }
+                Some(normals)
+            }
+        };
+        self.positions.extend_from_slice(&other.positions);
+        self.faces.extend(other.faces.iter().map(|face| offset_face(face, vertex_offset)));
+        for group in &other.groups {
+            let shifted = group.faces.iter().map(|f| FaceId(f.0 + face_offset));
+            match self.groups.iter_mut().find(|g| g.name == group.name) {
+                Some(existing) => {
+                    existing.faces.extend(shifted);
+                    existing.faces.sort_unstable();
+                    existing.faces.dedup();
+                }
+                None => self.groups.push(Group { name: group.name.clone(), faces: shifted.collect() }),
+            }
+        }
+        Ok(())
+    }
+
+    /// This mesh followed by `other`, as [`Mesh::append`] describes.
+    pub fn merged(&self, other: &Mesh) -> Result<Mesh> {
+        let mut mesh = self.clone();
+        mesh.append(other)?;
+        Ok(mesh)
+    }
+
+    /// Merges vertices closer than `tolerance` (Euclidean distance, inclusive; `0`
+    /// merges only exact duplicates), as needed after reading a triangle soup (STL) or
+    /// after [`Mesh::append`]ing patches that share a seam. See
+    /// [`Mesh::weld_with_map`] for the rules.
+    pub fn weld(&self, tolerance: f64) -> Result<Mesh> {
+        Ok(self.weld_with_map(tolerance)?.0)
+    }
+
+    /// [`Mesh::weld`], also returning for every old vertex its new vertex.
+    ///
+    /// Deterministic rules: vertices are visited in index order; each joins the
+    /// lowest-numbered earlier *representative* within `tolerance`, or becomes a new
+    /// representative. Positions are the representatives' own (not averaged), so no
+    /// chain of near points drifts further than `tolerance` from where it was. New
+    /// vertex order is the order of the representatives. Faces that lose corners are
+    /// repaired: repeated neighbouring corners collapse (a quad may become a triangle);
+    /// faces left with fewer than three distinct corners, or with a repeated corner
+    /// that is not a neighbour, are dropped (also from groups). Normals of merged
+    /// vertices are averaged and normalised. Vertices not used by faces are kept.
+    pub fn weld_with_map(&self, tolerance: f64) -> Result<(Mesh, Vec<VertexId>)> {
+        if tolerance.is_nan() || tolerance < 0.0 {
+            return Err(GeomError::NotPositive { what: "weld tolerance", value: tolerance });
+        }
+        if tolerance.is_infinite() {
+            return Err(GeomError::NotFinite { what: "weld tolerance" });
+        }
+        let (representatives, vertex_map) = cluster_vertices(&self.positions, tolerance);
+        let positions: Vec<DVec3> =
+            representatives.iter().map(|&old| self.positions[old]).collect();
+        let normals = self
+            .normals
+            .as_ref()
+            .map(|normals| merge_normals(normals, &representatives, &vertex_map));
+
+        let mut faces = Vec::with_capacity(self.faces.len());
+        let mut origin = Vec::with_capacity(self.faces.len());
+        for (f, face) in self.faces.iter().enumerate() {
+            if let Some(welded) = weld_face(face, &vertex_map) {
+                faces.push(welded);
+                origin.push(FaceId(to_u32(f)));
+            }
+        }
+        let groups = remap_groups(&self.groups, self.faces.len(), &origin);
+        let mesh = Mesh { positions, faces, normals, groups };
+        Ok((mesh, vertex_map.into_iter().map(VertexId).collect()))
+    }
+}
+
+/// Face `face` with every index shifted by `offset`.
+fn offset_face(face: &Face, offset: u32) -> Face {
+    match *face.indices() {
+        [a, b, c, d] => Face::quad(a + offset, b + offset, c + offset, d + offset),
+        [a, b, c] => Face::triangle(a + offset, b + offset, c + offset),
+        // A Face always has 3 or 4 corners (its constructors guarantee it).
+        _ => *face,
+    }
+}
+
+/// Groups carried over to a derived mesh whose face `i` came from old face
+/// `origin[i]`; `origin` must be ascending. Groups keep their order, even if empty.
+fn remap_groups(groups: &[Group], old_face_count: usize, origin: &[FaceId]) -> Vec<Group> {
+    groups
+        .iter()
+        .map(|group| {
+            let mut member = vec![false; old_face_count];
+            for f in &group.faces {
+                member[f.index()] = true;
+            }
+            let faces = origin
+                .iter()
+                .enumerate()
+                .filter(|(_, old)| member[old.index()])
+                .map(|(new, _)| FaceId(to_u32(new)))
+                .collect();
+            Group { name: group.name.clone(), faces }
+        })
+        .collect()
+}
+
+/// Greedy, order-dependent clustering for [`Mesh::weld_with_map`]: returns the old
+/// index of each representative (ascending) and, per old vertex, its new index.
+/// A hash grid with cells of size `tolerance` limits the search to 27 cells; the map is
+/// only probed, never iterated, so its order cannot leak into the result.
+fn cluster_vertices(positions: &[DVec3], tolerance: f64) -> (Vec<usize>, Vec<u32>) {
+    let cell = if tolerance > 0.0 { tolerance } else { 1.0 };
+    let mut grid: HashMap<[i64; 3], Vec<u32>> = HashMap::new();
+    let mut representatives: Vec<usize> = Vec::new();
+    let mut vertex_map = Vec::with_capacity(positions.len());
+    for (i, &p) in positions.iter().enumerate() {
+        // `as` saturates for huge or infinite quotients, which only crowds a cell.
+        let key = (p / cell).floor().to_array().map(|c| c as i64);
+        let mut best: Option<u32> = None;
+        for dx in -1..=1i64 {
+            for dy in -1..=1i64 {
+                for dz in -1..=1i64 {
+                    let k = [
+                        key[0].saturating_add(dx),
+                        key[1].saturating_add(dy),
+                        key[2].saturating_add(dz),
+                    ];
+                    for &rep in grid.get(&k).map(Vec::as_slice).unwrap_or(&[]) {
+                        let close = positions[representatives[rep as usize]].distance(p) <= tolerance;
+                        if close && best.map_or(true, |b| rep < b) {
+                            best = Some(rep);
+                        }
+                    }
+                }
+            }
+        }
+        let new = best.unwrap_or_else(|| {
+            let new = to_u32(representatives.len());
+            representatives.push(i);
+            grid.entry(key).or_default().push(new);
+            new
+        });
+        vertex_map.push(new);
+    }
+    (representatives, vertex_map)
+}
+
+/// Per new vertex: its single old normal, or the normalised mean of the merged ones
+/// (falling back to the representative's normal if they cancel out).
+fn merge_normals(normals: &[DVec3], representatives: &[usize], vertex_map: &[u32]) -> Vec<DVec3> {
+    let mut sums = vec![DVec3::ZERO; representatives.len()];
+    let mut counts = vec![0usize; representatives.len()];
+    for (old, &new) in vertex_map.iter().enumerate() {
+        sums[new as usize] += normals[old];
+        counts[new as usize] += 1;
+    }
+    representatives
+        .iter()
+        .enumerate()
+        .map(|(new, &rep)| match counts[new] {
+            1 => normals[rep],
+            _ => sums[new].try_normalize().unwrap_or(normals[rep]),
+        })
+        .collect()
+}
+
+/// Face `face` with indices mapped through `vertex_map`, neighbouring duplicates
+/// collapsed; `None` if fewer than three distinct corners remain or a corner repeats.
+fn weld_face(face: &Face, vertex_map: &[u32]) -> Option<Face> {
+    let mapped: Vec<u32> = face.indices().iter().map(|&v| vertex_map[v as usize]).collect();
+    let n = mapped.len();
+    let kept: Vec<u32> = (0..n).filter(|&i| mapped[i] != mapped[(i + 1) % n]).map(|i| mapped[i]).collect();
+    let distinct = kept.iter().enumerate().all(|(i, v)| !kept[i + 1..].contains(v));
+    if distinct {
+        Face::from_slice(&kept).ok()
+    } else {
+        None
+    }
+}
