@@ -217,6 +217,9 @@ impl<P: Point> NurbsCurve<P> {
     /// integrated span by span with adaptive Gauss-Legendre quadrature to about 1e-12
     /// relative accuracy.
     pub fn length_between(&self, a: f64, b: f64) -> f64 {
+        if !(a.is_finite() && b.is_finite()) {
+            return f64::NAN;
+        }
         if b < a {
             return -self.length_between(b, a);
         }
@@ -467,6 +470,9 @@ fn gauss_length<P: Point>(c: &NurbsCurve<P>, a: f64, b: f64) -> f64 {
 
 fn adaptive_length<P: Point>(c: &NurbsCurve<P>, a: f64, b: f64, depth: usize) -> f64 {
     let whole = gauss_length(c, a, b);
+    if !whole.is_finite() {
+        return whole;
+    }
     let m = 0.5 * (a + b);
     let halves = gauss_length(c, a, m) + gauss_length(c, m, b);
     if depth >= 20 || (whole - halves).abs() <= 1e-13 * halves.max(1e-300) {

@@ -79,6 +79,11 @@ pub enum GeomError {
     /// A mesh face or index that does not describe valid geometry.
     #[error("invalid mesh: {reason}")]
     InvalidMesh { reason: String },
+
+    /// The intersection is not a set of isolated points: the whole curve lies in the
+    /// plane (or on the coordinate value) within tolerance.
+    #[error("{what}: the curve lies entirely in the intersecting plane")]
+    Overlap { what: &'static str },
 }
 
 /// The kernel's result type.

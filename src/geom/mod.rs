@@ -29,6 +29,7 @@ pub use error::{GeomError, Result};
 pub use knots::KnotVector;
 pub use point::{Homogeneous, Linear, Point};
 pub use surface::{Direction, NurbsSurface};
+pub use transform::Transform;
 
 
 /// Highest degree the kernel evaluates. OpenCascade allows 25; die-face geometry stays

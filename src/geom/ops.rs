@@ -21,7 +21,7 @@ fn find_span(degree: usize, knots: &[f64], u: f64) -> usize {
     if u >= knots[n + 1] {
         return n;
     }
-    if u <= knots[degree] {
+    if !(u > knots[degree]) {
         return degree;
     }
     degree + knots[degree..=n + 1].partition_point(|&k| k <= u) - 1

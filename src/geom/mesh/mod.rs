@@ -17,7 +17,7 @@
 //!
 //! Everything is deterministic: the same input gives the same ids and the same order of
 //! every output list. Nothing panics on any mesh data; invalid input is a
-//! [`GeomError`](crate::geom::error::GeomError).
+//! [`GeomError`].
 
 mod boundary;
 mod ids;

@@ -1,0 +1,295 @@
+//! Kernel identities as property tests: operations that must not change a shape do not,
+//! and constructions meet their defining conditions.
+//!
+//! "Change no point" is measured against the geometry's size: control points lie in a
+//! box of about 200 mm, and a change of 1e-12 of that (2e-10 mm) is the limit, about a
+//! hundred units in the last place of the coordinates.
+
+use dieface::geom::compat::make_compatible;
+use dieface::geom::construct::coons;
+use dieface::geom::interpolate::{interpolate, Interpolation, KnotPlacement, Parametrization};
+use dieface::geom::{Curve2, Curve3, Direction, NurbsSurface};
+use glam::{DVec2, DVec3};
+use proptest::prelude::*;
+
+/// Relative change allowed by operations that must not change the shape.
+const SAME: f64 = 1e-12;
+
+fn coord() -> impl Strategy<Value = f64> {
+    -100.0..100.0f64
+}
+
+fn point3() -> impl Strategy<Value = DVec3> {
+    (coord(), coord(), coord()).prop_map(|(x, y, z)| DVec3::new(x, y, z))
+}
+
+/// A clamped knot vector on [a, a + len] for `count` control points of `degree`, with
+/// interior knots drawn at random and some repeated up to the degree.
+fn knots(degree: usize, count: usize) -> impl Strategy<Value = Vec<f64>> {
+    let interior = count - degree - 1;
+    (prop::collection::vec(0.05..0.95f64, interior), -5.0..5.0f64, 0.5..20.0f64, 0..3usize).prop_map(
+        move |(mut inner, a, len, repeat)| {
+            inner.sort_by(f64::total_cmp);
+            // Repeat some knots (never beyond the degree) to cover C0/C1 joints.
+            for r in 0..repeat.min(inner.len()) {
+                let i = (r * 7) % inner.len();
+                let run = inner.iter().filter(|&&k| k == inner[i]).count();
+                if i + 1 < inner.len() && run < degree && inner[i + 1] != inner[i] {
+                    let v = inner[i];
+                    inner[i + 1] = v;
+                }
+            }
+            inner.sort_by(f64::total_cmp);
+            let mut k = vec![a; degree + 1];
+            k.extend(inner.iter().map(|t| a + t * len));
+            k.extend(std::iter::repeat_n(a + len, degree + 1));
+            k
+        },
+    )
+}
+
+/// Random curves of degree 1 to 5, half of them rational.
+fn curve3() -> impl Strategy<Value = Curve3> {
+    (1..=5usize, 0..6usize, any::<bool>())
+        .prop_flat_map(|(degree, extra, rational)| {
+            let count = degree + 1 + extra;
+            (
+                Just(degree),
+                knots(degree, count),
+                prop::collection::vec(point3(), count),
+                prop::collection::vec(0.3..3.0f64, count),
+                Just(rational),
+            )
+        })
+        .prop_map(|(degree, k, pts, w, rational)| {
+            if rational {
+                Curve3::new_rational(degree, k, pts, w).expect("valid by construction")
+            } else {
+                Curve3::new(degree, k, pts).expect("valid by construction")
+            }
+        })
+}
+
+fn surface() -> impl Strategy<Value = NurbsSurface> {
+    (1..=4usize, 1..=4usize, 0..3usize, 0..3usize, any::<bool>())
+        .prop_flat_map(|(du, dv, eu, ev, rational)| {
+            let (nu, nv) = (du + 1 + eu, dv + 1 + ev);
+            (
+                Just((du, dv)),
+                knots(du, nu),
+                knots(dv, nv),
+                prop::collection::vec(prop::collection::vec(point3(), nv), nu),
+                prop::collection::vec(prop::collection::vec(0.3..3.0f64, nv), nu),
+                Just(rational),
+            )
+        })
+        .prop_map(|((du, dv), ku, kv, net, w, rational)| {
+            if rational {
+                NurbsSurface::new_rational(du, dv, ku, kv, net, w).expect("valid by construction")
+            } else {
+                NurbsSurface::new(du, dv, ku, kv, net).expect("valid by construction")
+            }
+        })
+}
+
+/// 1,000 parameters spread over the domain, ends included.
+fn samples(domain: (f64, f64)) -> impl Iterator<Item = f64> {
+    (0..1000).map(move |i| domain.0 + (domain.1 - domain.0) * i as f64 / 999.0)
+}
+
+#[track_caller]
+fn assert_same_curve(a: &Curve3, b: &Curve3) {
+    assert_eq!(a.domain(), b.domain());
+    let scale = a.control_scale().max(1.0);
+    for t in samples(a.domain()) {
+        let d = a.point_at(t).distance(b.point_at(t));
+        assert!(d <= SAME * scale, "point at {t} moved by {d:e}");
+    }
+}
+
+#[track_caller]
+fn assert_same_surface(a: &NurbsSurface, b: &NurbsSurface) {
+    let scale = a.control_scale().max(1.0);
+    let (du, dv) = (a.domain_u(), b.domain_v());
+    for i in 0..32 {
+        for j in 0..32 {
+            let u = du.0 + (du.1 - du.0) * i as f64 / 31.0;
+            let v = dv.0 + (dv.1 - dv.0) * j as f64 / 31.0;
+            let d = a.point_at(u, v).distance(b.point_at(u, v));
+            assert!(d <= SAME * scale, "point at ({u}, {v}) moved by {d:e}");
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(200))]
+
+    #[test]
+    fn knot_insertion_changes_nothing(c in curve3(), f in 0.01..0.99f64, times in 1..4usize) {
+        let (a, b) = c.domain();
+        let t = a + (b - a) * f;
+        let d = c.insert_knot(t, times).unwrap();
+        prop_assert!(d.knots().multiplicity(t) <= c.degree());
+        assert_same_curve(&c, &d);
+    }
+
+    #[test]
+    fn knot_refinement_changes_nothing(c in curve3(), fs in prop::collection::vec(0.01..0.99f64, 1..8)) {
+        let (a, b) = c.domain();
+        let mut new: Vec<f64> = fs.iter().map(|f| a + (b - a) * f).collect();
+        new.sort_by(f64::total_cmp);
+        new.dedup();
+        // Drop values that would exceed the degree's multiplicity.
+        new.retain(|&t| c.knots().multiplicity(t) < c.degree());
+        let d = c.refine(&new).unwrap();
+        prop_assert_eq!(d.control_points().len(), c.control_points().len() + new.len());
+        assert_same_curve(&c, &d);
+    }
+
+    #[test]
+    fn degree_elevation_changes_nothing(c in curve3(), by in 1..4usize) {
+        let d = c.elevate_degree(by).unwrap();
+        prop_assert_eq!(d.degree(), c.degree() + by);
+        assert_same_curve(&c, &d);
+    }
+
+    #[test]
+    fn surface_refinement_and_elevation_change_nothing(
+        s in surface(), f in 0.05..0.95f64, dir_u in any::<bool>(), by in 1..3usize,
+    ) {
+        let dir = if dir_u { Direction::U } else { Direction::V };
+        let (a, b) = s.domain(dir);
+        let t = a + (b - a) * f;
+        assert_same_surface(&s, &s.insert_knot(dir, t, 1).unwrap());
+        if s.knots_u().multiplicity(t) == 0 && s.knots_v().multiplicity(t) == 0 {
+            assert_same_surface(&s, &s.refine(dir, &[t]).unwrap());
+        }
+        let e = s.elevate_degree(dir, by).unwrap();
+        assert_same_surface(&s, &e);
+    }
+
+    #[test]
+    fn compatibility_keeps_shapes_and_unifies_knots(cs in prop::collection::vec(curve3(), 2..5)) {
+        let out = make_compatible(&cs).unwrap();
+        for (c, d) in cs.iter().zip(&out) {
+            prop_assert_eq!(d.degree(), out[0].degree());
+            prop_assert_eq!(d.knots(), out[0].knots());
+            let on_unit = c.reparametrized(0.0, 1.0).unwrap();
+            assert_same_curve(&on_unit, d);
+        }
+    }
+
+    #[test]
+    fn interpolation_passes_through_points_with_asked_tangents(
+        pts in prop::collection::vec(point3(), 4..12),
+        t0 in point3(), t1 in point3(),
+        degree in 2..=5usize,
+        centripetal in any::<bool>(),
+        with_tangents in any::<bool>(),
+    ) {
+        // Random points that nearly coincide make a meaningless (if valid) problem.
+        prop_assume!(pts.windows(2).all(|w| w[0].distance(w[1]) > 1.0));
+        prop_assume!(t0.length() > 1.0 && t1.length() > 1.0);
+        let parametrization = if centripetal { Parametrization::Centripetal } else { Parametrization::ChordLength };
+        let opts = Interpolation {
+            degree: degree.min(pts.len() - 1),
+            parametrization,
+            knots: KnotPlacement::Averaged,
+            start_tangent: with_tangents.then_some(t0),
+            end_tangent: with_tangents.then_some(t1),
+        };
+        let c = interpolate(&pts, &opts).unwrap();
+        let params = dieface::geom::interpolate::parameters(&pts, parametrization).unwrap();
+        let scale = pts.iter().map(|p| p.length()).fold(1.0, f64::max);
+        for (p, t) in pts.iter().zip(&params) {
+            let d = c.point_at(*t).distance(*p);
+            prop_assert!(d <= 1e-9 * scale, "misses point by {}", d);
+        }
+        if with_tangents {
+            let [_, d0] = c.derivatives::<2>(0.0);
+            let [_, d1] = c.derivatives::<2>(1.0);
+            prop_assert!(d0.distance(t0) <= 1e-9 * t0.length().max(scale), "start tangent {:?} vs {:?}", d0, t0);
+            prop_assert!(d1.distance(t1) <= 1e-9 * t1.length().max(scale), "end tangent {:?} vs {:?}", d1, t1);
+        }
+    }
+
+    #[test]
+    fn cubic_spline_with_knots_at_parameters_interpolates(
+        pts in prop::collection::vec(point3(), 2..10), t0 in point3(), t1 in point3(),
+    ) {
+        prop_assume!(pts.windows(2).all(|w| w[0].distance(w[1]) > 1.0));
+        let opts = Interpolation {
+            knots: KnotPlacement::AtParameters,
+            ..Interpolation::cubic_with_tangents(t0, t1)
+        };
+        let c = interpolate(&pts, &opts).unwrap();
+        let params = dieface::geom::interpolate::parameters(&pts, Parametrization::ChordLength).unwrap();
+        for (p, t) in pts.iter().zip(&params) {
+            prop_assert!(c.point_at(*t).distance(*p) <= 1e-9 * 200.0);
+        }
+        prop_assert!(c.derivatives::<2>(0.0)[1].distance(t0) <= 1e-9 * 200.0);
+    }
+
+    #[test]
+    fn coons_boundaries_equal_the_input_curves(
+        a in prop::collection::vec(point3(), 4..7), b in prop::collection::vec(point3(), 3..6),
+        c in prop::collection::vec(point3(), 4..6), d in prop::collection::vec(point3(), 2..5),
+    ) {
+        // Four open polylines turned into curves of different degrees; force the corners.
+        let (p00, p10, p11, p01) = (a[0], a[a.len() - 1], c[c.len() - 1], c[0]);
+        let mut right = b.clone();
+        right[0] = p10;
+        let last = right.len() - 1;
+        right[last] = p11;
+        let mut left = d.clone();
+        left[0] = p00;
+        let last = left.len() - 1;
+        left[last] = p01;
+        let bottom = Curve3::bezier(a.clone()).unwrap();
+        let top = Curve3::bezier(c.clone()).unwrap();
+        let left = Curve3::bezier(left).unwrap();
+        let right = Curve3::new(2, uniform(2, right.len()), right).unwrap();
+        let s = coons(&bottom, &top, &left, &right).unwrap();
+        let scale = 200.0;
+        for i in 0..=100 {
+            let t = i as f64 / 100.0;
+            prop_assert!(s.point_at(t, 0.0).distance(bottom.point_at(t)) <= SAME * scale);
+            prop_assert!(s.point_at(t, 1.0).distance(top.point_at(t)) <= SAME * scale);
+            prop_assert!(s.point_at(0.0, t).distance(left.point_at(t)) <= SAME * scale);
+            prop_assert!(s.point_at(1.0, t).distance(right.point_at(t)) <= SAME * scale);
+        }
+    }
+
+    #[test]
+    fn splitting_and_reversing_keep_the_shape(c in curve3(), f in 0.05..0.95f64) {
+        let (a, b) = c.domain();
+        let t = a + (b - a) * f;
+        let (l, r) = c.split_at(t).unwrap();
+        let rev = c.reversed();
+        let scale = c.control_scale().max(1.0);
+        for s in samples(c.domain()) {
+            let piece = if s <= t { l.point_at(s) } else { r.point_at(s) };
+            prop_assert!(piece.distance(c.point_at(s)) <= SAME * scale);
+            prop_assert!(rev.point_at(a + b - s).distance(c.point_at(s)) <= SAME * scale);
+        }
+    }
+
+    #[test]
+    fn two_d_curves_evaluate_like_their_3d_embedding(
+        pts in prop::collection::vec((coord(), coord()), 4..8), t in 0.0..1.0f64,
+    ) {
+        let pts: Vec<DVec2> = pts.into_iter().map(|(x, y)| DVec2::new(x, y)).collect();
+        let c2 = Curve2::new(3, uniform(3, pts.len()), pts).unwrap();
+        let c3 = c2.to_3d();
+        let [p2, d2, dd2] = c2.derivatives::<3>(t);
+        let [p3, d3, dd3] = c3.derivatives::<3>(t);
+        prop_assert_eq!(p2.extend(0.0), p3);
+        prop_assert_eq!(d2.extend(0.0), d3);
+        prop_assert_eq!(dd2.extend(0.0), dd3);
+    }
+}
+
+/// A clamped uniform knot vector on [0, 1].
+fn uniform(degree: usize, count: usize) -> Vec<f64> {
+    dieface::geom::KnotVector::uniform(degree, count).unwrap().into_vec()
+}
