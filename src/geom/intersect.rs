@@ -97,22 +97,28 @@ impl Plane {
                 what: "plane normal",
             });
         }
-        let len = normal.length();
-        if len == 0.0 || !len.is_finite() {
+        let Some(normal) = unit_vector(normal) else {
             return Err(GeomError::ZeroVector {
                 what: "plane normal",
             });
-        }
-        Ok(Self {
-            origin,
-            normal: normal / len,
-        })
+        };
+        Ok(Self { origin, normal })
     }
 
     /// Signed distance of `p` from the plane, positive on the normal's side.
     pub fn signed_distance(&self, p: DVec3) -> f64 {
         self.normal.dot(p - self.origin)
     }
+}
+
+/// `v / |v|` computed without overflow or underflow, or `None` for a zero vector.
+fn unit_vector(v: DVec3) -> Option<DVec3> {
+    let big = v.abs().max_element();
+    if !(big > 0.0 && big.is_finite()) {
+        return None;
+    }
+    let scaled = v / big;
+    Some(scaled / scaled.length())
 }
 
 /// One intersection of a curve with a plane.
@@ -136,15 +142,12 @@ pub fn intersect_curve_plane(curve: &Curve3, plane: &Plane) -> Result<Vec<CurveP
     if !(plane.origin.is_finite() && plane.normal.is_finite()) {
         return Err(GeomError::NotFinite { what: "plane" });
     }
-    let n = plane.normal;
-    let len = n.length();
-    if len == 0.0 {
+    // Tolerate a hand-built, non-unit normal: measure true distances.
+    let Some(n) = unit_vector(plane.normal) else {
         return Err(GeomError::ZeroVector {
             what: "plane normal",
         });
-    }
-    // Tolerate a hand-built, non-unit normal: measure true distances.
-    let n = n / len;
+    };
     let offset = n.dot(plane.origin);
     let scale = curve.control_scale().max(plane.origin.length());
     let ts = curve_roots(
@@ -453,8 +456,15 @@ fn ray_newton(
         let (su, sv) = (d[1][0], d[0][1]);
         let m = Matrix3::new(su.x, sv.x, -r.x, su.y, sv.y, -r.y, su.z, sv.z, -r.z);
         let rhs = Vector3::new(-f.x, -f.y, -f.z);
+        if !(m.iter().all(|x| x.is_finite()) && rhs.iter().all(|x| x.is_finite())) {
+            break;
+        }
         let eps = 1e-14 * (su.length() + sv.length() + r.length());
-        let Ok(delta) = m.svd(true, true).solve(&rhs, eps) else {
+        // Bounded SVD iterations: never loop on pathological input.
+        let Some(svd) = m.try_svd(true, true, f64::EPSILON, 200) else {
+            break;
+        };
+        let Ok(delta) = svd.solve(&rhs, eps) else {
             break;
         };
         if !delta.iter().all(|x| x.is_finite()) {
@@ -515,13 +525,17 @@ fn line_surface_search(
             what: "ray direction",
         });
     }
-    let rlen = direction.length();
-    if rlen == 0.0 {
+    // Normalize without overflow or underflow: divide by the largest component first.
+    let big = direction.abs().max_element();
+    if big == 0.0 {
         return Err(GeomError::ZeroVector {
             what: "ray direction",
         });
     }
-    let unit = direction / rlen;
+    let scaled = direction / big;
+    let unit = scaled / scaled.length();
+    // |direction|, possibly infinite for huge components (then every w is 0).
+    let length = big * scaled.length();
     let size = surface
         .control_scale()
         .max(origin.length())
@@ -540,8 +554,10 @@ fn line_surface_search(
     let mut hits: Vec<RayHit> = Vec::new();
     let mut near_miss: Option<f64> = None;
     for (i, j) in starts {
-        match ray_newton(surface, origin, direction, us[i], vs[j], tol) {
-            RayOutcome::Hit(h) => {
+        match ray_newton(surface, origin, unit, us[i], vs[j], tol) {
+            RayOutcome::Hit(mut h) => {
+                // Newton ran with the unit direction; report w in the caller's units.
+                h.w /= length;
                 if !hits
                     .iter()
                     .any(|k| k.point.distance(h.point) <= 1e-9 * size)
@@ -582,6 +598,12 @@ pub fn intersect_ray_surface(
         .into_iter()
         .min_by(|a, b| a.w.abs().total_cmp(&b.w.abs()))
     {
+        if !h.w.is_finite() {
+            // Only for absurd magnitudes (|w| beyond f64).
+            return Err(GeomError::NotFinite {
+                what: "line parameter",
+            });
+        }
         return Ok(h);
     }
     match near_miss {

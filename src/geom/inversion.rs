@@ -212,6 +212,17 @@ fn keep_best<T: Copy>(best: &mut Option<(T, f64)>, value: T, distance: f64) {
     }
 }
 
+/// `Ok(value)` unless the distance overflowed (a target beyond f64 range of the geometry).
+fn finite_distance<T>(value: T, distance: f64) -> Result<T> {
+    if distance.is_finite() {
+        Ok(value)
+    } else {
+        Err(GeomError::NotFinite {
+            what: "distance to the target",
+        })
+    }
+}
+
 /// Result of one Newton run: the point reached and whether it met a convergence test.
 struct Outcome<T> {
     value: T,
@@ -289,6 +300,9 @@ fn newton_curve<P: Point>(
         } else {
             break;
         };
+        if !step.is_finite() {
+            break;
+        }
         let mut lambda = 1.0;
         let mut accepted = None;
         for _ in 0..40 {
@@ -436,7 +450,7 @@ pub fn closest_point_on_curve<P: Point>(curve: &NurbsCurve<P>, target: P) -> Res
         }
     }
     match best {
-        Some((cp, _)) => Ok(cp),
+        Some((cp, _)) => finite_distance(cp, cp.distance),
         None => Err(GeomError::NoConvergence {
             what: "closest point on curve",
             iterations: MAX_ITERATIONS,
@@ -472,7 +486,7 @@ pub fn project_to_curve_near<P: Point>(
     let tol = Tolerances::new(curve.control_scale(), target.length());
     let out = newton_curve(curve, target, t_guess, tol);
     if out.converged {
-        return Ok(out.value);
+        return finite_distance(out.value, out.value.distance);
     }
     closest_point_on_curve(curve, target)
 }
@@ -596,6 +610,9 @@ fn newton_surface(
             du = if fix_u || guu <= 0.0 { 0.0 } else { -gu / guu };
             dv = if fix_v || gvv <= 0.0 { 0.0 } else { -gv / gvv };
         }
+        if !(du.is_finite() && dv.is_finite()) {
+            break;
+        }
         let mut lambda = 1.0;
         let mut accepted = None;
         for _ in 0..40 {
@@ -686,7 +703,7 @@ pub fn closest_point_on_surface(surface: &NurbsSurface, target: DVec3) -> Result
         }
     }
     match best {
-        Some((sp, _)) => Ok(sp),
+        Some((sp, _)) => finite_distance(sp, sp.distance),
         None => Err(GeomError::NoConvergence {
             what: "closest point on surface",
             iterations: MAX_ITERATIONS,
