@@ -79,7 +79,13 @@ fn grid(nx: u32, ny: u32, cells: &[Cell]) -> Mesh {
 fn grid_with_holes(nx: u32, ny: u32, kind: Cell, holes: &[(u32, u32)]) -> Mesh {
     let cells: Vec<Cell> = (0..ny)
         .flat_map(|j| (0..nx).map(move |i| (i, j)))
-        .map(|ij| if holes.contains(&ij) { Cell::Hole } else { kind })
+        .map(|ij| {
+            if holes.contains(&ij) {
+                Cell::Hole
+            } else {
+                kind
+            }
+        })
         .collect();
     grid(nx, ny, &cells)
 }
@@ -103,8 +109,8 @@ fn assert_close(a: f64, b: f64, tol: f64) {
 }
 
 /// Checks that every chain is connected (each half-edge ends where the next starts,
-/// closed loops also around the end), lists the right vertices, and that every free
-/// half-edge of the topology is in exactly one chain.
+/// closed loops also around the end), lists the right vertices, that closed loops are
+/// simple, and that every free half-edge of the topology is in exactly one chain.
 fn check_chains(topo: &Topology, loops: &BoundaryLoops) {
     let mut seen = BTreeSet::new();
     let check = |chain: &BoundaryChain, closed: bool, seen: &mut BTreeSet<HalfEdgeId>| {
@@ -122,6 +128,13 @@ fn check_chains(topo: &Topology, loops: &BoundaryLoops) {
         let last = chain.half_edges[n - 1];
         if closed {
             assert_eq!(topo.destination(last), topo.origin(chain.half_edges[0]));
+            let distinct: BTreeSet<VertexId> = chain.vertices.iter().copied().collect();
+            assert_eq!(
+                distinct.len(),
+                n,
+                "loop {:?} visits a vertex twice",
+                chain.vertices
+            );
         } else {
             assert_eq!(chain.vertices[n], topo.destination(last));
         }
@@ -132,8 +145,10 @@ fn check_chains(topo: &Topology, loops: &BoundaryLoops) {
     for chain in &loops.open_chains {
         check(chain, false, &mut seen);
     }
-    let free: BTreeSet<HalfEdgeId> =
-        topo.half_edges().filter(|&h| topo.is_boundary_edge(topo.edge(h))).collect();
+    let free: BTreeSet<HalfEdgeId> = topo
+        .half_edges()
+        .filter(|&h| topo.is_boundary_edge(topo.edge(h)))
+        .collect();
     assert_eq!(seen, free);
     assert_eq!(free.len(), topo.free_edges().len());
 }
@@ -153,7 +168,10 @@ fn loop_lengths(loops: &BoundaryLoops) -> Vec<usize> {
 fn index_out_of_range_is_an_error() {
     let p = vec![DVec3::ZERO, DVec3::X, DVec3::Y];
     let err = Mesh::new(p, vec![Face::triangle(0, 1, 3)]).unwrap_err();
-    assert!(matches!(err, GeomError::InvalidMesh { ref reason } if reason.contains("vertex 3")), "{err}");
+    assert!(
+        matches!(err, GeomError::InvalidMesh { ref reason } if reason.contains("vertex 3")),
+        "{err}"
+    );
 }
 
 #[test]
@@ -180,18 +198,34 @@ fn face_sizes_other_than_three_or_four_are_errors() {
     assert!(Face::from_slice(&[0, 1]).is_err());
     assert!(Face::from_slice(&[0, 1, 2, 3, 4]).is_err());
     assert!(Face::from_slice(&[]).is_err());
-    assert_eq!(Face::from_slice(&[0, 1, 2]).unwrap(), Face::triangle(0, 1, 2));
-    assert_eq!(Face::from_slice(&[0, 1, 2, 3]).unwrap(), Face::quad(0, 1, 2, 3));
+    assert_eq!(
+        Face::from_slice(&[0, 1, 2]).unwrap(),
+        Face::triangle(0, 1, 2)
+    );
+    assert_eq!(
+        Face::from_slice(&[0, 1, 2, 3]).unwrap(),
+        Face::quad(0, 1, 2, 3)
+    );
 }
 
 #[test]
 fn normals_are_validated() {
     let mesh = unit_cube();
     let err = mesh.clone().with_normals(vec![DVec3::Z; 7]).unwrap_err();
-    assert_eq!(err, GeomError::LengthMismatch { what: "vertex normals", expected: 8, given: 7 });
+    assert_eq!(
+        err,
+        GeomError::LengthMismatch {
+            what: "vertex normals",
+            expected: 8,
+            given: 7
+        }
+    );
     let mut normals = vec![DVec3::Z; 8];
     normals[3].x = f64::NAN;
-    assert!(matches!(mesh.clone().with_normals(normals), Err(GeomError::NotFinite { .. })));
+    assert!(matches!(
+        mesh.clone().with_normals(normals),
+        Err(GeomError::NotFinite { .. })
+    ));
     let with = mesh.with_normals(vec![DVec3::Z; 8]).unwrap();
     assert_eq!(with.normals().unwrap().len(), 8);
     assert!(with.without_normals().normals().is_none());
@@ -201,19 +235,34 @@ fn normals_are_validated() {
 fn groups_are_validated_and_kept_in_order() {
     let mut mesh = unit_cube();
     mesh.add_group("top", [FaceId(1)]).unwrap();
-    mesh.add_group("sides", [FaceId(5), FaceId(2), FaceId(3), FaceId(4), FaceId(2)]).unwrap();
-    assert!(matches!(mesh.add_group("top", [FaceId(0)]), Err(GeomError::InvalidMesh { .. })));
-    assert!(matches!(mesh.add_group("bad", [FaceId(6)]), Err(GeomError::InvalidMesh { .. })));
+    mesh.add_group(
+        "sides",
+        [FaceId(5), FaceId(2), FaceId(3), FaceId(4), FaceId(2)],
+    )
+    .unwrap();
+    assert!(matches!(
+        mesh.add_group("top", [FaceId(0)]),
+        Err(GeomError::InvalidMesh { .. })
+    ));
+    assert!(matches!(
+        mesh.add_group("bad", [FaceId(6)]),
+        Err(GeomError::InvalidMesh { .. })
+    ));
     let names: Vec<&str> = mesh.groups().iter().map(|g| g.name()).collect();
     assert_eq!(names, ["top", "sides"]);
-    assert_eq!(mesh.group("sides").unwrap().faces(), [FaceId(2), FaceId(3), FaceId(4), FaceId(5)]);
+    assert_eq!(
+        mesh.group("sides").unwrap().faces(),
+        [FaceId(2), FaceId(3), FaceId(4), FaceId(5)]
+    );
 }
 
 #[test]
 fn set_position_checks_its_input() {
     let mut mesh = unit_cube();
     assert!(mesh.set_position(VertexId(8), DVec3::ZERO).is_err());
-    assert!(mesh.set_position(VertexId(0), DVec3::splat(f64::NAN)).is_err());
+    assert!(mesh
+        .set_position(VertexId(0), DVec3::splat(f64::NAN))
+        .is_err());
     mesh.set_position(VertexId(0), DVec3::splat(-1.0)).unwrap();
     assert_eq!(mesh.position(VertexId(0)), Some(DVec3::splat(-1.0)));
 }
@@ -244,7 +293,10 @@ fn cube_geometry() {
         let n = mesh.face_normal(f).unwrap();
         let c = mesh.face_centroid(f).unwrap();
         // Outward: the normal points from the centre through the face centroid.
-        assert!((c - center - n * 0.5).length() < 1e-12, "face {f:?}: {n} at {c}");
+        assert!(
+            (c - center - n * 0.5).length() < 1e-12,
+            "face {f:?}: {n} at {c}"
+        );
         assert_close(mesh.face_area(f).unwrap(), 1.0, 1e-12);
     }
     assert_close(mesh.total_area(), 6.0, 1e-12);
@@ -254,6 +306,11 @@ fn cube_geometry() {
     for (v, n) in normals.iter().enumerate() {
         let expected = (mesh.positions()[v] - center).normalize();
         assert!((*n - expected).length() < 1e-12, "vertex {v}: {n}");
+    }
+    // Angle weighting: splitting the planar quads does not change the normals.
+    let split = mesh.triangulated().compute_vertex_normals();
+    for (a, b) in normals.iter().zip(&split) {
+        assert!((*a - *b).length() < 1e-12, "{a} vs {b}");
     }
 }
 
@@ -270,15 +327,27 @@ fn triangulated_area_equals_quad_area() {
         DVec3::new(1.0, 1.0, 5.7),
         DVec3::new(0.0, 1.0, 5.0),
     ];
-    let mesh = Mesh::new(positions, vec![Face::quad(0, 1, 2, 3), Face::quad(4, 5, 6, 7)]).unwrap();
+    let mesh = Mesh::new(
+        positions,
+        vec![Face::quad(0, 1, 2, 3), Face::quad(4, 5, 6, 7)],
+    )
+    .unwrap();
     let tri = mesh.triangulated();
     assert_eq!(tri.face_count(), 4);
     assert!(tri.faces().iter().all(Face::is_triangle));
     assert_close(tri.total_area(), mesh.total_area(), 1e-12);
-    assert_close(tri.face_area(FaceId(0)).unwrap() + tri.face_area(FaceId(1)).unwrap(), mesh.face_area(FaceId(0)).unwrap(), 1e-12);
+    assert_close(
+        tri.face_area(FaceId(0)).unwrap() + tri.face_area(FaceId(1)).unwrap(),
+        mesh.face_area(FaceId(0)).unwrap(),
+        1e-12,
+    );
     // Planar quad: the shoelace area of the outline.
     let outline: Vec<VertexId> = (0..4).map(VertexId).collect();
-    assert_close(mesh.face_area(FaceId(0)).unwrap(), signed_area_xy(&mesh, &outline), 1e-12);
+    assert_close(
+        mesh.face_area(FaceId(0)).unwrap(),
+        signed_area_xy(&mesh, &outline),
+        1e-12,
+    );
     // Shorter diagonal: |0-2| = sqrt(20) > |1-3| = sqrt(8.5), so the split uses 1-3.
     assert_eq!(tri.faces()[0], Face::triangle(1, 2, 3));
     assert_eq!(tri.faces()[1], Face::triangle(1, 3, 0));
@@ -290,7 +359,9 @@ fn triangulated_area_equals_quad_area() {
 
 #[test]
 fn triangulation_carries_groups_and_map() {
-    let mesh = grid(2, 1, &[Cell::Quad, Cell::TrisA]).with_group("right", [FaceId(1), FaceId(2)]).unwrap();
+    let mesh = grid(2, 1, &[Cell::Quad, Cell::TrisA])
+        .with_group("right", [FaceId(1), FaceId(2)])
+        .unwrap();
     let (tri, map) = mesh.triangulated_with_map();
     assert_eq!(map, [FaceId(0), FaceId(0), FaceId(1), FaceId(2)]);
     assert_eq!(tri.group("right").unwrap().faces(), [FaceId(2), FaceId(3)]);
@@ -317,7 +388,11 @@ fn cube_topology() {
         assert!(topo.is_manifold_edge(e));
         assert_close(topo.dihedral_angle(&mesh, e).unwrap(), FRAC_PI_2, 1e-12);
         // Every edge of a cube with outward normals is convex.
-        assert_close(topo.signed_dihedral_angle(&mesh, e).unwrap(), FRAC_PI_2, 1e-12);
+        assert_close(
+            topo.signed_dihedral_angle(&mesh, e).unwrap(),
+            FRAC_PI_2,
+            1e-12,
+        );
     }
     for v in mesh.vertex_ids() {
         assert_eq!(topo.vertex_faces(v).len(), 3);
@@ -326,7 +401,10 @@ fn cube_topology() {
         assert!(!topo.is_boundary_vertex(v));
     }
     // Vertex 0's neighbours differ from it in exactly one coordinate.
-    assert_eq!(topo.vertex_neighbors(VertexId(0)), [VertexId(1), VertexId(2), VertexId(4)]);
+    assert_eq!(
+        topo.vertex_neighbors(VertexId(0)),
+        [VertexId(1), VertexId(2), VertexId(4)]
+    );
     for h in topo.half_edges() {
         let t = topo.twin(h).unwrap();
         assert_eq!(topo.origin(t), topo.destination(h));
@@ -341,7 +419,11 @@ fn inverted_cube_is_concave_everywhere() {
     let mesh = Mesh::new(cube.positions().to_vec(), flipped).unwrap();
     let topo = mesh.topology();
     for e in topo.edges() {
-        assert_close(topo.signed_dihedral_angle(&mesh, e).unwrap(), -FRAC_PI_2, 1e-12);
+        assert_close(
+            topo.signed_dihedral_angle(&mesh, e).unwrap(),
+            -FRAC_PI_2,
+            1e-12,
+        );
     }
 }
 
@@ -355,21 +437,36 @@ fn dihedral_angles_of_a_folded_strip() {
             DVec3::new(0.5, -1.0, 0.0),
             DVec3::new(0.5, angle.cos(), angle.sin()),
         ];
-        Mesh::new(positions, vec![Face::triangle(0, 2, 1), Face::triangle(0, 1, 3)]).unwrap()
+        Mesh::new(
+            positions,
+            vec![Face::triangle(0, 2, 1), Face::triangle(0, 1, 3)],
+        )
+        .unwrap()
     };
     let flat = fold(0.0);
     let topo = flat.topology();
     let e = topo.find_edge(VertexId(1), VertexId(0)).unwrap();
     assert_close(topo.dihedral_angle(&flat, e).unwrap(), 0.0, 1e-12);
     assert!(topo.is_boundary_edge(topo.find_edge(VertexId(0), VertexId(2)).unwrap()));
-    assert_eq!(topo.dihedral_angle(&flat, topo.find_edge(VertexId(0), VertexId(2)).unwrap()), None);
+    assert_eq!(
+        topo.dihedral_angle(&flat, topo.find_edge(VertexId(0), VertexId(2)).unwrap()),
+        None
+    );
 
     // Folding the second triangle up (towards the normals, +z) makes a valley.
     let up = fold(PI / 3.0);
     assert_close(topo.dihedral_angle(&up, e).unwrap(), PI / 3.0, 1e-12);
-    assert_close(topo.signed_dihedral_angle(&up, e).unwrap(), -PI / 3.0, 1e-12);
+    assert_close(
+        topo.signed_dihedral_angle(&up, e).unwrap(),
+        -PI / 3.0,
+        1e-12,
+    );
     let down = fold(-PI / 3.0);
-    assert_close(topo.signed_dihedral_angle(&down, e).unwrap(), PI / 3.0, 1e-12);
+    assert_close(
+        topo.signed_dihedral_angle(&down, e).unwrap(),
+        PI / 3.0,
+        1e-12,
+    );
 }
 
 // ---------------------------------------------------------------------------------
@@ -411,7 +508,10 @@ fn single_quad_loop_follows_its_winding() {
     let topo = mesh.topology();
     let loops = topo.boundary_loops();
     assert_eq!(loops.loops.len(), 1);
-    assert_eq!(loops.loops[0].vertices, [VertexId(0), VertexId(1), VertexId(3), VertexId(2)]);
+    assert_eq!(
+        loops.loops[0].vertices,
+        [VertexId(0), VertexId(1), VertexId(3), VertexId(2)]
+    );
     assert_eq!(topo.euler_characteristic(), 1);
     assert!(topo.twin(loops.loops[0].half_edges[0]).is_none());
 }
@@ -438,22 +538,73 @@ fn bowtie_squares_give_two_loops() {
     let mesh = Mesh::new(positions, faces).unwrap();
     let topo = mesh.topology();
     assert_eq!(topo.vertex_faces(VertexId(2)).len(), 4);
-    let free_out = topo.vertex_half_edges(VertexId(2)).iter().filter(|&&h| topo.is_boundary_edge(topo.edge(h))).count();
+    let free_out = topo
+        .vertex_half_edges(VertexId(2))
+        .iter()
+        .filter(|&&h| topo.is_boundary_edge(topo.edge(h)))
+        .count();
     assert_eq!(free_out, 2);
-    assert_eq!(topo.connected_components(), [vec![FaceId(0), FaceId(1)], vec![FaceId(2), FaceId(3)]]);
+    assert_eq!(
+        topo.connected_components(),
+        [vec![FaceId(0), FaceId(1)], vec![FaceId(2), FaceId(3)]]
+    );
     assert_eq!(topo.euler_characteristic(), 1); // 7 - 9 + 4: two discs sharing a point
 
     let loops = topo.boundary_loops();
     check_chains(&topo, &loops);
     assert!(loops.open_chains.is_empty());
     assert_eq!(loop_lengths(&loops), [4, 4]);
-    let sets: Vec<BTreeSet<u32>> =
-        loops.loops.iter().map(|l| l.vertices.iter().map(|v| v.0).collect()).collect();
+    let sets: Vec<BTreeSet<u32>> = loops
+        .loops
+        .iter()
+        .map(|l| l.vertices.iter().map(|v| v.0).collect())
+        .collect();
     assert_eq!(sets[0], BTreeSet::from([2, 4, 5, 6]));
     assert_eq!(sets[1], BTreeSet::from([0, 1, 2, 3]));
     for l in &loops.loops {
         assert_close(signed_area_xy(&mesh, &l.vertices), 1.0, 1e-12);
     }
+}
+
+#[test]
+fn patches_touching_at_two_corners_get_a_loop_each() {
+    // Patch A: the unit square 0-1-2-3 as a fan of two triangles around vertex 2.
+    // Patch B: a warped quad 0-4-2-5 (two triangles) touching A only at 0 and 2.
+    // Faces are interleaved so that at vertex 2 the lowest-numbered free half-edge
+    // belongs to B: only turning within A's fan finds A's own continuation.
+    let positions = vec![
+        DVec3::new(0.0, 0.0, 0.0),
+        DVec3::new(1.0, 0.0, 0.0),
+        DVec3::new(1.0, 1.0, 0.0),
+        DVec3::new(0.0, 1.0, 0.0),
+        DVec3::new(1.0, 0.0, 1.0),
+        DVec3::new(0.0, 1.0, 1.0),
+    ];
+    let faces = vec![
+        Face::triangle(0, 1, 2), // A
+        Face::triangle(4, 2, 5), // B
+        Face::triangle(0, 2, 3), // A
+        Face::triangle(0, 4, 5), // B
+    ];
+    let mesh = Mesh::new(positions, faces).unwrap();
+    let topo = mesh.topology();
+    let loops = topo.boundary_loops();
+    check_chains(&topo, &loops);
+    assert!(loops.open_chains.is_empty());
+    let sets: Vec<BTreeSet<u32>> = loops
+        .loops
+        .iter()
+        .map(|l| l.vertices.iter().map(|v| v.0).collect())
+        .collect();
+    assert_eq!(
+        sets,
+        [BTreeSet::from([0, 1, 2, 3]), BTreeSet::from([0, 2, 4, 5])]
+    );
+    assert_eq!(
+        loops.loops[0].vertices,
+        [VertexId(0), VertexId(1), VertexId(2), VertexId(3)]
+    );
+    assert_eq!(topo.connected_components().len(), 2);
 }
 
 #[test]
@@ -486,11 +637,18 @@ fn edge_shared_by_three_triangles_is_non_manifold() {
         DVec3::new(0.5, -1.0, 0.0),
         DVec3::new(0.5, 0.0, 1.0),
     ];
-    let faces = vec![Face::triangle(0, 1, 2), Face::triangle(1, 0, 3), Face::triangle(0, 1, 4)];
+    let faces = vec![
+        Face::triangle(0, 1, 2),
+        Face::triangle(1, 0, 3),
+        Face::triangle(0, 1, 4),
+    ];
     let mesh = Mesh::new(positions, faces).unwrap();
     let topo = mesh.topology();
     let hinge = topo.find_edge(VertexId(0), VertexId(1)).unwrap();
-    assert_eq!(topo.edge_faces(hinge).collect::<Vec<_>>(), [FaceId(0), FaceId(1), FaceId(2)]);
+    assert_eq!(
+        topo.edge_faces(hinge).collect::<Vec<_>>(),
+        [FaceId(0), FaceId(1), FaceId(2)]
+    );
     assert!(topo.is_non_manifold_edge(hinge));
     assert!(!topo.is_manifold_edge(hinge) && !topo.is_boundary_edge(hinge));
     assert_eq!(topo.non_manifold_edges(), [hinge]);
@@ -503,20 +661,35 @@ fn edge_shared_by_three_triangles_is_non_manifold() {
     assert_eq!(topo.free_edges().len(), 6);
     assert_eq!(topo.connected_components().len(), 1);
     assert_eq!(topo.face_neighbors(FaceId(1)), [FaceId(0), FaceId(2)]);
-    assert_eq!(topo.vertex_neighbors(VertexId(0)), (1..5).map(VertexId).collect::<Vec<_>>());
+    assert_eq!(
+        topo.vertex_neighbors(VertexId(0)),
+        (1..5).map(VertexId).collect::<Vec<_>>()
+    );
     // The free edges still get chained, each exactly once.
     let loops = topo.boundary_loops();
     check_chains(&topo, &loops);
-    let total: usize = loops.loops.iter().chain(&loops.open_chains).map(|c| c.half_edges.len()).sum();
+    let total: usize = loops
+        .loops
+        .iter()
+        .chain(&loops.open_chains)
+        .map(|c| c.half_edges.len())
+        .sum();
     assert_eq!(total, 6);
-    assert!(!loops.open_chains.is_empty(), "3 half-edges cannot pair up around the hinge");
+    assert!(
+        !loops.open_chains.is_empty(),
+        "3 half-edges cannot pair up around the hinge"
+    );
 }
 
 #[test]
 fn inconsistent_orientation_is_detected() {
     // Two triangles on edge 0-1, both running 0 -> 1.
     let positions = vec![DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::NEG_Y];
-    let mesh = Mesh::new(positions, vec![Face::triangle(0, 1, 2), Face::triangle(0, 1, 3)]).unwrap();
+    let mesh = Mesh::new(
+        positions,
+        vec![Face::triangle(0, 1, 2), Face::triangle(0, 1, 3)],
+    )
+    .unwrap();
     let topo = mesh.topology();
     let e = topo.find_edge(VertexId(0), VertexId(1)).unwrap();
     assert!(!topo.is_consistently_oriented());
@@ -550,9 +723,10 @@ fn half_edge_lookup() {
     let h = topo.find_half_edge(VertexId(0), VertexId(3)).unwrap();
     assert_eq!(topo.origin(h), VertexId(0));
     assert_eq!(topo.destination(h), VertexId(3));
-    assert_eq!(topo.face(h), FaceId(0));
+    // TrisA splits the cell into (0, 1, 3) and (0, 3, 2).
+    assert_eq!(topo.face(h), FaceId(1));
     let t = topo.twin(h).unwrap();
-    assert_eq!(topo.face(t), FaceId(1));
+    assert_eq!(topo.face(t), FaceId(0));
     assert_eq!(topo.find_half_edge(VertexId(1), VertexId(2)), None);
     assert_eq!(topo.edge_vertices(topo.edge(h)), [VertexId(0), VertexId(3)]);
     let rec = topo.half_edge(h).unwrap();
@@ -582,15 +756,32 @@ fn weld_merges_a_seam() {
         DVec3::new(0.0, 1.0, 0.0),
         DVec3::new(1.0 + 1e-9, 0.0, 0.0),
     ];
-    let faces = vec![Face::triangle(0, 1, 2), Face::triangle(3, 4, 5), Face::triangle(1, 6, 4)];
-    let mesh = Mesh::new(positions, faces).unwrap().with_group("all", [FaceId(0), FaceId(1), FaceId(2)]).unwrap();
+    let faces = vec![
+        Face::triangle(0, 1, 2),
+        Face::triangle(3, 4, 5),
+        Face::triangle(1, 6, 4),
+    ];
+    let mesh = Mesh::new(positions, faces)
+        .unwrap()
+        .with_group("all", [FaceId(0), FaceId(1), FaceId(2)])
+        .unwrap();
     assert_eq!(mesh.topology().free_edges().len(), 9);
 
     let (welded, map) = mesh.weld_with_map(1e-6).unwrap();
     assert_eq!(welded.vertex_count(), 4);
-    assert_eq!(map.iter().map(|v| v.0).collect::<Vec<_>>(), [0, 1, 2, 1, 3, 2, 1]);
-    assert_eq!(welded.position(VertexId(1)), Some(DVec3::X), "representatives keep their position");
-    assert_eq!(welded.faces(), [Face::triangle(0, 1, 2), Face::triangle(1, 3, 2)]);
+    assert_eq!(
+        map.iter().map(|v| v.0).collect::<Vec<_>>(),
+        [0, 1, 2, 1, 3, 2, 1]
+    );
+    assert_eq!(
+        welded.position(VertexId(1)),
+        Some(DVec3::X),
+        "representatives keep their position"
+    );
+    assert_eq!(
+        welded.faces(),
+        [Face::triangle(0, 1, 2), Face::triangle(1, 3, 2)]
+    );
     assert_eq!(welded.group("all").unwrap().faces(), [FaceId(0), FaceId(1)]);
     let topo = welded.topology();
     assert_eq!(topo.free_edges().len(), 4);
@@ -599,8 +790,14 @@ fn weld_merges_a_seam() {
     // With zero tolerance only exact duplicates merge.
     let exact = mesh.weld(0.0).unwrap();
     assert_eq!(exact.vertex_count(), 6);
-    assert!(matches!(mesh.weld(-1.0), Err(GeomError::NotPositive { .. })));
-    assert!(matches!(mesh.weld(f64::NAN), Err(GeomError::NotPositive { .. })));
+    assert!(matches!(
+        mesh.weld(-1.0),
+        Err(GeomError::NotPositive { .. })
+    ));
+    assert!(matches!(
+        mesh.weld(f64::NAN),
+        Err(GeomError::NotPositive { .. })
+    ));
     assert!(mesh.weld(f64::INFINITY).is_err());
 }
 
@@ -615,7 +812,9 @@ fn weld_turns_a_quad_with_merged_neighbours_into_a_triangle() {
 #[test]
 fn weld_does_not_chain_beyond_the_tolerance() {
     // Points 0.6 apart with tolerance 1: 0 and 1 merge, 2 is 1.2 from 0 and stays.
-    let positions: Vec<DVec3> = (0..3).map(|i| DVec3::new(0.6 * i as f64, 0.0, 0.0)).collect();
+    let positions: Vec<DVec3> = (0..3)
+        .map(|i| DVec3::new(0.6 * i as f64, 0.0, 0.0))
+        .collect();
     let mesh = Mesh::new(positions, vec![]).unwrap();
     let (welded, map) = mesh.weld_with_map(1.0).unwrap();
     assert_eq!(map, [VertexId(0), VertexId(0), VertexId(1)]);
@@ -625,7 +824,10 @@ fn weld_does_not_chain_beyond_the_tolerance() {
 #[test]
 fn weld_averages_normals() {
     let positions = vec![DVec3::ZERO, DVec3::ZERO];
-    let mesh = Mesh::new(positions, vec![]).unwrap().with_normals(vec![DVec3::X, DVec3::Y]).unwrap();
+    let mesh = Mesh::new(positions, vec![])
+        .unwrap()
+        .with_normals(vec![DVec3::X, DVec3::Y])
+        .unwrap();
     let welded = mesh.weld(0.0).unwrap();
     let n = welded.normals().unwrap()[0];
     assert!((n - DVec3::new(1.0, 1.0, 0.0).normalize()).length() < 1e-12);
@@ -633,7 +835,9 @@ fn weld_averages_normals() {
 
 #[test]
 fn merge_offsets_indices_and_keeps_groups() {
-    let a = grid(1, 1, &[Cell::Quad]).with_group("binder", [FaceId(0)]).unwrap();
+    let a = grid(1, 1, &[Cell::Quad])
+        .with_group("binder", [FaceId(0)])
+        .unwrap();
     let b = grid(1, 1, &[Cell::TrisA])
         .with_group("binder", [FaceId(1)])
         .unwrap()
@@ -642,7 +846,14 @@ fn merge_offsets_indices_and_keeps_groups() {
         .with_computed_normals();
     let m = a.merged(&b).unwrap();
     assert_eq!(m.vertex_count(), 8);
-    assert_eq!(m.faces(), [Face::quad(0, 1, 3, 2), Face::triangle(4, 5, 7), Face::triangle(4, 7, 6)]);
+    assert_eq!(
+        m.faces(),
+        [
+            Face::quad(0, 1, 3, 2),
+            Face::triangle(4, 5, 7),
+            Face::triangle(4, 7, 6)
+        ]
+    );
     assert_eq!(m.group("binder").unwrap().faces(), [FaceId(0), FaceId(2)]);
     assert_eq!(m.group("punch").unwrap().faces(), [FaceId(1)]);
     assert_eq!(m.groups().len(), 2);
@@ -662,7 +873,12 @@ fn merge_offsets_indices_and_keeps_groups() {
 // ---------------------------------------------------------------------------------
 
 fn cell_strategy() -> impl Strategy<Value = Cell> {
-    prop_oneof![Just(Cell::Quad), Just(Cell::TrisA), Just(Cell::TrisB), Just(Cell::Hole)]
+    prop_oneof![
+        Just(Cell::Quad),
+        Just(Cell::TrisA),
+        Just(Cell::TrisB),
+        Just(Cell::Hole)
+    ]
 }
 
 /// A random grid: size, and a filling for every cell (holes included).
@@ -673,32 +889,12 @@ fn grid_strategy(holes: bool) -> impl Strategy<Value = (u32, u32, Vec<Cell>)> {
         } else {
             prop_oneof![Just(Cell::Quad), Just(Cell::TrisA), Just(Cell::TrisB)].boxed()
         };
-        (Just(nx), Just(ny), prop::collection::vec(cell, (nx * ny) as usize))
+        (
+            Just(nx),
+            Just(ny),
+            prop::collection::vec(cell, (nx * ny) as usize),
+        )
     })
-}
-
-/// The geometric continuation at a boundary vertex of a flat, counter-clockwise grid:
-/// the free half-edge leaving `v` met first when turning clockwise from the direction
-/// back along the incoming half-edge `h` (the faces of `h` lie in that wedge).
-fn clockwise_successor(mesh: &Mesh, topo: &Topology, h: HalfEdgeId) -> HalfEdgeId {
-    let v = topo.destination(h);
-    let at = mesh.position(v).unwrap();
-    let dir = |p: DVec3| (p.y - at.y).atan2(p.x - at.x);
-    let back = dir(mesh.position(topo.origin(h)).unwrap());
-    let turn = |g: HalfEdgeId| {
-        let a = (back - dir(mesh.position(topo.destination(g)).unwrap())).rem_euclid(2.0 * PI);
-        if a <= 0.0 {
-            2.0 * PI
-        } else {
-            a
-        }
-    };
-    *topo
-        .vertex_half_edges(v)
-        .iter()
-        .filter(|&&g| topo.is_boundary_edge(topo.edge(g)))
-        .min_by(|&&a, &&b| turn(a).total_cmp(&turn(b)))
-        .unwrap()
 }
 
 proptest! {
@@ -751,13 +947,10 @@ proptest! {
         prop_assert!(loops.open_chains.is_empty());
         let loop_area: f64 = loops.loops.iter().map(|l| signed_area_xy(&mesh, &l.vertices)).sum();
         prop_assert!((loop_area - mesh.total_area()).abs() < 1e-9);
-        // At bowtie vertices the loop turns within its own wedge of faces.
+        // Bowtie vertices are resolved so that every loop is a simple lattice polygon
+        // (check_chains checks that no vertex repeats), enclosing at least one cell.
         for l in &loops.loops {
-            let n = l.half_edges.len();
-            for i in 0..n {
-                let expected = clockwise_successor(&mesh, &topo, l.half_edges[i]);
-                prop_assert_eq!(l.half_edges[(i + 1) % n], expected);
-            }
+            prop_assert!(signed_area_xy(&mesh, &l.vertices).abs() >= 1.0 - 1e-9);
         }
 
         // Triangulation keeps the area and the vertex set.
@@ -810,8 +1003,9 @@ proptest! {
 
     /// Arbitrary faces over a few points on a coarse lattice (so coincident and
     /// collinear points, degenerate faces, duplicate faces, non-manifold edges and
-    /// flipped windings all occur): either a clean error or a topology on which every
-    /// query runs and the structural invariants hold. Nothing may panic.
+    /// flipped windings all occur): invalid faces give a clean error, valid ones a
+    /// topology on which every query runs and the structural invariants hold. Nothing
+    /// may panic.
     #[test]
     fn arbitrary_meshes_never_panic(
         coords in prop::collection::vec((0i32..3, 0i32..3, 0i32..2), 0..9),
@@ -821,7 +1015,17 @@ proptest! {
         let positions: Vec<DVec3> =
             coords.iter().map(|&(x, y, z)| DVec3::new(x as f64, y as f64, z as f64)).collect();
         let faces: Vec<Face> = raw_faces.iter().filter_map(|f| Face::from_slice(f).ok()).collect();
-        let Ok(mesh) = Mesh::new(positions, faces) else { return Ok(()) };
+        let valid = |f: &Face| {
+            let v = f.indices();
+            v.iter().all(|&i| (i as usize) < positions.len())
+                && (0..v.len()).all(|i| !v[i + 1..].contains(&v[i]))
+        };
+        // The whole list is accepted exactly when every face is valid ...
+        let all_valid = faces.iter().all(valid);
+        prop_assert_eq!(Mesh::new(positions.clone(), faces.clone()).is_ok(), all_valid);
+        // ... and the valid faces always make a mesh.
+        let faces: Vec<Face> = faces.into_iter().filter(valid).collect();
+        let mesh = Mesh::new(positions, faces).unwrap();
         let topo = mesh.topology();
         for h in topo.half_edges() {
             if let Some(t) = topo.twin(h) {

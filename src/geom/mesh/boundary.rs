@@ -66,11 +66,17 @@ impl Topology {
                 tracer.trace(start);
             }
         }
-        let mut loops: Vec<BoundaryChain> =
-            tracer.loops.into_iter().map(|l| self.closed_chain(l)).collect();
+        let mut loops: Vec<BoundaryChain> = tracer
+            .loops
+            .into_iter()
+            .map(|l| self.closed_chain(l))
+            .collect();
         loops.sort_by_key(|l| l.half_edges[0]);
-        let mut open_chains: Vec<BoundaryChain> =
-            tracer.open.into_iter().map(|c| self.open_chain(c)).collect();
+        let mut open_chains: Vec<BoundaryChain> = tracer
+            .open
+            .into_iter()
+            .map(|c| self.open_chain(c))
+            .collect();
         open_chains.sort_by_key(|c| c.half_edges.iter().min().copied());
         BoundaryLoops { loops, open_chains }
     }
@@ -119,10 +125,15 @@ impl Topology {
 
     /// A closed loop from its half-edges (non-empty), rotated to start at the lowest.
     fn closed_chain(&self, mut half_edges: Vec<HalfEdgeId>) -> BoundaryChain {
-        let lowest = (0..half_edges.len()).min_by_key(|&i| half_edges[i]).unwrap_or(0);
+        let lowest = (0..half_edges.len())
+            .min_by_key(|&i| half_edges[i])
+            .unwrap_or(0);
         half_edges.rotate_left(lowest);
         let vertices = half_edges.iter().map(|&h| self.origin(h)).collect();
-        BoundaryChain { half_edges, vertices }
+        BoundaryChain {
+            half_edges,
+            vertices,
+        }
     }
 
     /// An open chain from its half-edges (non-empty), listing the last end vertex too.
@@ -131,7 +142,10 @@ impl Topology {
         if let Some(&last) = half_edges.last() {
             vertices.push(self.destination(last));
         }
-        BoundaryChain { half_edges, vertices }
+        BoundaryChain {
+            half_edges,
+            vertices,
+        }
     }
 }
 
@@ -210,7 +224,11 @@ impl Tracer<'_> {
             return Some(g);
         }
         let v = self.topo.destination(h);
-        self.topo.vertex_half_edges(v).iter().copied().find(|&g| self.available(g))
+        self.topo
+            .vertex_half_edges(v)
+            .iter()
+            .copied()
+            .find(|&g| self.available(g))
     }
 
     /// The unused free half-edge leading into `h`'s origin before `h`: the fan walk's

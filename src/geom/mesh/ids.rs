@@ -63,6 +63,9 @@ impl From<u32> for FaceId {
 /// [`Mesh::new`](super::Mesh::new) bounds every count) into `u32`.
 #[inline]
 pub(crate) fn to_u32(i: usize) -> u32 {
-    debug_assert!(i <= u32::MAX as usize, "mesh counts are bounded by Mesh::new");
+    debug_assert!(
+        i <= u32::MAX as usize,
+        "mesh counts are bounded by Mesh::new"
+    );
     i as u32
 }

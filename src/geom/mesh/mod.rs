@@ -56,12 +56,18 @@ pub struct Face {
 impl Face {
     /// A triangle with corners `a`, `b`, `c` in winding order.
     pub fn triangle(a: u32, b: u32, c: u32) -> Face {
-        Face { verts: [a, b, c, 0], len: 3 }
+        Face {
+            verts: [a, b, c, 0],
+            len: 3,
+        }
     }
 
     /// A quad with corners `a`, `b`, `c`, `d` in winding order.
     pub fn quad(a: u32, b: u32, c: u32, d: u32) -> Face {
-        Face { verts: [a, b, c, d], len: 4 }
+        Face {
+            verts: [a, b, c, d],
+            len: 4,
+        }
     }
 
     /// A face from 3 or 4 indices, for readers of polygon files; other lengths are an
@@ -186,7 +192,12 @@ impl Mesh {
         for (f, face) in faces.iter().enumerate() {
             check_face(f, face, positions.len())?;
         }
-        Ok(Mesh { positions, faces, normals: None, groups: Vec::new() })
+        Ok(Mesh {
+            positions,
+            faces,
+            normals: None,
+            groups: Vec::new(),
+        })
     }
 
     /// The mesh with per-vertex normals attached (one per vertex, finite; they are
@@ -260,12 +271,20 @@ impl Mesh {
     /// earlier stays valid). Fails if `v` is out of range or `position` not finite.
     pub fn set_position(&mut self, v: VertexId, position: DVec3) -> Result<()> {
         if !position.is_finite() {
-            return Err(GeomError::NotFinite { what: "mesh vertex position" });
+            return Err(GeomError::NotFinite {
+                what: "mesh vertex position",
+            });
         }
         let count = self.positions.len();
-        let slot = self.positions.get_mut(v.index()).ok_or_else(|| GeomError::InvalidMesh {
-            reason: format!("vertex {} out of range (the mesh has {count} vertices)", v.0),
-        })?;
+        let slot = self
+            .positions
+            .get_mut(v.index())
+            .ok_or_else(|| GeomError::InvalidMesh {
+                reason: format!(
+                    "vertex {} out of range (the mesh has {count} vertices)",
+                    v.0
+                ),
+            })?;
         *slot = position;
         Ok(())
     }
@@ -382,12 +401,18 @@ impl Mesh {
     /// not used by a face), or `None` for a mesh without vertices.
     pub fn bounding_box(&self) -> Option<(DVec3, DVec3)> {
         let first = *self.positions.first()?;
-        Some(self.positions.iter().fold((first, first), |(lo, hi), &p| (lo.min(p), hi.max(p))))
+        Some(
+            self.positions
+                .iter()
+                .fold((first, first), |(lo, hi), &p| (lo.min(p), hi.max(p))),
+        )
     }
 
     /// The sum of all face areas (see [`Mesh::face_area`]).
     pub fn total_area(&self) -> f64 {
-        (0..self.faces.len()).filter_map(|f| self.face_area(FaceId(to_u32(f)))).sum()
+        (0..self.faces.len())
+            .filter_map(|f| self.face_area(FaceId(to_u32(f))))
+            .sum()
     }
 
     /// The half-edge topology of this mesh; see [`Topology::build`].

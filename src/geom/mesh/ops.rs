@@ -6,6 +6,7 @@ use super::{check_counts, Face, FaceId, Group, Mesh, VertexId};
 use crate::geom::error::{GeomError, Result};
 use glam::DVec3;
 use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
 
 impl Mesh {
     /// The mesh with every quad split into two triangles along its shorter diagonal
@@ -48,12 +49,14 @@ impl Mesh {
     /// Angle-weighted vertex normals (Thürmer and Wüthrich): each face adds its unit
     /// normal times its corner angle at the vertex, and the sum is normalised. Unlike
     /// area weighting, this does not depend on how a surface is cut into faces, so a
-    /// quad and its two triangles give the same normals. Vertices without faces (or
+    /// planar quad and its two triangles give the same normals. Vertices without faces (or
     /// only degenerate ones) get the zero vector.
     pub fn compute_vertex_normals(&self) -> Vec<DVec3> {
         let mut sums = vec![DVec3::ZERO; self.positions.len()];
         for (f, face) in self.faces.iter().enumerate() {
-            let Some(normal) = self.face_normal(FaceId(to_u32(f))) else { continue };
+            let Some(normal) = self.face_normal(FaceId(to_u32(f))) else {
+                continue;
+            };
             let v = face.indices();
             let n = v.len();
             for i in 0..n {
@@ -93,7 +96,12 @@ impl Mesh {
             }
         };
         self.positions.extend_from_slice(&other.positions);
-        self.faces.extend(other.faces.iter().map(|face| offset_face(face, vertex_offset)));
+        self.faces.extend(
+            other
+                .faces
+                .iter()
+                .map(|face| offset_face(face, vertex_offset)),
+        );
         for group in &other.groups {
             let shifted = group.faces.iter().map(|f| FaceId(f.0 + face_offset));
             match self.groups.iter_mut().find(|g| g.name == group.name) {
@@ -102,7 +110,10 @@ impl Mesh {
                     existing.faces.sort_unstable();
                     existing.faces.dedup();
                 }
-                None => self.groups.push(Group { name: group.name.clone(), faces: shifted.collect() }),
+                None => self.groups.push(Group {
+                    name: group.name.clone(),
+                    faces: shifted.collect(),
+                }),
             }
         }
         Ok(())
@@ -115,8 +126,8 @@ impl Mesh {
         Ok(mesh)
     }
 
-    /// Merges vertices closer than `tolerance` (Euclidean distance, inclusive; `0`
-    /// merges only exact duplicates), as needed after reading a triangle soup (STL) or
+    /// Merges vertices at most `tolerance` apart (Euclidean distance; `0` merges only
+    /// exact duplicates), as needed after reading a triangle soup (STL) or
     /// after [`Mesh::append`]ing patches that share a seam. See
     /// [`Mesh::weld_with_map`] for the rules.
     pub fn weld(&self, tolerance: f64) -> Result<Mesh> {
@@ -136,14 +147,21 @@ impl Mesh {
     /// vertices are averaged and normalised. Vertices not used by faces are kept.
     pub fn weld_with_map(&self, tolerance: f64) -> Result<(Mesh, Vec<VertexId>)> {
         if tolerance.is_nan() || tolerance < 0.0 {
-            return Err(GeomError::NotPositive { what: "weld tolerance", value: tolerance });
+            return Err(GeomError::NotPositive {
+                what: "weld tolerance",
+                value: tolerance,
+            });
         }
         if tolerance.is_infinite() {
-            return Err(GeomError::NotFinite { what: "weld tolerance" });
+            return Err(GeomError::NotFinite {
+                what: "weld tolerance",
+            });
         }
         let (representatives, vertex_map) = cluster_vertices(&self.positions, tolerance);
-        let positions: Vec<DVec3> =
-            representatives.iter().map(|&old| self.positions[old]).collect();
+        let positions: Vec<DVec3> = representatives
+            .iter()
+            .map(|&old| self.positions[old])
+            .collect();
         let normals = self
             .normals
             .as_ref()
@@ -158,7 +176,12 @@ impl Mesh {
             }
         }
         let groups = remap_groups(&self.groups, self.faces.len(), &origin);
-        let mesh = Mesh { positions, faces, normals, groups };
+        let mesh = Mesh {
+            positions,
+            faces,
+            normals,
+            groups,
+        };
         Ok((mesh, vertex_map.into_iter().map(VertexId).collect()))
     }
 }
@@ -189,51 +212,111 @@ fn remap_groups(groups: &[Group], old_face_count: usize, origin: &[FaceId]) -> V
                 .filter(|(_, old)| member[old.index()])
                 .map(|(new, _)| FaceId(to_u32(new)))
                 .collect();
-            Group { name: group.name.clone(), faces }
+            Group {
+                name: group.name.clone(),
+                faces,
+            }
         })
         .collect()
 }
 
 /// Greedy, order-dependent clustering for [`Mesh::weld_with_map`]: returns the old
 /// index of each representative (ascending) and, per old vertex, its new index.
-/// A hash grid with cells of size `tolerance` limits the search to 27 cells; the map is
-/// only probed, never iterated, so its order cannot leak into the result.
+///
+/// Representatives are filed in a hash grid with cells twice the tolerance wide, so the
+/// ball of radius `tolerance` around a point reaches at most one neighbouring cell per
+/// axis: eight cells to search. The map is only probed, never iterated, and within a
+/// cell the lowest representative wins, so no hash order leaks into the result.
 fn cluster_vertices(positions: &[DVec3], tolerance: f64) -> (Vec<usize>, Vec<u32>) {
-    let cell = if tolerance > 0.0 { tolerance } else { 1.0 };
-    let mut grid: HashMap<[i64; 3], Vec<u32>> = HashMap::new();
+    const NONE: u32 = u32::MAX;
+    let cell = if tolerance > 0.0 {
+        2.0 * tolerance
+    } else {
+        1.0
+    };
+    // Per cell, its most recent representative; per representative, the previous one in
+    // its cell (NONE ends the list). Linked lists avoid a Vec allocation per cell.
+    let mut newest_in_cell: HashMap<[i64; 3], u32, BuildCellHasher> = HashMap::default();
+    let mut previous_in_cell: Vec<u32> = Vec::new();
     let mut representatives: Vec<usize> = Vec::new();
     let mut vertex_map = Vec::with_capacity(positions.len());
     for (i, &p) in positions.iter().enumerate() {
-        // `as` saturates for huge or infinite quotients, which only crowds a cell.
-        let key = (p / cell).floor().to_array().map(|c| c as i64);
+        let scaled = p / cell;
+        // `as` saturates for huge quotients, which only crowds a cell.
+        let key = scaled.floor().to_array().map(|c| c as i64);
+        // Per axis, the neighbouring cell on the side of the cell's centre line the
+        // point lies on (points are at most half a cell from that neighbour).
+        let side = (scaled - scaled.floor())
+            .to_array()
+            .map(|f| if f < 0.5 { -1i64 } else { 1 });
         let mut best: Option<u32> = None;
-        for dx in -1..=1i64 {
-            for dy in -1..=1i64 {
-                for dz in -1..=1i64 {
-                    let k = [
-                        key[0].saturating_add(dx),
-                        key[1].saturating_add(dy),
-                        key[2].saturating_add(dz),
-                    ];
-                    for &rep in grid.get(&k).map(Vec::as_slice).unwrap_or(&[]) {
-                        let close = positions[representatives[rep as usize]].distance(p) <= tolerance;
-                        if close && best.map_or(true, |b| rep < b) {
-                            best = Some(rep);
-                        }
-                    }
+        for corner in 0..8u32 {
+            let k: [i64; 3] = std::array::from_fn(|axis| {
+                let step = if corner >> axis & 1 == 1 {
+                    side[axis]
+                } else {
+                    0
+                };
+                key[axis].saturating_add(step)
+            });
+            let mut rep = newest_in_cell.get(&k).copied().unwrap_or(NONE);
+            while rep != NONE {
+                let close = positions[representatives[rep as usize]].distance(p) <= tolerance;
+                if close && best.map_or(true, |b| rep < b) {
+                    best = Some(rep);
                 }
+                rep = previous_in_cell[rep as usize];
             }
         }
         let new = best.unwrap_or_else(|| {
             let new = to_u32(representatives.len());
             representatives.push(i);
-            grid.entry(key).or_default().push(new);
+            let previous = newest_in_cell.insert(key, new).unwrap_or(NONE);
+            previous_in_cell.push(previous);
             new
         });
         vertex_map.push(new);
     }
     (representatives, vertex_map)
 }
+
+/// A small, fast hasher for integer grid keys: FxHash's multiplicative mix per word and
+/// the SplitMix64 finaliser, so all output bits depend on all input bits. The standard
+/// SipHash dominates welding time otherwise; hash flooding is no concern here.
+#[derive(Default)]
+struct CellHasher(u64);
+
+impl Hasher for CellHasher {
+    fn finish(&self) -> u64 {
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+
+    fn write(&mut self, bytes: &[u8]) {
+        for chunk in bytes.chunks(8) {
+            let mut word = [0u8; 8];
+            word[..chunk.len()].copy_from_slice(chunk);
+            self.write_u64(u64::from_le_bytes(word));
+        }
+    }
+
+    fn write_u64(&mut self, x: u64) {
+        self.0 = (self.0.rotate_left(5) ^ x).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+    }
+
+    fn write_i64(&mut self, x: i64) {
+        self.write_u64(x as u64);
+    }
+
+    fn write_usize(&mut self, x: usize) {
+        self.write_u64(x as u64);
+    }
+}
+
+/// Builds [`CellHasher`]s for the weld grid.
+type BuildCellHasher = BuildHasherDefault<CellHasher>;
 
 /// Per new vertex: its single old normal, or the normalised mean of the merged ones
 /// (falling back to the representative's normal if they cancel out).
@@ -257,12 +340,26 @@ fn merge_normals(normals: &[DVec3], representatives: &[usize], vertex_map: &[u32
 /// Face `face` with indices mapped through `vertex_map`, neighbouring duplicates
 /// collapsed; `None` if fewer than three distinct corners remain or a corner repeats.
 fn weld_face(face: &Face, vertex_map: &[u32]) -> Option<Face> {
-    let mapped: Vec<u32> = face.indices().iter().map(|&v| vertex_map[v as usize]).collect();
-    let n = mapped.len();
-    let kept: Vec<u32> = (0..n).filter(|&i| mapped[i] != mapped[(i + 1) % n]).map(|i| mapped[i]).collect();
-    let distinct = kept.iter().enumerate().all(|(i, v)| !kept[i + 1..].contains(v));
+    let mut mapped = [0u32; 4];
+    let n = face.vertex_count();
+    for (slot, &v) in mapped.iter_mut().zip(face.indices()) {
+        *slot = vertex_map[v as usize];
+    }
+    let mut kept = [0u32; 4];
+    let mut len = 0;
+    for i in 0..n {
+        if mapped[i] != mapped[(i + 1) % n] {
+            kept[len] = mapped[i];
+            len += 1;
+        }
+    }
+    let kept = &kept[..len];
+    let distinct = kept
+        .iter()
+        .enumerate()
+        .all(|(i, v)| !kept[i + 1..].contains(v));
     if distinct {
-        Face::from_slice(&kept).ok()
+        Face::from_slice(kept).ok()
     } else {
         None
     }

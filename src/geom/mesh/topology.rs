@@ -54,10 +54,17 @@ impl<T: Copy> Rows<T> {
         for i in 0..rows {
             offsets[i + 1] += offsets[i];
         }
-        let mut sorted = pairs.to_vec();
-        // Stable, so items keep their order within a row.
-        sorted.sort_by_key(|&(row, _)| row);
-        Rows { offsets, items: sorted.into_iter().map(|(_, item)| item).collect() }
+        // Counting sort: the slot of each pair, then the items in slot order.
+        let mut next_slot = offsets.clone();
+        let mut source = vec![0usize; pairs.len()];
+        for (k, &(row, _)) in pairs.iter().enumerate() {
+            source[next_slot[row]] = k;
+            next_slot[row] += 1;
+        }
+        Rows {
+            offsets,
+            items: source.into_iter().map(|k| pairs[k].1).collect(),
+        }
     }
 
     /// Row `i`; empty if `i` is out of range.
@@ -111,8 +118,10 @@ impl Topology {
             .map(|(h, he)| (he.origin.index(), HalfEdgeId(to_u32(h))))
             .collect();
         // A face uses a vertex once, so its outgoing half-edges name each face once.
-        let faces: Vec<(usize, FaceId)> =
-            half_edges.iter().map(|he| (he.origin.index(), he.face)).collect();
+        let faces: Vec<(usize, FaceId)> = half_edges
+            .iter()
+            .map(|he| (he.origin.index(), he.face))
+            .collect();
         let edges: Vec<(usize, EdgeId)> = edge_vertices
             .iter()
             .enumerate()
@@ -251,17 +260,26 @@ impl Topology {
     /// The edge joining `a` and `b` (in either direction), if there is one.
     pub fn find_edge(&self, a: VertexId, b: VertexId) -> Option<EdgeId> {
         let key = [a.min(b), a.max(b)];
-        self.edge_vertices.binary_search(&key).ok().map(|e| EdgeId(to_u32(e)))
+        self.edge_vertices
+            .binary_search(&key)
+            .ok()
+            .map(|e| EdgeId(to_u32(e)))
     }
 
     /// The first half-edge (lowest id) running from `from` to `to`, if any.
     pub fn find_half_edge(&self, from: VertexId, to: VertexId) -> Option<HalfEdgeId> {
-        self.vertex_half_edges(from).iter().copied().find(|&h| self.destination(h) == to)
+        self.vertex_half_edges(from)
+            .iter()
+            .copied()
+            .find(|&h| self.destination(h) == to)
     }
 
     /// The half-edges of face `f` in winding order (empty if `f` is out of range).
     pub fn face_half_edges(&self, f: FaceId) -> impl Iterator<Item = HalfEdgeId> {
-        let range = match (self.face_start.get(f.index()), self.face_start.get(f.index() + 1)) {
+        let range = match (
+            self.face_start.get(f.index()),
+            self.face_start.get(f.index() + 1),
+        ) {
             (Some(&start), Some(&end)) => start..end,
             _ => 0..0,
         };
@@ -318,7 +336,9 @@ impl Topology {
 
     /// Whether `v` lies on a free edge.
     pub fn is_boundary_vertex(&self, v: VertexId) -> bool {
-        self.vertex_edges(v).iter().any(|&e| self.is_boundary_edge(e))
+        self.vertex_edges(v)
+            .iter()
+            .any(|&e| self.is_boundary_edge(e))
     }
 
     /// All free (boundary) edges, in id order.
@@ -328,7 +348,9 @@ impl Topology {
 
     /// All edges shared by three or more faces, in id order.
     pub fn non_manifold_edges(&self) -> Vec<EdgeId> {
-        self.edges().filter(|&e| self.is_non_manifold_edge(e)).collect()
+        self.edges()
+            .filter(|&e| self.is_non_manifold_edge(e))
+            .collect()
     }
 
     /// Whether the mesh has no free edges (every edge has two or more faces).
@@ -357,7 +379,9 @@ impl Topology {
     /// (isolated points are not part of the surface). 2 for a closed sphere-like
     /// shell, 1 for a disc, 0 for an annulus or torus.
     pub fn euler_characteristic(&self) -> i64 {
-        let used = (0..self.vertex_count).filter(|&v| !self.vertex_faces.row(v).is_empty()).count();
+        let used = (0..self.vertex_count)
+            .filter(|&v| !self.vertex_faces.row(v).is_empty())
+            .count();
         used as i64 - self.edge_count() as i64 + self.face_count() as i64
     }
 
@@ -403,19 +427,30 @@ impl Topology {
     /// has no meaning.
     pub fn signed_dihedral_angle(&self, mesh: &Mesh, e: EdgeId) -> Option<f64> {
         let (n1, n2) = self.edge_face_normals(mesh, e)?;
-        let [h, other] = *self.edge_half_edges(e) else { return None };
+        let [h, other] = *self.edge_half_edges(e) else {
+            return None;
+        };
         if self.origin(h) == self.origin(other) {
             return None;
         }
         let along = mesh.position(self.destination(h))? - mesh.position(self.origin(h))?;
         let angle = n1.cross(n2).length().atan2(n1.dot(n2));
-        Some(if n1.cross(n2).dot(along) < 0.0 { -angle } else { angle })
+        Some(if n1.cross(n2).dot(along) < 0.0 {
+            -angle
+        } else {
+            angle
+        })
     }
 
     /// The unit normals of the two faces on manifold edge `e`, in radial-list order.
     fn edge_face_normals(&self, mesh: &Mesh, e: EdgeId) -> Option<(DVec3, DVec3)> {
-        let [a, b] = *self.edge_half_edges(e) else { return None };
-        Some((mesh.face_normal(self.face(a))?, mesh.face_normal(self.face(b))?))
+        let [a, b] = *self.edge_half_edges(e) else {
+            return None;
+        };
+        Some((
+            mesh.face_normal(self.face(a))?,
+            mesh.face_normal(self.face(b))?,
+        ))
     }
 }
 
