@@ -155,6 +155,11 @@ fn revolution_keeps_the_radius_and_closes_on_a_full_turn() {
             assert!((p.z - on_profile.z).abs() < 1e-12 * 40.0);
         }
     }
+    // The profile ends on the axis: a pole, where S_u is rounding noise, has no normal.
+    for u in [0.0, 0.3, 0.77] {
+        assert!(s.normal(u, 1.0).is_err(), "no normal at the pole (u = {u})");
+        assert!(s.normal(u, 0.5).is_ok());
+    }
     let quarter = revolve(&profile, axis_point, DVec3::Z, FRAC_PI_2).unwrap();
     let end = quarter.point_at(1.0, 0.0);
     assert!(end.distance(DVec3::new(0.0, 10.0, 0.0)) < 1e-12 * 40.0, "right-handed about +Z");

@@ -132,18 +132,15 @@ impl<P: Point> NurbsCurve<P> {
         let first = span - self.degree;
         match &self.weights {
             None => {
-                let mut acc = P::ZERO;
-                for r in 0..=self.degree {
-                    acc = acc + self.points[first + r] * basis[r];
-                }
-                acc
+                let points = &self.points[first..=span];
+                points.iter().zip(&basis).fold(P::ZERO, |acc, (&p, &b)| acc + p * b)
             }
             Some(w) => {
                 let mut acc = P::ZERO;
                 let mut wsum = 0.0;
-                for r in 0..=self.degree {
-                    let nw = basis[r] * w[first + r];
-                    acc = acc + self.points[first + r] * nw;
+                for ((&p, &wi), &b) in self.points[first..=span].iter().zip(&w[first..=span]).zip(&basis) {
+                    let nw = b * wi;
+                    acc = acc + p * nw;
                     wsum += nw;
                 }
                 acc * (1.0 / wsum)
@@ -163,10 +160,10 @@ impl<P: Point> NurbsCurve<P> {
         let first = span - p;
         let mut a = [P::ZERO; N];
         let mut w = [0.0; N];
-        for k in 0..N {
-            for r in 0..=p {
-                let wi = self.weight(first + r);
-                a[k] = a[k] + self.points[first + r] * (basis[k][r] * wi);
+        for (r, &point) in self.points[first..=span].iter().enumerate() {
+            let wi = self.weight(first + r);
+            for k in 0..N {
+                a[k] = a[k] + point * (basis[k][r] * wi);
                 w[k] += basis[k][r] * wi;
             }
         }
@@ -443,7 +440,7 @@ pub(crate) fn check_weights(weights: &[f64], count: usize) -> Result<()> {
 
 /// 10-point Gauss-Legendre nodes and weights on [-1, 1].
 const GAUSS_X: [f64; 5] = [
-    0.148_874_338_981_631_2,
+    0.148_874_338_981_631_21,
     0.433_395_394_129_247_2,
     0.679_409_568_299_024_4,
     0.865_063_366_688_984_5,
@@ -452,7 +449,7 @@ const GAUSS_X: [f64; 5] = [
 const GAUSS_W: [f64; 5] = [
     0.295_524_224_714_752_9,
     0.269_266_719_309_996_4,
-    0.219_086_362_515_982_0,
+    0.219_086_362_515_982,
     0.149_451_349_150_580_6,
     0.066_671_344_308_688_1,
 ];

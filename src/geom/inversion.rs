@@ -207,7 +207,7 @@ pub(crate) fn grid_local_minima(
 
 /// The better of two optional results by distance.
 fn keep_best<T: Copy>(best: &mut Option<(T, f64)>, value: T, distance: f64) {
-    if best.as_ref().map_or(true, |(_, d)| distance < *d) {
+    if best.as_ref().is_none_or(|(_, d)| distance < *d) {
         *best = Some((value, distance));
     }
 }

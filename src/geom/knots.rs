@@ -146,8 +146,8 @@ impl KnotVector {
         if u >= self.knots[n + 1] {
             return n;
         }
-        // `!(u > start)` also catches NaN, which then evaluates to NaN in the first span.
-        if !(u > self.knots[degree]) {
+        // NaN evaluates (to NaN) in the first span rather than failing the search.
+        if u.is_nan() || u <= self.knots[degree] {
             return degree;
         }
         // Binary search on the knots between degree and n + 1.

@@ -5,6 +5,10 @@
 //! homogeneous form (rational curves) and the rows and columns of a surface's net. The
 //! inputs are trusted: the callers in `curve` and `surface` validate parameters first.
 
+// The algorithms keep P&T's index arithmetic so that each line can be checked against
+// the book; iterator rewrites would hide that correspondence.
+#![allow(clippy::needless_range_loop, clippy::explicit_counter_loop, clippy::manual_memcpy)]
+
 use super::point::Linear;
 
 /// Control arrays of a B-spline: its knots and control points (possibly homogeneous).
@@ -21,7 +25,7 @@ fn find_span(degree: usize, knots: &[f64], u: f64) -> usize {
     if u >= knots[n + 1] {
         return n;
     }
-    if !(u > knots[degree]) {
+    if u.is_nan() || u <= knots[degree] {
         return degree;
     }
     degree + knots[degree..=n + 1].partition_point(|&k| k <= u) - 1
@@ -188,7 +192,7 @@ pub(crate) fn elevate_degree<T: Linear>(s: &Spline<T>, t: usize) -> Spline<T> {
         let oldr = r;
         r = p as isize - mul as isize;
         let lbz = if oldr > 0 { ((oldr + 2) / 2) as usize } else { 1 };
-        let rbz = if r > 0 { ph - ((r as usize + 1) / 2) } else { ph };
+        let rbz = if r > 0 { ph - (r as usize).div_ceil(2) } else { ph };
         if r > 0 {
             // Insert ub r times into the current Bezier segment.
             let numer = ub - ua;

@@ -213,11 +213,11 @@ impl NurbsSurface {
                     tw[l] += wi * nv[l][c];
                 }
             }
-            for k in 0..N {
-                let b = nu[k][r];
+            for ((ak, wk), nuk) in a.iter_mut().zip(w.iter_mut()).zip(&nu) {
+                let b = nuk[r];
                 for l in 0..N {
-                    a[k][l] += tp[l] * b;
-                    w[k][l] += tw[l] * b;
+                    ak[l] += tp[l] * b;
+                    wk[l] += tw[l] * b;
                 }
             }
         }
@@ -228,13 +228,20 @@ impl NurbsSurface {
     }
 
     /// Unit normal `S_u x S_v / |S_u x S_v|`, or an error at a degenerate point (a
-    /// collapsed edge, as at the apex of a three-sided patch).
+    /// collapsed edge, as at the apex of a three-sided patch). A partial derivative counts
+    /// as vanishing when it is below 1e-10 of the control net's extent over the domain:
+    /// at a collapsed edge it is rounding noise, not exactly zero.
     pub fn normal(&self, u: f64, v: f64) -> Result<DVec3> {
         let d = self.derivatives::<2>(u, v);
-        let n = d[1][0].cross(d[0][1]);
+        let (su, sv) = (d[1][0], d[0][1]);
+        let (lo, hi) = self.control_bounds();
+        let extent = (hi - lo).length();
+        let (du, dv) = (self.domain_u(), self.domain_v());
+        let small_u = su.length() <= 1e-10 * extent / (du.1 - du.0);
+        let small_v = sv.length() <= 1e-10 * extent / (dv.1 - dv.0);
+        let n = su.cross(sv);
         let len = n.length();
-        let scale = d[1][0].length() * d[0][1].length();
-        if len <= 1e-14 * scale || len == 0.0 {
+        if small_u || small_v || len <= 1e-14 * su.length() * sv.length() || !len.is_finite() {
             return Err(GeomError::ZeroVector { what: "surface normal" });
         }
         Ok(n / len)

@@ -262,7 +262,7 @@ fn cluster_vertices(positions: &[DVec3], tolerance: f64) -> (Vec<usize>, Vec<u32
             let mut rep = newest_in_cell.get(&k).copied().unwrap_or(NONE);
             while rep != NONE {
                 let close = positions[representatives[rep as usize]].distance(p) <= tolerance;
-                if close && best.map_or(true, |b| rep < b) {
+                if close && best.is_none_or(|b| rep < b) {
                     best = Some(rep);
                 }
                 rep = previous_in_cell[rep as usize];

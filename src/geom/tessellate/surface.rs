@@ -23,7 +23,10 @@
 //!    25-point barycentric lattice must stay below 97 % of the tolerance. Normals of
 //!    neighbouring vertices must not turn by more than the angle limit, and edges must
 //!    not exceed the edge limit.
-//! 3. **Refine.** Every violating cell raises the subdivision count of its u span
+//! 3. **Fit.** The guess bounds magnitudes, so it is conservative; once it verifies,
+//!    every span's count is lowered once by the square root of its measured deviation
+//!    ratio (and its angle and edge-length ratios) and the grid is verified again.
+//! 4. **Refine.** Every violating cell raises the subdivision count of its u span
 //!    column and/or v span row (by the square root of the deviation ratio, in the
 //!    direction whose edges carry the error) and the grid is rebuilt, until everything
 //!    holds, for at most 16 rounds and [`MAX_VERTICES`] vertices.
@@ -49,6 +52,8 @@ const ACCEPT: f64 = 0.97;
 const INITIAL_TARGET: f64 = 0.9;
 /// Fraction of the tolerance a refinement step aims at.
 const REFINE_TARGET: f64 = 0.88;
+/// Fraction of the tolerance the (single) coarsening step aims at.
+const COARSEN_TARGET: f64 = 0.93;
 /// Factor on the sampled second-derivative and normal-turn bounds of the first guess.
 const SAFETY: f64 = 1.2;
 /// Samples per direction and span for the first guess.
@@ -86,14 +91,19 @@ pub fn tessellate_surface(surface: &NurbsSurface, tol: &Tolerance) -> Result<Sur
     let mut worst = 0.0;
     let mut coarsened = false;
     for round in 0..MAX_ITERATIONS {
-        let grid = Grid::new(&spans_u, &counts_u, &spans_v, &counts_v).ok_or(GeomError::NoConvergence {
+        let grid = Grid::new(&spans_u, &counts_u, &spans_v, &counts_v)
+            .ok_or(GeomError::NoConvergence {
             what: "surface tessellation (vertex limit reached: tolerance too fine for the surface)",
             iterations: round,
             residual: worst,
         })?;
         let pass = verify(surface, &net, &grid, tol, &lattice)?;
         worst = pass.max_deviation;
-        let failed = pass.request_u.iter().chain(&pass.request_v).any(|&f| f > 1.0);
+        let failed = pass
+            .request_u
+            .iter()
+            .chain(&pass.request_v)
+            .any(|&f| f > 1.0);
         if !failed && !coarsened {
             // The first guess is conservative (bounds of second-derivative magnitudes);
             // the measured deviations show how much coarser each span may be. Done once,
@@ -113,7 +123,11 @@ pub fn tessellate_surface(surface: &NurbsSurface, tol: &Tolerance) -> Result<Sur
         grow(&mut counts_u, &pass.request_u);
         grow(&mut counts_v, &pass.request_v);
     }
-    Err(GeomError::NoConvergence { what: "surface tessellation", iterations: MAX_ITERATIONS, residual: worst })
+    Err(GeomError::NoConvergence {
+        what: "surface tessellation",
+        iterations: MAX_ITERATIONS,
+        residual: worst,
+    })
 }
 
 /// The non-empty knot spans of one direction.
@@ -157,9 +171,9 @@ fn initial_counts(
     let mut counts_v = vec![1; sv.count()];
     let budget = 8.0 * INITIAL_TARGET * tol.chordal;
     let s = GUESS_SAMPLES as f64;
-    for i in 0..su.count() {
+    for (i, count_u) in counts_u.iter_mut().enumerate() {
         let (u0, u1) = su.bounds(i);
-        for j in 0..sv.count() {
+        for (j, count_v) in counts_v.iter_mut().enumerate() {
             let (v0, v1) = sv.bounds(j);
             let mut b = Bounds::default();
             for a in 0..GUESS_SAMPLES {
@@ -184,8 +198,8 @@ fn initial_counts(
             if b.speed_v > 0.0 {
                 dv = dv.min(tol.edge_limit() / (1.05 * b.speed_v));
             }
-            counts_u[i] = counts_u[i].max(subdivisions(lu, du));
-            counts_v[j] = counts_v[j].max(subdivisions(lv, dv));
+            *count_u = (*count_u).max(subdivisions(lu, du));
+            *count_v = (*count_v).max(subdivisions(lv, dv));
         }
     }
     (counts_u, counts_v)
@@ -308,9 +322,13 @@ fn grow(counts: &mut [usize], requests: &[f64]) {
 fn shrink(counts: &mut [usize], fit: &[f64]) -> bool {
     let mut changed = false;
     for (n, &f) in counts.iter_mut().zip(fit) {
-        if f < 0.9 {
+        if f < 1.0 {
             let target = ((*n as f64) * f.max(0.0)).ceil().max(1.0);
-            let target = if target < *n as f64 { target as usize } else { *n };
+            let target = if target < *n as f64 {
+                target as usize
+            } else {
+                *n
+            };
             changed |= target != *n;
             *n = target;
         }
@@ -423,6 +441,9 @@ struct Pass {
     /// terms (square root for the deviation). Below 1 the span could be coarser.
     fit_u: Vec<f64>,
     fit_v: Vec<f64>,
+    /// Per u span and per v span: extremes of the grid edges' normal turn and length.
+    edges_u: Vec<EdgeExtremes>,
+    edges_v: Vec<EdgeExtremes>,
     /// Whether some triangle violates the chordal tolerance.
     chordal_failed: bool,
     /// Largest modelled deviation of any triangle (an upper estimate where it is small).
@@ -449,6 +470,8 @@ fn verify(
         request_v: vec![1.0; grid.v.span_of.last().map_or(0, |&s| s + 1)],
         fit_u: vec![0.0; grid.u.span_of.last().map_or(0, |&s| s + 1)],
         fit_v: vec![0.0; grid.v.span_of.last().map_or(0, |&s| s + 1)],
+        edges_u: vec![EdgeExtremes::NONE; grid.u.span_of.last().map_or(0, |&s| s + 1)],
+        edges_v: vec![EdgeExtremes::NONE; grid.v.span_of.last().map_or(0, |&s| s + 1)],
         chordal_failed: false,
         max_deviation: 0.0,
     };
@@ -465,18 +488,37 @@ fn verify(
     let mut mids_v = Vec::with_capacity(nu);
     let mut centres = Vec::with_capacity(cu);
 
-    vertex_row(&mut pass, &mut mids_bottom, &mut row, net, (&tu, &tv), floor, 0)?;
-    check_u_edges(&mut pass, grid, tol, 0, nu);
+    vertex_row(
+        &mut pass,
+        &mut mids_bottom,
+        &mut row,
+        net,
+        (&tu, &tv),
+        floor,
+        0,
+    )?;
+    check_u_edges(&mut pass, grid, 0, nu);
     for l in 0..cv {
-        vertex_row(&mut pass, &mut mids_top, &mut row, net, (&tu, &tv), floor, l + 1)?;
-        check_u_edges(&mut pass, grid, tol, l + 1, nu);
+        vertex_row(
+            &mut pass,
+            &mut mids_top,
+            &mut row,
+            net,
+            (&tu, &tv),
+            floor,
+            l + 1,
+        )?;
+        check_u_edges(&mut pass, grid, l + 1, nu);
         let span_v = grid.v.span_of[l];
         // v edges between rows l and l + 1.
         for k in 0..nu {
             let (a, b) = (l * nu + k, (l + 1) * nu + k);
-            let turn = if grid.v.c0_end[l] { 0.0 } else { angle(pass.normals[a], pass.normals[b]) };
-            let len = pass.positions[a].distance(pass.positions[b]);
-            edge_limits(&mut pass.request_v[span_v], &mut pass.fit_v[span_v], turn, len, tol);
+            let cos = if grid.v.c0_end[l] {
+                1.0
+            } else {
+                cos_turn(pass.normals[a], pass.normals[b])
+            };
+            pass.edges_v[span_v].add(cos, pass.positions[a].distance(pass.positions[b]));
         }
         row.fill(net, &tv.mid, l, false);
         mids_v.clear();
@@ -521,7 +563,7 @@ fn verify(
             }
             pass.max_deviation = f64::max(pass.max_deviation, dev);
             let span_u = grid.u.span_of[k];
-            let fit = (dev / (REFINE_TARGET * tol.chordal)).sqrt();
+            let fit = (dev / (COARSEN_TARGET * tol.chordal)).sqrt();
             bump(&mut pass.fit_u[span_u], fit);
             bump(&mut pass.fit_v[span_v], fit);
             if dev > accept {
@@ -554,6 +596,12 @@ fn verify(
             }
         }
         std::mem::swap(&mut mids_bottom, &mut mids_top);
+    }
+    for (i, &edges) in pass.edges_u.iter().enumerate() {
+        edge_limits(&mut pass.request_u[i], &mut pass.fit_u[i], edges, tol);
+    }
+    for (j, &edges) in pass.edges_v.iter().enumerate() {
+        edge_limits(&mut pass.request_v[j], &mut pass.fit_v[j], edges, tol);
     }
     Ok(pass)
 }
@@ -588,7 +636,11 @@ fn vertex_row(
         }
         pass.positions.push(s);
         let degenerate = su.length() <= floor.0 || sv.length() <= floor.1;
-        pass.normals.push(if degenerate { DVec3::ZERO } else { unit_normal(su, sv) });
+        pass.normals.push(if degenerate {
+            DVec3::ZERO
+        } else {
+            unit_normal(su, sv)
+        });
     }
     mids.clear();
     mids.extend((0..tu.mid.len()).map(|k| row.point(&tu.mid, k)));
@@ -596,29 +648,50 @@ fn vertex_row(
 }
 
 /// Angle and edge-length checks of the u edges on grid row `l`.
-fn check_u_edges(pass: &mut Pass, grid: &Grid, tol: &Tolerance, l: usize, nu: usize) {
+fn check_u_edges(pass: &mut Pass, grid: &Grid, l: usize, nu: usize) {
     for k in 0..nu - 1 {
         let (a, b) = (l * nu + k, l * nu + k + 1);
-        let turn = if grid.u.c0_end[k] { 0.0 } else { angle(pass.normals[a], pass.normals[b]) };
-        let len = pass.positions[a].distance(pass.positions[b]);
-        let span = grid.u.span_of[k];
-        edge_limits(&mut pass.request_u[span], &mut pass.fit_u[span], turn, len, tol);
+        let cos = if grid.u.c0_end[k] {
+            1.0
+        } else {
+            cos_turn(pass.normals[a], pass.normals[b])
+        };
+        pass.edges_u[grid.u.span_of[k]].add(cos, pass.positions[a].distance(pass.positions[b]));
     }
 }
 
-/// Checks one grid edge's normal turn and length against the limits: records the
-/// growth needed when violated, and how close to the limits it is in any case.
-fn edge_limits(request: &mut f64, fit: &mut f64, turn: f64, len: f64, tol: &Tolerance) {
-    let max_edge = tol.edge_limit();
-    let ratio = (turn / tol.angle).max(len / max_edge);
-    if turn > tol.angle {
-        bump(request, 1.05 * turn / tol.angle);
+/// The extremes over the grid edges of one span: the smallest cosine of the normal turn
+/// and the longest edge.
+#[derive(Clone, Copy)]
+struct EdgeExtremes {
+    min_cos: f64,
+    max_len: f64,
+}
+
+impl EdgeExtremes {
+    const NONE: Self = Self {
+        min_cos: 1.0,
+        max_len: 0.0,
+    };
+
+    fn add(&mut self, cos: f64, len: f64) {
+        self.min_cos = self.min_cos.min(cos);
+        self.max_len = self.max_len.max(len);
     }
-    if len > max_edge {
-        bump(request, 1.01 * len / max_edge);
+}
+
+/// Turns a span's edge extremes into growth requests (when a limit is violated) and
+/// fit ratios (how close to the limits it is in any case, with a margin for coarsening).
+fn edge_limits(request: &mut f64, fit: &mut f64, edges: EdgeExtremes, tol: &Tolerance) {
+    let turn = edges.min_cos.clamp(-1.0, 1.0).acos();
+    let (turn_ratio, len_ratio) = (turn / tol.angle, edges.max_len / tol.edge_limit());
+    if turn_ratio > 1.0 {
+        bump(request, 1.05 * turn_ratio);
     }
-    // Coarsening keeps a margin below the limits.
-    bump(fit, 1.05 * ratio);
+    if len_ratio > 1.0 {
+        bump(request, 1.01 * len_ratio);
+    }
+    bump(fit, 1.05 * turn_ratio.max(len_ratio));
 }
 
 fn bump(request: &mut f64, f: f64) {
@@ -639,12 +712,13 @@ fn unit_normal(su: DVec3, sv: DVec3) -> DVec3 {
     }
 }
 
-/// Angle between two unit normals; 0 when either is undefined (zero).
-fn angle(a: DVec3, b: DVec3) -> f64 {
+/// Cosine of the angle between two unit normals; 1 (no turn) when either is undefined
+/// (zero).
+fn cos_turn(a: DVec3, b: DVec3) -> f64 {
     if a == DVec3::ZERO || b == DVec3::ZERO {
-        return 0.0;
+        return 1.0;
     }
-    a.cross(b).length().atan2(a.dot(b))
+    a.dot(b)
 }
 
 /// Barycentric weights `(4 b0 b1, 4 b1 b2, 4 b2 b0, 27 b0 b1 b2)` of the lattice points
@@ -675,8 +749,8 @@ fn lattice() -> Vec<[f64; 4]> {
 }
 
 /// Largest deviation of a triangle by the cubic model through its edge-midpoint errors
-/// `e01`, `e12`, `e20` and centroid error `eg`. When the cheap bound of the model is
-/// already below half of `accept` the bound itself is returned.
+/// `e01`, `e12`, `e20` and centroid error `eg`. Cheaper upper bounds of that maximum are
+/// returned instead when they already stay below `accept` (half of it for the coarsest).
 fn triangle_deviation(
     e01: DVec3,
     e12: DVec3,
@@ -686,17 +760,25 @@ fn triangle_deviation(
     accept: f64,
 ) -> f64 {
     let bubble = eg - (e01 + e12 + e20) * (4.0 / 9.0);
-    let bound = 4.0 / 3.0 * e01.length().max(e12.length()).max(e20.length()) + bubble.length();
-    if bound <= 0.5 * accept {
+    let lengths = [e01.length(), e12.length(), e20.length(), bubble.length()];
+    let bound = 4.0 / 3.0 * lengths[0].max(lengths[1]).max(lengths[2]) + lengths[3];
+    if bound <= 0.5 * accept || bound.is_nan() {
         return bound;
+    }
+    // The triangle inequality on the lattice: exact when the error vectors are parallel
+    // (a cylinder), cheap (scalars only), and enough to accept most triangles.
+    let mut scalar: f64 = 0.0;
+    for w in lattice {
+        scalar = scalar
+            .max(w[0] * lengths[0] + w[1] * lengths[1] + w[2] * lengths[2] + w[3] * lengths[3]);
+    }
+    if scalar <= accept {
+        return scalar;
     }
     let mut worst2: f64 = 0.0;
     for w in lattice {
         let e = e01 * w[0] + e12 * w[1] + e20 * w[2] + bubble * w[3];
         worst2 = worst2.max(e.length_squared());
-    }
-    if worst2.is_nan() {
-        return f64::NAN;
     }
     worst2.sqrt()
 }
