@@ -19,7 +19,7 @@ const TOLERANCES: [f64; 3] = [0.1, 0.01, 0.001];
 fn clamped(degree: usize, interior: &[f64]) -> Vec<f64> {
     let mut k = vec![0.0; degree + 1];
     k.extend_from_slice(interior);
-    k.extend(std::iter::repeat(1.0).take(degree + 1));
+    k.extend(std::iter::repeat_n(1.0, degree + 1));
     k
 }
 
@@ -422,6 +422,25 @@ fn surface_angle_and_edge_limits() {
     }
     assert!(max_turn <= angle * 1.0001, "normal turn {max_turn}");
     assert!(mesh.triangles.len() <= 2 * 2 * (90.0f64 / 5.0).ceil() as usize);
+}
+
+/// The tessellation converts to a kernel mesh whose half-edge topology sees one disc:
+/// one boundary loop along the domain's edges, consistent orientation, no free edge
+/// inside (the sphere octant's collapsed edge is welded, so it is a disc too).
+#[test]
+fn tessellation_is_a_manifold_disc_mesh() {
+    for s in [wavy(), sphere_octant(), quarter_cylinder()] {
+        let tess = tessellate_surface(&s, &Tolerance::new(0.05).unwrap()).unwrap();
+        let mesh = tess.to_mesh().unwrap();
+        let topo = mesh.topology();
+        assert!(topo.is_consistently_oriented());
+        assert!(topo.non_manifold_edges().is_empty());
+        assert_eq!(topo.euler_characteristic(), 1, "a disc");
+        let loops = topo.boundary_loops();
+        assert_eq!(loops.loops.len(), 1);
+        assert!(loops.open_chains.is_empty());
+        assert_eq!(mesh.normals().map(<[DVec3]>::len), Some(tess.positions.len()));
+    }
 }
 
 #[test]

@@ -28,6 +28,7 @@ pub use surface::tessellate_surface;
 use glam::{DVec2, DVec3};
 
 use super::error::{GeomError, Result};
+use super::mesh::{Face, Mesh};
 
 /// Hard cap on the number of vertices one tessellation may produce (about 16.8 million,
 /// about 1 GB of mesh data). Reaching it means the tolerance is far too fine for the
@@ -156,4 +157,13 @@ pub struct SurfaceMesh {
     pub normals: Vec<DVec3>,
     /// Vertex indices of each triangle, counter-clockwise in `(u, v)`.
     pub triangles: Vec<[u32; 3]>,
+}
+
+impl SurfaceMesh {
+    /// The tessellation as a kernel [`Mesh`] with its normals, for the mesh operations
+    /// (topology, boundary loops, rounding) and the exporters.
+    pub fn to_mesh(&self) -> Result<Mesh> {
+        let faces = self.triangles.iter().map(|&[a, b, c]| Face::triangle(a, b, c)).collect();
+        Mesh::new(self.positions.clone(), faces)?.with_normals(self.normals.clone())
+    }
 }
