@@ -27,8 +27,13 @@ fn point3() -> impl Strategy<Value = DVec3> {
 /// interior knots drawn at random and some repeated up to the degree.
 fn knots(degree: usize, count: usize) -> impl Strategy<Value = Vec<f64>> {
     let interior = count - degree - 1;
-    (prop::collection::vec(0.05..0.95f64, interior), -5.0..5.0f64, 0.5..20.0f64, 0..3usize).prop_map(
-        move |(mut inner, a, len, repeat)| {
+    (
+        prop::collection::vec(0.05..0.95f64, interior),
+        -5.0..5.0f64,
+        0.5..20.0f64,
+        0..3usize,
+    )
+        .prop_map(move |(mut inner, a, len, repeat)| {
             inner.sort_by(f64::total_cmp);
             // Repeat some knots (never beyond the degree) to cover C0/C1 joints.
             for r in 0..repeat.min(inner.len()) {
@@ -44,8 +49,7 @@ fn knots(degree: usize, count: usize) -> impl Strategy<Value = Vec<f64>> {
             k.extend(inner.iter().map(|t| a + t * len));
             k.extend(std::iter::repeat_n(a + len, degree + 1));
             k
-        },
-    )
+        })
 }
 
 /// Random curves of degree 1 to 5, half of them rational.
@@ -291,5 +295,7 @@ proptest! {
 
 /// A clamped uniform knot vector on [0, 1].
 fn uniform(degree: usize, count: usize) -> Vec<f64> {
-    dieface::geom::KnotVector::uniform(degree, count).unwrap().into_vec()
+    dieface::geom::KnotVector::uniform(degree, count)
+        .unwrap()
+        .into_vec()
 }

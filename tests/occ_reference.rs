@@ -17,18 +17,29 @@ use serde_json::Value;
 const REL: f64 = 1e-9;
 
 fn data() -> Value {
-    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/occ_reference.json"))
-        .expect("the reference data is committed");
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/occ_reference.json"
+    ))
+    .expect("the reference data is committed");
     serde_json::from_str(&text).expect("the reference data is valid JSON")
 }
 
 fn vec3(v: &Value) -> DVec3 {
     let a = v.as_array().expect("a point is an array");
-    DVec3::new(a[0].as_f64().unwrap(), a[1].as_f64().unwrap(), a[2].as_f64().unwrap())
+    DVec3::new(
+        a[0].as_f64().unwrap(),
+        a[1].as_f64().unwrap(),
+        a[2].as_f64().unwrap(),
+    )
 }
 
 fn floats(v: &Value) -> Vec<f64> {
-    v.as_array().expect("an array of numbers").iter().map(|x| x.as_f64().unwrap()).collect()
+    v.as_array()
+        .expect("an array of numbers")
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect()
 }
 
 /// `|ours - theirs| <= 1e-9 * max(1, |theirs|)`, per vector.
@@ -36,7 +47,10 @@ fn floats(v: &Value) -> Vec<f64> {
 fn assert_close(what: &str, ours: DVec3, theirs: DVec3) {
     let err = (ours - theirs).length();
     let allowed = REL * theirs.length().max(1.0);
-    assert!(err <= allowed, "{what}: ours {ours:?}, OpenCascade {theirs:?}, error {err:e}");
+    assert!(
+        err <= allowed,
+        "{what}: ours {ours:?}, OpenCascade {theirs:?}, error {err:e}"
+    );
 }
 
 fn curve(c: &Value) -> Curve3 {
@@ -45,21 +59,27 @@ fn curve(c: &Value) -> Curve3 {
     let points: Vec<DVec3> = c["points"].as_array().unwrap().iter().map(vec3).collect();
     match &c["weights"] {
         Value::Null => Curve3::new(degree, knots, points).expect("reference curve is valid"),
-        w => Curve3::new_rational(degree, knots, points, floats(w)).expect("reference curve is valid"),
+        w => Curve3::new_rational(degree, knots, points, floats(w))
+            .expect("reference curve is valid"),
     }
 }
 
 fn surface(s: &Value) -> NurbsSurface {
     let du = s["degree_u"].as_u64().unwrap() as usize;
     let dv = s["degree_v"].as_u64().unwrap() as usize;
-    let net: Vec<Vec<DVec3>> =
-        s["points"].as_array().unwrap().iter().map(|row| row.as_array().unwrap().iter().map(vec3).collect()).collect();
+    let net: Vec<Vec<DVec3>> = s["points"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|row| row.as_array().unwrap().iter().map(vec3).collect())
+        .collect();
     let (ku, kv) = (floats(&s["knots_u"]), floats(&s["knots_v"]));
     match &s["weights"] {
         Value::Null => NurbsSurface::new(du, dv, ku, kv, net).expect("reference surface is valid"),
         w => {
             let weights = w.as_array().unwrap().iter().map(floats).collect();
-            NurbsSurface::new_rational(du, dv, ku, kv, net, weights).expect("reference surface is valid")
+            NurbsSurface::new_rational(du, dv, ku, kv, net, weights)
+                .expect("reference surface is valid")
         }
     }
 }
@@ -72,7 +92,11 @@ fn check_curve_samples(name: &str, c: &Curve3, samples: &Value) -> usize {
         assert_close(&format!("{name} C({t})"), p, vec3(&s["p"]));
         assert_close(&format!("{name} C'({t})"), d1, vec3(&s["d1"]));
         assert_close(&format!("{name} C''({t})"), d2, vec3(&s["d2"]));
-        assert_close(&format!("{name} point_at({t})"), c.point_at(t), vec3(&s["p"]));
+        assert_close(
+            &format!("{name} point_at({t})"),
+            c.point_at(t),
+            vec3(&s["p"]),
+        );
     }
     samples.len()
 }
@@ -90,7 +114,10 @@ fn curves_match_opencascade() {
         rational += usize::from(nc.is_rational());
         check_curve_samples(c["name"].as_str().unwrap(), &nc, &c["samples"]);
     }
-    assert!(degrees[1..=5].iter().all(|&d| d), "degrees 1 to 5 are all covered");
+    assert!(
+        degrees[1..=5].iter().all(|&d| d),
+        "degrees 1 to 5 are all covered"
+    );
     assert!(rational >= 5);
 }
 
@@ -128,14 +155,27 @@ fn interpolation_matches_opencascade() {
     assert!(cases.len() >= 4);
     for case in cases {
         let name = case["name"].as_str().unwrap();
-        let points: Vec<DVec3> = case["points"].as_array().unwrap().iter().map(vec3).collect();
+        let points: Vec<DVec3> = case["points"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(vec3)
+            .collect();
         let params = floats(&case["parameters"]);
         let samples = case["samples"].as_array().unwrap();
         let end_derivative = |t: f64| {
-            samples.iter().find(|s| s["t"].as_f64() == Some(t)).map(|s| vec3(&s["d1"])).expect("samples include the ends")
+            samples
+                .iter()
+                .find(|s| s["t"].as_f64() == Some(t))
+                .map(|s| vec3(&s["d1"]))
+                .expect("samples include the ends")
         };
-        let start = case["start_tangent"].as_array().map(|_| vec3(&case["start_tangent"]));
-        let end = case["end_tangent"].as_array().map(|_| vec3(&case["end_tangent"]));
+        let start = case["start_tangent"]
+            .as_array()
+            .map(|_| vec3(&case["start_tangent"]));
+        let end = case["end_tangent"]
+            .as_array()
+            .map(|_| vec3(&case["end_tangent"]));
         let opts = Interpolation {
             degree: 3,
             knots: KnotPlacement::AtParameters,
@@ -144,8 +184,16 @@ fn interpolation_matches_opencascade() {
             ..Interpolation::default()
         };
         let c = interpolate_at(&points, &params, &opts).expect("interpolation succeeds");
-        assert_eq!(c.knots().as_slice(), floats(&case["knots"]).as_slice(), "{name}: knots");
-        for (ours, theirs) in c.control_points().iter().zip(case["control_points"].as_array().unwrap()) {
+        assert_eq!(
+            c.knots().as_slice(),
+            floats(&case["knots"]).as_slice(),
+            "{name}: knots"
+        );
+        for (ours, theirs) in c
+            .control_points()
+            .iter()
+            .zip(case["control_points"].as_array().unwrap())
+        {
             assert_close(&format!("{name} pole"), *ours, vec3(theirs));
         }
         check_curve_samples(name, &c, &case["samples"]);
@@ -158,15 +206,30 @@ fn averaged_interpolation_matches_geomdl() {
     let d = data();
     for case in d["interpolations_averaged"].as_array().unwrap() {
         let name = case["name"].as_str().unwrap();
-        let points: Vec<DVec3> = case["points"].as_array().unwrap().iter().map(vec3).collect();
+        let points: Vec<DVec3> = case["points"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(vec3)
+            .collect();
         let params = floats(&case["parameters"]);
         let degree = case["degree"].as_u64().unwrap() as usize;
-        let opts = Interpolation { degree, ..Interpolation::default() };
+        let opts = Interpolation {
+            degree,
+            ..Interpolation::default()
+        };
         let c = interpolate_at(&points, &params, &opts).expect("interpolation succeeds");
         for (ours, theirs) in c.knots().as_slice().iter().zip(floats(&case["knots"])) {
-            assert!((ours - theirs).abs() <= 1e-12, "{name}: knot {ours} vs {theirs}");
+            assert!(
+                (ours - theirs).abs() <= 1e-12,
+                "{name}: knot {ours} vs {theirs}"
+            );
         }
-        for (ours, theirs) in c.control_points().iter().zip(case["control_points"].as_array().unwrap()) {
+        for (ours, theirs) in c
+            .control_points()
+            .iter()
+            .zip(case["control_points"].as_array().unwrap())
+        {
             assert_close(&format!("{name} pole"), *ours, vec3(theirs));
         }
         check_curve_samples(name, &c, &case["samples"]);
@@ -181,11 +244,20 @@ fn coons_matches_the_bilinearly_blended_formula_on_opencascade_boundaries() {
     for case in cases {
         let name = case["name"].as_str().unwrap();
         let b = &case["boundaries"];
-        let s = coons(&curve(&b["bottom"]), &curve(&b["top"]), &curve(&b["left"]), &curve(&b["right"]))
-            .expect("the boundaries meet");
+        let s = coons(
+            &curve(&b["bottom"]),
+            &curve(&b["top"]),
+            &curve(&b["left"]),
+            &curve(&b["right"]),
+        )
+        .expect("the boundaries meet");
         for x in case["samples"].as_array().unwrap() {
             let (u, v) = (x["u"].as_f64().unwrap(), x["v"].as_f64().unwrap());
-            assert_close(&format!("{name} ({u}, {v})"), s.point_at(u, v), vec3(&x["p"]));
+            assert_close(
+                &format!("{name} ({u}, {v})"),
+                s.point_at(u, v),
+                vec3(&x["p"]),
+            );
         }
     }
 }
@@ -200,7 +272,10 @@ fn revolution_matches_opencascade() {
     for case in d["revolutions"].as_array().unwrap() {
         let name = case["name"].as_str().unwrap();
         let profile = curve(&case["profile"]);
-        let (origin, axis) = (vec3(&case["axis_point"]), vec3(&case["axis_dir"]).normalize());
+        let (origin, axis) = (
+            vec3(&case["axis_point"]),
+            vec3(&case["axis_dir"]).normalize(),
+        );
         let angle = case["angle_rad"].as_f64().unwrap();
         let s = revolve(&profile, origin, axis, angle).expect("revolution succeeds");
         for x in case["samples"].as_array().unwrap() {
@@ -235,7 +310,11 @@ fn u_at_angle(s: &NurbsSurface, origin: DVec3, axis: DVec3, theta: f64, v: f64, 
         r - axis * r.dot(axis)
     };
     // Measure on the iso-curve at v unless that point lies on the axis.
-    let v_probe = if radial(s.point_at(0.0, v)).length() > 1e-9 { v } else { 0.5 };
+    let v_probe = if radial(s.point_at(0.0, v)).length() > 1e-9 {
+        v
+    } else {
+        0.5
+    };
     let x0 = radial(s.point_at(0.0, v_probe));
     let angle_of = |u: f64| {
         let r = radial(s.point_at(u, v_probe));

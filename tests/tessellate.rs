@@ -439,7 +439,10 @@ fn tessellation_is_a_manifold_disc_mesh() {
         let loops = topo.boundary_loops();
         assert_eq!(loops.loops.len(), 1);
         assert!(loops.open_chains.is_empty());
-        assert_eq!(mesh.normals().map(<[DVec3]>::len), Some(tess.positions.len()));
+        assert_eq!(
+            mesh.normals().map(<[DVec3]>::len),
+            Some(tess.positions.len())
+        );
     }
 }
 

@@ -16,9 +16,19 @@ use super::point::Point;
 /// `x_axis` and `y_axis`, from angle `start` to angle `end` (radians, measured from
 /// `x_axis` towards `y_axis`). `end` is taken modulo a full turn to lie after `start`,
 /// so `end - start` in (0, 2 pi]; a full circle is `end = start + 2 pi`.
-pub fn circular_arc<P: Point>(center: P, x_axis: P, y_axis: P, radius: f64, start: f64, end: f64) -> Result<NurbsCurve<P>> {
+pub fn circular_arc<P: Point>(
+    center: P,
+    x_axis: P,
+    y_axis: P,
+    radius: f64,
+    start: f64,
+    end: f64,
+) -> Result<NurbsCurve<P>> {
     if !(radius.is_finite() && radius > 0.0) {
-        return Err(GeomError::NotPositive { what: "arc radius", value: radius });
+        return Err(GeomError::NotPositive {
+            what: "arc radius",
+            value: radius,
+        });
     }
     if !(start.is_finite() && end.is_finite()) {
         return Err(GeomError::NotFinite { what: "arc angle" });
@@ -33,7 +43,9 @@ pub fn circular_arc<P: Point>(center: P, x_axis: P, y_axis: P, radius: f64, star
     let x = x_axis * (1.0 / xl);
     let y = y_axis * (1.0 / yl);
     if x.dot(y).abs() > 1e-9 {
-        return Err(GeomError::Singular { what: "arc frame: the axes are not perpendicular" });
+        return Err(GeomError::Singular {
+            what: "arc frame: the axes are not perpendicular",
+        });
     }
     let mut sweep = (end - start).rem_euclid(TAU);
     if sweep <= 1e-15 {
@@ -110,22 +122,36 @@ impl<P: Point> Circle<P> {
         let (u, v) = (b - a, c - a);
         let (uu, uv, vv) = (u.dot(u), u.dot(v), v.dot(v));
         if uu == 0.0 {
-            return Err(GeomError::CoincidentPoints { first: 0, second: 1 });
+            return Err(GeomError::CoincidentPoints {
+                first: 0,
+                second: 1,
+            });
         }
         if vv == 0.0 {
-            return Err(GeomError::CoincidentPoints { first: 0, second: 2 });
+            return Err(GeomError::CoincidentPoints {
+                first: 0,
+                second: 2,
+            });
         }
         if (c - b).dot(c - b) == 0.0 {
-            return Err(GeomError::CoincidentPoints { first: 1, second: 2 });
+            return Err(GeomError::CoincidentPoints {
+                first: 1,
+                second: 2,
+            });
         }
         // Centre = a + s u + t v with (centre - a).u = uu / 2 and (centre - a).v = vv / 2.
         let det = uu * vv - uv * uv;
         if det <= 1e-24 * uu * vv {
-            return Err(GeomError::Singular { what: "circle through collinear points" });
+            return Err(GeomError::Singular {
+                what: "circle through collinear points",
+            });
         }
         let s = 0.5 * (uu * vv - vv * uv) / det;
         let t = 0.5 * (vv * uu - uu * uv) / det;
         let center = a + u * s + v * t;
-        Ok(Self { center, radius: (a - center).length() })
+        Ok(Self {
+            center,
+            radius: (a - center).length(),
+        })
     }
 }

@@ -16,7 +16,10 @@ use super::surface::{Direction, NurbsSurface};
 /// curves built from the same parameters stay exactly aligned.
 pub fn make_compatible<P: Point>(curves: &[NurbsCurve<P>]) -> Result<Vec<NurbsCurve<P>>> {
     if curves.is_empty() {
-        return Err(GeomError::TooFewPoints { needed: 1, given: 0 });
+        return Err(GeomError::TooFewPoints {
+            needed: 1,
+            given: 0,
+        });
     }
     let degree = curves.iter().map(NurbsCurve::degree).max().unwrap_or(1);
     let mut unified = Vec::with_capacity(curves.len());
@@ -38,19 +41,29 @@ pub fn make_compatible<P: Point>(curves: &[NurbsCurve<P>]) -> Result<Vec<NurbsCu
         .into_iter()
         .map(|c| {
             let weights = c.weights().map(<[f64]>::to_vec);
-            NurbsCurve::from_parts(degree, canonical.clone(), c.control_points().to_vec(), weights)
+            NurbsCurve::from_parts(
+                degree,
+                canonical.clone(),
+                c.control_points().to_vec(),
+                weights,
+            )
         })
         .collect())
 }
 
 /// Whether the curves already share degree, and knot vector exactly.
 pub fn are_compatible<P: Point>(curves: &[NurbsCurve<P>]) -> bool {
-    curves.windows(2).all(|w| w[0].degree() == w[1].degree() && w[0].knots() == w[1].knots())
+    curves
+        .windows(2)
+        .all(|w| w[0].degree() == w[1].degree() && w[0].knots() == w[1].knots())
 }
 
 /// The union of the interior knots of clamped vectors on [0, 1], with the highest
 /// multiplicity each value has in any vector. Values within `1e-12` are one knot.
-pub(crate) fn merged_interior_knots<'a>(vectors: impl Iterator<Item = &'a [f64]>, degree: usize) -> Vec<(f64, usize)> {
+pub(crate) fn merged_interior_knots<'a>(
+    vectors: impl Iterator<Item = &'a [f64]>,
+    degree: usize,
+) -> Vec<(f64, usize)> {
     let mut all: Vec<(f64, usize)> = Vec::new();
     for knots in vectors {
         let interior = &knots[degree + 1..knots.len() - degree - 1];
@@ -78,7 +91,11 @@ pub(crate) fn merged_interior_knots<'a>(vectors: impl Iterator<Item = &'a [f64]>
 pub(crate) fn missing_knots(knots: &[f64], merged: &[(f64, usize)]) -> Vec<f64> {
     let mut out = Vec::new();
     for &(k, m) in merged {
-        let present: Vec<f64> = knots.iter().copied().filter(|&v| (v - k).abs() <= 1e-12).collect();
+        let present: Vec<f64> = knots
+            .iter()
+            .copied()
+            .filter(|&v| (v - k).abs() <= 1e-12)
+            .collect();
         let value = present.first().copied().unwrap_or(k);
         for _ in present.len()..m {
             out.push(value);
@@ -92,13 +109,26 @@ pub(crate) fn missing_knots(knots: &[f64], merged: &[(f64, usize)]) -> Vec<f64> 
 /// nets can then be combined point by point (as the Coons patch sums three surfaces).
 pub fn make_surfaces_compatible(surfaces: &[NurbsSurface]) -> Result<Vec<NurbsSurface>> {
     if surfaces.is_empty() {
-        return Err(GeomError::TooFewPoints { needed: 1, given: 0 });
+        return Err(GeomError::TooFewPoints {
+            needed: 1,
+            given: 0,
+        });
     }
-    let pu = surfaces.iter().map(NurbsSurface::degree_u).max().unwrap_or(1);
-    let pv = surfaces.iter().map(NurbsSurface::degree_v).max().unwrap_or(1);
+    let pu = surfaces
+        .iter()
+        .map(NurbsSurface::degree_u)
+        .max()
+        .unwrap_or(1);
+    let pv = surfaces
+        .iter()
+        .map(NurbsSurface::degree_v)
+        .max()
+        .unwrap_or(1);
     let mut unified = Vec::with_capacity(surfaces.len());
     for s in surfaces {
-        let s = s.reparametrized(Direction::U, 0.0, 1.0)?.reparametrized(Direction::V, 0.0, 1.0)?;
+        let s = s
+            .reparametrized(Direction::U, 0.0, 1.0)?
+            .reparametrized(Direction::V, 0.0, 1.0)?;
         let s = s.elevate_degree(Direction::U, pu - s.degree_u())?;
         let s = s.elevate_degree(Direction::V, pv - s.degree_v())?;
         unified.push(s);
@@ -108,11 +138,20 @@ pub fn make_surfaces_compatible(surfaces: &[NurbsSurface]) -> Result<Vec<NurbsSu
     let refined = unified
         .iter()
         .map(|s| {
-            let s = s.refine(Direction::U, &missing_knots(s.knots_u().as_slice(), &merged_u))?;
-            s.refine(Direction::V, &missing_knots(s.knots_v().as_slice(), &merged_v))
+            let s = s.refine(
+                Direction::U,
+                &missing_knots(s.knots_u().as_slice(), &merged_u),
+            )?;
+            s.refine(
+                Direction::V,
+                &missing_knots(s.knots_v().as_slice(), &merged_v),
+            )
         })
         .collect::<Result<Vec<_>>>()?;
-    let (ku, kv) = (refined[0].knots_u().as_slice().to_vec(), refined[0].knots_v().as_slice().to_vec());
+    let (ku, kv) = (
+        refined[0].knots_u().as_slice().to_vec(),
+        refined[0].knots_v().as_slice().to_vec(),
+    );
     Ok(refined
         .into_iter()
         .map(|s| {

@@ -34,12 +34,22 @@ impl<P: Point> NurbsCurve<P> {
         check_degree(degree)?;
         check_points(&points)?;
         let knots = KnotVector::new(knots, degree, points.len())?;
-        Ok(Self { degree, knots, points, weights: None })
+        Ok(Self {
+            degree,
+            knots,
+            points,
+            weights: None,
+        })
     }
 
     /// A rational B-spline; weights must be finite and positive, one per control point.
     /// All-equal weights are kept as given (the curve is then polynomial in shape).
-    pub fn new_rational(degree: usize, knots: Vec<f64>, points: Vec<P>, weights: Vec<f64>) -> Result<Self> {
+    pub fn new_rational(
+        degree: usize,
+        knots: Vec<f64>,
+        points: Vec<P>,
+        weights: Vec<f64>,
+    ) -> Result<Self> {
         let mut c = Self::new(degree, knots, points)?;
         check_weights(&weights, c.points.len())?;
         c.weights = Some(weights);
@@ -49,7 +59,10 @@ impl<P: Point> NurbsCurve<P> {
     /// A polynomial Bezier curve on [0, 1] through its control polygon's ends.
     pub fn bezier(points: Vec<P>) -> Result<Self> {
         if points.len() < 2 {
-            return Err(GeomError::TooFewPoints { needed: 2, given: points.len() });
+            return Err(GeomError::TooFewPoints {
+                needed: 2,
+                given: points.len(),
+            });
         }
         let degree = points.len() - 1;
         Self::new(degree, KnotVector::bezier(degree).into_vec(), points)
@@ -61,8 +74,18 @@ impl<P: Point> NurbsCurve<P> {
     }
 
     /// Builds from parts the kernel produced itself (already valid).
-    pub(crate) fn from_parts(degree: usize, knots: Vec<f64>, points: Vec<P>, weights: Option<Vec<f64>>) -> Self {
-        Self { degree, knots: KnotVector::trusted(knots), points, weights }
+    pub(crate) fn from_parts(
+        degree: usize,
+        knots: Vec<f64>,
+        points: Vec<P>,
+        weights: Option<Vec<f64>>,
+    ) -> Self {
+        Self {
+            degree,
+            knots: KnotVector::trusted(knots),
+            points,
+            weights,
+        }
     }
 
     /// Builds from a homogeneous spline, dropping the weights when all are 1.
@@ -75,8 +98,14 @@ impl<P: Point> NurbsCurve<P> {
     /// The control points in homogeneous form, for algorithms that treat rational
     /// curves as polynomial ones in one more dimension.
     pub(crate) fn to_homogeneous(&self) -> Spline<Homogeneous<P>> {
-        let points = (0..self.points.len()).map(|i| Homogeneous::from_point(self.points[i], self.weight(i))).collect();
-        Spline { degree: self.degree, knots: self.knots.as_slice().to_vec(), points }
+        let points = (0..self.points.len())
+            .map(|i| Homogeneous::from_point(self.points[i], self.weight(i)))
+            .collect();
+        Spline {
+            degree: self.degree,
+            knots: self.knots.as_slice().to_vec(),
+            points,
+        }
     }
 
     /// Polynomial degree.
@@ -133,12 +162,19 @@ impl<P: Point> NurbsCurve<P> {
         match &self.weights {
             None => {
                 let points = &self.points[first..=span];
-                points.iter().zip(&basis).fold(P::ZERO, |acc, (&p, &b)| acc + p * b)
+                points
+                    .iter()
+                    .zip(&basis)
+                    .fold(P::ZERO, |acc, (&p, &b)| acc + p * b)
             }
             Some(w) => {
                 let mut acc = P::ZERO;
                 let mut wsum = 0.0;
-                for ((&p, &wi), &b) in self.points[first..=span].iter().zip(&w[first..=span]).zip(&basis) {
+                for ((&p, &wi), &b) in self.points[first..=span]
+                    .iter()
+                    .zip(&w[first..=span])
+                    .zip(&basis)
+                {
                     let nw = b * wi;
                     acc = acc + p * nw;
                     wsum += nw;
@@ -152,7 +188,12 @@ impl<P: Point> NurbsCurve<P> {
     /// `[C, C', C'', ...]` (P&T A3.2 and A4.2). At a knot the derivatives are those of the
     /// span to its right (the left one at the domain's end), as OpenCascade evaluates them.
     pub fn derivatives<const N: usize>(&self, t: f64) -> [P; N] {
-        const { assert!(N >= 1 && N <= MAX_DERIVATIVE + 1, "at most third derivatives") };
+        const {
+            assert!(
+                N >= 1 && N <= MAX_DERIVATIVE + 1,
+                "at most third derivatives"
+            )
+        };
         let p = self.degree;
         let span = self.knots.span(p, t);
         let mut basis = [[0.0; super::MAX_DEGREE + 1]; MAX_DERIVATIVE + 1];
@@ -183,7 +224,9 @@ impl<P: Point> NurbsCurve<P> {
         let d = self.derivative_at(t);
         let len = d.length();
         if len <= f64::EPSILON * (1.0 + self.control_scale()) {
-            return Err(GeomError::ZeroVector { what: "curve derivative" });
+            return Err(GeomError::ZeroVector {
+                what: "curve derivative",
+            });
         }
         Ok(d * (1.0 / len))
     }
@@ -264,7 +307,11 @@ impl<P: Point> NurbsCurve<P> {
             }
             let speed = self.derivative_at(t).length();
             let newton = t - f / speed;
-            t = if speed > 0.0 && newton > lo && newton < hi { newton } else { 0.5 * (lo + hi) };
+            t = if speed > 0.0 && newton > lo && newton < hi {
+                newton
+            } else {
+                0.5 * (lo + hi)
+            };
             if hi - lo <= 1e-15 * (t1 - t0) {
                 return Ok(t);
             }
@@ -279,22 +326,41 @@ impl<P: Point> NurbsCurve<P> {
     /// The same curve run backwards: `reversed(t0 + t1 - t) = C(t)`.
     pub fn reversed(&self) -> Self {
         let (a, b) = self.domain();
-        let knots = self.knots.as_slice().iter().rev().map(|&k| a + b - k).collect();
+        let knots = self
+            .knots
+            .as_slice()
+            .iter()
+            .rev()
+            .map(|&k| a + b - k)
+            .collect();
         let points = self.points.iter().rev().copied().collect();
-        let weights = self.weights.as_ref().map(|w| w.iter().rev().copied().collect());
+        let weights = self
+            .weights
+            .as_ref()
+            .map(|w| w.iter().rev().copied().collect());
         Self::from_parts(self.degree, knots, points, weights)
     }
 
     /// The same curve on the domain `[a, b]` (linear reparametrization of the knots).
     pub fn reparametrized(&self, a: f64, b: f64) -> Result<Self> {
         if !(a.is_finite() && b.is_finite()) {
-            return Err(GeomError::NotFinite { what: "domain bound" });
+            return Err(GeomError::NotFinite {
+                what: "domain bound",
+            });
         }
         if b <= a {
-            return Err(GeomError::NotPositive { what: "domain length", value: b - a });
+            return Err(GeomError::NotPositive {
+                what: "domain length",
+                value: b - a,
+            });
         }
         let knots = super::surface::remap_knots(self.knots.as_slice(), self.degree, a, b);
-        Ok(Self::from_parts(self.degree, knots, self.points.clone(), self.weights.clone()))
+        Ok(Self::from_parts(
+            self.degree,
+            knots,
+            self.points.clone(),
+            self.weights.clone(),
+        ))
     }
 
     /// Inserts the knot `t` up to `times` times (P&T A5.1); the shape is unchanged.
@@ -302,22 +368,35 @@ impl<P: Point> NurbsCurve<P> {
     pub fn insert_knot(&self, t: f64, times: usize) -> Result<Self> {
         let (a, b) = self.domain();
         if !t.is_finite() || t <= a || t >= b {
-            return Err(GeomError::ParameterOutOfRange { value: t, min: a, max: b });
+            return Err(GeomError::ParameterOutOfRange {
+                value: t,
+                min: a,
+                max: b,
+            });
         }
-        Ok(Self::from_homogeneous(ops::insert_knot(&self.to_homogeneous(), t, times), self.is_rational()))
+        Ok(Self::from_homogeneous(
+            ops::insert_knot(&self.to_homogeneous(), t, times),
+            self.is_rational(),
+        ))
     }
 
     /// Inserts several knots at once (P&T A5.4); each value must lie inside the domain and
     /// no multiplicity may exceed the degree.
     pub fn refine(&self, new_knots: &[f64]) -> Result<Self> {
         let x = checked_refinement(&self.knots, self.degree, new_knots)?;
-        Ok(Self::from_homogeneous(ops::refine(&self.to_homogeneous(), &x), self.is_rational()))
+        Ok(Self::from_homogeneous(
+            ops::refine(&self.to_homogeneous(), &x),
+            self.is_rational(),
+        ))
     }
 
     /// Raises the degree by `by` without changing the shape (P&T A5.9).
     pub fn elevate_degree(&self, by: usize) -> Result<Self> {
         check_degree(self.degree + by)?;
-        Ok(Self::from_homogeneous(ops::elevate_degree(&self.to_homogeneous(), by), self.is_rational()))
+        Ok(Self::from_homogeneous(
+            ops::elevate_degree(&self.to_homogeneous(), by),
+            self.is_rational(),
+        ))
     }
 
     /// Splits at `t` into the pieces on `[t0, t]` and `[t, t1]`, each keeping its part of
@@ -325,7 +404,11 @@ impl<P: Point> NurbsCurve<P> {
     pub fn split_at(&self, t: f64) -> Result<(Self, Self)> {
         let (a, b) = self.domain();
         if !t.is_finite() || t <= a || t >= b {
-            return Err(GeomError::ParameterOutOfRange { value: t, min: a, max: b });
+            return Err(GeomError::ParameterOutOfRange {
+                value: t,
+                min: a,
+                max: b,
+            });
         }
         let p = self.degree;
         let full = ops::insert_knot(&self.to_homogeneous(), t, p);
@@ -336,10 +419,21 @@ impl<P: Point> NurbsCurve<P> {
         let mut right_knots: Vec<f64> = vec![t; p + 1];
         right_knots.extend(full.knots.iter().copied().filter(|&k| k > t));
         let left_count = left_knots.len() - p - 1;
-        let left = Spline { degree: p, knots: left_knots, points: full.points[..left_count].to_vec() };
-        let right = Spline { degree: p, knots: right_knots, points: full.points[left_count - 1..].to_vec() };
+        let left = Spline {
+            degree: p,
+            knots: left_knots,
+            points: full.points[..left_count].to_vec(),
+        };
+        let right = Spline {
+            degree: p,
+            knots: right_knots,
+            points: full.points[left_count - 1..].to_vec(),
+        };
         let rational = self.is_rational();
-        Ok((Self::from_homogeneous(left, rational), Self::from_homogeneous(right, rational)))
+        Ok((
+            Self::from_homogeneous(left, rational),
+            Self::from_homogeneous(right, rational),
+        ))
     }
 
     /// Applies `f` to every control point (weights unchanged). Exact for affine maps,
@@ -394,17 +488,28 @@ pub(crate) fn rational_derivatives<P: Point, const N: usize>(a: &[P; N], w: &[f6
 
 /// Axis-aligned bounds of a set of points.
 pub(crate) fn bounds(points: impl Iterator<Item = DVec3>) -> (DVec3, DVec3) {
-    points.fold((DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)), |(lo, hi), p| (lo.min(p), hi.max(p)))
+    points.fold(
+        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+        |(lo, hi), p| (lo.min(p), hi.max(p)),
+    )
 }
 
 /// Checks knots to insert: finite, inside the open domain, and not pushing any knot's
 /// multiplicity above the degree. Returns them sorted.
-pub(crate) fn checked_refinement(knots: &KnotVector, degree: usize, new: &[f64]) -> Result<Vec<f64>> {
+pub(crate) fn checked_refinement(
+    knots: &KnotVector,
+    degree: usize,
+    new: &[f64],
+) -> Result<Vec<f64>> {
     let (a, b) = knots.domain();
     let mut x = new.to_vec();
     for &t in &x {
         if !t.is_finite() || t <= a || t >= b {
-            return Err(GeomError::ParameterOutOfRange { value: t, min: a, max: b });
+            return Err(GeomError::ParameterOutOfRange {
+                value: t,
+                min: a,
+                max: b,
+            });
         }
     }
     x.sort_by(f64::total_cmp);
@@ -413,7 +518,10 @@ pub(crate) fn checked_refinement(knots: &KnotVector, degree: usize, new: &[f64])
         let j = x[i..].iter().take_while(|&&v| v == x[i]).count();
         if knots.multiplicity(x[i]) + j > degree {
             return Err(GeomError::KnotVector {
-                reason: format!("inserting {} would repeat it more than degree = {degree} times", x[i]),
+                reason: format!(
+                    "inserting {} would repeat it more than degree = {degree} times",
+                    x[i]
+                ),
             });
         }
         i += j;
@@ -423,16 +531,26 @@ pub(crate) fn checked_refinement(knots: &KnotVector, degree: usize, new: &[f64])
 
 fn check_points<P: Point>(points: &[P]) -> Result<()> {
     if points.iter().any(|p| !p.is_finite()) {
-        return Err(GeomError::NotFinite { what: "control point" });
+        return Err(GeomError::NotFinite {
+            what: "control point",
+        });
     }
     Ok(())
 }
 
 pub(crate) fn check_weights(weights: &[f64], count: usize) -> Result<()> {
     if weights.len() != count {
-        return Err(GeomError::LengthMismatch { what: "weights", expected: count, given: weights.len() });
+        return Err(GeomError::LengthMismatch {
+            what: "weights",
+            expected: count,
+            given: weights.len(),
+        });
     }
-    if let Some((index, &value)) = weights.iter().enumerate().find(|(_, w)| !(w.is_finite() && **w > 0.0)) {
+    if let Some((index, &value)) = weights
+        .iter()
+        .enumerate()
+        .find(|(_, w)| !(w.is_finite() && **w > 0.0))
+    {
         return Err(GeomError::Weight { index, value });
     }
     Ok(())

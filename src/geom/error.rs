@@ -41,7 +41,11 @@ pub enum GeomError {
 
     /// Arrays that must agree in length do not.
     #[error("{what}: expected {expected} items, got {given}")]
-    LengthMismatch { what: &'static str, expected: usize, given: usize },
+    LengthMismatch {
+        what: &'static str,
+        expected: usize,
+        given: usize,
+    },
 
     /// A parameter outside the curve's or surface's domain.
     #[error("parameter {value} lies outside the domain [{min}, {max}]")]
@@ -57,7 +61,11 @@ pub enum GeomError {
 
     /// An iterative solver (Newton, bisection) did not reach its tolerance.
     #[error("{what} did not converge after {iterations} iterations (residual {residual})")]
-    NoConvergence { what: &'static str, iterations: usize, residual: f64 },
+    NoConvergence {
+        what: &'static str,
+        iterations: usize,
+        residual: f64,
+    },
 
     /// A ray, plane or curve that has no intersection with the target.
     #[error("no intersection: {what}")]

@@ -73,7 +73,11 @@ impl<P: Point> Default for Interpolation<P> {
 impl<P: Point> Interpolation<P> {
     /// Cubic, chord length, averaged knots, with the given end tangents.
     pub fn cubic_with_tangents(start: P, end: P) -> Self {
-        Self { start_tangent: Some(start), end_tangent: Some(end), ..Self::default() }
+        Self {
+            start_tangent: Some(start),
+            end_tangent: Some(end),
+            ..Self::default()
+        }
     }
 }
 
@@ -81,17 +85,29 @@ impl<P: Point> Interpolation<P> {
 /// are an error: no parameter step can separate them.
 pub fn parameters<P: Point>(points: &[P], method: Parametrization) -> Result<Vec<f64>> {
     if points.len() < 2 {
-        return Err(GeomError::TooFewPoints { needed: 2, given: points.len() });
+        return Err(GeomError::TooFewPoints {
+            needed: 2,
+            given: points.len(),
+        });
     }
     if points.iter().any(|p| !p.is_finite()) {
-        return Err(GeomError::NotFinite { what: "interpolation point" });
+        return Err(GeomError::NotFinite {
+            what: "interpolation point",
+        });
     }
-    let scale = points.iter().map(|p| p.length()).fold(0.0, f64::max).max(1e-300);
+    let scale = points
+        .iter()
+        .map(|p| p.length())
+        .fold(0.0, f64::max)
+        .max(1e-300);
     let mut steps = Vec::with_capacity(points.len() - 1);
     for (i, w) in points.windows(2).enumerate() {
         let d = w[0].distance(w[1]);
         if d <= 1e-14 * scale {
-            return Err(GeomError::CoincidentPoints { first: i, second: i + 1 });
+            return Err(GeomError::CoincidentPoints {
+                first: i,
+                second: i + 1,
+            });
         }
         steps.push(match method {
             Parametrization::Uniform => 1.0,
@@ -119,37 +135,62 @@ pub fn interpolate<P: Point>(points: &[P], opts: &Interpolation<P>) -> Result<Nu
 
 /// Like [`interpolate`] with explicit, strictly increasing parameters; the curve's
 /// domain is `[params[0], params[last]]` and `C(params[k]) = points[k]`.
-pub fn interpolate_at<P: Point>(points: &[P], params: &[f64], opts: &Interpolation<P>) -> Result<NurbsCurve<P>> {
+pub fn interpolate_at<P: Point>(
+    points: &[P],
+    params: &[f64],
+    opts: &Interpolation<P>,
+) -> Result<NurbsCurve<P>> {
     let p = opts.degree;
     check_degree(p)?;
     if params.len() != points.len() {
-        return Err(GeomError::LengthMismatch { what: "parameters", expected: points.len(), given: params.len() });
+        return Err(GeomError::LengthMismatch {
+            what: "parameters",
+            expected: points.len(),
+            given: params.len(),
+        });
     }
     if points.len() < 2 {
-        return Err(GeomError::TooFewPoints { needed: 2, given: points.len() });
+        return Err(GeomError::TooFewPoints {
+            needed: 2,
+            given: points.len(),
+        });
     }
     if points.iter().any(|q| !q.is_finite()) {
-        return Err(GeomError::NotFinite { what: "interpolation point" });
+        return Err(GeomError::NotFinite {
+            what: "interpolation point",
+        });
     }
     if params.iter().any(|t| !t.is_finite()) {
-        return Err(GeomError::NotFinite { what: "interpolation parameter" });
+        return Err(GeomError::NotFinite {
+            what: "interpolation parameter",
+        });
     }
     if let Some(i) = params.windows(2).position(|w| w[1] <= w[0]) {
-        return Err(GeomError::CoincidentPoints { first: i, second: i + 1 });
+        return Err(GeomError::CoincidentPoints {
+            first: i,
+            second: i + 1,
+        });
     }
     for tangent in [opts.start_tangent, opts.end_tangent].into_iter().flatten() {
         if !tangent.is_finite() {
-            return Err(GeomError::NotFinite { what: "end tangent" });
+            return Err(GeomError::NotFinite {
+                what: "end tangent",
+            });
         }
         if tangent.length() == 0.0 {
-            return Err(GeomError::ZeroVector { what: "end tangent" });
+            return Err(GeomError::ZeroVector {
+                what: "end tangent",
+            });
         }
     }
     let n = points.len() - 1;
     let ders = usize::from(opts.start_tangent.is_some()) + usize::from(opts.end_tangent.is_some());
     let count = n + 1 + ders;
     if count < p + 1 {
-        return Err(GeomError::TooFewPoints { needed: p + 1 - ders, given: points.len() });
+        return Err(GeomError::TooFewPoints {
+            needed: p + 1 - ders,
+            given: points.len(),
+        });
     }
     let knots = knot_vector(params, p, opts, count)?;
     let kv = KnotVector::new(knots.clone(), p, count)?;
@@ -158,7 +199,12 @@ pub fn interpolate_at<P: Point>(points: &[P], params: &[f64], opts: &Interpolati
     let mut a = DMatrix::<f64>::zeros(count, count);
     let mut rhs = DMatrix::<f64>::zeros(count, P::DIM);
     let mut row = 0;
-    let put_row = |a: &mut DMatrix<f64>, rhs: &mut DMatrix<f64>, row: usize, t: f64, order: usize, value: P| {
+    let put_row = |a: &mut DMatrix<f64>,
+                   rhs: &mut DMatrix<f64>,
+                   row: usize,
+                   t: f64,
+                   order: usize,
+                   value: P| {
         let span = kv.span(p, t);
         let mut basis = [[0.0; super::MAX_DEGREE + 1]; MAX_DERIVATIVE + 1];
         kv.basis_derivatives(span, p, t, order, &mut basis);
@@ -185,7 +231,9 @@ pub fn interpolate_at<P: Point>(points: &[P], params: &[f64], opts: &Interpolati
             }
         }
     }
-    let solution = a.lu().solve(&rhs).ok_or(GeomError::Singular { what: "interpolation" })?;
+    let solution = a.lu().solve(&rhs).ok_or(GeomError::Singular {
+        what: "interpolation",
+    })?;
     let mut control = Vec::with_capacity(count);
     for i in 0..count {
         let mut q = P::ZERO;
@@ -193,7 +241,9 @@ pub fn interpolate_at<P: Point>(points: &[P], params: &[f64], opts: &Interpolati
             q = q + P::axis(d) * solution[(i, d)];
         }
         if !q.is_finite() {
-            return Err(GeomError::Singular { what: "interpolation" });
+            return Err(GeomError::Singular {
+                what: "interpolation",
+            });
         }
         control.push(q);
     }
@@ -204,7 +254,12 @@ pub fn interpolate_at<P: Point>(points: &[P], params: &[f64], opts: &Interpolati
 }
 
 /// The clamped knot vector for `count` control points of degree `p` on `params`.
-fn knot_vector<P: Point>(params: &[f64], p: usize, opts: &Interpolation<P>, count: usize) -> Result<Vec<f64>> {
+fn knot_vector<P: Point>(
+    params: &[f64],
+    p: usize,
+    opts: &Interpolation<P>,
+    count: usize,
+) -> Result<Vec<f64>> {
     let n = params.len() - 1;
     let (t0, t1) = (params[0], params[n]);
     let mut knots = vec![t0; p + 1];

@@ -25,7 +25,10 @@ impl KnotVector {
     pub fn new(knots: Vec<f64>, degree: usize, control_count: usize) -> Result<Self> {
         check_degree(degree)?;
         if control_count < degree + 1 {
-            return Err(GeomError::TooFewPoints { needed: degree + 1, given: control_count });
+            return Err(GeomError::TooFewPoints {
+                needed: degree + 1,
+                given: control_count,
+            });
         }
         let expected = control_count + degree + 1;
         if knots.len() != expected {
@@ -37,28 +40,44 @@ impl KnotVector {
             });
         }
         if let Some(i) = knots.iter().position(|k| !k.is_finite()) {
-            return Err(GeomError::KnotVector { reason: format!("knot {i} is not finite") });
+            return Err(GeomError::KnotVector {
+                reason: format!("knot {i} is not finite"),
+            });
         }
         if let Some(i) = knots.windows(2).position(|w| w[1] < w[0]) {
             return Err(GeomError::KnotVector {
-                reason: format!("knot {} ({}) is smaller than knot {i} ({})", i + 1, knots[i + 1], knots[i]),
+                reason: format!(
+                    "knot {} ({}) is smaller than knot {i} ({})",
+                    i + 1,
+                    knots[i + 1],
+                    knots[i]
+                ),
             });
         }
         let (first, last) = (knots[0], knots[expected - 1]);
         if last <= first {
-            return Err(GeomError::KnotVector { reason: "the parameter domain is empty".into() });
+            return Err(GeomError::KnotVector {
+                reason: "the parameter domain is empty".into(),
+            });
         }
         let clamped_start = knots[..=degree].iter().all(|&k| k == first);
         let clamped_end = knots[expected - degree - 1..].iter().all(|&k| k == last);
         if !clamped_start || !clamped_end {
             return Err(GeomError::KnotVector {
-                reason: format!("the first and last knots must each repeat degree + 1 = {} times", degree + 1),
+                reason: format!(
+                    "the first and last knots must each repeat degree + 1 = {} times",
+                    degree + 1
+                ),
             });
         }
         let interior = &knots[degree + 1..expected - degree - 1];
         let mut run = 1;
         for i in 0..interior.len() {
-            run = if i > 0 && interior[i] == interior[i - 1] { run + 1 } else { 1 };
+            run = if i > 0 && interior[i] == interior[i - 1] {
+                run + 1
+            } else {
+                1
+            };
             if run > degree || interior[i] == first || interior[i] == last {
                 return Err(GeomError::KnotVector {
                     reason: format!(
@@ -80,7 +99,10 @@ impl KnotVector {
     pub fn uniform(degree: usize, control_count: usize) -> Result<Self> {
         check_degree(degree)?;
         if control_count < degree + 1 {
-            return Err(GeomError::TooFewPoints { needed: degree + 1, given: control_count });
+            return Err(GeomError::TooFewPoints {
+                needed: degree + 1,
+                given: control_count,
+            });
         }
         let spans = control_count - degree;
         let mut knots = vec![0.0; degree + 1];
@@ -157,10 +179,45 @@ impl KnotVector {
     }
 
     /// Basis functions of `degree` that are non-zero at `u` in `span` (P&T A2.2).
+    /// Degrees up to 5, nearly all of die-face geometry, run a copy of the recurrence
+    /// sized at compile time, which keeps point evaluation free of work on unused slots.
     pub(crate) fn basis(&self, span: usize, degree: usize, u: f64) -> BasisRow {
-        let mut rows = [[0.0; MAX_DEGREE + 1]; 1];
-        self.basis_with_lower(span, degree, u, 0, &mut rows);
-        rows[0]
+        let mut out = [0.0; MAX_DEGREE + 1];
+        match degree {
+            1 => out[..2].copy_from_slice(&self.basis_fixed::<2>(span, u)),
+            2 => out[..3].copy_from_slice(&self.basis_fixed::<3>(span, u)),
+            3 => out[..4].copy_from_slice(&self.basis_fixed::<4>(span, u)),
+            4 => out[..5].copy_from_slice(&self.basis_fixed::<5>(span, u)),
+            5 => out[..6].copy_from_slice(&self.basis_fixed::<6>(span, u)),
+            _ => {
+                let mut rows = [[0.0; MAX_DEGREE + 1]; 1];
+                self.basis_with_lower(span, degree, u, 0, &mut rows);
+                out = rows[0];
+            }
+        }
+        out
+    }
+
+    /// P&T A2.2 for degree `O - 1`: the `O` basis functions non-zero in `span`.
+    fn basis_fixed<const O: usize>(&self, span: usize, u: f64) -> [f64; O] {
+        let k = &self.knots;
+        let mut n = [0.0; O];
+        let mut left = [0.0; O];
+        let mut right = [0.0; O];
+        n[0] = 1.0;
+        for j in 1..O {
+            left[j] = u - k[span + 1 - j];
+            right[j] = k[span + j] - u;
+            let mut saved = 0.0;
+            for r in 0..j {
+                let den = right[r + 1] + left[j - r];
+                let temp = if den != 0.0 { n[r] / den } else { 0.0 };
+                n[r] = saved + right[r + 1] * temp;
+                saved = left[j - r] * temp;
+            }
+            n[j] = saved;
+        }
+        n
     }
 
     /// Basis functions and their derivatives up to `order` at `u` in `span`:
@@ -196,13 +253,21 @@ impl KnotVector {
                     let i = span + r - q; // global index of N_{i,q}
                     let left = if r >= 1 {
                         let den = k[i + q] - k[i];
-                        if den != 0.0 { cur[r - 1] / den } else { 0.0 }
+                        if den != 0.0 {
+                            cur[r - 1] / den
+                        } else {
+                            0.0
+                        }
                     } else {
                         0.0
                     };
                     let right = if r < q {
                         let den = k[i + q + 1] - k[i + 1];
-                        if den != 0.0 { cur[r] / den } else { 0.0 }
+                        if den != 0.0 {
+                            cur[r] / den
+                        } else {
+                            0.0
+                        }
                     } else {
                         0.0
                     };
@@ -216,7 +281,14 @@ impl KnotVector {
 
     /// Runs the triangular recurrence of P&T A2.2 up to `degree`, saving the rows of
     /// degrees `degree - k` for `k < rows.len()` into `rows[k]`.
-    fn basis_with_lower(&self, span: usize, degree: usize, u: f64, keep: usize, rows: &mut [BasisRow]) {
+    fn basis_with_lower(
+        &self,
+        span: usize,
+        degree: usize,
+        u: f64,
+        keep: usize,
+        rows: &mut [BasisRow],
+    ) {
         let k = &self.knots;
         let mut n = [0.0; MAX_DEGREE + 1];
         let mut left = [0.0; MAX_DEGREE + 1];
@@ -246,7 +318,10 @@ impl KnotVector {
 /// Rejects degree 0 and degrees above [`MAX_DEGREE`].
 pub(crate) fn check_degree(degree: usize) -> Result<()> {
     if degree == 0 || degree > MAX_DEGREE {
-        return Err(GeomError::Degree { degree, max: MAX_DEGREE });
+        return Err(GeomError::Degree {
+            degree,
+            max: MAX_DEGREE,
+        });
     }
     Ok(())
 }

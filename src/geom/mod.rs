@@ -31,7 +31,6 @@ pub use point::{Homogeneous, Linear, Point};
 pub use surface::{Direction, NurbsSurface};
 pub use transform::Transform;
 
-
 /// Highest degree the kernel evaluates. OpenCascade allows 25; die-face geometry stays
 /// below 10, and a small fixed bound keeps basis evaluation on the stack.
 pub const MAX_DEGREE: usize = 15;

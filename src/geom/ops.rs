@@ -7,7 +7,11 @@
 
 // The algorithms keep P&T's index arithmetic so that each line can be checked against
 // the book; iterator rewrites would hide that correspondence.
-#![allow(clippy::needless_range_loop, clippy::explicit_counter_loop, clippy::manual_memcpy)]
+#![allow(
+    clippy::needless_range_loop,
+    clippy::explicit_counter_loop,
+    clippy::manual_memcpy
+)]
 
 use super::point::Linear;
 
@@ -70,7 +74,11 @@ pub(crate) fn insert_knot<T: Linear>(s: &Spline<T>, u: f64, times: usize) -> Spl
     for i in l + 1..k - mult {
         qw[i] = rw[i - l];
     }
-    Spline { degree: p, knots: uq, points: qw }
+    Spline {
+        degree: p,
+        knots: uq,
+        points: qw,
+    }
 }
 
 /// Inserts every knot of the sorted list `x` (P&T A5.4). Values must lie strictly inside
@@ -121,7 +129,11 @@ pub(crate) fn refine<T: Linear>(s: &Spline<T>, x: &[f64]) -> Spline<T> {
         ubar[k] = x[j];
         k -= 1;
     }
-    Spline { degree: p, knots: ubar, points: qw }
+    Spline {
+        degree: p,
+        knots: ubar,
+        points: qw,
+    }
 }
 
 /// Binomial coefficient as f64.
@@ -191,8 +203,16 @@ pub(crate) fn elevate_degree<T: Linear>(s: &Spline<T>, t: usize) -> Spline<T> {
         let ub = uk[b];
         let oldr = r;
         r = p as isize - mul as isize;
-        let lbz = if oldr > 0 { ((oldr + 2) / 2) as usize } else { 1 };
-        let rbz = if r > 0 { ph - (r as usize).div_ceil(2) } else { ph };
+        let lbz = if oldr > 0 {
+            ((oldr + 2) / 2) as usize
+        } else {
+            1
+        };
+        let rbz = if r > 0 {
+            ph - (r as usize).div_ceil(2)
+        } else {
+            ph
+        };
         if r > 0 {
             // Insert ub r times into the current Bezier segment.
             let numer = ub - ua;
@@ -277,5 +297,9 @@ pub(crate) fn elevate_degree<T: Linear>(s: &Spline<T>, t: usize) -> Spline<T> {
     let nh = mh - ph - 1;
     qw.truncate(nh + 1);
     uh.truncate(mh + 1);
-    Spline { degree: ph, knots: uh, points: qw }
+    Spline {
+        degree: ph,
+        knots: uh,
+        points: qw,
+    }
 }

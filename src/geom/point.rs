@@ -93,7 +93,10 @@ impl Point for DVec3 {
         DVec3::is_finite(self)
     }
     fn axis(i: usize) -> Self {
-        [DVec3::X, DVec3::Y, DVec3::Z].get(i).copied().unwrap_or(DVec3::ZERO)
+        [DVec3::X, DVec3::Y, DVec3::Z]
+            .get(i)
+            .copied()
+            .unwrap_or(DVec3::ZERO)
     }
 }
 
@@ -114,7 +117,10 @@ impl Point for DVec4 {
         DVec4::is_finite(self)
     }
     fn axis(i: usize) -> Self {
-        [DVec4::X, DVec4::Y, DVec4::Z, DVec4::W].get(i).copied().unwrap_or(DVec4::ZERO)
+        [DVec4::X, DVec4::Y, DVec4::Z, DVec4::W]
+            .get(i)
+            .copied()
+            .unwrap_or(DVec4::ZERO)
     }
 }
 
@@ -131,7 +137,10 @@ pub struct Homogeneous<P> {
 impl<P: Point> Homogeneous<P> {
     /// Lifts a Euclidean point with its weight.
     pub fn from_point(p: P, w: f64) -> Self {
-        Self { weighted: p * w, weight: w }
+        Self {
+            weighted: p * w,
+            weight: w,
+        }
     }
     /// Projects back to the Euclidean point.
     pub fn to_point(self) -> P {
@@ -142,24 +151,36 @@ impl<P: Point> Homogeneous<P> {
 impl<P: Linear> Add for Homogeneous<P> {
     type Output = Self;
     fn add(self, o: Self) -> Self {
-        Self { weighted: self.weighted + o.weighted, weight: self.weight + o.weight }
+        Self {
+            weighted: self.weighted + o.weighted,
+            weight: self.weight + o.weight,
+        }
     }
 }
 
 impl<P: Linear> Sub for Homogeneous<P> {
     type Output = Self;
     fn sub(self, o: Self) -> Self {
-        Self { weighted: self.weighted - o.weighted, weight: self.weight - o.weight }
+        Self {
+            weighted: self.weighted - o.weighted,
+            weight: self.weight - o.weight,
+        }
     }
 }
 
 impl<P: Linear> Mul<f64> for Homogeneous<P> {
     type Output = Self;
     fn mul(self, s: f64) -> Self {
-        Self { weighted: self.weighted * s, weight: self.weight * s }
+        Self {
+            weighted: self.weighted * s,
+            weight: self.weight * s,
+        }
     }
 }
 
 impl<P: Linear> Linear for Homogeneous<P> {
-    const ZERO: Self = Self { weighted: P::ZERO, weight: 0.0 };
+    const ZERO: Self = Self {
+        weighted: P::ZERO,
+        weight: 0.0,
+    };
 }

@@ -52,15 +52,30 @@ impl NurbsSurface {
         let count_u = net.len();
         let count_v = net.first().map_or(0, Vec::len);
         if let Some(row) = net.iter().find(|r| r.len() != count_v) {
-            return Err(GeomError::LengthMismatch { what: "control net row", expected: count_v, given: row.len() });
+            return Err(GeomError::LengthMismatch {
+                what: "control net row",
+                expected: count_v,
+                given: row.len(),
+            });
         }
         let points: Vec<DVec3> = net.into_iter().flatten().collect();
         if points.iter().any(|p| !p.is_finite()) {
-            return Err(GeomError::NotFinite { what: "control point" });
+            return Err(GeomError::NotFinite {
+                what: "control point",
+            });
         }
         let knots_u = KnotVector::new(knots_u, degree_u, count_u)?;
         let knots_v = KnotVector::new(knots_v, degree_v, count_v)?;
-        Ok(Self { degree_u, degree_v, knots_u, knots_v, count_u, count_v, points, weights: None })
+        Ok(Self {
+            degree_u,
+            degree_v,
+            knots_u,
+            knots_v,
+            count_u,
+            count_v,
+            points,
+            weights: None,
+        })
     }
 
     /// A rational surface; `weights[i][j]` finite and positive.
@@ -74,7 +89,11 @@ impl NurbsSurface {
     ) -> Result<Self> {
         let mut s = Self::new(degree_u, degree_v, knots_u, knots_v, net)?;
         if weights.len() != s.count_u {
-            return Err(GeomError::LengthMismatch { what: "weight rows", expected: s.count_u, given: weights.len() });
+            return Err(GeomError::LengthMismatch {
+                what: "weight rows",
+                expected: s.count_u,
+                given: weights.len(),
+            });
         }
         let flat: Vec<f64> = weights.into_iter().flatten().collect();
         check_weights(&flat, s.points.len())?;
@@ -132,7 +151,9 @@ impl NurbsSurface {
     }
     /// Weight of control point `(i, j)` (1 for polynomial surfaces).
     pub fn weight(&self, i: usize, j: usize) -> f64 {
-        self.weights.as_ref().map_or(1.0, |w| w[i * self.count_v + j])
+        self.weights
+            .as_ref()
+            .map_or(1.0, |w| w[i * self.count_v + j])
     }
     /// Weights row-major, or `None` for a polynomial surface.
     pub fn weights(&self) -> Option<&[f64]> {
@@ -189,7 +210,12 @@ impl NurbsSurface {
     /// computed too and are exact. At a knot, derivatives are those of the span to the
     /// right (the left one at the domain's end), as OpenCascade evaluates them.
     pub fn derivatives<const N: usize>(&self, u: f64, v: f64) -> [[DVec3; N]; N] {
-        const { assert!(N >= 1 && N <= MAX_DERIVATIVE + 1, "at most third derivatives") };
+        const {
+            assert!(
+                N >= 1 && N <= MAX_DERIVATIVE + 1,
+                "at most third derivatives"
+            )
+        };
         let (p, q) = (self.degree_u, self.degree_v);
         let su = self.knots_u.span(p, u);
         let sv = self.knots_v.span(q, v);
@@ -242,23 +268,35 @@ impl NurbsSurface {
         let n = su.cross(sv);
         let len = n.length();
         if small_u || small_v || len <= 1e-14 * su.length() * sv.length() || !len.is_finite() {
-            return Err(GeomError::ZeroVector { what: "surface normal" });
+            return Err(GeomError::ZeroVector {
+                what: "surface normal",
+            });
         }
         Ok(n / len)
     }
 
     /// The control points of row `i` (fixed `i`, running along v) in homogeneous form.
     fn column_spline(&self, i: usize) -> Spline<Homogeneous<DVec3>> {
-        let points =
-            (0..self.count_v).map(|j| Homogeneous::from_point(self.control_point(i, j), self.weight(i, j))).collect();
-        Spline { degree: self.degree_v, knots: self.knots_v.as_slice().to_vec(), points }
+        let points = (0..self.count_v)
+            .map(|j| Homogeneous::from_point(self.control_point(i, j), self.weight(i, j)))
+            .collect();
+        Spline {
+            degree: self.degree_v,
+            knots: self.knots_v.as_slice().to_vec(),
+            points,
+        }
     }
 
     /// The control points along u at fixed `j`, in homogeneous form.
     fn row_spline(&self, j: usize) -> Spline<Homogeneous<DVec3>> {
-        let points =
-            (0..self.count_u).map(|i| Homogeneous::from_point(self.control_point(i, j), self.weight(i, j))).collect();
-        Spline { degree: self.degree_u, knots: self.knots_u.as_slice().to_vec(), points }
+        let points = (0..self.count_u)
+            .map(|i| Homogeneous::from_point(self.control_point(i, j), self.weight(i, j)))
+            .collect();
+        Spline {
+            degree: self.degree_u,
+            knots: self.knots_u.as_slice().to_vec(),
+            points,
+        }
     }
 
     /// Applies a curve algorithm to every line of the net in `dir` and rebuilds.
@@ -289,7 +327,9 @@ impl NurbsSurface {
                 )
             }
             Dir::V => {
-                let lines: Vec<_> = (0..self.count_u).map(|i| f(&self.column_spline(i))).collect();
+                let lines: Vec<_> = (0..self.count_u)
+                    .map(|i| f(&self.column_spline(i)))
+                    .collect();
                 let nv = lines[0].points.len();
                 let mut points = Vec::with_capacity(self.count_u * nv);
                 let mut weights = Vec::with_capacity(self.count_u * nv);
@@ -314,7 +354,11 @@ impl NurbsSurface {
     pub fn insert_knot(&self, dir: Direction, t: f64, times: usize) -> Result<Self> {
         let (a, b) = self.domain(dir);
         if !t.is_finite() || t <= a || t >= b {
-            return Err(GeomError::ParameterOutOfRange { value: t, min: a, max: b });
+            return Err(GeomError::ParameterOutOfRange {
+                value: t,
+                min: a,
+                max: b,
+            });
         }
         Ok(self.map_lines(dir, |s| ops::insert_knot(s, t, times)))
     }
@@ -353,8 +397,20 @@ impl NurbsSurface {
     pub fn iso_curve(&self, dir: Direction, t: f64) -> Curve3 {
         let rational = self.is_rational();
         let (fixed_knots, fixed_degree, run_knots, run_degree, run_count) = match dir {
-            Dir::U => (&self.knots_u, self.degree_u, &self.knots_v, self.degree_v, self.count_v),
-            Dir::V => (&self.knots_v, self.degree_v, &self.knots_u, self.degree_u, self.count_u),
+            Dir::U => (
+                &self.knots_u,
+                self.degree_u,
+                &self.knots_v,
+                self.degree_v,
+                self.count_v,
+            ),
+            Dir::V => (
+                &self.knots_v,
+                self.degree_v,
+                &self.knots_u,
+                self.degree_u,
+                self.count_u,
+            ),
         };
         let span = fixed_knots.span(fixed_degree, t);
         let basis = fixed_knots.basis(span, fixed_degree, t);
@@ -362,7 +418,10 @@ impl NurbsSurface {
         let mut points = Vec::with_capacity(run_count);
         let mut weights = Vec::with_capacity(run_count);
         for m in 0..run_count {
-            let mut h = Homogeneous { weighted: DVec3::ZERO, weight: 0.0 };
+            let mut h = Homogeneous {
+                weighted: DVec3::ZERO,
+                weight: 0.0,
+            };
             for (r, &b) in basis.iter().enumerate().take(fixed_degree + 1) {
                 let (i, j) = match dir {
                     Dir::U => (first + r, m),
@@ -373,16 +432,26 @@ impl NurbsSurface {
             points.push(h.to_point());
             weights.push(h.weight);
         }
-        Curve3::from_parts(run_degree, run_knots.as_slice().to_vec(), points, rational.then_some(weights))
+        Curve3::from_parts(
+            run_degree,
+            run_knots.as_slice().to_vec(),
+            points,
+            rational.then_some(weights),
+        )
     }
 
     /// The same surface with the domain of `dir` mapped linearly onto `[a, b]`.
     pub fn reparametrized(&self, dir: Direction, a: f64, b: f64) -> Result<Self> {
         if !(a.is_finite() && b.is_finite()) {
-            return Err(GeomError::NotFinite { what: "domain bound" });
+            return Err(GeomError::NotFinite {
+                what: "domain bound",
+            });
         }
         if b <= a {
-            return Err(GeomError::NotPositive { what: "domain length", value: b - a });
+            return Err(GeomError::NotPositive {
+                what: "domain length",
+                value: b - a,
+            });
         }
         let (knots, degree) = match dir {
             Dir::U => (&self.knots_u, self.degree_u),
@@ -409,7 +478,10 @@ impl NurbsSurface {
         }
         Self::from_parts(
             (self.degree_v, self.degree_u),
-            (self.knots_v.as_slice().to_vec(), self.knots_u.as_slice().to_vec()),
+            (
+                self.knots_v.as_slice().to_vec(),
+                self.knots_u.as_slice().to_vec(),
+            ),
             (self.count_v, self.count_u),
             points,
             self.is_rational().then_some(weights),
@@ -418,7 +490,10 @@ impl NurbsSurface {
 
     /// Applies `f` to every control point (weights unchanged): exact for affine maps.
     pub fn map_points(&self, f: impl Fn(DVec3) -> DVec3) -> Self {
-        Self { points: self.points.iter().map(|&p| f(p)).collect(), ..self.clone() }
+        Self {
+            points: self.points.iter().map(|&p| f(p)).collect(),
+            ..self.clone()
+        }
     }
 }
 
@@ -445,8 +520,13 @@ pub(crate) fn remap_knots(knots: &[f64], degree: usize, a: f64, b: f64) -> Vec<f
 }
 
 /// Rational surface derivatives from homogeneous ones (P&T A4.4).
-pub(crate) fn rational_surface_derivatives<const N: usize>(a: &[[DVec3; N]; N], w: &[[f64; N]; N]) -> [[DVec3; N]; N] {
-    let binom = |n: usize, k: usize| -> f64 { (0..k).fold(1.0, |acc, i| acc * (n - i) as f64 / (i + 1) as f64) };
+pub(crate) fn rational_surface_derivatives<const N: usize>(
+    a: &[[DVec3; N]; N],
+    w: &[[f64; N]; N],
+) -> [[DVec3; N]; N] {
+    let binom = |n: usize, k: usize| -> f64 {
+        (0..k).fold(1.0, |acc, i| acc * (n - i) as f64 / (i + 1) as f64)
+    };
     let mut s = [[DVec3::ZERO; N]; N];
     for k in 0..N {
         for l in 0..N {

@@ -27,18 +27,25 @@ impl Default for Transform {
 
 impl Transform {
     /// The identity.
-    pub const IDENTITY: Self = Self { matrix: DMat4::IDENTITY };
+    pub const IDENTITY: Self = Self {
+        matrix: DMat4::IDENTITY,
+    };
 
     /// Wraps an affine matrix: finite, last row `(0, 0, 0, 1)`, invertible linear part.
     pub fn from_matrix(matrix: DMat4) -> Result<Self> {
         if !matrix.is_finite() {
-            return Err(GeomError::NotFinite { what: "transform matrix" });
+            return Err(GeomError::NotFinite {
+                what: "transform matrix",
+            });
         }
         if matrix.row(3) != DVec4::new(0.0, 0.0, 0.0, 1.0) {
             return Err(GeomError::NotAffine);
         }
         let det = DMat3::from_mat4(matrix).determinant();
-        let scale = DMat3::from_mat4(matrix).to_cols_array().iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let scale = DMat3::from_mat4(matrix)
+            .to_cols_array()
+            .iter()
+            .fold(0.0f64, |m, v| m.max(v.abs()));
         if det.abs() <= 1e-14 * scale.powi(3) {
             return Err(GeomError::NotAffine);
         }
@@ -48,7 +55,9 @@ impl Transform {
     /// Translation by `offset`.
     pub fn translate(offset: DVec3) -> Result<Self> {
         check_finite(offset, "translation")?;
-        Ok(Self { matrix: DMat4::from_translation(offset) })
+        Ok(Self {
+            matrix: DMat4::from_translation(offset),
+        })
     }
 
     /// Rotation by `angle` radians (right-handed) about the axis through `point` along
@@ -57,9 +66,13 @@ impl Transform {
         check_finite(point, "rotation centre")?;
         let axis = unit(axis, "rotation axis")?;
         if !angle.is_finite() {
-            return Err(GeomError::NotFinite { what: "rotation angle" });
+            return Err(GeomError::NotFinite {
+                what: "rotation angle",
+            });
         }
-        let m = DMat4::from_translation(point) * DMat4::from_axis_angle(axis, angle) * DMat4::from_translation(-point);
+        let m = DMat4::from_translation(point)
+            * DMat4::from_axis_angle(axis, angle)
+            * DMat4::from_translation(-point);
         Ok(Self { matrix: m })
     }
 
@@ -67,9 +80,14 @@ impl Transform {
     pub fn scale_about(center: DVec3, factor: f64) -> Result<Self> {
         check_finite(center, "scale centre")?;
         if !(factor.is_finite() && factor != 0.0) {
-            return Err(GeomError::NotPositive { what: "scale factor", value: factor });
+            return Err(GeomError::NotPositive {
+                what: "scale factor",
+                value: factor,
+            });
         }
-        let m = DMat4::from_translation(center) * DMat4::from_scale(DVec3::splat(factor)) * DMat4::from_translation(-center);
+        let m = DMat4::from_translation(center)
+            * DMat4::from_scale(DVec3::splat(factor))
+            * DMat4::from_translation(-center);
         Ok(Self { matrix: m })
     }
 
@@ -83,16 +101,24 @@ impl Transform {
         let sin = axis.length();
         let cos = a.dot(b);
         let angle = sin.atan2(cos);
-        let axis = if sin > 1e-12 { axis / sin } else { a.any_orthonormal_vector() };
+        let axis = if sin > 1e-12 {
+            axis / sin
+        } else {
+            a.any_orthonormal_vector()
+        };
         if sin <= 1e-12 && cos > 0.0 {
             return Ok(Self::IDENTITY);
         }
-        Ok(Self { matrix: DMat4::from_axis_angle(axis, angle) })
+        Ok(Self {
+            matrix: DMat4::from_axis_angle(axis, angle),
+        })
     }
 
     /// `self` after `first`: applying the result equals applying `first`, then `self`.
     pub fn then_after(self, first: Transform) -> Self {
-        Self { matrix: self.matrix * first.matrix }
+        Self {
+            matrix: self.matrix * first.matrix,
+        }
     }
 
     /// `other` after `self`.
@@ -102,7 +128,9 @@ impl Transform {
 
     /// The inverse transform.
     pub fn inverse(self) -> Self {
-        Self { matrix: self.matrix.inverse() }
+        Self {
+            matrix: self.matrix.inverse(),
+        }
     }
 
     /// The affine matrix.

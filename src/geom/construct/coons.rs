@@ -19,7 +19,9 @@ use crate::geom::surface::NurbsSurface;
 pub fn coons(bottom: &Curve3, top: &Curve3, left: &Curve3, right: &Curve3) -> Result<NurbsSurface> {
     let curves = [bottom, top, left, right];
     if curves.iter().any(|c| c.is_rational()) {
-        return Err(GeomError::RationalNotSupported { what: "a Coons patch" });
+        return Err(GeomError::RationalNotSupported {
+            what: "a Coons patch",
+        });
     }
     let scale = curves.iter().map(|c| c.control_scale()).fold(1.0, f64::max);
     let corners = [
@@ -36,14 +38,23 @@ pub fn coons(bottom: &Curve3, top: &Curve3, left: &Curve3, right: &Curve3) -> Re
     }
     let along_u = ruled(bottom, top)?;
     let along_v = ruled(left, right)?.transposed();
-    let corners = bilinear([[bottom.start_point(), top.start_point()], [bottom.end_point(), top.end_point()]]);
+    let corners = bilinear([
+        [bottom.start_point(), top.start_point()],
+        [bottom.end_point(), top.end_point()],
+    ]);
     let parts = make_surfaces_compatible(&[along_u, along_v, corners])?;
     let points: Vec<DVec3> = (0..parts[0].control_points().len())
-        .map(|k| parts[0].control_points()[k] + parts[1].control_points()[k] - parts[2].control_points()[k])
+        .map(|k| {
+            parts[0].control_points()[k] + parts[1].control_points()[k]
+                - parts[2].control_points()[k]
+        })
         .collect();
     Ok(NurbsSurface::from_parts(
         (parts[0].degree_u(), parts[0].degree_v()),
-        (parts[0].knots_u().as_slice().to_vec(), parts[0].knots_v().as_slice().to_vec()),
+        (
+            parts[0].knots_u().as_slice().to_vec(),
+            parts[0].knots_v().as_slice().to_vec(),
+        ),
         parts[0].counts(),
         points,
         None,

@@ -28,7 +28,9 @@ pub struct HermiteCorners {
 pub fn ferguson(c: &HermiteCorners) -> Result<NurbsSurface> {
     let all = [c.points, c.du, c.dv, c.twist];
     if all.iter().flatten().flatten().any(|v| !v.is_finite()) {
-        return Err(GeomError::NotFinite { what: "Ferguson corner data" });
+        return Err(GeomError::NotFinite {
+            what: "Ferguson corner data",
+        });
     }
     let mut net = vec![vec![DVec3::ZERO; 4]; 4];
     for a in 0..2 {
@@ -42,7 +44,10 @@ pub fn ferguson(c: &HermiteCorners) -> Result<NurbsSurface> {
             net[i0][j0] = p;
             net[i1][j0] = p + c.du[a][b] * (su / 3.0);
             net[i0][j1] = p + c.dv[a][b] * (sv / 3.0);
-            net[i1][j1] = p + c.du[a][b] * (su / 3.0) + c.dv[a][b] * (sv / 3.0) + c.twist[a][b] * (su * sv / 9.0);
+            net[i1][j1] = p
+                + c.du[a][b] * (su / 3.0)
+                + c.dv[a][b] * (sv / 3.0)
+                + c.twist[a][b] * (su * sv / 9.0);
         }
     }
     let bezier = KnotVector::bezier(3).into_vec();

@@ -36,11 +36,19 @@ pub struct Loft {
 /// draw compute the `T_i` control point by control point from eq. 4.
 pub fn loft(sections: &[Curve3], opts: &Loft) -> Result<NurbsSurface> {
     if sections.len() < 2 {
-        return Err(GeomError::TooFewPoints { needed: 2, given: sections.len() });
+        return Err(GeomError::TooFewPoints {
+            needed: 2,
+            given: sections.len(),
+        });
     }
-    for tangent in [&opts.start_tangent, &opts.end_tangent].into_iter().flatten() {
+    for tangent in [&opts.start_tangent, &opts.end_tangent]
+        .into_iter()
+        .flatten()
+    {
         if tangent.is_rational() {
-            return Err(GeomError::RationalNotSupported { what: "a loft tangent curve" });
+            return Err(GeomError::RationalNotSupported {
+                what: "a loft tangent curve",
+            });
         }
     }
     let mut all: Vec<Curve3> = sections.to_vec();
@@ -75,10 +83,14 @@ pub fn loft(sections: &[Curve3], opts: &Loft) -> Result<NurbsSurface> {
             start_tangent: start.map(|t| (t.control_points()[i] * weight_start).extend(0.0)),
             end_tangent: end.map(|t| (t.control_points()[i] * weight_end).extend(0.0)),
         };
-        columns.push(interpolate_at(&column, &params, &interp).map_err(|e| match e {
-            GeomError::ZeroVector { .. } => GeomError::ZeroVector { what: "loft tangent at a control point" },
-            other => other,
-        })?);
+        columns.push(
+            interpolate_at(&column, &params, &interp).map_err(|e| match e {
+                GeomError::ZeroVector { .. } => GeomError::ZeroVector {
+                    what: "loft tangent at a control point",
+                },
+                other => other,
+            })?,
+        );
     }
     let count_v = columns[0].control_points().len();
     let mut points = Vec::with_capacity(count_u * count_v);
@@ -90,11 +102,16 @@ pub fn loft(sections: &[Curve3], opts: &Loft) -> Result<NurbsSurface> {
         }
     }
     if weights.iter().any(|w| !(w.is_finite() && *w > 0.0)) {
-        return Err(GeomError::Singular { what: "loft: interpolated weights are not positive" });
+        return Err(GeomError::Singular {
+            what: "loft: interpolated weights are not positive",
+        });
     }
     Ok(NurbsSurface::from_parts(
         (secs[0].degree(), degree_v),
-        (secs[0].knots().as_slice().to_vec(), columns[0].knots().as_slice().to_vec()),
+        (
+            secs[0].knots().as_slice().to_vec(),
+            columns[0].knots().as_slice().to_vec(),
+        ),
         (count_u, count_v),
         points,
         rational.then_some(weights),
@@ -135,14 +152,20 @@ fn section_parameters(secs: &[Curve3], method: Parametrization) -> Result<Vec<f6
         columns += 1;
     }
     if columns == 0 {
-        return Err(GeomError::CoincidentPoints { first: 0, second: 1 });
+        return Err(GeomError::CoincidentPoints {
+            first: 0,
+            second: 1,
+        });
     }
     for p in params.iter_mut() {
         *p /= columns as f64;
     }
     params[k - 1] = 1.0;
     if let Some(j) = params.windows(2).position(|w| w[1] <= w[0]) {
-        return Err(GeomError::CoincidentPoints { first: j, second: j + 1 });
+        return Err(GeomError::CoincidentPoints {
+            first: j,
+            second: j + 1,
+        });
     }
     Ok(params)
 }

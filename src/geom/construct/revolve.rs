@@ -13,13 +13,23 @@ use crate::geom::transform::unit;
 /// full turn) about the axis through `axis_point` along `axis_dir`. u runs around the
 /// axis (degree 2, rational, parameter in [0, 1] but not proportional to the angle),
 /// v along the profile. Exact: every u-iso-curve is a circle arc.
-pub fn revolve(profile: &Curve3, axis_point: DVec3, axis_dir: DVec3, angle: f64) -> Result<NurbsSurface> {
+pub fn revolve(
+    profile: &Curve3,
+    axis_point: DVec3,
+    axis_dir: DVec3,
+    angle: f64,
+) -> Result<NurbsSurface> {
     let axis = unit(axis_dir, "revolution axis")?;
     if !axis_point.is_finite() {
-        return Err(GeomError::NotFinite { what: "revolution axis point" });
+        return Err(GeomError::NotFinite {
+            what: "revolution axis point",
+        });
     }
     if !(angle.is_finite() && angle > 0.0 && angle <= TAU + 1e-12) {
-        return Err(GeomError::NotPositive { what: "revolution angle (at most a full turn)", value: angle });
+        return Err(GeomError::NotPositive {
+            what: "revolution angle (at most a full turn)",
+            value: angle,
+        });
     }
     let angle = angle.min(TAU);
     let arcs = (angle / FRAC_PI_2 - 1e-12).ceil().max(1.0) as usize;
@@ -42,11 +52,21 @@ pub fn revolve(profile: &Curve3, axis_point: DVec3, axis_dir: DVec3, angle: f64)
         let o = axis_point + axis * (p - axis_point).dot(axis);
         let x = p - o;
         let r = x.length();
-        let (xdir, ydir) = if r > 0.0 { (x / r, axis.cross(x / r)) } else { (DVec3::ZERO, DVec3::ZERO) };
-        let at = |theta: f64, radius: f64| o + xdir * (radius * theta.cos()) + ydir * (radius * theta.sin());
+        let (xdir, ydir) = if r > 0.0 {
+            (x / r, axis.cross(x / r))
+        } else {
+            (DVec3::ZERO, DVec3::ZERO)
+        };
+        let at = |theta: f64, radius: f64| {
+            o + xdir * (radius * theta.cos()) + ydir * (radius * theta.sin())
+        };
         for k in 0..nu {
             let theta = dtheta * (k / 2) as f64;
-            let (pt, wk) = if k % 2 == 0 { (at(theta, r), 1.0) } else { (at(theta + 0.5 * dtheta, r / wm), wm) };
+            let (pt, wk) = if k % 2 == 0 {
+                (at(theta, r), 1.0)
+            } else {
+                (at(theta + 0.5 * dtheta, r / wm), wm)
+            };
             points[k * nv + j] = pt;
             weights[k * nv + j] = wk * w;
         }

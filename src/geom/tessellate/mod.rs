@@ -163,7 +163,11 @@ impl SurfaceMesh {
     /// The tessellation as a kernel [`Mesh`] with its normals, for the mesh operations
     /// (topology, boundary loops, rounding) and the exporters.
     pub fn to_mesh(&self) -> Result<Mesh> {
-        let faces = self.triangles.iter().map(|&[a, b, c]| Face::triangle(a, b, c)).collect();
+        let faces = self
+            .triangles
+            .iter()
+            .map(|&[a, b, c]| Face::triangle(a, b, c))
+            .collect();
         Mesh::new(self.positions.clone(), faces)?.with_normals(self.normals.clone())
     }
 }
