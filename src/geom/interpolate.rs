@@ -45,8 +45,8 @@ pub enum KnotPlacement {
 /// Options of [`interpolate`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Interpolation<P> {
-    /// Degree of the result (lowered to what the point count allows is NOT done: too
-    /// few points is an error, so the designer learns of it).
+    /// Degree of the result. It is never lowered silently: too few points for it is an
+    /// error, so the designer learns of it.
     pub degree: usize,
     /// How parameters are computed from the points.
     pub parametrization: Parametrization,

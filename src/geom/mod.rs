@@ -7,6 +7,24 @@
 //! Conventions: millimetres and radians (the language converts units before calling),
 //! clamped knot vectors, control points and weights stored separately (Euclidean points,
 //! like OpenCascade), surfaces with control points indexed `[i][j]`, `i` along u.
+//!
+//! ```
+//! use dieface::geom::construct::{loft, Loft};
+//! use dieface::geom::interpolate::{interpolate, Interpolation};
+//! use dieface::geom::tessellate::{tessellate_surface, Tolerance};
+//! use glam::DVec3;
+//!
+//! // Three sections through points, skinned into a surface, tessellated to 0.01 mm.
+//! let section = |y: f64, sag: f64| {
+//!     let pts = [DVec3::new(0.0, y, 0.0), DVec3::new(50.0, y, -sag), DVec3::new(100.0, y, 0.0)];
+//!     interpolate(&pts, &Interpolation { degree: 2, ..Interpolation::default() })
+//! };
+//! let sections = [section(0.0, 10.0)?, section(60.0, 14.0)?, section(120.0, 9.0)?];
+//! let surface = loft(&sections, &Loft::default())?;
+//! let mesh = tessellate_surface(&surface, &Tolerance::new(0.01)?)?;
+//! assert!(mesh.triangles.len() > 100);
+//! # Ok::<(), dieface::geom::GeomError>(())
+//! ```
 
 pub mod arc;
 pub mod compat;
