@@ -42,15 +42,17 @@ fn floats(v: &Value) -> Vec<f64> {
         .collect()
 }
 
-/// `|ours - theirs| <= 1e-9 * max(1, |theirs|)`, per vector.
+/// `|ours - theirs| <= 1e-9 * max(1, |theirs|)`, per vector. Returns the relative
+/// error so the tests can report the worst one they saw.
 #[track_caller]
-fn assert_close(what: &str, ours: DVec3, theirs: DVec3) {
+fn assert_close(what: &str, ours: DVec3, theirs: DVec3) -> f64 {
     let err = (ours - theirs).length();
-    let allowed = REL * theirs.length().max(1.0);
+    let scale = theirs.length().max(1.0);
     assert!(
-        err <= allowed,
+        err <= REL * scale,
         "{what}: ours {ours:?}, OpenCascade {theirs:?}, error {err:e}"
     );
+    err / scale
 }
 
 fn curve(c: &Value) -> Curve3 {
@@ -84,21 +86,27 @@ fn surface(s: &Value) -> NurbsSurface {
     }
 }
 
-fn check_curve_samples(name: &str, c: &Curve3, samples: &Value) -> usize {
-    let samples = samples.as_array().unwrap();
-    for s in samples {
+/// Compares every sample; returns the worst relative error.
+fn check_curve_samples(name: &str, c: &Curve3, samples: &Value) -> f64 {
+    let mut worst = 0.0f64;
+    for s in samples.as_array().unwrap() {
         let t = s["t"].as_f64().unwrap();
         let [p, d1, d2] = c.derivatives::<3>(t);
-        assert_close(&format!("{name} C({t})"), p, vec3(&s["p"]));
-        assert_close(&format!("{name} C'({t})"), d1, vec3(&s["d1"]));
-        assert_close(&format!("{name} C''({t})"), d2, vec3(&s["d2"]));
-        assert_close(
-            &format!("{name} point_at({t})"),
-            c.point_at(t),
-            vec3(&s["p"]),
-        );
+        let checks = [
+            ("C", p, "p"),
+            ("C'", d1, "d1"),
+            ("C''", d2, "d2"),
+            ("point_at", c.point_at(t), "p"),
+        ];
+        for (what, ours, key) in checks {
+            worst = worst.max(assert_close(
+                &format!("{name} {what}({t})"),
+                ours,
+                vec3(&s[key]),
+            ));
+        }
     }
-    samples.len()
+    worst
 }
 
 #[test]
@@ -108,12 +116,21 @@ fn curves_match_opencascade() {
     assert!(cases.len() >= 20);
     let mut degrees = [false; 6];
     let mut rational = 0;
+    let mut worst = 0.0f64;
     for c in cases {
         let nc = curve(c);
         degrees[nc.degree()] = true;
         rational += usize::from(nc.is_rational());
-        check_curve_samples(c["name"].as_str().unwrap(), &nc, &c["samples"]);
+        worst = worst.max(check_curve_samples(
+            c["name"].as_str().unwrap(),
+            &nc,
+            &c["samples"],
+        ));
     }
+    println!(
+        "curves: {} cases, worst relative error {worst:e}",
+        cases.len()
+    );
     assert!(
         degrees[1..=5].iter().all(|&d| d),
         "degrees 1 to 5 are all covered"
@@ -126,6 +143,7 @@ fn surfaces_match_opencascade() {
     let d = data();
     let cases = d["surfaces"].as_array().unwrap();
     assert!(cases.len() >= 10);
+    let mut worst = 0.0f64;
     for s in cases {
         let name = s["name"].as_str().unwrap();
         let ns = surface(s);
@@ -133,15 +151,24 @@ fn surfaces_match_opencascade() {
             let (u, v) = (x["u"].as_f64().unwrap(), x["v"].as_f64().unwrap());
             let d = ns.derivatives::<3>(u, v);
             let at = format!("{name} ({u}, {v})");
-            assert_close(&format!("S {at}"), d[0][0], vec3(&x["p"]));
-            assert_close(&format!("point_at {at}"), ns.point_at(u, v), vec3(&x["p"]));
-            assert_close(&format!("S_u {at}"), d[1][0], vec3(&x["du"]));
-            assert_close(&format!("S_v {at}"), d[0][1], vec3(&x["dv"]));
-            assert_close(&format!("S_uu {at}"), d[2][0], vec3(&x["duu"]));
-            assert_close(&format!("S_uv {at}"), d[1][1], vec3(&x["duv"]));
-            assert_close(&format!("S_vv {at}"), d[0][2], vec3(&x["dvv"]));
+            let checks = [
+                ("S", d[0][0], "p"),
+                ("point_at", ns.point_at(u, v), "p"),
+                ("S_u", d[1][0], "du"),
+                ("S_v", d[0][1], "dv"),
+                ("S_uu", d[2][0], "duu"),
+                ("S_uv", d[1][1], "duv"),
+                ("S_vv", d[0][2], "dvv"),
+            ];
+            for (what, ours, key) in checks {
+                worst = worst.max(assert_close(&format!("{what} {at}"), ours, vec3(&x[key])));
+            }
         }
     }
+    println!(
+        "surfaces: {} cases, worst relative error {worst:e}",
+        cases.len()
+    );
 }
 
 /// OpenCascade's `GeomAPI_Interpolate` puts the cubic's knots at the parameters and
@@ -196,7 +223,8 @@ fn interpolation_matches_opencascade() {
         {
             assert_close(&format!("{name} pole"), *ours, vec3(theirs));
         }
-        check_curve_samples(name, &c, &case["samples"]);
+        let worst = check_curve_samples(name, &c, &case["samples"]);
+        println!("{name}: worst relative error {worst:e}");
     }
 }
 
@@ -232,7 +260,8 @@ fn averaged_interpolation_matches_geomdl() {
         {
             assert_close(&format!("{name} pole"), *ours, vec3(theirs));
         }
-        check_curve_samples(name, &c, &case["samples"]);
+        let worst = check_curve_samples(name, &c, &case["samples"]);
+        println!("{name}: worst relative error {worst:e}");
     }
 }
 
