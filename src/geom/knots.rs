@@ -200,22 +200,12 @@ impl KnotVector {
 
     /// P&T A2.2 for degree `O - 1`: the `O` basis functions non-zero in `span`.
     fn basis_fixed<const O: usize>(&self, span: usize, u: f64) -> [f64; O] {
-        let k = &self.knots;
         let mut n = [0.0; O];
         let mut left = [0.0; O];
         let mut right = [0.0; O];
         n[0] = 1.0;
         for j in 1..O {
-            left[j] = u - k[span + 1 - j];
-            right[j] = k[span + j] - u;
-            let mut saved = 0.0;
-            for r in 0..j {
-                let den = right[r + 1] + left[j - r];
-                let temp = if den != 0.0 { n[r] / den } else { 0.0 };
-                n[r] = saved + right[r + 1] * temp;
-                saved = left[j - r] * temp;
-            }
-            n[j] = saved;
+            raise_basis_degree(&self.knots, span, u, j, &mut n, &mut left, &mut right);
         }
         n
     }
@@ -289,7 +279,6 @@ impl KnotVector {
         keep: usize,
         rows: &mut [BasisRow],
     ) {
-        let k = &self.knots;
         let mut n = [0.0; MAX_DEGREE + 1];
         let mut left = [0.0; MAX_DEGREE + 1];
         let mut right = [0.0; MAX_DEGREE + 1];
@@ -298,21 +287,37 @@ impl KnotVector {
             rows[degree] = n;
         }
         for j in 1..=degree {
-            left[j] = u - k[span + 1 - j];
-            right[j] = k[span + j] - u;
-            let mut saved = 0.0;
-            for r in 0..j {
-                let den = right[r + 1] + left[j - r];
-                let temp = if den != 0.0 { n[r] / den } else { 0.0 };
-                n[r] = saved + right[r + 1] * temp;
-                saved = left[j - r] * temp;
-            }
-            n[j] = saved;
+            raise_basis_degree(&self.knots, span, u, j, &mut n, &mut left, &mut right);
             if degree - j <= keep {
                 rows[degree - j] = n;
             }
         }
     }
+}
+
+/// One step of the triangular recurrence of P&T A2.2: `n[..j]` holds the basis of degree
+/// `j - 1` at `u` in `span` and becomes the basis of degree `j` in `n[..=j]`; `left` and
+/// `right` carry the knot differences between steps.
+#[inline(always)]
+fn raise_basis_degree(
+    knots: &[f64],
+    span: usize,
+    u: f64,
+    j: usize,
+    n: &mut [f64],
+    left: &mut [f64],
+    right: &mut [f64],
+) {
+    left[j] = u - knots[span + 1 - j];
+    right[j] = knots[span + j] - u;
+    let mut saved = 0.0;
+    for r in 0..j {
+        let den = right[r + 1] + left[j - r];
+        let temp = if den != 0.0 { n[r] / den } else { 0.0 };
+        n[r] = saved + right[r + 1] * temp;
+        saved = left[j - r] * temp;
+    }
+    n[j] = saved;
 }
 
 /// Rejects degree 0 and degrees above [`MAX_DEGREE`].

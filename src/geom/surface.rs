@@ -524,25 +524,29 @@ pub(crate) fn rational_surface_derivatives<const N: usize>(
     a: &[[DVec3; N]; N],
     w: &[[f64; N]; N],
 ) -> [[DVec3; N]; N] {
-    let binom = |n: usize, k: usize| -> f64 {
-        (0..k).fold(1.0, |acc, i| acc * (n - i) as f64 / (i + 1) as f64)
-    };
+    // Binomial coefficients up to the highest derivative order.
+    const BINOM: [[f64; MAX_DERIVATIVE + 1]; MAX_DERIVATIVE + 1] = [
+        [1.0, 0.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0, 0.0],
+        [1.0, 2.0, 1.0, 0.0],
+        [1.0, 3.0, 3.0, 1.0],
+    ];
+    let inv_w = 1.0 / w[0][0];
     let mut s = [[DVec3::ZERO; N]; N];
     for k in 0..N {
         for l in 0..N {
             let mut v = a[k][l];
             for j in 1..=l {
-                v -= s[k][l - j] * (binom(l, j) * w[0][j]);
+                v -= s[k][l - j] * (BINOM[l][j] * w[0][j]);
             }
             for i in 1..=k {
-                v -= s[k - i][l] * (binom(k, i) * w[i][0]);
-                let mut v2 = DVec3::ZERO;
+                let mut v2 = s[k - i][l] * w[i][0];
                 for j in 1..=l {
-                    v2 += s[k - i][l - j] * (binom(l, j) * w[i][j]);
+                    v2 += s[k - i][l - j] * (BINOM[l][j] * w[i][j]);
                 }
-                v -= v2 * binom(k, i);
+                v -= v2 * BINOM[k][i];
             }
-            s[k][l] = v / w[0][0];
+            s[k][l] = v * inv_w;
         }
     }
     s
