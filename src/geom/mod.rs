@@ -34,6 +34,7 @@ pub mod error;
 pub mod interpolate;
 pub mod intersect;
 pub mod inversion;
+pub mod join;
 pub mod knots;
 pub mod mesh;
 pub mod ops;

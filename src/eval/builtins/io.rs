@@ -1,0 +1,217 @@
+//! Reading files: the product mesh from OBJ.
+//!
+//! Paths are relative to the directory of the script that names them and must stay
+//! inside the project root (after resolving `..` and symbolic links), so a script
+//! cannot read arbitrary files of the machine it is built on.
+
+use std::collections::BTreeMap;
+use std::path::{Component, Path, PathBuf};
+use std::sync::Arc;
+
+use glam::DVec3;
+
+use crate::diag::Diagnostic;
+use crate::geom::mesh::{Face, FaceId, Mesh};
+use crate::geom::GeomError;
+
+use super::super::value::Data;
+use super::args::span_of;
+use super::{req, Builtin, Call};
+
+/// The file builtins.
+pub static BUILTINS: &[Builtin] = &[Builtin {
+    name: "read_obj",
+    params: &[req("path")],
+    doc: "the mesh in an OBJ file (triangles and quads kept; objects and groups become named face groups)",
+    run: read_obj,
+}];
+
+/// `a/b/../c` -> `a/c`, without touching the file system.
+fn normalize(p: &Path) -> PathBuf {
+    let mut out = PathBuf::new();
+    for c in p.components() {
+        match c {
+            Component::ParentDir => {
+                out.pop();
+            }
+            Component::CurDir => {}
+            other => out.push(other),
+        }
+    }
+    out
+}
+
+/// The file `path` names, relative to the calling script, checked to lie in the root.
+fn resolve(call: &Call, path: &str) -> Result<PathBuf, Diagnostic> {
+    let span = span_of(call, "path");
+    let Some(dir) = call.dir else {
+        return Err(Diagnostic::new(
+            "die::file_not_found",
+            format!("`{path}` cannot be read here"),
+            span,
+            "no script directory",
+        )
+        .with_help(
+            "files can be read only by scripts in a project directory, not by the standard library",
+        ));
+    };
+    let joined = normalize(&dir.join(path));
+    let root = call
+        .root
+        .map(|r| r.canonicalize().unwrap_or_else(|_| normalize(r)));
+    let escapes = |p: &Path| root.as_ref().is_some_and(|r| !p.starts_with(r));
+    let escape = || {
+        let r = root
+            .as_ref()
+            .map_or_else(String::new, |r| r.display().to_string());
+        Diagnostic::new("die::path_escapes_root", format!("`{path}` lies outside the project root {r}"), span, "outside the project")
+            .with_label(call.span, "read here")
+            .with_help("scripts may only read files inside the project; copy the file into the project and name it relative to the script")
+    };
+    match joined.canonicalize() {
+        Ok(full) => {
+            if escapes(&full) {
+                return Err(escape());
+            }
+            Ok(full)
+        }
+        Err(_) => {
+            if escapes(&canonical_prefix(&joined)) {
+                return Err(escape());
+            }
+            Err(Diagnostic::new(
+                "die::file_not_found",
+                format!("the file {} does not exist", joined.display()),
+                span,
+                "no such file",
+            )
+            .with_help("paths are relative to the directory of the script that names them"))
+        }
+    }
+}
+
+/// A path that may not exist, with its longest existing ancestor canonicalized (so it
+/// compares with the canonical root even through symbolic links).
+fn canonical_prefix(p: &Path) -> PathBuf {
+    let mut existing = p;
+    let mut rest = Vec::new();
+    loop {
+        if let Ok(mut out) = existing.canonicalize() {
+            out.extend(rest.iter().rev());
+            return out;
+        }
+        match (existing.parent(), existing.file_name()) {
+            (Some(parent), Some(name)) => {
+                rest.push(name);
+                existing = parent;
+            }
+            _ => return p.to_path_buf(),
+        }
+    }
+}
+
+fn read_obj(call: &Call) -> Result<Data, Diagnostic> {
+    let path = call.string("path")?;
+    let full = resolve(call, &path)?;
+    let span = span_of(call, "path");
+    let options = tobj::LoadOptions {
+        triangulate: false,
+        single_index: true,
+        ..Default::default()
+    };
+    let (models, _materials) = tobj::load_obj(&full, &options).map_err(|e| {
+        Diagnostic::new(
+            "die::bad_obj",
+            format!("cannot read {} as OBJ: {e}", full.display()),
+            span,
+            "this file",
+        )
+        .with_help("the file must be a Wavefront OBJ mesh (v, vn and f lines)")
+    })?;
+    let mesh = to_mesh(&models).map_err(|e| {
+        Diagnostic::new("die::bad_obj", format!("{} is not a valid mesh: {e}", full.display()), span, "this file")
+            .with_help("faces must name existing, distinct vertices; faces with more than four corners are split into triangles")
+    })?;
+    Ok(Data::Mesh(Arc::new(mesh)))
+}
+
+/// One mesh from all the OBJ models, each model's faces forming the group of its name
+/// (models of the same name share a group). Polygons with more than four corners are
+/// split into a fan of triangles. Normals are kept if every model has one per vertex.
+fn to_mesh(models: &[tobj::Model]) -> Result<Mesh, GeomError> {
+    let mut positions = Vec::new();
+    let mut normals = Vec::new();
+    let mut all_normals = true;
+    let mut faces = Vec::new();
+    let mut groups: BTreeMap<String, Vec<FaceId>> = BTreeMap::new();
+    let mut order: Vec<String> = Vec::new();
+    for model in models {
+        let m = &model.mesh;
+        let base = positions.len() as u32;
+        let count = m.positions.len() / 3;
+        positions.extend(
+            m.positions
+                .chunks_exact(3)
+                .map(|c| DVec3::new(f64::from(c[0]), f64::from(c[1]), f64::from(c[2]))),
+        );
+        if m.normals.len() == m.positions.len() {
+            normals.extend(
+                m.normals
+                    .chunks_exact(3)
+                    .map(|c| DVec3::new(f64::from(c[0]), f64::from(c[1]), f64::from(c[2]))),
+            );
+        } else {
+            all_normals = false;
+        }
+        let arities: Vec<usize> = if m.face_arities.is_empty() {
+            vec![3; m.indices.len() / 3]
+        } else {
+            m.face_arities.iter().map(|&a| a as usize).collect()
+        };
+        let mut at = 0;
+        let first_face = faces.len();
+        for arity in arities {
+            let Some(corners) = m.indices.get(at..at + arity) else {
+                return Err(GeomError::InvalidMesh {
+                    reason: "a face refers past the end of the index list".into(),
+                });
+            };
+            at += arity;
+            if let Some(&bad) = corners.iter().find(|&&i| i as usize >= count) {
+                return Err(GeomError::InvalidMesh {
+                    reason: format!("a face refers to vertex {bad}, but the object has {count}"),
+                });
+            }
+            let idx: Vec<u32> = corners.iter().map(|&i| base + i).collect();
+            match idx.len() {
+                3 | 4 => faces.push(Face::from_slice(&idx)?),
+                n if n > 4 => {
+                    for k in 1..n - 1 {
+                        faces.push(Face::triangle(idx[0], idx[k], idx[k + 1]));
+                    }
+                }
+                n => {
+                    return Err(GeomError::InvalidMesh {
+                        reason: format!("a face has {n} corners"),
+                    })
+                }
+            }
+        }
+        if !groups.contains_key(&model.name) {
+            order.push(model.name.clone());
+        }
+        groups
+            .entry(model.name.clone())
+            .or_default()
+            .extend((first_face..faces.len()).map(|f| FaceId(f as u32)));
+    }
+    let mut mesh = Mesh::new(positions, faces)?;
+    if all_normals && !normals.is_empty() {
+        mesh = mesh.with_normals(normals.into_iter().map(|n| n.normalize_or_zero()).collect())?;
+    }
+    for name in order {
+        let faces = groups.remove(&name).unwrap_or_default();
+        mesh.add_group(name, faces)?;
+    }
+    Ok(mesh)
+}

@@ -1,0 +1,764 @@
+//! The evaluation engine: files, modules, the declaration graph and the memo.
+//!
+//! [`Engine::evaluate`] parses a file, loads its imports (the embedded standard library
+//! or files relative to it, never outside the project root), builds the graph of its
+//! declarations from the names each one uses (directly or through the functions it
+//! calls), reports cycles, and evaluates the declarations in dependency order.
+//!
+//! Memoization: each declaration's result is stored under a hash of its own source text,
+//! the file's units, the hashes of the declarations it uses, the text of the functions
+//! it calls and the hashes of the modules it imports. Re-evaluating a file after an edit
+//! therefore recomputes only the edited declaration and what depends on it; the
+//! [`Engine::evaluation_count`] counter makes that observable. Values remember spans; a
+//! value taken from the memo has its spans moved to where its declarations now stand.
+
+use std::collections::hash_map::DefaultHasher;
+use std::collections::{BTreeSet, HashMap, HashSet};
+use std::hash::{Hash, Hasher};
+use std::path::{Component, Path, PathBuf};
+use std::sync::Arc;
+
+use crate::diag::{did_you_mean, Diagnostic, Sources};
+use crate::syntax::ast::{self, Block, DeclBody, FieldValue, Item};
+use crate::syntax::{parse, FileId, Span};
+
+use super::deps::{free_names_of_body, free_names_of_function};
+use super::expr::{Ctx, Locals, World};
+use super::stdlib;
+use super::units::{self, Units};
+use super::value::{Closure, Data, Module, Record, Value};
+
+/// Declaration kinds the language knows. Die-face features join this list as they land.
+pub const KINDS: &[&str] = &["let", "param", "product"];
+
+/// The names, values and units visible at the top level of one file.
+#[derive(Debug, Default)]
+pub struct Globals {
+    /// Default units for bare numbers.
+    pub units: Units,
+    /// Evaluated declarations.
+    pub decls: HashMap<String, Value>,
+    /// User functions.
+    pub functions: HashMap<String, Arc<Closure>>,
+    /// Imported modules by alias.
+    pub imports: HashMap<String, Value>,
+    /// Declarations that failed (or sit in a cycle, or depend on a failure).
+    pub failed: HashSet<String>,
+    /// Every top-level name, for "did you mean".
+    pub names: Vec<String>,
+}
+
+/// One declaration's outcome.
+#[derive(Debug, Clone)]
+pub struct DeclResult {
+    /// Its kind (`let`, `param`, `product`, ...).
+    pub kind: String,
+    /// Its name.
+    pub name: String,
+    /// The whole declaration.
+    pub span: Span,
+    /// The value, or `None` if it failed or was skipped.
+    pub value: Option<Value>,
+}
+
+/// What evaluating a file produced.
+#[derive(Debug, Clone)]
+pub struct Outcome {
+    /// The evaluated file.
+    pub file: FileId,
+    /// Its declarations in source order.
+    pub decls: Vec<DeclResult>,
+    /// Every problem found, in the file and in what it imports.
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+struct FileState {
+    dir: Option<PathBuf>,
+    globals: Globals,
+    /// Hash of the file's text and of everything it imports.
+    module_hash: u64,
+}
+
+struct MemoEntry {
+    hash: u64,
+    value: Value,
+    /// Where each top-level item stood when the value was computed.
+    layout: HashMap<String, (u32, u32)>,
+}
+
+/// Evaluates files, keeping loaded modules and memoized declarations between runs.
+pub struct Engine {
+    /// Every file loaded, for rendering diagnostics.
+    pub sources: Sources,
+    root: Option<PathBuf>,
+    files: HashMap<FileId, FileState>,
+    memo: HashMap<(FileId, String), MemoEntry>,
+    evaluations: u64,
+    last_evaluated: Vec<String>,
+}
+
+impl World for Engine {
+    fn globals(&self, file: FileId) -> Option<&Globals> {
+        self.files.get(&file).map(|f| &f.globals)
+    }
+    fn paths(&self, file: FileId) -> (Option<&Path>, Option<&Path>) {
+        (self.files.get(&file).and_then(|f| f.dir.as_deref()), self.root.as_deref())
+    }
+}
+
+impl Engine {
+    /// An engine whose relative imports and file reads stay inside `root` (`None`: no
+    /// file access beyond the standard library).
+    pub fn new(root: Option<PathBuf>) -> Self {
+        Self {
+            sources: Sources::new(),
+            root: root.and_then(|r| r.canonicalize().ok()),
+            files: HashMap::new(),
+            memo: HashMap::new(),
+            evaluations: 0,
+            last_evaluated: Vec::new(),
+        }
+    }
+
+    /// How many declarations have been evaluated (not taken from the memo) so far.
+    pub fn evaluation_count(&self) -> u64 {
+        self.evaluations
+    }
+
+    /// The declarations evaluated by the last [`Engine::evaluate`], as `file:name`
+    /// for imported files and `name` for the main one, in evaluation order.
+    pub fn last_evaluated(&self) -> &[String] {
+        &self.last_evaluated
+    }
+
+    /// Evaluates the file `name` with contents `text`; `dir` is its directory (relative
+    /// imports and `read_obj` start there).
+    pub fn evaluate(&mut self, name: &str, text: &str, dir: Option<PathBuf>) -> Outcome {
+        self.last_evaluated.clear();
+        let mut diagnostics = Vec::new();
+        let mut stack = Vec::new();
+        let (file, decls) = self.load(name, text, dir, &mut stack, &mut diagnostics, true);
+        // Report in reading order: the script's own problems by position, then those in
+        // imported files.
+        diagnostics.sort_by_key(|d| (d.primary.span.file != file, d.primary.span.file, d.primary.span.start));
+        Outcome { file, decls, diagnostics }
+    }
+
+    /// Evaluates the script at `path` (read from disk).
+    pub fn evaluate_path(&mut self, path: &Path) -> std::io::Result<Outcome> {
+        let text = std::fs::read_to_string(path)?;
+        let name = self.display_name(path);
+        let dir = path.parent().map(|p| if p.as_os_str().is_empty() { PathBuf::from(".") } else { p.to_path_buf() });
+        let dir = dir.and_then(|d| d.canonicalize().ok());
+        Ok(self.evaluate(&name, &text, dir))
+    }
+
+    /// A path as shown in diagnostics: relative to the root when inside it.
+    fn display_name(&self, path: &Path) -> String {
+        let canonical = path.canonicalize().unwrap_or_else(|_| path.to_path_buf());
+        match &self.root {
+            Some(root) => canonical.strip_prefix(root).map(|p| p.display().to_string()).unwrap_or_else(|_| path.display().to_string()),
+            None => path.display().to_string(),
+        }
+    }
+
+    /// Parses and evaluates one file (the main script or a module).
+    fn load(
+        &mut self,
+        name: &str,
+        text: &str,
+        dir: Option<PathBuf>,
+        stack: &mut Vec<FileId>,
+        diagnostics: &mut Vec<Diagnostic>,
+        main: bool,
+    ) -> (FileId, Vec<DeclResult>) {
+        let file = self.sources.add(name, text);
+        let state = FileState { dir: dir.clone(), globals: Globals::default(), module_hash: hash_of(&text) };
+        self.files.insert(file, state);
+        let ast = match parse(text, file) {
+            Ok(a) => a,
+            Err(d) => {
+                diagnostics.push(d);
+                return (file, Vec::new());
+            }
+        };
+        stack.push(file);
+        let items = self.collect(&ast, diagnostics);
+        let units = self.file_units(&items, diagnostics);
+        let mut module_hash = hash_of(&text);
+        let mut imports: HashMap<String, Value> = HashMap::new();
+        let mut import_hashes: HashMap<String, u64> = HashMap::new();
+        for imp in &items.imports {
+            if let Some((value, h)) = self.import(imp, dir.as_deref(), stack, diagnostics) {
+                module_hash = combine(module_hash, h);
+                import_hashes.insert(imp.alias.node.clone(), h);
+                imports.insert(imp.alias.node.clone(), value);
+            }
+        }
+        stack.pop();
+
+        let functions: HashMap<String, Arc<Closure>> = items
+            .functions
+            .iter()
+            .map(|f| {
+                let c = Closure {
+                    name: f.name.node.clone(),
+                    params: f.params.clone(),
+                    body: Arc::new(f.body.clone()),
+                    captured: Locals::new(),
+                    file,
+                };
+                (f.name.node.clone(), Arc::new(c))
+            })
+            .collect();
+        {
+            let st = self.files.get_mut(&file).expect("inserted above");
+            st.module_hash = module_hash;
+            st.globals.units = units;
+            st.globals.imports = imports;
+            st.globals.functions = functions;
+            st.globals.names = items.names.clone();
+        }
+
+        let results = self.evaluate_decls(file, text, &items, &import_hashes, units, diagnostics, main);
+        (file, results)
+    }
+
+    /// Sorts a file's items and reports duplicate names.
+    fn collect<'a>(&self, ast: &'a ast::File, diagnostics: &mut Vec<Diagnostic>) -> Items<'a> {
+        let mut items = Items::default();
+        let mut seen: HashMap<String, Span> = HashMap::new();
+        let mut declare = |name: &ast::Ident, diagnostics: &mut Vec<Diagnostic>| -> bool {
+            if let Some(prev) = seen.get(&name.node) {
+                diagnostics.push(
+                    Diagnostic::new("die::duplicate_name", format!("`{}` is declared twice", name.node), name.span, "declared again here")
+                        .with_label(*prev, "first declared here")
+                        .with_help("every top-level name must be unique; rename one of them"),
+                );
+                false
+            } else {
+                seen.insert(name.node.clone(), name.span);
+                true
+            }
+        };
+        for item in &ast.items {
+            match item {
+                Item::Import(i) => {
+                    if declare(&i.alias, diagnostics) {
+                        items.imports.push(i);
+                    }
+                }
+                Item::Units(u) => items.units.push(u),
+                Item::Function(f) => {
+                    if declare(&f.name, diagnostics) {
+                        items.functions.push(f);
+                    }
+                }
+                Item::Decl(d) => {
+                    if declare(&d.name, diagnostics) {
+                        items.decls.push(d);
+                    }
+                }
+            }
+        }
+        items.names = seen.into_keys().collect();
+        items.names.sort();
+        items
+    }
+
+    /// The file's default units from its `units` directive.
+    fn file_units(&self, items: &Items, diagnostics: &mut Vec<Diagnostic>) -> Units {
+        let mut u = Units::default();
+        if let Some(extra) = items.units.get(1) {
+            diagnostics.push(
+                Diagnostic::new("die::duplicate_units", "a file has one `units` directive", extra.span, "second directive")
+                    .with_label(items.units[0].span, "first one")
+                    .with_help("name both units in one directive, e.g. `units cm rad`"),
+            );
+        }
+        if let Some(directive) = items.units.first() {
+            for unit in &directive.units {
+                let (dim, f) = units::factor(unit.node);
+                match dim {
+                    super::value::Dim::LENGTH => u.length = f,
+                    super::value::Dim::ANGLE => u.angle = f,
+                    _ => diagnostics.push(
+                        Diagnostic::new(
+                            "die::bad_units",
+                            format!("`{}` cannot be a default unit", unit.node.symbol()),
+                            unit.span,
+                            "not a length or angle unit",
+                        )
+                        .with_help("default units are a length (mm, cm, m, in) and/or an angle (deg, rad)"),
+                    ),
+                }
+            }
+        }
+        u
+    }
+
+    /// Loads an import; returns the module value and its hash.
+    fn import(
+        &mut self,
+        imp: &ast::Import,
+        dir: Option<&Path>,
+        stack: &mut Vec<FileId>,
+        diagnostics: &mut Vec<Diagnostic>,
+    ) -> Option<(Value, u64)> {
+        let path = imp.path.node.as_str();
+        let (name, text, mdir) = if let Some(rest) = path.strip_prefix("std/") {
+            match stdlib::get(rest) {
+                Some(text) => (format!("std/{rest}"), text.to_string(), None),
+                None => {
+                    let d = Diagnostic::new("die::import_not_found", format!("the standard library has no module `{path}`"), imp.path.span, "no such module");
+                    let d = match did_you_mean(rest, stdlib::names()) {
+                        Some(s) => d.with_help(format!("did you mean `std/{s}`?")),
+                        None => d.with_help(format!("standard modules: {}", stdlib::names().map(|n| format!("std/{n}")).collect::<Vec<_>>().join(", "))),
+                    };
+                    diagnostics.push(d);
+                    return None;
+                }
+            }
+        } else {
+            match self.resolve_file(path, dir, imp.path.span) {
+                Ok((full, text)) => {
+                    let name = self.display_name(&full);
+                    let mdir = full.parent().map(Path::to_path_buf);
+                    (name, text, mdir)
+                }
+                Err(d) => {
+                    diagnostics.push(d);
+                    return None;
+                }
+            }
+        };
+        if let Some(existing) = self.sources.find(&name) {
+            if let Some(pos) = stack.iter().position(|f| *f == existing) {
+                let chain: Vec<String> = stack[pos..].iter().filter_map(|f| self.sources.get(*f).map(|s| s.name.clone())).collect();
+                diagnostics.push(
+                    Diagnostic::new("die::import_cycle", format!("`{name}` imports itself through {}", chain.join(" -> ")), imp.path.span, "this import closes the cycle")
+                        .with_help("modules cannot import each other in a circle; move what both need into a third module"),
+                );
+                return None;
+            }
+        }
+        let (file, _) = self.load(&name, &text, mdir, stack, diagnostics, false);
+        let st = self.files.get(&file)?;
+        let mut members: Vec<(String, Value)> = st.globals.decls.iter().map(|(k, v)| (k.clone(), v.clone())).collect();
+        members.extend(st.globals.functions.iter().map(|(k, c)| (k.clone(), Value::new(Data::Function(c.clone()), imp.span))));
+        members.sort_by(|a, b| a.0.cmp(&b.0));
+        let module = Module { path: path.to_string(), file, members };
+        Some((Value::new(Data::Module(Arc::new(module)), imp.span), st.module_hash))
+    }
+
+    /// Resolves a relative path against `dir`, refusing paths outside the root.
+    fn resolve_file(&self, path: &str, dir: Option<&Path>, span: Span) -> Result<(PathBuf, String), Diagnostic> {
+        resolve_in_root(path, dir, self.root.as_deref(), span)
+    }
+
+    /// Evaluates a file's declarations in dependency order, with the memo.
+    #[allow(clippy::too_many_arguments)]
+    fn evaluate_decls(
+        &mut self,
+        file: FileId,
+        text: &str,
+        items: &Items,
+        import_hashes: &HashMap<String, u64>,
+        units: Units,
+        diagnostics: &mut Vec<Diagnostic>,
+        main: bool,
+    ) -> Vec<DeclResult> {
+        let decl_names: HashSet<&str> = items.decls.iter().map(|d| d.name.node.as_str()).collect();
+        let fn_names: HashSet<&str> = items.functions.iter().map(|f| f.name.node.as_str()).collect();
+
+        // What each function uses, closed over the functions it calls.
+        let mut fn_uses: HashMap<&str, BTreeSet<String>> = items
+            .functions
+            .iter()
+            .map(|f| (f.name.node.as_str(), free_names_of_function(&f.params, &f.body)))
+            .collect();
+        loop {
+            let mut changed = false;
+            let snapshot = fn_uses.clone();
+            for uses in fn_uses.values_mut() {
+                let called: Vec<String> = uses.iter().filter(|n| fn_names.contains(n.as_str())).cloned().collect();
+                for c in called {
+                    if let Some(more) = snapshot.get(c.as_str()) {
+                        for m in more {
+                            changed |= uses.insert(m.clone());
+                        }
+                    }
+                }
+            }
+            if !changed {
+                break;
+            }
+        }
+        // Each declaration's direct and indirect (through functions) names.
+        let uses: HashMap<&str, BTreeSet<String>> = items
+            .decls
+            .iter()
+            .map(|d| {
+                let mut u = free_names_of_body(&d.body);
+                let via: Vec<String> = u.iter().filter(|n| fn_names.contains(n.as_str())).cloned().collect();
+                for f in via {
+                    if let Some(more) = fn_uses.get(f.as_str()) {
+                        u.extend(more.iter().cloned());
+                    }
+                }
+                (d.name.node.as_str(), u)
+            })
+            .collect();
+        let deps = |name: &str| -> Vec<&str> {
+            uses.get(name).map_or_else(Vec::new, |u| {
+                u.iter().filter(|n| decl_names.contains(n.as_str()) && n.as_str() != name).map(|n| n.as_str()).collect()
+            })
+        };
+
+        // Cycles, and the evaluation order (depth-first post-order, source order first).
+        let index: HashMap<&str, usize> = items.decls.iter().enumerate().map(|(i, d)| (d.name.node.as_str(), i)).collect();
+        let mut order = Vec::new();
+        let mut state = vec![0u8; items.decls.len()]; // 0 new, 1 on stack, 2 done
+        let mut in_cycle: HashSet<usize> = HashSet::new();
+        for start in 0..items.decls.len() {
+            visit(start, &items.decls, &index, &deps, &mut state, &mut Vec::new(), &mut order, &mut in_cycle, &self.sources, diagnostics);
+        }
+        // A self-reference (`let a = a + 1`) is a cycle of one.
+        for (i, d) in items.decls.iter().enumerate() {
+            if uses.get(d.name.node.as_str()).is_some_and(|u| u.contains(&d.name.node)) && !in_cycle.contains(&i) {
+                in_cycle.insert(i);
+                diagnostics.push(
+                    Diagnostic::new("die::cycle", format!("`{}` is defined in terms of itself", d.name.node), d.name.span, "this declaration")
+                        .with_help("a declaration cannot use its own value; give it a value that does not refer to it"),
+                );
+            }
+        }
+
+        // Layout of the file's items, for moving memoized spans.
+        let layout: HashMap<String, (u32, u32)> = items
+            .decls
+            .iter()
+            .map(|d| (d.name.node.clone(), (d.span.start, d.span.end)))
+            .chain(items.functions.iter().map(|f| (f.name.node.clone(), (f.span.start, f.span.end))))
+            .collect();
+        let fn_text: HashMap<&str, &str> =
+            items.functions.iter().map(|f| (f.name.node.as_str(), &text[f.span.range()])).collect();
+
+        let mut hashes: HashMap<String, u64> = HashMap::new();
+        let mut failed: HashSet<String> = HashSet::new();
+        for &i in &order {
+            let d = items.decls[i];
+            let name = d.name.node.clone();
+            if in_cycle.contains(&i) || deps(&name).iter().any(|dep| failed.contains(*dep)) {
+                failed.insert(name.clone());
+                self.mark_failed(file, &name);
+                continue;
+            }
+            // The memo key: own text, units, inputs.
+            let mut h = hash_of(&text[d.span.range()]);
+            h = combine(h, hash_of(&(units.length.to_bits(), units.angle.to_bits())));
+            for dep in deps(&name) {
+                h = combine(h, hash_of(&dep));
+                h = combine(h, hashes.get(dep).copied().unwrap_or(0));
+            }
+            if let Some(u) = uses.get(name.as_str()) {
+                for n in u {
+                    if let Some(t) = fn_text.get(n.as_str()) {
+                        h = combine(h, hash_of(t));
+                    }
+                    if let Some(mh) = import_hashes.get(n) {
+                        h = combine(h, *mh);
+                    }
+                }
+            }
+            hashes.insert(name.clone(), h);
+
+            let key = (file, name.clone());
+            if let Some(entry) = self.memo.get(&key).filter(|e| e.hash == h) {
+                let value = remap(&entry.value, &entry.layout, &layout, file);
+                self.files.get_mut(&file).expect("loaded").globals.decls.insert(name, value);
+                continue;
+            }
+            let result = self.evaluate_decl(file, d);
+            self.evaluations += 1;
+            self.last_evaluated.push(if main {
+                name.clone()
+            } else {
+                format!("{}:{name}", self.sources.get(file).map_or("", |f| f.name.as_str()))
+            });
+            match result {
+                Ok(value) => {
+                    if !contains_function(&value) {
+                        self.memo.insert(key, MemoEntry { hash: h, value: value.clone(), layout: layout.clone() });
+                    }
+                    self.files.get_mut(&file).expect("loaded").globals.decls.insert(name, value);
+                }
+                Err(diag) => {
+                    diagnostics.push(diag);
+                    failed.insert(name.clone());
+                    self.mark_failed(file, &name);
+                }
+            }
+        }
+        items
+            .decls
+            .iter()
+            .map(|d| DeclResult {
+                kind: d.kind.node.clone(),
+                name: d.name.node.clone(),
+                span: d.span,
+                value: self.files.get(&file).and_then(|f| f.globals.decls.get(&d.name.node).cloned()),
+            })
+            .collect()
+    }
+
+    fn mark_failed(&mut self, file: FileId, name: &str) {
+        if let Some(st) = self.files.get_mut(&file) {
+            st.globals.failed.insert(name.to_string());
+            st.globals.decls.remove(name);
+        }
+    }
+
+    /// Evaluates one declaration's body and checks it against its kind.
+    fn evaluate_decl(&self, file: FileId, d: &ast::Decl) -> Result<Value, Diagnostic> {
+        let kind = d.kind.node.as_str();
+        if !KINDS.contains(&kind) {
+            let diag = Diagnostic::new(
+                "die::unknown_kind",
+                format!("`{kind}` is not a kind of declaration"),
+                d.kind.span,
+                "unknown kind",
+            );
+            return Err(match did_you_mean(kind, KINDS.iter().copied()) {
+                Some(s) => diag.with_help(format!("did you mean `{s}`?")),
+                None => diag.with_help(format!("declarations start with one of: {}", KINDS.join(", "))),
+            });
+        }
+        let ctx = Ctx { world: self, file, decl: Some(d.name.node.as_str()), depth: 0 };
+        let value = match &d.body {
+            DeclBody::Expr(e) => ctx.eval(e, &Locals::new())?,
+            DeclBody::Block(b) => {
+                let mut rec = block(&ctx, b)?;
+                rec.kind = Some(kind.to_string());
+                Value::new(Data::Record(Arc::new(rec)), d.span)
+            }
+        };
+        if kind == "product" {
+            check_product(&value)?;
+        }
+        Ok(value)
+    }
+}
+
+/// A product is a surface, a mesh, or a list of them.
+fn check_product(v: &Value) -> Result<(), Diagnostic> {
+    let ok = |d: &Data| matches!(d, Data::Surface(_) | Data::Mesh(_));
+    let fine = match &v.data {
+        Data::List(items) => !items.is_empty() && items.iter().all(|i| ok(&i.data)),
+        d => ok(d),
+    };
+    if fine {
+        Ok(())
+    } else {
+        Err(Diagnostic::new(
+            "die::type_mismatch",
+            format!("a product must be a surface, a mesh or a list of surfaces, but this is {}", v.type_name()),
+            v.span,
+            format!("this is {}", v.type_name()),
+        )
+        .with_help("build the panel with `nurbs_surface(...)`, `loft(...)`, `coons(...)`, or read it with `read_obj(\"part.obj\")`"))
+    }
+}
+
+/// Evaluates a block's fields into a record (field names of several words joined by a
+/// space: `side front`).
+fn block(ctx: &Ctx, b: &Block) -> Result<Record, Diagnostic> {
+    let mut rec = Record::default();
+    for f in &b.fields {
+        let name = f.path.iter().map(|w| w.node.as_str()).collect::<Vec<_>>().join(" ");
+        if let Some(prev) = rec.get(&name) {
+            return Err(Diagnostic::new("die::duplicate_field", format!("the field `{name}` is given twice"), f.span, "given again here")
+                .with_label(prev.span, "first given here")
+                .with_help("remove one of them"));
+        }
+        let value = match &f.value {
+            FieldValue::Expr(e) => ctx.eval(e, &Locals::new())?,
+            FieldValue::Block(inner) => Value::new(Data::Record(Arc::new(block(ctx, inner)?)), inner.span),
+        };
+        rec.fields.push((name, value));
+    }
+    Ok(rec)
+}
+
+/// A file's items by category.
+#[derive(Default)]
+struct Items<'a> {
+    imports: Vec<&'a ast::Import>,
+    units: Vec<&'a ast::UnitsDirective>,
+    functions: Vec<&'a ast::FnDecl>,
+    decls: Vec<&'a ast::Decl>,
+    names: Vec<String>,
+}
+
+/// Depth-first visit for the evaluation order, reporting each cycle once.
+#[allow(clippy::too_many_arguments)]
+fn visit<'a>(
+    i: usize,
+    decls: &[&'a ast::Decl],
+    index: &HashMap<&str, usize>,
+    deps: &dyn Fn(&str) -> Vec<&'a str>,
+    state: &mut [u8],
+    path: &mut Vec<usize>,
+    order: &mut Vec<usize>,
+    in_cycle: &mut HashSet<usize>,
+    sources: &Sources,
+    diagnostics: &mut Vec<Diagnostic>,
+) {
+    if state[i] == 2 {
+        return;
+    }
+    if state[i] == 1 {
+        // A cycle: the part of the path from i onwards.
+        let pos = path.iter().position(|&p| p == i).unwrap_or(0);
+        let cycle: Vec<usize> = path[pos..].to_vec();
+        if cycle.iter().all(|c| !in_cycle.contains(c)) {
+            let names: Vec<&str> = cycle.iter().map(|&c| decls[c].name.node.as_str()).collect();
+            let first = decls[cycle[0]];
+            let mut d = Diagnostic::new(
+                "die::cycle",
+                format!("these declarations depend on each other in a circle: {} -> {}", names.join(" -> "), names[0]),
+                first.name.span,
+                format!("`{}` uses `{}`", names[0], names.get(1).unwrap_or(&names[0])),
+            );
+            for (k, &c) in cycle.iter().enumerate().skip(1) {
+                let next = names[(k + 1) % names.len()];
+                d = d.with_label(decls[c].name.span, format!("`{}` uses `{next}`", names[k]));
+            }
+            let _ = sources;
+            diagnostics.push(d.with_help("break the circle: one of them must be computed without the others"));
+        }
+        in_cycle.extend(cycle);
+        return;
+    }
+    state[i] = 1;
+    path.push(i);
+    for dep in deps(&decls[i].name.node) {
+        if let Some(&j) = index.get(dep) {
+            visit(j, decls, index, deps, state, path, order, in_cycle, sources, diagnostics);
+        }
+    }
+    path.pop();
+    state[i] = 2;
+    order.push(i);
+}
+
+/// Resolves `path` relative to `dir`; the result must lie inside `root`.
+pub fn resolve_in_root(path: &str, dir: Option<&Path>, root: Option<&Path>, span: Span) -> Result<(PathBuf, String), Diagnostic> {
+    let (Some(dir), Some(root)) = (dir, root) else {
+        return Err(Diagnostic::new("die::file_not_found", format!("cannot read `{path}` here"), span, "no project directory")
+            .with_help("files can be read only by scripts run from a project directory"));
+    };
+    let joined = dir.join(path);
+    let lexical = normalize(&joined);
+    if !lexical.starts_with(root) {
+        return Err(escape(path, root, span));
+    }
+    let full = match joined.canonicalize() {
+        Ok(p) => p,
+        Err(_) => {
+            return Err(Diagnostic::new("die::file_not_found", format!("`{path}` does not exist"), span, format!("looked for {}", lexical.display()))
+                .with_help("paths are relative to the file that names them"))
+        }
+    };
+    if !full.starts_with(root) {
+        return Err(escape(path, root, span));
+    }
+    let text = std::fs::read_to_string(&full).map_err(|e| {
+        Diagnostic::new("die::file_not_found", format!("cannot read `{path}`: {e}"), span, "this file").with_help("check the file's permissions and encoding (UTF-8)")
+    })?;
+    Ok((full, text))
+}
+
+fn escape(path: &str, root: &Path, span: Span) -> Diagnostic {
+    Diagnostic::new("die::path_escapes_root", format!("`{path}` lies outside the project"), span, "outside the project root")
+        .with_help(format!("scripts may only read files under {}; move the file there or run with a wider --root", root.display()))
+}
+
+/// `a/b/../c` -> `a/c` without touching the file system.
+fn normalize(p: &Path) -> PathBuf {
+    let mut out = PathBuf::new();
+    for c in p.components() {
+        match c {
+            Component::ParentDir => {
+                out.pop();
+            }
+            Component::CurDir => {}
+            other => out.push(other),
+        }
+    }
+    out
+}
+
+fn hash_of<T: Hash + ?Sized>(t: &T) -> u64 {
+    let mut h = DefaultHasher::new();
+    t.hash(&mut h);
+    h.finish()
+}
+
+fn combine(a: u64, b: u64) -> u64 {
+    hash_of(&(a, b))
+}
+
+/// Whether a value holds a function (such values are not memoized: their bodies'
+/// spans cannot be moved).
+fn contains_function(v: &Value) -> bool {
+    match &v.data {
+        Data::Function(_) => true,
+        Data::List(items) | Data::Tuple(items) => items.iter().any(contains_function),
+        Data::Record(r) => r.fields.iter().any(|(_, v)| contains_function(v)),
+        _ => false,
+    }
+}
+
+/// Moves the spans of a memoized value from the layout it was computed in to the
+/// current one (spans of declarations that moved, unchanged, in the file).
+fn remap(v: &Value, old: &HashMap<String, (u32, u32)>, new: &HashMap<String, (u32, u32)>, file: FileId) -> Value {
+    let moved = |s: Span| -> Span {
+        if s.file != file {
+            return s;
+        }
+        for (name, &(start, end)) in old {
+            if s.start >= start && s.end <= end {
+                if let Some(&(nstart, _)) = new.get(name) {
+                    let delta = i64::from(nstart) - i64::from(start);
+                    return Span { file, start: (i64::from(s.start) + delta) as u32, end: (i64::from(s.end) + delta) as u32 };
+                }
+            }
+        }
+        s
+    };
+    if old == new {
+        return v.clone();
+    }
+    remap_with(v, &moved)
+}
+
+fn remap_with(v: &Value, f: &dyn Fn(Span) -> Span) -> Value {
+    let data = match &v.data {
+        Data::List(items) => Data::List(Arc::new(items.iter().map(|i| remap_with(i, f)).collect())),
+        Data::Tuple(items) => Data::Tuple(Arc::new(items.iter().map(|i| remap_with(i, f)).collect())),
+        Data::Record(r) => Data::Record(Arc::new(Record {
+            kind: r.kind.clone(),
+            fields: r.fields.iter().map(|(n, v)| (n.clone(), remap_with(v, f))).collect(),
+        })),
+        Data::Sketch(s) => {
+            let mut s = (**s).clone();
+            for seg in &mut s.segments {
+                seg.span = f(seg.span);
+            }
+            Data::Sketch(Arc::new(s))
+        }
+        other => other.clone(),
+    };
+    Value::new(data, f(v.span))
+}

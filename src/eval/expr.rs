@@ -1,0 +1,489 @@
+//! Evaluation of expressions.
+//!
+//! An [`Ctx`] evaluates one expression in one file: names resolve to local bindings
+//! (parameters, comprehension variables), then the file's declarations, functions and
+//! imports, then the builtins. Evaluation is pure; recursion is bounded by
+//! [`MAX_CALL_DEPTH`] so a runaway recursive function is an error, not a stack overflow.
+
+use std::sync::Arc;
+
+use crate::diag::{did_you_mean, Diagnostic};
+use crate::syntax::ast::{Arg, BinaryOp, Expr, ExprKind, Param, SketchCommandKind};
+use crate::syntax::{FileId, Span};
+
+use super::builtins::{self, as_length, as_point2, type_error, Call};
+use super::engine::Globals;
+use super::ops;
+use super::sketch::{self, Command, View};
+use super::units::{self, Units};
+use super::value::{Closure, Data, Quantity, Record, Value};
+
+/// Deepest chain of nested function calls before evaluation stops with an error.
+pub const MAX_CALL_DEPTH: usize = 200;
+
+/// Local bindings, innermost last.
+pub type Locals = Vec<(String, Value)>;
+
+/// Read access to the globals of every loaded file.
+pub trait World {
+    /// The globals of `file`.
+    fn globals(&self, file: FileId) -> Option<&Globals>;
+    /// The directory of `file` (for relative paths) and the project root.
+    fn paths(&self, file: FileId) -> (Option<&std::path::Path>, Option<&std::path::Path>);
+}
+
+/// Evaluation context of one expression.
+pub struct Ctx<'w> {
+    /// Loaded files.
+    pub world: &'w dyn World,
+    /// The file whose names are in scope.
+    pub file: FileId,
+    /// The declaration being evaluated (for kernel-failure messages).
+    pub decl: Option<&'w str>,
+    /// Current call depth.
+    pub depth: usize,
+}
+
+impl<'w> Ctx<'w> {
+    fn units(&self) -> Units {
+        self.world.globals(self.file).map_or_else(Units::default, |g| g.units)
+    }
+
+    fn with_file(&self, file: FileId, depth: usize) -> Ctx<'w> {
+        Ctx { world: self.world, file, decl: self.decl, depth }
+    }
+
+    /// Evaluates `e` with the given local bindings.
+    pub fn eval(&self, e: &Expr, locals: &Locals) -> Result<Value, Diagnostic> {
+        let span = e.span;
+        let data = match &e.kind {
+            ExprKind::Number { value, unit } => {
+                let q = match unit {
+                    Some(u) => units::quantity(*value, u.node),
+                    None => Quantity::bare(*value),
+                };
+                Data::Number(q)
+            }
+            ExprKind::Str(s) => Data::Str(s.as_str().into()),
+            ExprKind::Bool(b) => Data::Bool(*b),
+            ExprKind::Name(n) => return self.lookup(n, span, locals),
+            ExprKind::List(items) => Data::List(Arc::new(self.eval_all(items, locals)?)),
+            ExprKind::Tuple(items) => Data::Tuple(Arc::new(self.eval_all(items, locals)?)),
+            ExprKind::Record(fields) => {
+                let mut rec = Record::default();
+                for (name, value) in fields {
+                    if rec.get(&name.node).is_some() {
+                        return Err(Diagnostic::new(
+                            "die::duplicate_field",
+                            format!("the field `{}` is given twice", name.node),
+                            name.span,
+                            "given again here",
+                        )
+                        .with_help("remove one of them"));
+                    }
+                    rec.fields.push((name.node.clone(), self.eval(value, locals)?));
+                }
+                Data::Record(Arc::new(rec))
+            }
+            ExprKind::Comprehension { body, var, iter, cond } => {
+                let source = self.eval(iter, locals)?;
+                let Data::List(items) = &source.data else {
+                    return Err(type_error(&source, "the list after `in`", "a list"));
+                };
+                let mut out = Vec::with_capacity(items.len());
+                let mut inner = locals.clone();
+                for item in items.iter() {
+                    inner.push((var.node.clone(), item.clone()));
+                    let keep = match cond {
+                        Some(c) => self.truth(c, &inner, "the condition after `if`")?,
+                        None => true,
+                    };
+                    if keep {
+                        out.push(self.eval(body, &inner)?);
+                    }
+                    inner.pop();
+                }
+                Data::List(Arc::new(out))
+            }
+            ExprKind::Field { target, name } => {
+                let t = self.eval(target, locals)?;
+                return self.field(&t, &name.node, name.span, span);
+            }
+            ExprKind::Index { target, index } => {
+                let t = self.eval(target, locals)?;
+                let i = self.eval(index, locals)?;
+                return self.index(&t, &i, span);
+            }
+            ExprKind::Call { callee, args } => return self.call_expr(callee, args, None, span, locals),
+            ExprKind::Pipe { input, call } => {
+                let first = self.eval(input, locals)?;
+                return match &call.kind {
+                    ExprKind::Call { callee, args } => self.call_expr(callee, args, Some(first), span, locals),
+                    _ => {
+                        let f = self.eval(call, locals)?;
+                        self.apply(&f, vec![first], Vec::new(), span)
+                    }
+                };
+            }
+            ExprKind::Unary { op, operand } => {
+                let v = self.eval(operand, locals)?;
+                return ops::unary(op.node, &v, span, op.span);
+            }
+            ExprKind::Binary { op, lhs, rhs } => {
+                if matches!(op.node, BinaryOp::And | BinaryOp::Or) {
+                    let what = format!("the left side of `{}`", op.node.symbol());
+                    let l = self.truth(lhs, locals, &what)?;
+                    let result = match (op.node, l) {
+                        (BinaryOp::And, false) => false,
+                        (BinaryOp::Or, true) => true,
+                        _ => self.truth(rhs, locals, &format!("the right side of `{}`", op.node.symbol()))?,
+                    };
+                    Data::Bool(result)
+                } else {
+                    let l = self.eval(lhs, locals)?;
+                    let r = self.eval(rhs, locals)?;
+                    return ops::binary(op.node, &l, &r, span, op.span, self.units());
+                }
+            }
+            ExprKind::If { cond, then, otherwise } => {
+                let branch = if self.truth(cond, locals, "the condition of `if`")? { then } else { otherwise };
+                return self.eval(branch, locals);
+            }
+            ExprKind::Lambda { params, body } => Data::Function(Arc::new(Closure {
+                name: "<lambda>".into(),
+                params: params.clone(),
+                body: Arc::new((**body).clone()),
+                captured: locals.clone(),
+                file: self.file,
+            })),
+            ExprKind::Sketch { view, commands } => {
+                let v = self.eval(view, locals)?;
+                let Data::View(view) = v.data else {
+                    return Err(type_error(&v, "the view of a sketch", "a view (top, side_xz, side_yz or section(a, b))"));
+                };
+                let units = self.units();
+                let point = |e: &Expr| -> Result<glam::DVec2, Diagnostic> {
+                    as_point2(&self.eval(e, locals)?, units, "a sketch point")
+                };
+                let mut cmds = Vec::with_capacity(commands.len());
+                for c in commands {
+                    let cmd = match &c.kind {
+                        SketchCommandKind::From(p) => Command::From(point(p)?),
+                        SketchCommandKind::LineTo(p) => Command::LineTo(point(p)?),
+                        SketchCommandKind::ArcThrough { to, through } => {
+                            Command::ArcThrough { to: point(to)?, through: point(through)? }
+                        }
+                        SketchCommandKind::TangentArcTo(p) => Command::TangentArcTo(point(p)?),
+                        SketchCommandKind::Spline { through, tangent } => {
+                            let list = self.eval(through, locals)?;
+                            let Data::List(items) = &list.data else {
+                                return Err(type_error(&list, "the points of a spline", "a list of points `[(x, y), ...]`"));
+                            };
+                            let pts = items
+                                .iter()
+                                .map(|p| as_point2(p, units, "a spline point"))
+                                .collect::<Result<Vec<_>, _>>()?;
+                            Command::Spline { through: pts, tangent: *tangent }
+                        }
+                        SketchCommandKind::Fillet(r) => Command::Fillet(as_length(&self.eval(r, locals)?, units, "a fillet radius")?),
+                        SketchCommandKind::Close => Command::Close,
+                    };
+                    cmds.push((cmd, c.span));
+                }
+                Data::Sketch(Arc::new(sketch::build(view, &cmds, span)?))
+            }
+        };
+        Ok(Value::new(data, span))
+    }
+
+    fn eval_all(&self, items: &[Expr], locals: &Locals) -> Result<Vec<Value>, Diagnostic> {
+        items.iter().map(|i| self.eval(i, locals)).collect()
+    }
+
+    /// Evaluates a condition.
+    fn truth(&self, e: &Expr, locals: &Locals, what: &str) -> Result<bool, Diagnostic> {
+        let v = self.eval(e, locals)?;
+        match v.data {
+            Data::Bool(b) => Ok(b),
+            _ => Err(type_error(&v, what, "true or false")),
+        }
+    }
+
+    /// Resolves a name: locals, the file's declarations, functions and imports, the
+    /// views, the builtins.
+    fn lookup(&self, name: &str, span: Span, locals: &Locals) -> Result<Value, Diagnostic> {
+        if let Some((_, v)) = locals.iter().rev().find(|(n, _)| n == name) {
+            return Ok(v.clone());
+        }
+        if let Some(g) = self.world.globals(self.file) {
+            if let Some(v) = g.decls.get(name) {
+                return Ok(v.clone());
+            }
+            if let Some(c) = g.functions.get(name) {
+                return Ok(Value::new(Data::Function(c.clone()), span));
+            }
+            if let Some(m) = g.imports.get(name) {
+                return Ok(Value::new(m.data.clone(), span));
+            }
+            if g.failed.contains(name) {
+                return Err(Diagnostic::new(
+                    "die::failed_dependency",
+                    format!("`{name}` has no value because its own evaluation failed"),
+                    span,
+                    "used here",
+                )
+                .with_help(format!("fix the error reported for `{name}` first")));
+            }
+        }
+        let view = match name {
+            "top" => Some(View::Top),
+            "side_xz" => Some(View::SideXZ),
+            "side_yz" => Some(View::SideYZ),
+            _ => None,
+        };
+        if let Some(v) = view {
+            return Ok(Value::new(Data::View(v), span));
+        }
+        if let Some(b) = builtins::lookup(name).or_else(|| super::views::lookup(name)) {
+            return Ok(Value::new(Data::Builtin(b), span));
+        }
+        Err(self.unknown_name(name, span, locals))
+    }
+
+    fn unknown_name(&self, name: &str, span: Span, locals: &Locals) -> Diagnostic {
+        let mut candidates: Vec<String> = locals.iter().map(|(n, _)| n.clone()).collect();
+        if let Some(g) = self.world.globals(self.file) {
+            candidates.extend(g.names.iter().cloned());
+        }
+        candidates.extend(["top", "side_xz", "side_yz"].map(String::from));
+        candidates.extend(builtins::names().map(String::from));
+        candidates.extend(super::views::names().map(String::from));
+        let mut d = Diagnostic::new("die::unknown_name", format!("cannot find `{name}`"), span, "not defined");
+        d = match did_you_mean(name, candidates.iter().map(String::as_str)) {
+            Some(s) => d.with_help(format!("did you mean `{s}`?")),
+            None => d.with_help("declare it (`let name = ...`), import a module that has it, or check the spelling"),
+        };
+        d
+    }
+
+    fn field(&self, t: &Value, name: &str, name_span: Span, span: Span) -> Result<Value, Diagnostic> {
+        let found = match &t.data {
+            Data::Record(r) => r.get(name).cloned().ok_or_else(|| r.fields.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>()),
+            Data::Module(m) => m.get(name).cloned().ok_or_else(|| m.members.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>()),
+            Data::Tuple(items) => {
+                let i = match name {
+                    "x" => Some(0),
+                    "y" => Some(1),
+                    "z" => Some(2),
+                    _ => None,
+                };
+                i.and_then(|i| items.get(i).cloned()).ok_or_else(|| ["x", "y", "z"][..items.len().min(3)].iter().map(|s| s.to_string()).collect())
+            }
+            _ => {
+                return Err(Diagnostic::new(
+                    "die::no_field",
+                    format!("{} has no fields", t.type_name()),
+                    name_span,
+                    format!("`.{name}` asked for here"),
+                )
+                .with_label(t.span, format!("this is {}", t.type_name())))
+            }
+        };
+        match found {
+            Ok(v) => Ok(Value::new(v.data, span)),
+            Err(names) => {
+                let d = Diagnostic::new(
+                    "die::no_field",
+                    format!("{} has no field `{name}`", t.type_name()),
+                    name_span,
+                    "no such field",
+                );
+                Err(match did_you_mean(name, names.iter().map(String::as_str)) {
+                    Some(s) => d.with_help(format!("did you mean `{s}`?")),
+                    None if names.is_empty() => d.with_help("it has no fields"),
+                    None => d.with_help(format!("its fields are {}", names.join(", "))),
+                })
+            }
+        }
+    }
+
+    fn index(&self, t: &Value, i: &Value, span: Span) -> Result<Value, Diagnostic> {
+        let items = match &t.data {
+            Data::List(items) | Data::Tuple(items) => items,
+            _ => return Err(type_error(t, "the value being indexed", "a list or a tuple")),
+        };
+        let k = builtins::as_count(i, "an index")?;
+        match items.get(k) {
+            Some(v) => Ok(Value::new(v.data.clone(), span)),
+            None => Err(Diagnostic::new(
+                "die::index_out_of_range",
+                format!("index {k} is out of range: the list has {} items", items.len()),
+                i.span,
+                "this index",
+            )
+            .with_help(format!("indices run from 0 to {}", items.len().saturating_sub(1)))),
+        }
+    }
+
+    fn call_expr(&self, callee: &Expr, args: &[Arg], first: Option<Value>, span: Span, locals: &Locals) -> Result<Value, Diagnostic> {
+        let f = self.eval(callee, locals)?;
+        let mut positional: Vec<Value> = first.into_iter().collect();
+        let mut named: Vec<(crate::syntax::ast::Ident, Value)> = Vec::new();
+        for a in args {
+            let v = self.eval(&a.value, locals)?;
+            match &a.name {
+                Some(n) => named.push((n.clone(), v)),
+                None => {
+                    if let Some((n, _)) = named.first() {
+                        return Err(Diagnostic::new(
+                            "die::positional_after_named",
+                            "a positional argument cannot follow named ones",
+                            a.value.span,
+                            "positional argument",
+                        )
+                        .with_label(n.span, "named argument before it")
+                        .with_help("put positional arguments first, or name this one too"));
+                    }
+                    positional.push(v);
+                }
+            }
+        }
+        self.apply(&f, positional, named, span)
+    }
+
+    /// Calls a function value with positional and named arguments.
+    pub fn apply(
+        &self,
+        f: &Value,
+        positional: Vec<Value>,
+        named: Vec<(crate::syntax::ast::Ident, Value)>,
+        span: Span,
+    ) -> Result<Value, Diagnostic> {
+        if self.depth >= MAX_CALL_DEPTH {
+            return Err(Diagnostic::new(
+                "die::recursion_limit",
+                format!("function calls nest deeper than {MAX_CALL_DEPTH} levels"),
+                span,
+                "this call goes too deep",
+            )
+            .with_help("a recursive function must reach its base case; check the condition that ends the recursion"));
+        }
+        match &f.data {
+            Data::Builtin(b) => {
+                let names: Vec<&str> = b.params.iter().map(|p| p.name).collect();
+                let slots = bind_arguments(b.name, &names, positional, named, span)?;
+                for (p, slot) in b.params.iter().zip(&slots) {
+                    if p.required && slot.is_none() {
+                        return Err(missing(b.name, p.name, &b.signature(), span));
+                    }
+                }
+                let (dir, root) = self.world.paths(self.file);
+                let inner = self.with_file(self.file, self.depth + 1);
+                let apply = |g: &Value, args: Vec<Value>, s: Span| inner.apply(g, args, Vec::new(), s);
+                let call = Call { builtin: b, span, decl: self.decl, units: self.units(), args: slots, dir, root, apply: &apply };
+                Ok(Value::new((b.run)(&call)?, span))
+            }
+            Data::Function(c) => {
+                let names: Vec<&str> = c.params.iter().map(|p| p.name.node.as_str()).collect();
+                let slots = bind_arguments(&c.name, &names, positional, named, span)?;
+                let inner = self.with_file(c.file, self.depth + 1);
+                let mut locals = c.captured.clone();
+                for (p, slot) in c.params.iter().zip(slots) {
+                    let v = match (slot, &p.default) {
+                        (Some(v), _) => v,
+                        (None, Some(d)) => inner.eval(d, &locals)?,
+                        (None, None) => return Err(missing(&c.name, &p.name.node, &signature(&c.name, &c.params), span)),
+                    };
+                    locals.push((p.name.node.clone(), v));
+                }
+                let v = inner.eval(&c.body, &locals).map_err(|d| {
+                    // Show where the failing function was called from, unless the
+                    // problem is already pointed at inside this call.
+                    let inside = d.primary.span.file == span.file
+                        && d.primary.span.start >= span.start
+                        && d.primary.span.end <= span.end;
+                    if inside || d.secondary.iter().any(|l| l.span == span) {
+                        d
+                    } else {
+                        d.with_label(span, format!("in this call of `{}`", c.name))
+                    }
+                })?;
+                Ok(Value::new(v.data, span))
+            }
+            _ => Err(Diagnostic::new(
+                "die::not_a_function",
+                format!("{} cannot be called", f.type_name()),
+                f.span,
+                format!("this is {}", f.type_name()),
+            )
+            .with_label(span, "called here")),
+        }
+    }
+}
+
+/// `name(a, b = ...)` for help texts.
+fn signature(name: &str, params: &[Param]) -> String {
+    let ps: Vec<String> =
+        params.iter().map(|p| if p.default.is_some() { format!("{}?", p.name.node) } else { p.name.node.clone() }).collect();
+    format!("{name}({})", ps.join(", "))
+}
+
+fn missing(func: &str, param: &str, signature: &str, span: Span) -> Diagnostic {
+    Diagnostic::new("die::missing_argument", format!("`{func}` needs the argument `{param}`"), span, format!("`{param}` is missing"))
+        .with_help(format!("the signature is {signature}"))
+}
+
+/// Matches arguments to parameter names: positional ones in order, then named ones.
+fn bind_arguments(
+    func: &str,
+    params: &[&str],
+    positional: Vec<Value>,
+    named: Vec<(crate::syntax::ast::Ident, Value)>,
+    span: Span,
+) -> Result<Vec<Option<Value>>, Diagnostic> {
+    let mut slots: Vec<Option<Value>> = vec![None; params.len()];
+    let count = positional.len();
+    for (i, v) in positional.into_iter().enumerate() {
+        if i >= params.len() {
+            return Err(Diagnostic::new(
+                "die::too_many_arguments",
+                format!(
+                    "`{func}` takes {} argument{}, but {count} were given",
+                    params.len(),
+                    if params.len() == 1 { "" } else { "s" }
+                ),
+                v.span,
+                "one too many",
+            )
+            .with_label(span, "in this call")
+            .with_help(format!("the parameters are {}", params.join(", "))));
+        }
+        slots[i] = Some(v);
+    }
+    for (name, v) in named {
+        let Some(i) = params.iter().position(|p| *p == name.node) else {
+            let d = Diagnostic::new(
+                "die::unknown_argument",
+                format!("`{func}` has no parameter `{}`", name.node),
+                name.span,
+                "unknown parameter",
+            );
+            return Err(match did_you_mean(&name.node, params.iter().copied()) {
+                Some(s) => d.with_help(format!("did you mean `{s}`?")),
+                None => d.with_help(format!("the parameters are {}", params.join(", "))),
+            });
+        };
+        if let Some(prev) = &slots[i] {
+            return Err(Diagnostic::new(
+                "die::duplicate_argument",
+                format!("`{}` is given twice", name.node),
+                name.span,
+                "given again here",
+            )
+            .with_label(prev.span, "first given here")
+            .with_help("give each argument once"));
+        }
+        slots[i] = Some(v);
+    }
+    Ok(slots)
+}

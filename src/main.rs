@@ -1,0 +1,5 @@
+//! The `dieface` executable.
+
+fn main() -> std::process::ExitCode {
+    dieface::cli::main()
+}

@@ -1,0 +1,882 @@
+//! Builtins called directly through a hand-built `Call`, without the evaluator.
+
+use std::f64::consts::PI;
+use std::path::Path;
+use std::sync::Arc;
+
+use dieface::diag::Diagnostic;
+use dieface::eval::builtins::{lookup, Call};
+use dieface::eval::units::Units;
+use dieface::eval::value::{Data, Dim, Quantity, Value};
+use dieface::geom::{Curve3, NurbsSurface};
+use dieface::syntax::{FileId, Span};
+use glam::{DVec2, DVec3};
+
+// ---- building arguments --------------------------------------------------------------
+
+fn at(i: usize) -> Span {
+    Span::new(FileId(0), 100 * (i + 1), 100 * (i + 1) + 7)
+}
+
+const CALL: Span = Span {
+    file: FileId(0),
+    start: 0,
+    end: 5000,
+};
+
+fn mm(v: f64) -> Value {
+    Value::new(Data::Number(Quantity::length(v)), CALL)
+}
+fn deg(v: f64) -> Value {
+    Value::new(Data::Number(Quantity::angle(v.to_radians())), CALL)
+}
+fn bare(v: f64) -> Value {
+    Value::new(Data::Number(Quantity::bare(v)), CALL)
+}
+fn ratio(v: f64) -> Value {
+    Value::new(Data::Number(Quantity::ratio(v)), CALL)
+}
+fn text(s: &str) -> Value {
+    Value::new(Data::Str(s.into()), CALL)
+}
+fn p2(x: f64, y: f64) -> Value {
+    Value::point2(DVec2::new(x, y), CALL)
+}
+fn p3(x: f64, y: f64, z: f64) -> Value {
+    Value::point3(DVec3::new(x, y, z), CALL)
+}
+fn list(items: Vec<Value>) -> Value {
+    Value::new(Data::List(Arc::new(items)), CALL)
+}
+fn tuple(items: Vec<Value>) -> Value {
+    Value::new(Data::Tuple(Arc::new(items)), CALL)
+}
+fn data(d: Data) -> Value {
+    Value::new(d, CALL)
+}
+
+fn no_apply(_: &Value, _: Vec<Value>, _: Span) -> Result<Value, Diagnostic> {
+    unreachable!("no callbacks in this test")
+}
+
+/// Calls builtin `name` with arguments by parameter index (`None` = omitted); each
+/// given argument gets its own span `at(i)`.
+fn call_with(
+    name: &str,
+    args: Vec<Option<Value>>,
+    dir: Option<&Path>,
+    root: Option<&Path>,
+) -> Result<Data, Diagnostic> {
+    let builtin = lookup(name).unwrap_or_else(|| panic!("no builtin {name}"));
+    let args = args
+        .into_iter()
+        .enumerate()
+        .map(|(i, a)| a.map(|v| Value::new(v.data, at(i))))
+        .collect();
+    let call = Call {
+        builtin,
+        span: CALL,
+        decl: Some("x"),
+        units: Units::default(),
+        args,
+        dir,
+        root,
+        apply: &no_apply,
+    };
+    (builtin.run)(&call)
+}
+
+fn call(name: &str, args: Vec<Value>) -> Result<Data, Diagnostic> {
+    let n = lookup(name).unwrap().params.len();
+    let mut a: Vec<Option<Value>> = args.into_iter().map(Some).collect();
+    a.resize(n, None);
+    call_with(name, a, None, None)
+}
+
+fn number(d: &Data) -> Quantity {
+    match d {
+        Data::Number(q) => *q,
+        other => panic!("not a number: {other:?}"),
+    }
+}
+
+fn vec3(d: &Data) -> DVec3 {
+    match d {
+        Data::Tuple(t) if t.len() == 3 => DVec3::new(
+            number(&t[0].data).value,
+            number(&t[1].data).value,
+            number(&t[2].data).value,
+        ),
+        other => panic!("not a 3-D point: {other:?}"),
+    }
+}
+
+fn curve3(d: Data) -> Arc<Curve3> {
+    match d {
+        Data::Curve3(c) => c,
+        other => panic!("not a 3-D curve: {other:?}"),
+    }
+}
+
+fn surface(d: Data) -> Arc<NurbsSurface> {
+    match d {
+        Data::Surface(s) => s,
+        other => panic!("not a surface: {other:?}"),
+    }
+}
+
+// ---- math -----------------------------------------------------------------------------
+
+#[test]
+fn every_builtin_is_listed_with_a_doc() {
+    let names: Vec<&str> = dieface::eval::builtins::names().collect();
+    for n in [
+        "sqrt",
+        "range",
+        "nurbs_curve",
+        "interpolate",
+        "loft",
+        "revolve",
+        "tip",
+        "read_obj",
+        "bounds",
+        "join",
+    ] {
+        assert!(names.contains(&n), "{n} missing");
+        assert!(!lookup(n).unwrap().doc.is_empty());
+    }
+    let mut sorted = names.clone();
+    sorted.sort();
+    sorted.dedup();
+    assert_eq!(sorted.len(), names.len(), "duplicate builtin names");
+}
+
+#[test]
+fn every_builtin_name_can_be_called_in_a_script() {
+    // Sketch words (`line`, `arc`, ...) are keywords: a builtin must not be named after one.
+    for name in dieface::eval::builtins::names() {
+        let src = format!("let v = {name}(1)\n");
+        assert!(
+            dieface::syntax::parse(&src, FileId(0)).is_ok(),
+            "`{name}(...)` does not parse"
+        );
+    }
+}
+
+#[test]
+fn math_keeps_dimensions() {
+    let area = Value::new(
+        Data::Number(Quantity {
+            value: 16.0,
+            dim: Dim {
+                length: 2,
+                angle: 0,
+            },
+            bare: false,
+        }),
+        CALL,
+    );
+    let r = number(&call("sqrt", vec![area]).unwrap());
+    assert_eq!(r, Quantity::length(4.0));
+    let r = number(&call("sqrt", vec![bare(9.0)]).unwrap());
+    assert_eq!(r, Quantity::bare(3.0));
+    let e = call("sqrt", vec![mm(4.0)]).unwrap_err();
+    assert_eq!(e.code, "die::unit_mismatch");
+    let e = call("sqrt", vec![bare(-1.0)]).unwrap_err();
+    assert_eq!(e.code, "die::bad_argument");
+    let e = call("sqrt", vec![text("a")]).unwrap_err();
+    assert_eq!(e.code, "die::type_mismatch");
+    assert_eq!(e.primary.span, at(0));
+
+    // Bare numbers take the default unit next to a length; degrees for angles.
+    assert_eq!(
+        number(&call("min", vec![mm(5.0), bare(3.0)]).unwrap()),
+        Quantity::length(3.0)
+    );
+    assert_eq!(
+        number(&call("max", vec![bare(2.0), bare(3.0)]).unwrap()),
+        Quantity::bare(3.0)
+    );
+    let e = call("min", vec![mm(5.0), deg(3.0)]).unwrap_err();
+    assert_eq!(e.code, "die::unit_mismatch");
+    assert!((number(&call("sin", vec![bare(30.0)]).unwrap()).value - 0.5).abs() < 1e-15);
+    assert!((number(&call("cos", vec![deg(60.0)]).unwrap()).value - 0.5).abs() < 1e-15);
+    let a = number(&call("atan2", vec![mm(1.0), mm(1.0)]).unwrap());
+    assert_eq!(a.dim, Dim::ANGLE);
+    assert!((a.value - PI / 4.0).abs() < 1e-15);
+    assert_eq!(
+        number(&call("abs", vec![mm(-2.0)]).unwrap()),
+        Quantity::length(2.0)
+    );
+}
+
+#[test]
+fn lists() {
+    let Data::List(r) = call("range", vec![bare(3.0)]).unwrap() else {
+        panic!()
+    };
+    let v: Vec<f64> = r.iter().map(|x| number(&x.data).value).collect();
+    assert_eq!(v, [0.0, 1.0, 2.0]);
+    let Data::List(r) = call("range", vec![bare(2.0), bare(5.0)]).unwrap() else {
+        panic!()
+    };
+    assert_eq!(r.len(), 3);
+    let e = call("range", vec![bare(1e6)]).unwrap_err();
+    assert_eq!(e.code, "die::bad_argument");
+    assert_eq!(e.primary.span, at(0));
+
+    let Data::List(r) = call("linspace", vec![mm(0.0), mm(10.0), bare(5.0)]).unwrap() else {
+        panic!()
+    };
+    let v: Vec<Quantity> = r.iter().map(|x| number(&x.data)).collect();
+    assert_eq!(v[1], Quantity::length(2.5));
+    assert_eq!(v[4], Quantity::length(10.0));
+    assert_eq!(
+        number(&call("sum", vec![list(vec![mm(1.0), bare(2.0), mm(3.0)])]).unwrap()),
+        Quantity::length(6.0)
+    );
+    assert_eq!(
+        number(&call("sum", vec![list(vec![])]).unwrap()),
+        Quantity::bare(0.0)
+    );
+    assert_eq!(
+        number(&call("len", vec![list(vec![mm(1.0), mm(2.0)])]).unwrap()),
+        Quantity::bare(2.0)
+    );
+
+    // map and filter call back through `apply`.
+    let double = |_: &Value, args: Vec<Value>, span: Span| -> Result<Value, Diagnostic> {
+        let q = number(&args[0].data);
+        Ok(Value::new(
+            Data::Number(Quantity {
+                value: 2.0 * q.value,
+                ..q
+            }),
+            span,
+        ))
+    };
+    let positive = |_: &Value, args: Vec<Value>, span: Span| -> Result<Value, Diagnostic> {
+        Ok(Value::new(
+            Data::Bool(number(&args[0].data).value > 0.0),
+            span,
+        ))
+    };
+    let f = data(Data::Builtin(lookup("abs").unwrap()));
+    let items = list(vec![mm(1.0), mm(-2.0), mm(3.0)]);
+    for (name, apply, expected) in [
+        (
+            "map",
+            &double as &dyn Fn(&Value, Vec<Value>, Span) -> Result<Value, Diagnostic>,
+            vec![2.0, -4.0, 6.0],
+        ),
+        ("filter", &positive, vec![1.0, 3.0]),
+    ] {
+        let builtin = lookup(name).unwrap();
+        let c = Call {
+            builtin,
+            span: CALL,
+            decl: Some("x"),
+            units: Units::default(),
+            args: vec![Some(items.clone()), Some(f.clone())],
+            dir: None,
+            root: None,
+            apply,
+        };
+        let Data::List(out) = (builtin.run)(&c).unwrap() else {
+            panic!()
+        };
+        let v: Vec<f64> = out.iter().map(|x| number(&x.data).value).collect();
+        assert_eq!(v, expected, "{name}");
+    }
+}
+
+#[test]
+fn vectors() {
+    let d = number(&call("dot", vec![p3(1.0, 2.0, 3.0), p3(4.0, 5.0, 6.0)]).unwrap());
+    assert_eq!(
+        d,
+        Quantity {
+            value: 32.0,
+            dim: Dim {
+                length: 2,
+                angle: 0
+            },
+            bare: false
+        }
+    );
+    let n = call("normalize", vec![p3(3.0, 0.0, 4.0)]).unwrap();
+    assert!((vec3(&n) - DVec3::new(0.6, 0.0, 0.8)).length() < 1e-15);
+    assert_eq!(
+        number(&call("distance", vec![p2(0.0, 0.0), p2(3.0, 4.0)]).unwrap()),
+        Quantity::length(5.0)
+    );
+    let m = call(
+        "lerp",
+        vec![p3(0.0, 0.0, 0.0), p3(10.0, 20.0, 30.0), ratio(0.25)],
+    )
+    .unwrap();
+    assert_eq!(vec3(&m), DVec3::new(2.5, 5.0, 7.5));
+    let c = call("cross", vec![p3(1.0, 0.0, 0.0), p3(0.0, 1.0, 0.0)]).unwrap();
+    assert_eq!(vec3(&c), DVec3::new(0.0, 0.0, 1.0));
+    assert_eq!(
+        vec3(&call("point", vec![bare(1.0), mm(2.0), bare(3.0)]).unwrap()),
+        DVec3::new(1.0, 2.0, 3.0)
+    );
+}
+
+// ---- curves ---------------------------------------------------------------------------
+
+#[test]
+fn nurbs_curve_from_points() {
+    let pts = list(vec![
+        p3(0.0, 0.0, 0.0),
+        p3(10.0, 10.0, 0.0),
+        p3(20.0, 0.0, 0.0),
+        p3(30.0, 10.0, 5.0),
+    ]);
+    let c = curve3(call("nurbs_curve", vec![bare(2.0), pts.clone()]).unwrap());
+    assert_eq!(c.degree(), 2);
+    assert_eq!(c.knots().as_slice(), &[0.0, 0.0, 0.0, 0.5, 1.0, 1.0, 1.0]);
+    assert_eq!(c.end_point(), DVec3::new(30.0, 10.0, 5.0));
+
+    let knots = list(
+        [0.0, 0.0, 0.0, 0.25, 1.0, 1.0, 1.0]
+            .iter()
+            .map(|&k| bare(k))
+            .collect(),
+    );
+    let weights = list([1.0, 2.0, 1.0, 1.0].iter().map(|&w| bare(w)).collect());
+    let c = curve3(call("nurbs_curve", vec![bare(2.0), pts.clone(), knots, weights]).unwrap());
+    assert!(c.is_rational());
+    assert_eq!(c.knots().as_slice()[3], 0.25);
+
+    // 2-D points make a 2-D curve.
+    let c = call(
+        "nurbs_curve",
+        vec![bare(1.0), list(vec![p2(0.0, 0.0), p2(1.0, 1.0)])],
+    )
+    .unwrap();
+    assert!(matches!(c, Data::Curve2(_)));
+
+    // A kernel failure names the declaration and the argument, at the argument.
+    let bad = list(
+        [0.0, 0.0, 0.5, 0.2, 1.0, 1.0, 1.0]
+            .iter()
+            .map(|&k| bare(k))
+            .collect(),
+    );
+    let e = call("nurbs_curve", vec![bare(2.0), pts.clone(), bad]).unwrap_err();
+    assert_eq!(e.code, "die::geometry");
+    assert!(
+        e.message.contains("(in `x`, argument `knots`)"),
+        "{}",
+        e.message
+    );
+    assert_eq!(e.primary.span, at(2));
+    let e = call("nurbs_curve", vec![bare(5.0), pts.clone()]).unwrap_err();
+    assert!(e.message.contains("argument `points`"), "{}", e.message);
+    let e = call(
+        "nurbs_curve",
+        vec![bare(2.0), pts, Value::new(Data::Bool(true), CALL)],
+    )
+    .unwrap_err();
+    assert_eq!(e.code, "die::type_mismatch");
+    let e = call(
+        "nurbs_curve",
+        vec![bare(2.0), list(vec![p3(0.0, 0.0, 0.0), mm(1.0)])],
+    )
+    .unwrap_err();
+    assert_eq!(e.code, "die::type_mismatch");
+}
+
+#[test]
+fn interpolate_through_points() {
+    let pts = [
+        DVec3::new(0.0, 0.0, 0.0),
+        DVec3::new(10.0, 5.0, 1.0),
+        DVec3::new(25.0, 3.0, 2.0),
+        DVec3::new(40.0, 10.0, 0.0),
+    ];
+    let list_pts = list(pts.iter().map(|p| Value::point3(*p, CALL)).collect());
+    let c = curve3(call("interpolate", vec![list_pts.clone()]).unwrap());
+    assert_eq!(c.degree(), 3);
+    for p in pts {
+        let d = (0..=4000)
+            .map(|k| c.point_at(k as f64 / 4000.0).distance(p))
+            .fold(f64::INFINITY, f64::min);
+        assert!(d < 0.02, "misses {p}");
+    }
+    // With a start tangent and degree 2, centripetal.
+    let c = curve3(
+        call_with(
+            "interpolate",
+            vec![
+                Some(list_pts.clone()),
+                Some(bare(2.0)),
+                Some(p3(0.0, 50.0, 0.0)),
+                None,
+                Some(text("centripetal")),
+            ],
+            None,
+            None,
+        )
+        .unwrap(),
+    );
+    assert_eq!(c.degree(), 2);
+    assert!((c.derivative_at(0.0) - DVec3::new(0.0, 50.0, 0.0)).length() < 1e-9);
+
+    let e = call_with(
+        "interpolate",
+        vec![Some(list_pts), None, None, None, Some(text("arc"))],
+        None,
+        None,
+    )
+    .unwrap_err();
+    assert_eq!(e.code, "die::bad_argument");
+    assert_eq!(e.primary.span, at(4));
+    let dup = list(vec![
+        p3(0.0, 0.0, 0.0),
+        p3(1.0, 0.0, 0.0),
+        p3(1.0, 0.0, 0.0),
+        p3(2.0, 1.0, 0.0),
+    ]);
+    let e = call("interpolate", vec![dup]).unwrap_err();
+    assert_eq!(e.code, "die::geometry");
+    assert!(
+        e.message.contains("(in `x`, argument `points`)"),
+        "{}",
+        e.message
+    );
+    assert!(e.help.unwrap().contains("points 1 and 2"));
+}
+
+#[test]
+fn arcs_lines_split_join() {
+    let a = curve3(
+        call(
+            "arc_through",
+            vec![p3(10.0, 0.0, 0.0), p3(0.0, 10.0, 0.0), p3(-10.0, 0.0, 0.0)],
+        )
+        .unwrap(),
+    );
+    for k in 0..=20 {
+        assert!((a.point_at(k as f64 / 20.0).length() - 10.0).abs() < 1e-12);
+    }
+    let e = call(
+        "arc_through",
+        vec![p3(0.0, 0.0, 0.0), p3(1.0, 0.0, 0.0), p3(2.0, 0.0, 0.0)],
+    )
+    .unwrap_err();
+    assert_eq!(e.code, "die::geometry");
+    assert!(e.message.contains("argument `b`"));
+
+    let c = curve3(
+        call(
+            "arc3",
+            vec![
+                p3(0.0, 0.0, 5.0),
+                text("x"),
+                text("z"),
+                mm(3.0),
+                deg(0.0),
+                deg(90.0),
+            ],
+        )
+        .unwrap(),
+    );
+    assert!((c.end_point() - DVec3::new(0.0, 0.0, 8.0)).length() < 1e-12);
+    let Data::Curve2(circle) = call("circle", vec![p2(1.0, 1.0), mm(2.0)]).unwrap() else {
+        panic!()
+    };
+    assert!((circle.length() - 4.0 * PI).abs() < 1e-9);
+    let circle3 = curve3(
+        call(
+            "circle",
+            vec![p3(0.0, 0.0, 0.0), mm(2.0), p3(1.0, 0.0, 0.0)],
+        )
+        .unwrap(),
+    );
+    assert!(circle3.control_points().iter().all(|p| p.x.abs() < 1e-15));
+
+    let line = call("line_between", vec![p3(0.0, 0.0, 0.0), p3(10.0, 0.0, 0.0)]).unwrap();
+    let arc = call(
+        "arc_through",
+        vec![p3(10.0, 0.0, 0.0), p3(15.0, 5.0, 0.0), p3(10.0, 10.0, 0.0)],
+    )
+    .unwrap();
+    let joined = curve3(call("join", vec![list(vec![data(line.clone()), data(arc)])]).unwrap());
+    assert_eq!(joined.domain(), (0.0, 2.0));
+    assert!((joined.point_at(0.5) - DVec3::new(5.0, 0.0, 0.0)).length() < 1e-12);
+    let gap = call("line_between", vec![p3(11.0, 0.0, 0.0), p3(20.0, 0.0, 0.0)]).unwrap();
+    let e = call("join", vec![list(vec![data(line.clone()), data(gap)])]).unwrap_err();
+    assert_eq!(e.code, "die::geometry");
+    assert!(e.message.contains("argument `curves`"));
+
+    let Data::List(parts) = call("split", vec![data(line.clone()), ratio(0.25)]).unwrap() else {
+        panic!()
+    };
+    let first = curve3(parts[0].data.clone());
+    assert!((first.end_point() - DVec3::new(2.5, 0.0, 0.0)).length() < 1e-12);
+    let e = call("split", vec![data(line.clone()), bare(25.0)]).unwrap_err();
+    assert_eq!(e.code, "die::bad_argument");
+    let r = curve3(call("reverse", vec![data(line)]).unwrap());
+    assert_eq!(r.start_point(), DVec3::new(10.0, 0.0, 0.0));
+}
+
+// ---- surfaces -------------------------------------------------------------------------
+
+fn section(y: f64, sag: f64) -> Value {
+    let pts = list(vec![p3(0.0, y, 0.0), p3(50.0, y, -sag), p3(100.0, y, 0.0)]);
+    data(
+        call_with(
+            "interpolate",
+            vec![Some(pts), Some(bare(2.0)), None, None, None],
+            None,
+            None,
+        )
+        .unwrap(),
+    )
+}
+
+#[test]
+fn loft_through_sections() {
+    let sections = vec![section(0.0, 10.0), section(60.0, 14.0), section(120.0, 9.0)];
+    let s = surface(call("loft", vec![list(sections.clone())]).unwrap());
+    // The sections are iso-curves: first at v = 0, last at v = 1.
+    let first = curve3(sections[0].data.clone());
+    let last = curve3(sections[2].data.clone());
+    for k in 0..=10 {
+        let u = k as f64 / 10.0;
+        assert!((s.point_at(u, 0.0) - first.point_at(u)).length() < 1e-9);
+        assert!((s.point_at(u, 1.0) - last.point_at(u)).length() < 1e-9);
+    }
+    let mid = vec3(
+        &call(
+            "point_on",
+            vec![data(Data::Surface(s.clone())), ratio(0.5), ratio(0.0)],
+        )
+        .unwrap(),
+    );
+    assert!((mid - first.point_at(0.5)).length() < 1e-9);
+    let e = call("loft", vec![list(vec![sections[0].clone()])]).unwrap_err();
+    assert_eq!(e.code, "die::geometry");
+    assert!(
+        e.message.contains("(in `x`, argument `sections`)"),
+        "{}",
+        e.message
+    );
+}
+
+#[test]
+fn revolve_makes_a_cylinder() {
+    let profile = call(
+        "line_between",
+        vec![p3(10.0, 0.0, 0.0), p3(10.0, 0.0, 20.0)],
+    )
+    .unwrap();
+    let s = surface(
+        call(
+            "revolve",
+            vec![data(profile.clone()), p3(0.0, 0.0, 0.0), text("z")],
+        )
+        .unwrap(),
+    );
+    for i in 0..=8 {
+        for j in 0..=4 {
+            let p = s.point_at(i as f64 / 8.0, j as f64 / 4.0);
+            assert!((p.truncate().length() - 10.0).abs() < 1e-12);
+        }
+    }
+    let quarter = surface(
+        call(
+            "revolve",
+            vec![
+                data(profile.clone()),
+                p3(0.0, 0.0, 0.0),
+                p3(0.0, 0.0, 1.0),
+                deg(90.0),
+            ],
+        )
+        .unwrap(),
+    );
+    let end = quarter.point_at(1.0, 0.0);
+    assert!((end - DVec3::new(0.0, 10.0, 0.0)).length() < 1e-12, "{end}");
+    let n = vec3(
+        &call(
+            "normal_at",
+            vec![data(Data::Surface(quarter)), ratio(0.0), ratio(0.5)],
+        )
+        .unwrap(),
+    );
+    assert!((n.length() - 1.0).abs() < 1e-12 && n.z.abs() < 1e-12);
+    let e = call(
+        "revolve",
+        vec![data(profile.clone()), p3(0.0, 0.0, 0.0), p3(0.0, 0.0, 0.0)],
+    )
+    .unwrap_err();
+    assert_eq!(e.code, "die::bad_argument");
+    assert_eq!(e.primary.span, at(2));
+    let e = call(
+        "revolve",
+        vec![data(profile), p3(0.0, 0.0, 0.0), text("z"), deg(400.0)],
+    )
+    .unwrap_err();
+    assert_eq!(e.code, "die::bad_argument");
+}
+
+#[test]
+fn other_surfaces() {
+    let a = call("line_between", vec![p3(0.0, 0.0, 0.0), p3(10.0, 0.0, 0.0)]).unwrap();
+    let b = call(
+        "line_between",
+        vec![p3(0.0, 10.0, 2.0), p3(10.0, 10.0, 2.0)],
+    )
+    .unwrap();
+    let s = surface(call("ruled", vec![data(a.clone()), data(b.clone())]).unwrap());
+    assert!((s.point_at(0.5, 0.5) - DVec3::new(5.0, 5.0, 1.0)).length() < 1e-12);
+    let l = call("line_between", vec![p3(0.0, 0.0, 0.0), p3(0.0, 10.0, 2.0)]).unwrap();
+    let r = call(
+        "line_between",
+        vec![p3(10.0, 0.0, 0.0), p3(10.0, 10.0, 2.0)],
+    )
+    .unwrap();
+    let c = surface(call("coons", vec![data(a), data(b), data(l), data(r)]).unwrap());
+    assert!((c.point_at(0.5, 0.5) - DVec3::new(5.0, 5.0, 1.0)).length() < 1e-12);
+
+    let net = list(vec![
+        list(vec![p3(0.0, 0.0, 0.0), p3(0.0, 10.0, 0.0)]),
+        list(vec![p3(10.0, 0.0, 0.0), p3(10.0, 10.0, 5.0)]),
+    ]);
+    let s = surface(call("nurbs_surface", vec![bare(1.0), net.clone()]).unwrap());
+    assert!((s.point_at(1.0, 1.0) - DVec3::new(10.0, 10.0, 5.0)).length() < 1e-12);
+    let s = surface(
+        call(
+            "nurbs_surface",
+            vec![tuple(vec![bare(1.0), bare(1.0)]), net.clone()],
+        )
+        .unwrap(),
+    );
+    assert_eq!((s.degree_u(), s.degree_v()), (1, 1));
+    let e = call("nurbs_surface", vec![bare(3.0), net]).unwrap_err();
+    assert_eq!(e.code, "die::geometry");
+    assert!(e.message.contains("argument `points`"), "{}", e.message);
+}
+
+// ---- transforms -----------------------------------------------------------------------
+
+#[test]
+fn tip_a_product() {
+    // Tipping 90 deg about x turns +y into +z.
+    let p = vec3(&call("tip", vec![p3(0.0, 10.0, 0.0), text("x"), deg(90.0)]).unwrap());
+    assert!((p - DVec3::new(0.0, 0.0, 10.0)).length() < 1e-12);
+    // About y through a centre; a bare angle is in degrees.
+    let p = vec3(
+        &call(
+            "tip",
+            vec![
+                p3(20.0, 0.0, 0.0),
+                text("y"),
+                bare(90.0),
+                p3(10.0, 0.0, 0.0),
+            ],
+        )
+        .unwrap(),
+    );
+    assert!((p - DVec3::new(10.0, 0.0, -10.0)).length() < 1e-12, "{p}");
+    // Curves and lists of geometry.
+    let line = call("line_between", vec![p3(0.0, 0.0, 0.0), p3(0.0, 10.0, 0.0)]).unwrap();
+    let Data::List(out) = call(
+        "tip",
+        vec![
+            list(vec![data(line), p3(0.0, 5.0, 0.0)]),
+            text("x"),
+            deg(5.0),
+        ],
+    )
+    .unwrap() else {
+        panic!()
+    };
+    let c = curve3(out[0].data.clone());
+    let a = 5f64.to_radians();
+    assert!((c.end_point() - DVec3::new(0.0, 10.0 * a.cos(), 10.0 * a.sin())).length() < 1e-12);
+    let e = call("tip", vec![p3(0.0, 10.0, 0.0), text("z"), deg(5.0)]).unwrap_err();
+    assert_eq!(e.code, "die::bad_argument");
+    assert_eq!(e.primary.span, at(1));
+    let e = call("tip", vec![p3(0.0, 10.0, 0.0), text("w"), deg(5.0)]).unwrap_err();
+    assert_eq!(e.code, "die::bad_argument");
+    let e = call("tip", vec![mm(1.0), text("x"), deg(5.0)]).unwrap_err();
+    assert_eq!(e.code, "die::type_mismatch");
+}
+
+#[test]
+fn transforms_and_transform_values() {
+    let p = vec3(&call("translate", vec![p3(1.0, 2.0, 3.0), p3(10.0, 0.0, 0.0)]).unwrap());
+    assert_eq!(p, DVec3::new(11.0, 2.0, 3.0));
+    let p = vec3(&call("rotate", vec![p2(10.0, 0.0), text("z"), deg(90.0)]).unwrap());
+    assert!((p - DVec3::new(0.0, 10.0, 0.0)).length() < 1e-12);
+    let p = vec3(
+        &call(
+            "scale",
+            vec![p3(2.0, 0.0, 0.0), bare(3.0), p3(1.0, 0.0, 0.0)],
+        )
+        .unwrap(),
+    );
+    assert!((p - DVec3::new(4.0, 0.0, 0.0)).length() < 1e-12);
+    let t = call("rotation", vec![text("x"), deg(90.0)]).unwrap();
+    assert!(matches!(t, Data::Transform(_)));
+    let p = vec3(&call("transform_by", vec![p3(0.0, 1.0, 0.0), data(t)]).unwrap());
+    assert!((p - DVec3::Z).length() < 1e-12);
+    let e = call("transform_by", vec![p3(0.0, 1.0, 0.0), mm(1.0)]).unwrap_err();
+    assert_eq!(e.code, "die::type_mismatch");
+    assert_eq!(e.primary.span, at(1));
+}
+
+// ---- files ----------------------------------------------------------------------------
+
+const OBJ: &str = "\
+# a quad and a triangle in two groups
+v 0 0 0
+v 10 0 0
+v 10 10 0
+v 0 10 0
+v 20 0 1
+vn 0 0 1
+vn 0 0 1
+vn 0 0 1
+vn 0 0 1
+vn 0 0 1
+g panel
+f 1//1 2//2 3//3 4//4
+g flange
+f 2//2 5//5 3//3
+";
+
+fn project() -> std::path::PathBuf {
+    let root = Path::new(env!("CARGO_TARGET_TMPDIR")).join("builtins_read_obj");
+    std::fs::create_dir_all(root.join("parts")).unwrap();
+    std::fs::write(root.join("parts/fender.obj"), OBJ).unwrap();
+    std::fs::write(
+        Path::new(env!("CARGO_TARGET_TMPDIR")).join("outside.obj"),
+        OBJ,
+    )
+    .unwrap();
+    root
+}
+
+#[test]
+fn read_obj_keeps_quads_and_groups() {
+    let root = project();
+    let d = call_with(
+        "read_obj",
+        vec![Some(text("parts/fender.obj"))],
+        Some(&root),
+        Some(&root),
+    )
+    .unwrap();
+    let Data::Mesh(m) = &d else {
+        panic!("not a mesh")
+    };
+    assert_eq!(m.triangle_and_quad_counts(), (1, 1));
+    assert_eq!(m.group("panel").unwrap().faces().len(), 1);
+    assert_eq!(m.group("flange").unwrap().faces().len(), 1);
+    let (lo, hi) = m.bounding_box().unwrap();
+    assert_eq!((lo, hi), (DVec3::ZERO, DVec3::new(20.0, 10.0, 1.0)));
+    assert!(m.normals().is_some());
+
+    // bounds of the mesh
+    let Data::Record(r) = call("bounds", vec![data(d.clone())]).unwrap() else {
+        panic!()
+    };
+    assert_eq!(
+        vec3(&r.get("max").unwrap().data),
+        DVec3::new(20.0, 10.0, 1.0)
+    );
+
+    // Tipping the mesh moves vertices and turns normals.
+    let Data::Mesh(t) = call("tip", vec![data(d), text("x"), deg(90.0)]).unwrap() else {
+        panic!()
+    };
+    let n = t.normals().unwrap()[0];
+    assert!((n - DVec3::new(0.0, -1.0, 0.0)).length() < 1e-12, "{n}");
+    assert!((t.positions()[2] - DVec3::new(10.0, 0.0, 10.0)).length() < 1e-12);
+    assert_eq!(t.groups().len(), 2);
+
+    // Relative to the script's directory.
+    let parts = root.join("parts");
+    assert!(call_with(
+        "read_obj",
+        vec![Some(text("fender.obj"))],
+        Some(&parts),
+        Some(&root)
+    )
+    .is_ok());
+}
+
+#[test]
+fn read_obj_errors() {
+    let root = project();
+    let e = call_with(
+        "read_obj",
+        vec![Some(text("parts/missing.obj"))],
+        Some(&root),
+        Some(&root),
+    )
+    .unwrap_err();
+    assert_eq!(e.code, "die::file_not_found");
+    assert!(e.message.contains("missing.obj"), "{}", e.message);
+    assert!(
+        e.message.contains("builtins_read_obj"),
+        "resolved path expected: {}",
+        e.message
+    );
+    assert_eq!(e.primary.span, at(0));
+
+    let e = call_with(
+        "read_obj",
+        vec![Some(text("../outside.obj"))],
+        Some(&root),
+        Some(&root),
+    )
+    .unwrap_err();
+    assert_eq!(e.code, "die::path_escapes_root");
+    assert!(e.help.is_some());
+    let e = call_with(
+        "read_obj",
+        vec![Some(text("../nothing/there.obj"))],
+        Some(&root),
+        Some(&root),
+    )
+    .unwrap_err();
+    assert_eq!(e.code, "die::path_escapes_root");
+    let e = call_with("read_obj", vec![Some(text("parts/fender.obj"))], None, None).unwrap_err();
+    assert_eq!(e.code, "die::file_not_found");
+}
+
+#[test]
+fn queries() {
+    let line = call("line_between", vec![p3(0.0, 0.0, 0.0), p3(10.0, 0.0, 0.0)]).unwrap();
+    let m = vec3(&call("point_at", vec![data(line.clone()), ratio(0.5)]).unwrap());
+    assert_eq!(m, DVec3::new(5.0, 0.0, 0.0));
+    assert_eq!(
+        number(&call("length_of", vec![data(line.clone())]).unwrap()),
+        Quantity::length(10.0)
+    );
+    assert_eq!(
+        vec3(&call("end_point", vec![data(line.clone())]).unwrap()),
+        DVec3::new(10.0, 0.0, 0.0)
+    );
+    let e = call("point_at", vec![data(line), bare(50.0)]).unwrap_err();
+    assert_eq!(e.code, "die::bad_argument");
+    assert!(e.help.unwrap().contains("%"));
+
+    let circle = call("circle", vec![p3(0.0, 0.0, 0.0), mm(10.0)]).unwrap();
+    let Data::Record(r) = call("bounds", vec![data(circle)]).unwrap() else {
+        panic!()
+    };
+    let (lo, hi) = (
+        vec3(&r.get("min").unwrap().data),
+        vec3(&r.get("max").unwrap().data),
+    );
+    assert!((lo - DVec3::new(-10.0, -10.0, 0.0)).length() < 1e-2, "{lo}");
+    assert!((hi - DVec3::new(10.0, 10.0, 0.0)).length() < 1e-2, "{hi}");
+}

@@ -1,0 +1,61 @@
+//! Memoized evaluation: editing one declaration re-evaluates only it and what depends
+//! on it, counted by the engine.
+
+use dieface::eval::Engine;
+
+const SCRIPT: &str = r#"
+let width = 1100 mm
+let depth = 700 mm
+let half = width / 2
+fn corner(r) = r * 2
+let profile = sketch(top) {
+    from (-half, -depth / 2)
+    line to (half, -depth / 2)
+    fillet 60 mm
+    line to (half, depth / 2)
+    line to (-half, depth / 2)
+    close
+}
+let doubled = corner(depth)
+let unrelated = 3 deg + 4 deg
+"#;
+
+#[test]
+fn editing_one_declaration_reevaluates_only_it_and_its_dependents() {
+    let mut engine = Engine::new(None);
+    let first = engine.evaluate("memo.die", SCRIPT, None);
+    assert!(first.diagnostics.is_empty(), "{:?}", first.diagnostics);
+    assert_eq!(engine.evaluation_count(), 6, "cold run evaluates every declaration once");
+
+    // Unchanged text: nothing re-runs.
+    engine.evaluate("memo.die", SCRIPT, None);
+    assert_eq!(engine.evaluation_count(), 6);
+    assert!(engine.last_evaluated().is_empty());
+
+    // Edit `width`: it, `half` and `profile` re-run; `depth`, `doubled`, `unrelated` do not.
+    let edited = SCRIPT.replace("let width = 1100 mm", "let width = 1150 mm");
+    let out = engine.evaluate("memo.die", &edited, None);
+    assert!(out.diagnostics.is_empty());
+    let mut ran = engine.last_evaluated().to_vec();
+    ran.sort();
+    assert_eq!(ran, ["half", "profile", "width"]);
+    assert_eq!(engine.evaluation_count(), 9);
+
+    // Edit the function: only the declaration that calls it re-runs.
+    let edited2 = edited.replace("fn corner(r) = r * 2", "fn corner(r) = r * 3");
+    engine.evaluate("memo.die", &edited2, None);
+    assert_eq!(engine.last_evaluated(), ["doubled"]);
+}
+
+#[test]
+fn memoized_values_follow_their_declarations_when_text_above_moves() {
+    let mut engine = Engine::new(None);
+    engine.evaluate("move.die", "let a = 5 mm\nlet b = (1, 2, 3)\n", None);
+    // Insert a long comment above: no declaration re-runs, yet `b`'s span points at its
+    // new place.
+    let moved = "// a long comment that shifts everything below it\nlet a = 5 mm\nlet b = (1, 2, 3)\n";
+    let out = engine.evaluate("move.die", moved, None);
+    assert!(engine.last_evaluated().is_empty(), "{:?}", engine.last_evaluated());
+    let b = out.decls.iter().find(|d| d.name == "b").and_then(|d| d.value.clone()).expect("b has a value");
+    assert_eq!(&moved[b.span.range()], "(1, 2, 3)");
+}
