@@ -38,11 +38,19 @@ pub struct Diagnostic {
 
 impl Diagnostic {
     /// A diagnostic with its primary label.
-    pub fn new(code: &'static str, message: impl Into<String>, span: Span, label: impl Into<String>) -> Self {
+    pub fn new(
+        code: &'static str,
+        message: impl Into<String>,
+        span: Span,
+        label: impl Into<String>,
+    ) -> Self {
         Self {
             code,
             message: message.into(),
-            primary: Label { span, message: label.into() },
+            primary: Label {
+                span,
+                message: label.into(),
+            },
             secondary: Vec::new(),
             help: None,
         }
@@ -50,7 +58,10 @@ impl Diagnostic {
 
     /// Adds a secondary label.
     pub fn with_label(mut self, span: Span, message: impl Into<String>) -> Self {
-        self.secondary.push(Label { span, message: message.into() });
+        self.secondary.push(Label {
+            span,
+            message: message.into(),
+        });
         self
     }
 
@@ -101,17 +112,24 @@ impl Sources {
 
     /// The id of the file named `name`.
     pub fn find(&self, name: &str) -> Option<FileId> {
-        self.files.iter().position(|f| f.name == name).map(|i| FileId(i as u32))
+        self.files
+            .iter()
+            .position(|f| f.name == name)
+            .map(|i| FileId(i as u32))
     }
 
     /// The text a span covers (empty if out of range).
     pub fn slice(&self, span: Span) -> &str {
-        self.get(span.file).and_then(|f| f.text.get(span.range())).unwrap_or("")
+        self.get(span.file)
+            .and_then(|f| f.text.get(span.range()))
+            .unwrap_or("")
     }
 
     /// 1-based line and column of a span's start.
     pub fn line_col(&self, span: Span) -> (usize, usize) {
-        let Some(file) = self.get(span.file) else { return (0, 0) };
+        let Some(file) = self.get(span.file) else {
+            return (0, 0);
+        };
         let upto = &file.text[..(span.start as usize).min(file.text.len())];
         let line = upto.matches('\n').count() + 1;
         let col = upto.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
@@ -121,8 +139,14 @@ impl Sources {
     /// Renders `diag` as text, with colour or without (tests and pipes).
     pub fn render(&self, diag: &Diagnostic, color: bool) -> String {
         let report = Report::new(self, diag);
-        let theme = if color { GraphicalTheme::unicode() } else { GraphicalTheme::unicode_nocolor() };
-        let handler = GraphicalReportHandler::new_themed(theme).with_width(100).with_links(false);
+        let theme = if color {
+            GraphicalTheme::unicode()
+        } else {
+            GraphicalTheme::unicode_nocolor()
+        };
+        let handler = GraphicalReportHandler::new_themed(theme)
+            .with_width(100)
+            .with_links(false);
         let mut out = String::new();
         if handler.render_report(&mut out, &report).is_err() {
             out = format!("error[{}]: {}", diag.code, diag.message);
@@ -146,19 +170,30 @@ struct Report {
 impl Report {
     fn new(sources: &Sources, diag: &Diagnostic) -> Self {
         let file = diag.primary.span.file;
-        let (name, text) = sources.get(file).map_or(("<unknown>".to_string(), String::new()), |f| (f.name.clone(), f.text.clone()));
+        let (name, text) = sources
+            .get(file)
+            .map_or(("<unknown>".to_string(), String::new()), |f| {
+                (f.name.clone(), f.text.clone())
+            });
         let clamp = |s: Span| -> SourceSpan {
             let start = (s.start as usize).min(text.len());
             let end = (s.end as usize).clamp(start, text.len());
             (start, end - start).into()
         };
-        let mut labels = vec![LabeledSpan::new_primary_with_span(Some(diag.primary.message.clone()), clamp(diag.primary.span))];
+        let mut labels = vec![LabeledSpan::new_primary_with_span(
+            Some(diag.primary.message.clone()),
+            clamp(diag.primary.span),
+        )];
         let mut related = Vec::new();
         for l in &diag.secondary {
             if l.span.file == file {
-                labels.push(LabeledSpan::new_with_span(Some(l.message.clone()), clamp(l.span)));
+                labels.push(LabeledSpan::new_with_span(
+                    Some(l.message.clone()),
+                    clamp(l.span),
+                ));
             } else {
-                let other = Diagnostic::new(diag.code, l.message.clone(), l.span, l.message.clone());
+                let other =
+                    Diagnostic::new(diag.code, l.message.clone(), l.span, l.message.clone());
                 related.push(Report::new(sources, &other));
             }
         }
@@ -186,7 +221,9 @@ impl miette::Diagnostic for Report {
         Some(Box::new(self.code))
     }
     fn help<'a>(&'a self) -> Option<Box<dyn fmt::Display + 'a>> {
-        self.help.as_ref().map(|h| Box::new(h) as Box<dyn fmt::Display>)
+        self.help
+            .as_ref()
+            .map(|h| Box::new(h) as Box<dyn fmt::Display>)
     }
     fn source_code(&self) -> Option<&dyn miette::SourceCode> {
         Some(&self.source)
@@ -198,14 +235,19 @@ impl miette::Diagnostic for Report {
         if self.related.is_empty() {
             None
         } else {
-            Some(Box::new(self.related.iter().map(|r| r as &dyn miette::Diagnostic)))
+            Some(Box::new(
+                self.related.iter().map(|r| r as &dyn miette::Diagnostic),
+            ))
         }
     }
 }
 
 /// The candidate closest to `name` by edit distance, if close enough to be a likely
 /// typo: used for "did you mean" on unknown names, arguments and kinds.
-pub fn did_you_mean<'a>(name: &str, candidates: impl IntoIterator<Item = &'a str>) -> Option<&'a str> {
+pub fn did_you_mean<'a>(
+    name: &str,
+    candidates: impl IntoIterator<Item = &'a str>,
+) -> Option<&'a str> {
     // One- and two-letter names are too short for a typo to be told from another name.
     let len = name.chars().count();
     if len <= 2 {

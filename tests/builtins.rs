@@ -1,5 +1,7 @@
 //! Builtins called directly through a hand-built `Call`, without the evaluator.
 
+#![allow(clippy::result_large_err)] // Diagnostic is large by design, as in the library
+
 use std::f64::consts::PI;
 use std::path::Path;
 use std::sync::Arc;
@@ -879,4 +881,105 @@ fn queries() {
     );
     assert!((lo - DVec3::new(-10.0, -10.0, 0.0)).length() < 1e-2, "{lo}");
     assert!((hi - DVec3::new(10.0, 10.0, 0.0)).length() < 1e-2, "{hi}");
+}
+
+// ---- robustness -----------------------------------------------------------------------
+
+#[test]
+fn no_builtin_panics_on_odd_arguments() {
+    let line = call("line_between", vec![p3(0.0, 0.0, 0.0), p3(10.0, 0.0, 0.0)]).unwrap();
+    let line2 = call("line_between", vec![p2(0.0, 0.0), p2(10.0, 0.0)]).unwrap();
+    let quad = call(
+        "ruled",
+        vec![
+            data(line.clone()),
+            data(call("line_between", vec![p3(0.0, 5.0, 0.0), p3(10.0, 5.0, 1.0)]).unwrap()),
+        ],
+    )
+    .unwrap();
+    let samples = vec![
+        bare(0.0),
+        bare(1.0),
+        bare(3.0),
+        bare(-2.5),
+        bare(1e308),
+        bare(-1e308),
+        bare(f64::NAN),
+        bare(f64::INFINITY),
+        mm(0.0),
+        mm(5.0),
+        mm(-1e300),
+        deg(90.0),
+        deg(720.0),
+        ratio(0.5),
+        ratio(2.0),
+        text("x"),
+        text("z"),
+        text(""),
+        text("../../etc/passwd"),
+        p2(0.0, 0.0),
+        p2(1e308, -1e308),
+        p3(0.0, 0.0, 0.0),
+        p3(1.0, 2.0, 3.0),
+        p3(f64::NAN, 0.0, 0.0),
+        tuple(vec![bare(3.0), bare(3.0)]),
+        tuple(vec![]),
+        list(vec![]),
+        list(vec![
+            p3(0.0, 0.0, 0.0),
+            p3(1.0, 0.0, 0.0),
+            p3(2.0, 1.0, 0.0),
+            p3(3.0, 0.0, 1.0),
+        ]),
+        list(vec![p2(0.0, 0.0), p2(0.0, 0.0), p2(1.0, 1.0)]),
+        list(vec![
+            list(vec![p3(0.0, 0.0, 0.0), p3(0.0, 1.0, 0.0)]),
+            list(vec![p3(1.0, 0.0, 0.0)]),
+        ]),
+        list(vec![bare(0.0), bare(0.0), bare(1.0), bare(1.0)]),
+        list(vec![data(line.clone()), data(line.clone())]),
+        list(vec![data(line.clone()), mm(1.0)]),
+        data(line),
+        data(line2),
+        data(quad),
+        Value::new(Data::Bool(true), CALL),
+    ];
+    let echo =
+        |_: &Value, args: Vec<Value>, _: Span| -> Result<Value, Diagnostic> { Ok(args[0].clone()) };
+    let mut state = 0x2545_F491_4F6C_DD1Du64;
+    let mut next = move |n: usize| {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state % n as u64) as usize
+    };
+    let root = project();
+    for name in dieface::eval::builtins::names() {
+        let builtin = lookup(name).unwrap();
+        for _ in 0..400 {
+            let args = builtin
+                .params
+                .iter()
+                .enumerate()
+                .map(|(i, p)| {
+                    if !p.required && next(3) == 0 {
+                        None
+                    } else {
+                        Some(Value::new(samples[next(samples.len())].data.clone(), at(i)))
+                    }
+                })
+                .collect();
+            let c = Call {
+                builtin,
+                span: CALL,
+                decl: Some("x"),
+                units: Units::default(),
+                args,
+                dir: Some(&root),
+                root: Some(&root),
+                apply: &echo,
+            };
+            let _ = (builtin.run)(&c);
+        }
+    }
 }

@@ -17,7 +17,9 @@ fn examples() -> Vec<PathBuf> {
 }
 
 fn collect(dir: &Path, out: &mut Vec<PathBuf>) {
-    let Ok(entries) = std::fs::read_dir(dir) else { return };
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
     for e in entries.flatten() {
         let p = e.path();
         if p.is_dir() {
@@ -29,8 +31,13 @@ fn collect(dir: &Path, out: &mut Vec<PathBuf>) {
 }
 
 fn snapshot_name(path: &Path) -> String {
-    let rel = path.strip_prefix(Path::new(env!("CARGO_MANIFEST_DIR")).join("examples")).expect("under examples/");
-    rel.with_extension("").display().to_string().replace(['/', '\\'], "__")
+    let rel = path
+        .strip_prefix(Path::new(env!("CARGO_MANIFEST_DIR")).join("examples"))
+        .expect("under examples/");
+    rel.with_extension("")
+        .display()
+        .to_string()
+        .replace(['/', '\\'], "__")
 }
 
 #[test]
@@ -39,8 +46,12 @@ fn every_example_has_an_ast_snapshot() {
     assert!(files.len() >= 3, "examples/ holds the example scripts");
     for path in files {
         let text = std::fs::read_to_string(&path).expect("readable example");
-        let ast = parse(&text, FileId(0)).unwrap_or_else(|d| panic!("{} does not parse: {}", path.display(), d.message));
-        insta::assert_snapshot!(format!("ast__{}", snapshot_name(&path)), print_ast(&ast, &text));
+        let ast = parse(&text, FileId(0))
+            .unwrap_or_else(|d| panic!("{} does not parse: {}", path.display(), d.message));
+        insta::assert_snapshot!(
+            format!("ast__{}", snapshot_name(&path)),
+            print_ast(&ast, &text)
+        );
     }
 }
 
@@ -50,16 +61,33 @@ fn every_example_evaluates_cleanly_and_has_a_summary_snapshot() {
     for path in examples() {
         let mut engine = Engine::new(Some(root.clone()));
         let outcome = engine.evaluate_path(&path).expect("readable example");
-        let rendered: Vec<String> = outcome.diagnostics.iter().map(|d| engine.sources.render(d, false)).collect();
-        assert!(rendered.is_empty(), "{} has problems:\n{}", path.display(), rendered.join("\n"));
+        let rendered: Vec<String> = outcome
+            .diagnostics
+            .iter()
+            .map(|d| engine.sources.render(d, false))
+            .collect();
+        assert!(
+            rendered.is_empty(),
+            "{} has problems:\n{}",
+            path.display(),
+            rendered.join("\n")
+        );
         let summary: Vec<String> = outcome
             .decls
             .iter()
             .map(|d| {
                 let (line, _) = engine.sources.line_col(d.span);
-                format!("{} {} (line {line}): {}", d.kind, d.name, describe(d.value.as_ref()))
+                format!(
+                    "{} {} (line {line}): {}",
+                    d.kind,
+                    d.name,
+                    describe(d.value.as_ref())
+                )
             })
             .collect();
-        insta::assert_snapshot!(format!("eval__{}", snapshot_name(&path)), summary.join("\n"));
+        insta::assert_snapshot!(
+            format!("eval__{}", snapshot_name(&path)),
+            summary.join("\n")
+        );
     }
 }

@@ -25,7 +25,11 @@ fn editing_one_declaration_reevaluates_only_it_and_its_dependents() {
     let mut engine = Engine::new(None);
     let first = engine.evaluate("memo.die", SCRIPT, None);
     assert!(first.diagnostics.is_empty(), "{:?}", first.diagnostics);
-    assert_eq!(engine.evaluation_count(), 6, "cold run evaluates every declaration once");
+    assert_eq!(
+        engine.evaluation_count(),
+        6,
+        "cold run evaluates every declaration once"
+    );
 
     // Unchanged text: nothing re-runs.
     engine.evaluate("memo.die", SCRIPT, None);
@@ -53,9 +57,44 @@ fn memoized_values_follow_their_declarations_when_text_above_moves() {
     engine.evaluate("move.die", "let a = 5 mm\nlet b = (1, 2, 3)\n", None);
     // Insert a long comment above: no declaration re-runs, yet `b`'s span points at its
     // new place.
-    let moved = "// a long comment that shifts everything below it\nlet a = 5 mm\nlet b = (1, 2, 3)\n";
+    let moved =
+        "// a long comment that shifts everything below it\nlet a = 5 mm\nlet b = (1, 2, 3)\n";
     let out = engine.evaluate("move.die", moved, None);
-    assert!(engine.last_evaluated().is_empty(), "{:?}", engine.last_evaluated());
-    let b = out.decls.iter().find(|d| d.name == "b").and_then(|d| d.value.clone()).expect("b has a value");
+    assert!(
+        engine.last_evaluated().is_empty(),
+        "{:?}",
+        engine.last_evaluated()
+    );
+    let b = out
+        .decls
+        .iter()
+        .find(|d| d.name == "b")
+        .and_then(|d| d.value.clone())
+        .expect("b has a value");
     assert_eq!(&moved[b.span.range()], "(1, 2, 3)");
+}
+
+/// The fender example: changing the crown height re-evaluates the height function's
+/// users (the control net and the product) and nothing else.
+#[test]
+fn editing_the_fender_example_reevaluates_only_the_dependents() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/fender");
+    let text = std::fs::read_to_string(dir.join("fender.die")).expect("the example exists");
+    let mut engine = Engine::new(Some(dir.clone()));
+    let cold = engine.evaluate("fender.die", &text, Some(dir.clone()));
+    assert!(cold.diagnostics.is_empty());
+    let after_cold = engine.evaluation_count();
+    assert!(
+        after_cold >= 14,
+        "cold run evaluates every declaration (and the imported modules')"
+    );
+
+    let edited = text.replace("let crown = 48 mm", "let crown = 52 mm");
+    assert_ne!(edited, text, "the example declares `crown`");
+    let warm = engine.evaluate("fender.die", &edited, Some(dir));
+    assert!(warm.diagnostics.is_empty());
+    let mut ran = engine.last_evaluated().to_vec();
+    ran.sort();
+    assert_eq!(ran, ["crown", "fender", "net"]);
+    assert_eq!(engine.evaluation_count(), after_cold + 3);
 }

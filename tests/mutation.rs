@@ -54,7 +54,14 @@ fn tokens(text: &str) -> Vec<String> {
     for c in text.chars() {
         let word = c.is_alphanumeric() || c == '_' || c == '.';
         match out.last_mut() {
-            Some(last) if word && last.chars().all(|d| d.is_alphanumeric() || d == '_' || d == '.') => last.push(c),
+            Some(last)
+                if word
+                    && last
+                        .chars()
+                        .all(|d| d.is_alphanumeric() || d == '_' || d == '.') =>
+            {
+                last.push(c)
+            }
             _ => out.push(c.to_string()),
         }
     }
@@ -82,7 +89,10 @@ fn mutate(text: &str, rng: &mut Rng) -> String {
                 t.swap(i, j);
             }
             3 => {
-                let bytes = ["(", ")", "{", "}", "[", "]", "\"", "/*", "mm", "deg", "|>", ",", "0", "-1e308", "é", "\u{0}"];
+                let bytes = [
+                    "(", ")", "{", "}", "[", "]", "\"", "/*", "mm", "deg", "|>", ",", "0",
+                    "-1e308", "é", "\u{0}",
+                ];
                 t.insert(i, bytes[rng.below(bytes.len())].to_string());
             }
             4 => {
@@ -114,7 +124,11 @@ fn mutated_scripts_never_panic() {
                 let mut engine = Engine::new(root.clone());
                 engine.evaluate("mutant.die", &mutant, root.clone())
             }));
-            assert!(result.is_ok(), "panic on a mutant of {}:\n{mutant}", path.display());
+            assert!(
+                result.is_ok(),
+                "panic on a mutant of {}:\n{mutant}",
+                path.display()
+            );
             evaluated += 1;
         }
     }
@@ -138,6 +152,10 @@ fn the_check_binary_exits_0_or_1_on_mutants() {
             .output()
             .expect("run dieface");
         let code = status.status.code();
-        assert!(matches!(code, Some(0) | Some(1)), "exit {code:?} on a mutant of {}:\n{mutant}", path.display());
+        assert!(
+            matches!(code, Some(0) | Some(1)),
+            "exit {code:?} on a mutant of {}:\n{mutant}",
+            path.display()
+        );
     }
 }

@@ -1,5 +1,7 @@
 //! Sketches: the drawing commands turned into exact NURBS profiles.
 
+#![allow(clippy::result_large_err)] // Diagnostic is large by design, as in the library
+
 use std::f64::consts::PI;
 
 use dieface::eval::sketch::{build, Command, Sketch, View};
@@ -595,4 +597,59 @@ fn other_degenerate_input() {
         LineTo(p(0.0, 0.0)),
     ]);
     assert!(e.message.contains("double back"), "{}", e.message);
+}
+
+struct Rng(u64);
+
+impl Rng {
+    fn below(&mut self, n: usize) -> usize {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        (self.0 % n as u64) as usize
+    }
+}
+
+#[test]
+fn random_command_sequences_never_panic() {
+    use Command::*;
+    let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
+    let coords = [0.0, 10.0, -10.0, 5.0, 1e-12, 1e300, f64::NAN];
+    let pt = |rng: &mut Rng| p(coords[rng.below(5)], coords[rng.below(coords.len())]);
+    let mut ok = 0;
+    for _ in 0..5000 {
+        let n = 1 + rng.below(8);
+        let mut cmds = vec![From(pt(&mut rng))];
+        for _ in 0..n {
+            let c = match rng.below(8) {
+                0 | 1 => LineTo(pt(&mut rng)),
+                2 => ArcThrough {
+                    to: pt(&mut rng),
+                    through: pt(&mut rng),
+                },
+                3 => TangentArcTo(pt(&mut rng)),
+                4 => {
+                    let k = rng.below(4);
+                    Spline {
+                        through: (0..k).map(|_| pt(&mut rng)).collect(),
+                        tangent: rng.below(2) == 0,
+                    }
+                }
+                5 | 6 => Fillet([0.0, 1.0, 3.0, 100.0, -1.0][rng.below(5)]),
+                _ => Close,
+            };
+            cmds.push(c);
+        }
+        if rng.below(10) == 0 {
+            cmds.remove(0);
+        }
+        if let Ok(s) = draw(View::Top, cmds) {
+            ok += 1;
+            assert_eq!(s.curve.domain(), (0.0, s.segments.len() as f64));
+            if s.closed {
+                assert!(s.curve.start_point().distance(s.curve.end_point()) < 1e-6);
+            }
+        }
+    }
+    assert!(ok > 100, "only {ok} sketches built");
 }

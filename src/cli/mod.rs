@@ -68,7 +68,9 @@ fn check(file: &Path, root: Option<&Path>, color: ColorChoice) -> ExitCode {
         ColorChoice::Always => true,
         ColorChoice::Never => false,
     };
-    let root = root.map(Path::to_path_buf).unwrap_or_else(|| script_dir(file));
+    let root = root
+        .map(Path::to_path_buf)
+        .unwrap_or_else(|| script_dir(file));
     if !file.is_file() {
         eprintln!("error: cannot read `{}`: no such file", file.display());
         return ExitCode::from(2);
@@ -86,7 +88,11 @@ fn check(file: &Path, root: Option<&Path>, color: ColorChoice) -> ExitCode {
     }
     let evaluated = outcome.decls.iter().filter(|d| d.value.is_some()).count();
     if outcome.diagnostics.is_empty() {
-        println!("{}: {} declarations, no problems", file.display(), outcome.decls.len());
+        println!(
+            "{}: {} declarations, no problems",
+            file.display(),
+            outcome.decls.len()
+        );
         ExitCode::SUCCESS
     } else {
         let n = outcome.diagnostics.len();

@@ -47,8 +47,15 @@ pub fn free_names(e: &Expr, bound: &mut Vec<String>, out: &mut BTreeSet<String>)
                 out.insert(n.clone());
             }
         }
-        ExprKind::List(items) | ExprKind::Tuple(items) => items.iter().for_each(|i| free_names(i, bound, out)),
-        ExprKind::Comprehension { body, var, iter, cond } => {
+        ExprKind::List(items) | ExprKind::Tuple(items) => {
+            items.iter().for_each(|i| free_names(i, bound, out))
+        }
+        ExprKind::Comprehension {
+            body,
+            var,
+            iter,
+            cond,
+        } => {
             free_names(iter, bound, out);
             bound.push(var.node.clone());
             free_names(body, bound, out);
@@ -76,7 +83,11 @@ pub fn free_names(e: &Expr, bound: &mut Vec<String>, out: &mut BTreeSet<String>)
             free_names(lhs, bound, out);
             free_names(rhs, bound, out);
         }
-        ExprKind::If { cond, then, otherwise } => {
+        ExprKind::If {
+            cond,
+            then,
+            otherwise,
+        } => {
             free_names(cond, bound, out);
             free_names(then, bound, out);
             free_names(otherwise, bound, out);

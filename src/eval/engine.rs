@@ -15,7 +15,7 @@
 use std::collections::hash_map::DefaultHasher;
 use std::collections::{BTreeSet, HashMap, HashSet};
 use std::hash::{Hash, Hasher};
-use std::path::{Component, Path, PathBuf};
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use crate::diag::{did_you_mean, Diagnostic, Sources};
@@ -24,6 +24,7 @@ use crate::syntax::{parse, FileId, Span};
 
 use super::deps::{free_names_of_body, free_names_of_function};
 use super::expr::{Ctx, Locals, World};
+use super::paths::resolve_in_root;
 use super::stdlib;
 use super::units::{self, Units};
 use super::value::{Closure, Data, Module, Record, Value};
@@ -102,7 +103,10 @@ impl World for Engine {
         self.files.get(&file).map(|f| &f.globals)
     }
     fn paths(&self, file: FileId) -> (Option<&Path>, Option<&Path>) {
-        (self.files.get(&file).and_then(|f| f.dir.as_deref()), self.root.as_deref())
+        (
+            self.files.get(&file).and_then(|f| f.dir.as_deref()),
+            self.root.as_deref(),
+        )
     }
 }
 
@@ -140,15 +144,31 @@ impl Engine {
         let (file, decls) = self.load(name, text, dir, &mut stack, &mut diagnostics, true);
         // Report in reading order: the script's own problems by position, then those in
         // imported files.
-        diagnostics.sort_by_key(|d| (d.primary.span.file != file, d.primary.span.file, d.primary.span.start));
-        Outcome { file, decls, diagnostics }
+        diagnostics.sort_by_key(|d| {
+            (
+                d.primary.span.file != file,
+                d.primary.span.file,
+                d.primary.span.start,
+            )
+        });
+        Outcome {
+            file,
+            decls,
+            diagnostics,
+        }
     }
 
     /// Evaluates the script at `path` (read from disk).
     pub fn evaluate_path(&mut self, path: &Path) -> std::io::Result<Outcome> {
         let text = std::fs::read_to_string(path)?;
         let name = self.display_name(path);
-        let dir = path.parent().map(|p| if p.as_os_str().is_empty() { PathBuf::from(".") } else { p.to_path_buf() });
+        let dir = path.parent().map(|p| {
+            if p.as_os_str().is_empty() {
+                PathBuf::from(".")
+            } else {
+                p.to_path_buf()
+            }
+        });
         let dir = dir.and_then(|d| d.canonicalize().ok());
         Ok(self.evaluate(&name, &text, dir))
     }
@@ -157,7 +177,10 @@ impl Engine {
     fn display_name(&self, path: &Path) -> String {
         let canonical = path.canonicalize().unwrap_or_else(|_| path.to_path_buf());
         match &self.root {
-            Some(root) => canonical.strip_prefix(root).map(|p| p.display().to_string()).unwrap_or_else(|_| path.display().to_string()),
+            Some(root) => canonical
+                .strip_prefix(root)
+                .map(|p| p.display().to_string())
+                .unwrap_or_else(|_| path.display().to_string()),
             None => path.display().to_string(),
         }
     }
@@ -173,7 +196,11 @@ impl Engine {
         main: bool,
     ) -> (FileId, Vec<DeclResult>) {
         let file = self.sources.add(name, text);
-        let state = FileState { dir: dir.clone(), globals: Globals::default(), module_hash: hash_of(&text) };
+        let state = FileState {
+            dir: dir.clone(),
+            globals: Globals::default(),
+            module_hash: hash_of(&text),
+        };
         self.files.insert(file, state);
         let ast = match parse(text, file) {
             Ok(a) => a,
@@ -220,7 +247,8 @@ impl Engine {
             st.globals.names = items.names.clone();
         }
 
-        let results = self.evaluate_decls(file, text, &items, &import_hashes, units, diagnostics, main);
+        let results =
+            self.evaluate_decls(file, text, &items, &import_hashes, units, diagnostics, main);
         (file, results)
     }
 
@@ -231,9 +259,14 @@ impl Engine {
         let mut declare = |name: &ast::Ident, diagnostics: &mut Vec<Diagnostic>| -> bool {
             if let Some(prev) = seen.get(&name.node) {
                 diagnostics.push(
-                    Diagnostic::new("die::duplicate_name", format!("`{}` is declared twice", name.node), name.span, "declared again here")
-                        .with_label(*prev, "first declared here")
-                        .with_help("every top-level name must be unique; rename one of them"),
+                    Diagnostic::new(
+                        "die::duplicate_name",
+                        format!("`{}` is declared twice", name.node),
+                        name.span,
+                        "declared again here",
+                    )
+                    .with_label(*prev, "first declared here")
+                    .with_help("every top-level name must be unique; rename one of them"),
                 );
                 false
             } else {
@@ -271,9 +304,14 @@ impl Engine {
         let mut u = Units::default();
         if let Some(extra) = items.units.get(1) {
             diagnostics.push(
-                Diagnostic::new("die::duplicate_units", "a file has one `units` directive", extra.span, "second directive")
-                    .with_label(items.units[0].span, "first one")
-                    .with_help("name both units in one directive, e.g. `units cm rad`"),
+                Diagnostic::new(
+                    "die::duplicate_units",
+                    "a file has one `units` directive",
+                    extra.span,
+                    "second directive",
+                )
+                .with_label(items.units[0].span, "first one")
+                .with_help("name both units in one directive, e.g. `units cm rad`"),
             );
         }
         if let Some(directive) = items.units.first() {
@@ -289,7 +327,9 @@ impl Engine {
                             unit.span,
                             "not a length or angle unit",
                         )
-                        .with_help("default units are a length (mm, cm, m, in) and/or an angle (deg, rad)"),
+                        .with_help(
+                            "default units are a length (mm, cm, m, in) and/or an angle (deg, rad)",
+                        ),
                     ),
                 }
             }
@@ -310,10 +350,21 @@ impl Engine {
             match stdlib::get(rest) {
                 Some(text) => (format!("std/{rest}"), text.to_string(), None),
                 None => {
-                    let d = Diagnostic::new("die::import_not_found", format!("the standard library has no module `{path}`"), imp.path.span, "no such module");
+                    let d = Diagnostic::new(
+                        "die::import_not_found",
+                        format!("the standard library has no module `{path}`"),
+                        imp.path.span,
+                        "no such module",
+                    );
                     let d = match did_you_mean(rest, stdlib::names()) {
                         Some(s) => d.with_help(format!("did you mean `std/{s}`?")),
-                        None => d.with_help(format!("standard modules: {}", stdlib::names().map(|n| format!("std/{n}")).collect::<Vec<_>>().join(", "))),
+                        None => d.with_help(format!(
+                            "standard modules: {}",
+                            stdlib::names()
+                                .map(|n| format!("std/{n}"))
+                                .collect::<Vec<_>>()
+                                .join(", ")
+                        )),
                     };
                     diagnostics.push(d);
                     return None;
@@ -334,7 +385,10 @@ impl Engine {
         };
         if let Some(existing) = self.sources.find(&name) {
             if let Some(pos) = stack.iter().position(|f| *f == existing) {
-                let chain: Vec<String> = stack[pos..].iter().filter_map(|f| self.sources.get(*f).map(|s| s.name.clone())).collect();
+                let chain: Vec<String> = stack[pos..]
+                    .iter()
+                    .filter_map(|f| self.sources.get(*f).map(|s| s.name.clone()))
+                    .collect();
                 diagnostics.push(
                     Diagnostic::new("die::import_cycle", format!("`{name}` imports itself through {}", chain.join(" -> ")), imp.path.span, "this import closes the cycle")
                         .with_help("modules cannot import each other in a circle; move what both need into a third module"),
@@ -344,16 +398,49 @@ impl Engine {
         }
         let (file, _) = self.load(&name, &text, mdir, stack, diagnostics, false);
         let st = self.files.get(&file)?;
-        let mut members: Vec<(String, Value)> = st.globals.decls.iter().map(|(k, v)| (k.clone(), v.clone())).collect();
-        members.extend(st.globals.functions.iter().map(|(k, c)| (k.clone(), Value::new(Data::Function(c.clone()), imp.span))));
+        let mut members: Vec<(String, Value)> = st
+            .globals
+            .decls
+            .iter()
+            .map(|(k, v)| (k.clone(), v.clone()))
+            .collect();
+        members.extend(
+            st.globals
+                .functions
+                .iter()
+                .map(|(k, c)| (k.clone(), Value::new(Data::Function(c.clone()), imp.span))),
+        );
         members.sort_by(|a, b| a.0.cmp(&b.0));
-        let module = Module { path: path.to_string(), file, members };
-        Some((Value::new(Data::Module(Arc::new(module)), imp.span), st.module_hash))
+        let module = Module {
+            path: path.to_string(),
+            file,
+            members,
+        };
+        Some((
+            Value::new(Data::Module(Arc::new(module)), imp.span),
+            st.module_hash,
+        ))
     }
 
-    /// Resolves a relative path against `dir`, refusing paths outside the root.
-    fn resolve_file(&self, path: &str, dir: Option<&Path>, span: Span) -> Result<(PathBuf, String), Diagnostic> {
-        resolve_in_root(path, dir, self.root.as_deref(), span)
+    /// Resolves a relative path against `dir`, refusing paths outside the root, and
+    /// reads the file.
+    fn resolve_file(
+        &self,
+        path: &str,
+        dir: Option<&Path>,
+        span: Span,
+    ) -> Result<(PathBuf, String), Diagnostic> {
+        let full = resolve_in_root(path, dir, self.root.as_deref(), span)?;
+        let text = std::fs::read_to_string(&full).map_err(|e| {
+            Diagnostic::new(
+                "die::file_not_found",
+                format!("cannot read `{path}`: {e}"),
+                span,
+                "this file",
+            )
+            .with_help("check the file's permissions and that it is UTF-8 text")
+        })?;
+        Ok((full, text))
     }
 
     /// Evaluates a file's declarations in dependency order, with the memo.
@@ -369,19 +456,32 @@ impl Engine {
         main: bool,
     ) -> Vec<DeclResult> {
         let decl_names: HashSet<&str> = items.decls.iter().map(|d| d.name.node.as_str()).collect();
-        let fn_names: HashSet<&str> = items.functions.iter().map(|f| f.name.node.as_str()).collect();
+        let fn_names: HashSet<&str> = items
+            .functions
+            .iter()
+            .map(|f| f.name.node.as_str())
+            .collect();
 
         // What each function uses, closed over the functions it calls.
         let mut fn_uses: HashMap<&str, BTreeSet<String>> = items
             .functions
             .iter()
-            .map(|f| (f.name.node.as_str(), free_names_of_function(&f.params, &f.body)))
+            .map(|f| {
+                (
+                    f.name.node.as_str(),
+                    free_names_of_function(&f.params, &f.body),
+                )
+            })
             .collect();
         loop {
             let mut changed = false;
             let snapshot = fn_uses.clone();
             for uses in fn_uses.values_mut() {
-                let called: Vec<String> = uses.iter().filter(|n| fn_names.contains(n.as_str())).cloned().collect();
+                let called: Vec<String> = uses
+                    .iter()
+                    .filter(|n| fn_names.contains(n.as_str()))
+                    .cloned()
+                    .collect();
                 for c in called {
                     if let Some(more) = snapshot.get(c.as_str()) {
                         for m in more {
@@ -400,7 +500,11 @@ impl Engine {
             .iter()
             .map(|d| {
                 let mut u = free_names_of_body(&d.body);
-                let via: Vec<String> = u.iter().filter(|n| fn_names.contains(n.as_str())).cloned().collect();
+                let via: Vec<String> = u
+                    .iter()
+                    .filter(|n| fn_names.contains(n.as_str()))
+                    .cloned()
+                    .collect();
                 for f in via {
                     if let Some(more) = fn_uses.get(f.as_str()) {
                         u.extend(more.iter().cloned());
@@ -411,21 +515,44 @@ impl Engine {
             .collect();
         let deps = |name: &str| -> Vec<&str> {
             uses.get(name).map_or_else(Vec::new, |u| {
-                u.iter().filter(|n| decl_names.contains(n.as_str()) && n.as_str() != name).map(|n| n.as_str()).collect()
+                u.iter()
+                    .filter(|n| decl_names.contains(n.as_str()) && n.as_str() != name)
+                    .map(|n| n.as_str())
+                    .collect()
             })
         };
 
         // Cycles, and the evaluation order (depth-first post-order, source order first).
-        let index: HashMap<&str, usize> = items.decls.iter().enumerate().map(|(i, d)| (d.name.node.as_str(), i)).collect();
+        let index: HashMap<&str, usize> = items
+            .decls
+            .iter()
+            .enumerate()
+            .map(|(i, d)| (d.name.node.as_str(), i))
+            .collect();
         let mut order = Vec::new();
         let mut state = vec![0u8; items.decls.len()]; // 0 new, 1 on stack, 2 done
         let mut in_cycle: HashSet<usize> = HashSet::new();
         for start in 0..items.decls.len() {
-            visit(start, &items.decls, &index, &deps, &mut state, &mut Vec::new(), &mut order, &mut in_cycle, &self.sources, diagnostics);
+            visit(
+                start,
+                &items.decls,
+                &index,
+                &deps,
+                &mut state,
+                &mut Vec::new(),
+                &mut order,
+                &mut in_cycle,
+                &self.sources,
+                diagnostics,
+            );
         }
         // A self-reference (`let a = a + 1`) is a cycle of one.
         for (i, d) in items.decls.iter().enumerate() {
-            if uses.get(d.name.node.as_str()).is_some_and(|u| u.contains(&d.name.node)) && !in_cycle.contains(&i) {
+            if uses
+                .get(d.name.node.as_str())
+                .is_some_and(|u| u.contains(&d.name.node))
+                && !in_cycle.contains(&i)
+            {
                 in_cycle.insert(i);
                 diagnostics.push(
                     Diagnostic::new("die::cycle", format!("`{}` is defined in terms of itself", d.name.node), d.name.span, "this declaration")
@@ -439,10 +566,18 @@ impl Engine {
             .decls
             .iter()
             .map(|d| (d.name.node.clone(), (d.span.start, d.span.end)))
-            .chain(items.functions.iter().map(|f| (f.name.node.clone(), (f.span.start, f.span.end))))
+            .chain(
+                items
+                    .functions
+                    .iter()
+                    .map(|f| (f.name.node.clone(), (f.span.start, f.span.end))),
+            )
             .collect();
-        let fn_text: HashMap<&str, &str> =
-            items.functions.iter().map(|f| (f.name.node.as_str(), &text[f.span.range()])).collect();
+        let fn_text: HashMap<&str, &str> = items
+            .functions
+            .iter()
+            .map(|f| (f.name.node.as_str(), &text[f.span.range()]))
+            .collect();
 
         let mut hashes: HashMap<String, u64> = HashMap::new();
         let mut failed: HashSet<String> = HashSet::new();
@@ -476,7 +611,12 @@ impl Engine {
             let key = (file, name.clone());
             if let Some(entry) = self.memo.get(&key).filter(|e| e.hash == h) {
                 let value = remap(&entry.value, &entry.layout, &layout, file);
-                self.files.get_mut(&file).expect("loaded").globals.decls.insert(name, value);
+                self.files
+                    .get_mut(&file)
+                    .expect("loaded")
+                    .globals
+                    .decls
+                    .insert(name, value);
                 continue;
             }
             let result = self.evaluate_decl(file, d);
@@ -484,14 +624,29 @@ impl Engine {
             self.last_evaluated.push(if main {
                 name.clone()
             } else {
-                format!("{}:{name}", self.sources.get(file).map_or("", |f| f.name.as_str()))
+                format!(
+                    "{}:{name}",
+                    self.sources.get(file).map_or("", |f| f.name.as_str())
+                )
             });
             match result {
                 Ok(value) => {
                     if !contains_function(&value) {
-                        self.memo.insert(key, MemoEntry { hash: h, value: value.clone(), layout: layout.clone() });
+                        self.memo.insert(
+                            key,
+                            MemoEntry {
+                                hash: h,
+                                value: value.clone(),
+                                layout: layout.clone(),
+                            },
+                        );
                     }
-                    self.files.get_mut(&file).expect("loaded").globals.decls.insert(name, value);
+                    self.files
+                        .get_mut(&file)
+                        .expect("loaded")
+                        .globals
+                        .decls
+                        .insert(name, value);
                 }
                 Err(diag) => {
                     diagnostics.push(diag);
@@ -507,7 +662,10 @@ impl Engine {
                 kind: d.kind.node.clone(),
                 name: d.name.node.clone(),
                 span: d.span,
-                value: self.files.get(&file).and_then(|f| f.globals.decls.get(&d.name.node).cloned()),
+                value: self
+                    .files
+                    .get(&file)
+                    .and_then(|f| f.globals.decls.get(&d.name.node).cloned()),
             })
             .collect()
     }
@@ -531,10 +689,18 @@ impl Engine {
             );
             return Err(match did_you_mean(kind, KINDS.iter().copied()) {
                 Some(s) => diag.with_help(format!("did you mean `{s}`?")),
-                None => diag.with_help(format!("declarations start with one of: {}", KINDS.join(", "))),
+                None => diag.with_help(format!(
+                    "declarations start with one of: {}",
+                    KINDS.join(", ")
+                )),
             });
         }
-        let ctx = Ctx { world: self, file, decl: Some(d.name.node.as_str()), depth: 0 };
+        let ctx = Ctx {
+            world: self,
+            file,
+            decl: Some(d.name.node.as_str()),
+            depth: 0,
+        };
         let value = match &d.body {
             DeclBody::Expr(e) => ctx.eval(e, &Locals::new())?,
             DeclBody::Block(b) => {
@@ -575,15 +741,27 @@ fn check_product(v: &Value) -> Result<(), Diagnostic> {
 fn block(ctx: &Ctx, b: &Block) -> Result<Record, Diagnostic> {
     let mut rec = Record::default();
     for f in &b.fields {
-        let name = f.path.iter().map(|w| w.node.as_str()).collect::<Vec<_>>().join(" ");
+        let name = f
+            .path
+            .iter()
+            .map(|w| w.node.as_str())
+            .collect::<Vec<_>>()
+            .join(" ");
         if let Some(prev) = rec.get(&name) {
-            return Err(Diagnostic::new("die::duplicate_field", format!("the field `{name}` is given twice"), f.span, "given again here")
-                .with_label(prev.span, "first given here")
-                .with_help("remove one of them"));
+            return Err(Diagnostic::new(
+                "die::duplicate_field",
+                format!("the field `{name}` is given twice"),
+                f.span,
+                "given again here",
+            )
+            .with_label(prev.span, "first given here")
+            .with_help("remove one of them"));
         }
         let value = match &f.value {
             FieldValue::Expr(e) => ctx.eval(e, &Locals::new())?,
-            FieldValue::Block(inner) => Value::new(Data::Record(Arc::new(block(ctx, inner)?)), inner.span),
+            FieldValue::Block(inner) => {
+                Value::new(Data::Record(Arc::new(block(ctx, inner)?)), inner.span)
+            }
         };
         rec.fields.push((name, value));
     }
@@ -626,16 +804,26 @@ fn visit<'a>(
             let first = decls[cycle[0]];
             let mut d = Diagnostic::new(
                 "die::cycle",
-                format!("these declarations depend on each other in a circle: {} -> {}", names.join(" -> "), names[0]),
+                format!(
+                    "these declarations depend on each other in a circle: {} -> {}",
+                    names.join(" -> "),
+                    names[0]
+                ),
                 first.name.span,
-                format!("`{}` uses `{}`", names[0], names.get(1).unwrap_or(&names[0])),
+                format!(
+                    "`{}` uses `{}`",
+                    names[0],
+                    names.get(1).unwrap_or(&names[0])
+                ),
             );
             for (k, &c) in cycle.iter().enumerate().skip(1) {
                 let next = names[(k + 1) % names.len()];
                 d = d.with_label(decls[c].name.span, format!("`{}` uses `{next}`", names[k]));
             }
             let _ = sources;
-            diagnostics.push(d.with_help("break the circle: one of them must be computed without the others"));
+            diagnostics.push(
+                d.with_help("break the circle: one of them must be computed without the others"),
+            );
         }
         in_cycle.extend(cycle);
         return;
@@ -644,59 +832,23 @@ fn visit<'a>(
     path.push(i);
     for dep in deps(&decls[i].name.node) {
         if let Some(&j) = index.get(dep) {
-            visit(j, decls, index, deps, state, path, order, in_cycle, sources, diagnostics);
+            visit(
+                j,
+                decls,
+                index,
+                deps,
+                state,
+                path,
+                order,
+                in_cycle,
+                sources,
+                diagnostics,
+            );
         }
     }
     path.pop();
     state[i] = 2;
     order.push(i);
-}
-
-/// Resolves `path` relative to `dir`; the result must lie inside `root`.
-pub fn resolve_in_root(path: &str, dir: Option<&Path>, root: Option<&Path>, span: Span) -> Result<(PathBuf, String), Diagnostic> {
-    let (Some(dir), Some(root)) = (dir, root) else {
-        return Err(Diagnostic::new("die::file_not_found", format!("cannot read `{path}` here"), span, "no project directory")
-            .with_help("files can be read only by scripts run from a project directory"));
-    };
-    let joined = dir.join(path);
-    let lexical = normalize(&joined);
-    if !lexical.starts_with(root) {
-        return Err(escape(path, root, span));
-    }
-    let full = match joined.canonicalize() {
-        Ok(p) => p,
-        Err(_) => {
-            return Err(Diagnostic::new("die::file_not_found", format!("`{path}` does not exist"), span, format!("looked for {}", lexical.display()))
-                .with_help("paths are relative to the file that names them"))
-        }
-    };
-    if !full.starts_with(root) {
-        return Err(escape(path, root, span));
-    }
-    let text = std::fs::read_to_string(&full).map_err(|e| {
-        Diagnostic::new("die::file_not_found", format!("cannot read `{path}`: {e}"), span, "this file").with_help("check the file's permissions and encoding (UTF-8)")
-    })?;
-    Ok((full, text))
-}
-
-fn escape(path: &str, root: &Path, span: Span) -> Diagnostic {
-    Diagnostic::new("die::path_escapes_root", format!("`{path}` lies outside the project"), span, "outside the project root")
-        .with_help(format!("scripts may only read files under {}; move the file there or run with a wider --root", root.display()))
-}
-
-/// `a/b/../c` -> `a/c` without touching the file system.
-fn normalize(p: &Path) -> PathBuf {
-    let mut out = PathBuf::new();
-    for c in p.components() {
-        match c {
-            Component::ParentDir => {
-                out.pop();
-            }
-            Component::CurDir => {}
-            other => out.push(other),
-        }
-    }
-    out
 }
 
 fn hash_of<T: Hash + ?Sized>(t: &T) -> u64 {
@@ -722,7 +874,12 @@ fn contains_function(v: &Value) -> bool {
 
 /// Moves the spans of a memoized value from the layout it was computed in to the
 /// current one (spans of declarations that moved, unchanged, in the file).
-fn remap(v: &Value, old: &HashMap<String, (u32, u32)>, new: &HashMap<String, (u32, u32)>, file: FileId) -> Value {
+fn remap(
+    v: &Value,
+    old: &HashMap<String, (u32, u32)>,
+    new: &HashMap<String, (u32, u32)>,
+    file: FileId,
+) -> Value {
     let moved = |s: Span| -> Span {
         if s.file != file {
             return s;
@@ -731,7 +888,11 @@ fn remap(v: &Value, old: &HashMap<String, (u32, u32)>, new: &HashMap<String, (u3
             if s.start >= start && s.end <= end {
                 if let Some(&(nstart, _)) = new.get(name) {
                     let delta = i64::from(nstart) - i64::from(start);
-                    return Span { file, start: (i64::from(s.start) + delta) as u32, end: (i64::from(s.end) + delta) as u32 };
+                    return Span {
+                        file,
+                        start: (i64::from(s.start) + delta) as u32,
+                        end: (i64::from(s.end) + delta) as u32,
+                    };
                 }
             }
         }
@@ -746,10 +907,16 @@ fn remap(v: &Value, old: &HashMap<String, (u32, u32)>, new: &HashMap<String, (u3
 fn remap_with(v: &Value, f: &dyn Fn(Span) -> Span) -> Value {
     let data = match &v.data {
         Data::List(items) => Data::List(Arc::new(items.iter().map(|i| remap_with(i, f)).collect())),
-        Data::Tuple(items) => Data::Tuple(Arc::new(items.iter().map(|i| remap_with(i, f)).collect())),
+        Data::Tuple(items) => {
+            Data::Tuple(Arc::new(items.iter().map(|i| remap_with(i, f)).collect()))
+        }
         Data::Record(r) => Data::Record(Arc::new(Record {
             kind: r.kind.clone(),
-            fields: r.fields.iter().map(|(n, v)| (n.clone(), remap_with(v, f))).collect(),
+            fields: r
+                .fields
+                .iter()
+                .map(|(n, v)| (n.clone(), remap_with(v, f)))
+                .collect(),
         })),
         Data::Sketch(s) => {
             let mut s = (**s).clone();

@@ -46,11 +46,18 @@ pub struct Ctx<'w> {
 
 impl<'w> Ctx<'w> {
     fn units(&self) -> Units {
-        self.world.globals(self.file).map_or_else(Units::default, |g| g.units)
+        self.world
+            .globals(self.file)
+            .map_or_else(Units::default, |g| g.units)
     }
 
     fn with_file(&self, file: FileId, depth: usize) -> Ctx<'w> {
-        Ctx { world: self.world, file, decl: self.decl, depth }
+        Ctx {
+            world: self.world,
+            file,
+            decl: self.decl,
+            depth,
+        }
     }
 
     /// Evaluates `e` with the given local bindings.
@@ -81,11 +88,17 @@ impl<'w> Ctx<'w> {
                         )
                         .with_help("remove one of them"));
                     }
-                    rec.fields.push((name.node.clone(), self.eval(value, locals)?));
+                    rec.fields
+                        .push((name.node.clone(), self.eval(value, locals)?));
                 }
                 Data::Record(Arc::new(rec))
             }
-            ExprKind::Comprehension { body, var, iter, cond } => {
+            ExprKind::Comprehension {
+                body,
+                var,
+                iter,
+                cond,
+            } => {
                 let source = self.eval(iter, locals)?;
                 let Data::List(items) = &source.data else {
                     return Err(type_error(&source, "the list after `in`", "a list"));
@@ -114,11 +127,15 @@ impl<'w> Ctx<'w> {
                 let i = self.eval(index, locals)?;
                 return self.index(&t, &i, span);
             }
-            ExprKind::Call { callee, args } => return self.call_expr(callee, args, None, span, locals),
+            ExprKind::Call { callee, args } => {
+                return self.call_expr(callee, args, None, span, locals)
+            }
             ExprKind::Pipe { input, call } => {
                 let first = self.eval(input, locals)?;
                 return match &call.kind {
-                    ExprKind::Call { callee, args } => self.call_expr(callee, args, Some(first), span, locals),
+                    ExprKind::Call { callee, args } => {
+                        self.call_expr(callee, args, Some(first), span, locals)
+                    }
                     _ => {
                         let f = self.eval(call, locals)?;
                         self.apply(&f, vec![first], Vec::new(), span)
@@ -136,7 +153,11 @@ impl<'w> Ctx<'w> {
                     let result = match (op.node, l) {
                         (BinaryOp::And, false) => false,
                         (BinaryOp::Or, true) => true,
-                        _ => self.truth(rhs, locals, &format!("the right side of `{}`", op.node.symbol()))?,
+                        _ => self.truth(
+                            rhs,
+                            locals,
+                            &format!("the right side of `{}`", op.node.symbol()),
+                        )?,
                     };
                     Data::Bool(result)
                 } else {
@@ -145,8 +166,16 @@ impl<'w> Ctx<'w> {
                     return ops::binary(op.node, &l, &r, span, op.span, self.units());
                 }
             }
-            ExprKind::If { cond, then, otherwise } => {
-                let branch = if self.truth(cond, locals, "the condition of `if`")? { then } else { otherwise };
+            ExprKind::If {
+                cond,
+                then,
+                otherwise,
+            } => {
+                let branch = if self.truth(cond, locals, "the condition of `if`")? {
+                    then
+                } else {
+                    otherwise
+                };
                 return self.eval(branch, locals);
             }
             ExprKind::Lambda { params, body } => Data::Function(Arc::new(Closure {
@@ -159,7 +188,11 @@ impl<'w> Ctx<'w> {
             ExprKind::Sketch { view, commands } => {
                 let v = self.eval(view, locals)?;
                 let Data::View(view) = v.data else {
-                    return Err(type_error(&v, "the view of a sketch", "a view (top, side_xz, side_yz or section(a, b))"));
+                    return Err(type_error(
+                        &v,
+                        "the view of a sketch",
+                        "a view (top, side_xz, side_yz or section(a, b))",
+                    ));
                 };
                 let units = self.units();
                 let point = |e: &Expr| -> Result<glam::DVec2, Diagnostic> {
@@ -170,22 +203,34 @@ impl<'w> Ctx<'w> {
                     let cmd = match &c.kind {
                         SketchCommandKind::From(p) => Command::From(point(p)?),
                         SketchCommandKind::LineTo(p) => Command::LineTo(point(p)?),
-                        SketchCommandKind::ArcThrough { to, through } => {
-                            Command::ArcThrough { to: point(to)?, through: point(through)? }
-                        }
+                        SketchCommandKind::ArcThrough { to, through } => Command::ArcThrough {
+                            to: point(to)?,
+                            through: point(through)?,
+                        },
                         SketchCommandKind::TangentArcTo(p) => Command::TangentArcTo(point(p)?),
                         SketchCommandKind::Spline { through, tangent } => {
                             let list = self.eval(through, locals)?;
                             let Data::List(items) = &list.data else {
-                                return Err(type_error(&list, "the points of a spline", "a list of points `[(x, y), ...]`"));
+                                return Err(type_error(
+                                    &list,
+                                    "the points of a spline",
+                                    "a list of points `[(x, y), ...]`",
+                                ));
                             };
                             let pts = items
                                 .iter()
                                 .map(|p| as_point2(p, units, "a spline point"))
                                 .collect::<Result<Vec<_>, _>>()?;
-                            Command::Spline { through: pts, tangent: *tangent }
+                            Command::Spline {
+                                through: pts,
+                                tangent: *tangent,
+                            }
                         }
-                        SketchCommandKind::Fillet(r) => Command::Fillet(as_length(&self.eval(r, locals)?, units, "a fillet radius")?),
+                        SketchCommandKind::Fillet(r) => Command::Fillet(as_length(
+                            &self.eval(r, locals)?,
+                            units,
+                            "a fillet radius",
+                        )?),
                         SketchCommandKind::Close => Command::Close,
                     };
                     cmds.push((cmd, c.span));
@@ -258,18 +303,37 @@ impl<'w> Ctx<'w> {
         candidates.extend(["top", "side_xz", "side_yz"].map(String::from));
         candidates.extend(builtins::names().map(String::from));
         candidates.extend(super::views::names().map(String::from));
-        let mut d = Diagnostic::new("die::unknown_name", format!("cannot find `{name}`"), span, "not defined");
+        let mut d = Diagnostic::new(
+            "die::unknown_name",
+            format!("cannot find `{name}`"),
+            span,
+            "not defined",
+        );
         d = match did_you_mean(name, candidates.iter().map(String::as_str)) {
             Some(s) => d.with_help(format!("did you mean `{s}`?")),
-            None => d.with_help("declare it (`let name = ...`), import a module that has it, or check the spelling"),
+            None => d.with_help(
+                "declare it (`let name = ...`), import a module that has it, or check the spelling",
+            ),
         };
         d
     }
 
-    fn field(&self, t: &Value, name: &str, name_span: Span, span: Span) -> Result<Value, Diagnostic> {
+    fn field(
+        &self,
+        t: &Value,
+        name: &str,
+        name_span: Span,
+        span: Span,
+    ) -> Result<Value, Diagnostic> {
         let found = match &t.data {
-            Data::Record(r) => r.get(name).cloned().ok_or_else(|| r.fields.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>()),
-            Data::Module(m) => m.get(name).cloned().ok_or_else(|| m.members.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>()),
+            Data::Record(r) => r
+                .get(name)
+                .cloned()
+                .ok_or_else(|| r.fields.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>()),
+            Data::Module(m) => m
+                .get(name)
+                .cloned()
+                .ok_or_else(|| m.members.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>()),
             Data::Tuple(items) => {
                 let i = match name {
                     "x" => Some(0),
@@ -277,7 +341,12 @@ impl<'w> Ctx<'w> {
                     "z" => Some(2),
                     _ => None,
                 };
-                i.and_then(|i| items.get(i).cloned()).ok_or_else(|| ["x", "y", "z"][..items.len().min(3)].iter().map(|s| s.to_string()).collect())
+                i.and_then(|i| items.get(i).cloned()).ok_or_else(|| {
+                    ["x", "y", "z"][..items.len().min(3)]
+                        .iter()
+                        .map(|s| s.to_string())
+                        .collect()
+                })
             }
             _ => {
                 return Err(Diagnostic::new(
@@ -310,22 +379,41 @@ impl<'w> Ctx<'w> {
     fn index(&self, t: &Value, i: &Value, span: Span) -> Result<Value, Diagnostic> {
         let items = match &t.data {
             Data::List(items) | Data::Tuple(items) => items,
-            _ => return Err(type_error(t, "the value being indexed", "a list or a tuple")),
+            _ => {
+                return Err(type_error(
+                    t,
+                    "the value being indexed",
+                    "a list or a tuple",
+                ))
+            }
         };
         let k = builtins::as_count(i, "an index")?;
         match items.get(k) {
             Some(v) => Ok(Value::new(v.data.clone(), span)),
             None => Err(Diagnostic::new(
                 "die::index_out_of_range",
-                format!("index {k} is out of range: the list has {} items", items.len()),
+                format!(
+                    "index {k} is out of range: the list has {} items",
+                    items.len()
+                ),
                 i.span,
                 "this index",
             )
-            .with_help(format!("indices run from 0 to {}", items.len().saturating_sub(1)))),
+            .with_help(format!(
+                "indices run from 0 to {}",
+                items.len().saturating_sub(1)
+            ))),
         }
     }
 
-    fn call_expr(&self, callee: &Expr, args: &[Arg], first: Option<Value>, span: Span, locals: &Locals) -> Result<Value, Diagnostic> {
+    fn call_expr(
+        &self,
+        callee: &Expr,
+        args: &[Arg],
+        first: Option<Value>,
+        span: Span,
+        locals: &Locals,
+    ) -> Result<Value, Diagnostic> {
         let f = self.eval(callee, locals)?;
         let mut positional: Vec<Value> = first.into_iter().collect();
         let mut named: Vec<(crate::syntax::ast::Ident, Value)> = Vec::new();
@@ -379,8 +467,18 @@ impl<'w> Ctx<'w> {
                 }
                 let (dir, root) = self.world.paths(self.file);
                 let inner = self.with_file(self.file, self.depth + 1);
-                let apply = |g: &Value, args: Vec<Value>, s: Span| inner.apply(g, args, Vec::new(), s);
-                let call = Call { builtin: b, span, decl: self.decl, units: self.units(), args: slots, dir, root, apply: &apply };
+                let apply =
+                    |g: &Value, args: Vec<Value>, s: Span| inner.apply(g, args, Vec::new(), s);
+                let call = Call {
+                    builtin: b,
+                    span,
+                    decl: self.decl,
+                    units: self.units(),
+                    args: slots,
+                    dir,
+                    root,
+                    apply: &apply,
+                };
                 Ok(Value::new((b.run)(&call)?, span))
             }
             Data::Function(c) => {
@@ -392,7 +490,14 @@ impl<'w> Ctx<'w> {
                     let v = match (slot, &p.default) {
                         (Some(v), _) => v,
                         (None, Some(d)) => inner.eval(d, &locals)?,
-                        (None, None) => return Err(missing(&c.name, &p.name.node, &signature(&c.name, &c.params), span)),
+                        (None, None) => {
+                            return Err(missing(
+                                &c.name,
+                                &p.name.node,
+                                &signature(&c.name, &c.params),
+                                span,
+                            ))
+                        }
                     };
                     locals.push((p.name.node.clone(), v));
                 }
@@ -423,14 +528,27 @@ impl<'w> Ctx<'w> {
 
 /// `name(a, b = ...)` for help texts.
 fn signature(name: &str, params: &[Param]) -> String {
-    let ps: Vec<String> =
-        params.iter().map(|p| if p.default.is_some() { format!("{}?", p.name.node) } else { p.name.node.clone() }).collect();
+    let ps: Vec<String> = params
+        .iter()
+        .map(|p| {
+            if p.default.is_some() {
+                format!("{}?", p.name.node)
+            } else {
+                p.name.node.clone()
+            }
+        })
+        .collect();
     format!("{name}({})", ps.join(", "))
 }
 
 fn missing(func: &str, param: &str, signature: &str, span: Span) -> Diagnostic {
-    Diagnostic::new("die::missing_argument", format!("`{func}` needs the argument `{param}`"), span, format!("`{param}` is missing"))
-        .with_help(format!("the signature is {signature}"))
+    Diagnostic::new(
+        "die::missing_argument",
+        format!("`{func}` needs the argument `{param}`"),
+        span,
+        format!("`{param}` is missing"),
+    )
+    .with_help(format!("the signature is {signature}"))
 }
 
 /// Matches arguments to parameter names: positional ones in order, then named ones.

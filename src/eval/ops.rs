@@ -16,7 +16,14 @@ use super::value::{Data, Dim, Quantity, Value};
 
 /// `lhs op rhs` for the arithmetic and comparison operators (`and`/`or` short-circuit in
 /// the evaluator). `span` is the whole expression, `op_span` the operator.
-pub fn binary(op: BinaryOp, lhs: &Value, rhs: &Value, span: Span, op_span: Span, units: Units) -> Result<Value, Diagnostic> {
+pub fn binary(
+    op: BinaryOp,
+    lhs: &Value,
+    rhs: &Value,
+    span: Span,
+    op_span: Span,
+    units: Units,
+) -> Result<Value, Diagnostic> {
     use BinaryOp::*;
     let data = match (&lhs.data, &rhs.data) {
         (Data::Number(a), Data::Number(b)) => number_op(op, *a, *b, lhs, rhs, op_span, units)?,
@@ -24,7 +31,12 @@ pub fn binary(op: BinaryOp, lhs: &Value, rhs: &Value, span: Span, op_span: Span,
             if a.len() != b.len() {
                 return Err(Diagnostic::new(
                     "die::type_mismatch",
-                    format!("cannot {} a {}-tuple and a {}-tuple", verb(op), a.len(), b.len()),
+                    format!(
+                        "cannot {} a {}-tuple and a {}-tuple",
+                        verb(op),
+                        a.len(),
+                        b.len()
+                    ),
                     op_span,
                     "here",
                 )
@@ -49,11 +61,17 @@ pub fn binary(op: BinaryOp, lhs: &Value, rhs: &Value, span: Span, op_span: Span,
             }
         }
         (Data::Tuple(a), Data::Number(_)) if matches!(op, Mul | Div) => {
-            let items = a.iter().map(|x| binary(op, x, rhs, span, op_span, units)).collect::<Result<Vec<_>, _>>()?;
+            let items = a
+                .iter()
+                .map(|x| binary(op, x, rhs, span, op_span, units))
+                .collect::<Result<Vec<_>, _>>()?;
             Data::Tuple(Arc::new(items))
         }
         (Data::Number(_), Data::Tuple(b)) if op == Mul => {
-            let items = b.iter().map(|y| binary(op, lhs, y, span, op_span, units)).collect::<Result<Vec<_>, _>>()?;
+            let items = b
+                .iter()
+                .map(|y| binary(op, lhs, y, span, op_span, units))
+                .collect::<Result<Vec<_>, _>>()?;
             Data::Tuple(Arc::new(items))
         }
         (Data::List(a), Data::List(b)) if op == Add => {
@@ -67,7 +85,9 @@ pub fn binary(op: BinaryOp, lhs: &Value, rhs: &Value, span: Span, op_span: Span,
             Ne => Data::Bool(a != b),
             _ => return Err(unsupported(op, lhs, rhs, op_span)),
         },
-        (Data::Bool(a), Data::Bool(b)) if matches!(op, Eq | Ne) => Data::Bool((a == b) == (op == Eq)),
+        (Data::Bool(a), Data::Bool(b)) if matches!(op, Eq | Ne) => {
+            Data::Bool((a == b) == (op == Eq))
+        }
         _ => return Err(unsupported(op, lhs, rhs, op_span)),
     };
     Ok(Value::new(data, span))
@@ -86,21 +106,40 @@ fn verb(op: BinaryOp) -> &'static str {
 fn unsupported(op: BinaryOp, lhs: &Value, rhs: &Value, op_span: Span) -> Diagnostic {
     Diagnostic::new(
         "die::type_mismatch",
-        format!("`{}` does not apply to {} and {}", op.symbol(), lhs.type_name(), rhs.type_name()),
+        format!(
+            "`{}` does not apply to {} and {}",
+            op.symbol(),
+            lhs.type_name(),
+            rhs.type_name()
+        ),
         op_span,
         "this operator",
     )
     .with_label(lhs.span, format!("this is {}", lhs.type_name()))
     .with_label(rhs.span, format!("this is {}", rhs.type_name()))
-    .with_help("arithmetic works on numbers and on points (tuples); `+` also joins lists and strings")
+    .with_help(
+        "arithmetic works on numbers and on points (tuples); `+` also joins lists and strings",
+    )
 }
 
 /// The bare side of a mixed pair adopts the other side's default unit.
 fn adopt(q: Quantity, other: Dim, units: Units) -> Quantity {
     if q.bare && q.dim.is_none() {
         match other {
-            Dim::LENGTH => return Quantity { value: q.value * units.length, dim: Dim::LENGTH, bare: false },
-            Dim::ANGLE => return Quantity { value: q.value * units.angle, dim: Dim::ANGLE, bare: false },
+            Dim::LENGTH => {
+                return Quantity {
+                    value: q.value * units.length,
+                    dim: Dim::LENGTH,
+                    bare: false,
+                }
+            }
+            Dim::ANGLE => {
+                return Quantity {
+                    value: q.value * units.angle,
+                    dim: Dim::ANGLE,
+                    bare: false,
+                }
+            }
             _ => {}
         }
     }
@@ -121,17 +160,28 @@ fn number_op(
     match op {
         Mul => Ok(Data::Number(Quantity {
             value: a.value * b.value,
-            dim: Dim { length: a.dim.length + b.dim.length, angle: a.dim.angle + b.dim.angle },
+            dim: Dim {
+                length: a.dim.length + b.dim.length,
+                angle: a.dim.angle + b.dim.angle,
+            },
             bare,
         })),
         Div => {
             if b.value == 0.0 {
-                return Err(Diagnostic::new("die::division_by_zero", "division by zero", rhs.span, "this is zero")
-                    .with_label(op_span, "dividing here"));
+                return Err(Diagnostic::new(
+                    "die::division_by_zero",
+                    "division by zero",
+                    rhs.span,
+                    "this is zero",
+                )
+                .with_label(op_span, "dividing here"));
             }
             Ok(Data::Number(Quantity {
                 value: a.value / b.value,
-                dim: Dim { length: a.dim.length - b.dim.length, angle: a.dim.angle - b.dim.angle },
+                dim: Dim {
+                    length: a.dim.length - b.dim.length,
+                    angle: a.dim.angle - b.dim.angle,
+                },
                 bare,
             }))
         }
@@ -142,8 +192,16 @@ fn number_op(
             }
             let (x, y) = (a.value, b.value);
             Ok(match op {
-                Add => Data::Number(Quantity { value: x + y, dim: a.dim, bare }),
-                Sub => Data::Number(Quantity { value: x - y, dim: a.dim, bare }),
+                Add => Data::Number(Quantity {
+                    value: x + y,
+                    dim: a.dim,
+                    bare,
+                }),
+                Sub => Data::Number(Quantity {
+                    value: x - y,
+                    dim: a.dim,
+                    bare,
+                }),
                 Eq => Data::Bool(x == y),
                 Ne => Data::Bool(x != y),
                 Lt => Data::Bool(x < y),
@@ -166,10 +224,15 @@ fn mismatch(op: BinaryOp, a: Quantity, b: Quantity, lhs: &Value, rhs: &Value) ->
         d => format!("a quantity of {d}"),
     };
     let (na, nb) = (name(a), name(b));
-    let help = if a.dim == Dim::LENGTH && b.dim == Dim::ANGLE || a.dim == Dim::ANGLE && b.dim == Dim::LENGTH {
+    let help = if a.dim == Dim::LENGTH && b.dim == Dim::ANGLE
+        || a.dim == Dim::ANGLE && b.dim == Dim::LENGTH
+    {
         "a length and an angle cannot be combined; check the units (mm, cm, m, in for lengths; deg, rad for angles)".to_string()
     } else {
-        format!("both sides of `{}` must have the same dimension", op.symbol())
+        format!(
+            "both sides of `{}` must have the same dimension",
+            op.symbol()
+        )
     };
     Diagnostic::new(
         "die::unit_mismatch",
@@ -184,17 +247,31 @@ fn mismatch(op: BinaryOp, a: Quantity, b: Quantity, lhs: &Value, rhs: &Value) ->
 /// `-x` and `not x`.
 pub fn unary(op: UnaryOp, v: &Value, span: Span, op_span: Span) -> Result<Value, Diagnostic> {
     let data = match (op, &v.data) {
-        (UnaryOp::Neg, Data::Number(q)) => Data::Number(Quantity { value: -q.value, ..*q }),
+        (UnaryOp::Neg, Data::Number(q)) => Data::Number(Quantity {
+            value: -q.value,
+            ..*q
+        }),
         (UnaryOp::Neg, Data::Tuple(items)) => {
-            let items = items.iter().map(|x| unary(op, x, span, op_span)).collect::<Result<Vec<_>, _>>()?;
+            let items = items
+                .iter()
+                .map(|x| unary(op, x, span, op_span))
+                .collect::<Result<Vec<_>, _>>()?;
             Data::Tuple(Arc::new(items))
         }
         (UnaryOp::Not, Data::Bool(b)) => Data::Bool(!b),
         _ => {
-            let want = if op == UnaryOp::Neg { "a number or a point" } else { "true or false" };
+            let want = if op == UnaryOp::Neg {
+                "a number or a point"
+            } else {
+                "true or false"
+            };
             return Err(Diagnostic::new(
                 "die::type_mismatch",
-                format!("`{}` needs {want}, but this is {}", if op == UnaryOp::Neg { "-" } else { "not" }, v.type_name()),
+                format!(
+                    "`{}` needs {want}, but this is {}",
+                    if op == UnaryOp::Neg { "-" } else { "not" },
+                    v.type_name()
+                ),
                 v.span,
                 format!("this is {}", v.type_name()),
             )

@@ -24,7 +24,11 @@ pub fn summarize(v: &Value) -> String {
         Data::Str(s) => format!("string {s:?}"),
         Data::List(items) => {
             let inner: Vec<String> = items.iter().take(4).map(summarize).collect();
-            let more = if items.len() > 4 { format!(", ... ({} more)", items.len() - 4) } else { String::new() };
+            let more = if items.len() > 4 {
+                format!(", ... ({} more)", items.len() - 4)
+            } else {
+                String::new()
+            };
             format!("list of {} [{}{more}]", items.len(), inner.join(", "))
         }
         Data::Tuple(items) => {
@@ -38,7 +42,11 @@ pub fn summarize(v: &Value) -> String {
             format!("({})", inner.join(", "))
         }
         Data::Record(r) => {
-            let fields: Vec<String> = r.fields.iter().map(|(n, v)| format!("{n}: {}", summarize(v))).collect();
+            let fields: Vec<String> = r
+                .fields
+                .iter()
+                .map(|(n, v)| format!("{n}: {}", summarize(v)))
+                .collect();
             match &r.kind {
                 Some(k) => format!("{k} {{ {} }}", fields.join("; ")),
                 None => format!("{{ {} }}", fields.join("; ")),
@@ -71,7 +79,10 @@ pub fn summarize(v: &Value) -> String {
             c.control_points().len(),
             if c.is_rational() { " (rational)" } else { "" },
             round(c.length()),
-            { let (lo, hi) = bounds(c.control_points().iter().map(|p| p.to_3d())); bbox(lo, hi) }
+            {
+                let (lo, hi) = bounds(c.control_points().iter().map(|p| p.to_3d()));
+                bbox(lo, hi)
+            }
         ),
         Data::Curve3(c) => format!(
             "3-D curve, degree {}, {} control points{}, length {} mm, bounds {}",
@@ -79,7 +90,10 @@ pub fn summarize(v: &Value) -> String {
             c.control_points().len(),
             if c.is_rational() { " (rational)" } else { "" },
             round(c.length()),
-            { let (lo, hi) = bounds(sampled_curve(c)); bbox(lo, hi) }
+            {
+                let (lo, hi) = bounds(sampled_curve(c));
+                bbox(lo, hi)
+            }
         ),
         Data::Surface(s) => {
             let (nu, nv) = s.counts();
@@ -96,8 +110,14 @@ pub fn summarize(v: &Value) -> String {
         }
         Data::Mesh(m) => {
             let (t, q) = m.triangle_and_quad_counts();
-            let b = m.bounding_box().map_or("empty".to_string(), |(lo, hi)| bbox(lo, hi));
-            format!("mesh, {} vertices, {t} triangles, {q} quads, {} groups, bounds {b}", m.vertex_count(), m.groups().len())
+            let b = m
+                .bounding_box()
+                .map_or("empty".to_string(), |(lo, hi)| bbox(lo, hi));
+            format!(
+                "mesh, {} vertices, {t} triangles, {q} quads, {} groups, bounds {b}",
+                m.vertex_count(),
+                m.groups().len()
+            )
         }
         Data::Transform(t) => {
             let m = t.matrix().to_cols_array();
@@ -117,12 +137,20 @@ fn sampled_surface(s: &crate::geom::NurbsSurface) -> impl Iterator<Item = DVec3>
     let (u0, u1) = s.domain_u();
     let (v0, v1) = s.domain_v();
     (0..=32).flat_map(move |i| {
-        (0..=32).map(move |j| s.point_at(u0 + (u1 - u0) * i as f64 / 32.0, v0 + (v1 - v0) * j as f64 / 32.0))
+        (0..=32).map(move |j| {
+            s.point_at(
+                u0 + (u1 - u0) * i as f64 / 32.0,
+                v0 + (v1 - v0) * j as f64 / 32.0,
+            )
+        })
     })
 }
 
 fn bounds(points: impl Iterator<Item = DVec3>) -> (DVec3, DVec3) {
-    points.fold((DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)), |(lo, hi), p| (lo.min(p), hi.max(p)))
+    points.fold(
+        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+        |(lo, hi), p| (lo.min(p), hi.max(p)),
+    )
 }
 
 fn bbox(lo: DVec3, hi: DVec3) -> String {

@@ -16,7 +16,10 @@ pub struct Units {
 impl Default for Units {
     /// Millimetres and degrees, the die designer's units.
     fn default() -> Self {
-        Self { length: 1.0, angle: std::f64::consts::PI / 180.0 }
+        Self {
+            length: 1.0,
+            angle: std::f64::consts::PI / 180.0,
+        }
     }
 }
 

@@ -33,19 +33,35 @@ pub struct Quantity {
 impl Quantity {
     /// A dimensionless number written without a unit.
     pub fn bare(value: f64) -> Self {
-        Self { value, dim: Dim::NONE, bare: true }
+        Self {
+            value,
+            dim: Dim::NONE,
+            bare: true,
+        }
     }
     /// A dimensionless number that is not bare (a ratio, a percentage).
     pub fn ratio(value: f64) -> Self {
-        Self { value, dim: Dim::NONE, bare: false }
+        Self {
+            value,
+            dim: Dim::NONE,
+            bare: false,
+        }
     }
     /// A length in mm.
     pub fn length(mm: f64) -> Self {
-        Self { value: mm, dim: Dim::LENGTH, bare: false }
+        Self {
+            value: mm,
+            dim: Dim::LENGTH,
+            bare: false,
+        }
     }
     /// An angle in radians.
     pub fn angle(rad: f64) -> Self {
-        Self { value: rad, dim: Dim::ANGLE, bare: false }
+        Self {
+            value: rad,
+            dim: Dim::ANGLE,
+            bare: false,
+        }
     }
 }
 
@@ -60,11 +76,20 @@ pub struct Dim {
 
 impl Dim {
     /// Dimensionless.
-    pub const NONE: Dim = Dim { length: 0, angle: 0 };
+    pub const NONE: Dim = Dim {
+        length: 0,
+        angle: 0,
+    };
     /// A length.
-    pub const LENGTH: Dim = Dim { length: 1, angle: 0 };
+    pub const LENGTH: Dim = Dim {
+        length: 1,
+        angle: 0,
+    };
     /// An angle.
-    pub const ANGLE: Dim = Dim { length: 0, angle: 1 };
+    pub const ANGLE: Dim = Dim {
+        length: 0,
+        angle: 1,
+    };
 
     /// Whether dimensionless.
     pub fn is_none(self) -> bool {
@@ -81,8 +106,10 @@ impl fmt::Display for Dim {
             3 => format!("{name}³"),
             p => format!("{name}^{p}"),
         };
-        let parts: Vec<String> =
-            [power("length", self.length), power("angle", self.angle)].into_iter().filter(|s| !s.is_empty()).collect();
+        let parts: Vec<String> = [power("length", self.length), power("angle", self.angle)]
+            .into_iter()
+            .filter(|s| !s.is_empty())
+            .collect();
         if parts.is_empty() {
             f.write_str("a plain number")
         } else {

@@ -138,7 +138,10 @@ pub struct Expr {
 #[derive(Debug, Clone, PartialEq)]
 pub enum ExprKind {
     /// `12`, `12 mm`, `3.5deg`, `50 %`
-    Number { value: f64, unit: Option<Spanned<Unit>> },
+    Number {
+        value: f64,
+        unit: Option<Spanned<Unit>>,
+    },
     /// `"text"` (escapes resolved)
     Str(String),
     /// `true`, `false`
@@ -148,7 +151,12 @@ pub enum ExprKind {
     /// `[a, b, c]`
     List(Vec<Expr>),
     /// `[body for var in iter if cond]`
-    Comprehension { body: Box<Expr>, var: Ident, iter: Box<Expr>, cond: Option<Box<Expr>> },
+    Comprehension {
+        body: Box<Expr>,
+        var: Ident,
+        iter: Box<Expr>,
+        cond: Option<Box<Expr>>,
+    },
     /// `(a, b)` or `(a, b, c)`: points, vectors, pairs.
     Tuple(Vec<Expr>),
     /// `{ a: 1, b: 2 mm }`
@@ -162,15 +170,29 @@ pub enum ExprKind {
     /// `input |> call`: `call` is a call (its arguments follow the input) or a name.
     Pipe { input: Box<Expr>, call: Box<Expr> },
     /// `-x`, `not x`
-    Unary { op: Spanned<UnaryOp>, operand: Box<Expr> },
+    Unary {
+        op: Spanned<UnaryOp>,
+        operand: Box<Expr>,
+    },
     /// `a + b`, `a and b`, `a <= b`, ...
-    Binary { op: Spanned<BinaryOp>, lhs: Box<Expr>, rhs: Box<Expr> },
+    Binary {
+        op: Spanned<BinaryOp>,
+        lhs: Box<Expr>,
+        rhs: Box<Expr>,
+    },
     /// `if cond then a else b`
-    If { cond: Box<Expr>, then: Box<Expr>, otherwise: Box<Expr> },
+    If {
+        cond: Box<Expr>,
+        then: Box<Expr>,
+        otherwise: Box<Expr>,
+    },
     /// `fn(x, y = 1) => expr`
     Lambda { params: Vec<Param>, body: Box<Expr> },
     /// `sketch(view) { from p; line to q; ... }`
-    Sketch { view: Box<Expr>, commands: Vec<SketchCommand> },
+    Sketch {
+        view: Box<Expr>,
+        commands: Vec<SketchCommand>,
+    },
 }
 
 /// A call argument, positional or `name: value`.

@@ -5,7 +5,7 @@
 //! cannot read arbitrary files of the machine it is built on.
 
 use std::collections::BTreeMap;
-use std::path::{Component, Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::Arc;
 
 use glam::DVec3;
@@ -14,6 +14,7 @@ use crate::diag::Diagnostic;
 use crate::geom::mesh::{Face, FaceId, Mesh};
 use crate::geom::GeomError;
 
+use super::super::paths::resolve_in_root;
 use super::super::value::Data;
 use super::args::span_of;
 use super::{req, Builtin, Call};
@@ -26,88 +27,15 @@ pub static BUILTINS: &[Builtin] = &[Builtin {
     run: read_obj,
 }];
 
-/// `a/b/../c` -> `a/c`, without touching the file system.
-fn normalize(p: &Path) -> PathBuf {
-    let mut out = PathBuf::new();
-    for c in p.components() {
-        match c {
-            Component::ParentDir => {
-                out.pop();
-            }
-            Component::CurDir => {}
-            other => out.push(other),
-        }
-    }
-    out
-}
-
 /// The file `path` names, relative to the calling script, checked to lie in the root.
 fn resolve(call: &Call, path: &str) -> Result<PathBuf, Diagnostic> {
-    let span = span_of(call, "path");
-    let Some(dir) = call.dir else {
-        return Err(Diagnostic::new(
-            "die::file_not_found",
-            format!("`{path}` cannot be read here"),
-            span,
-            "no script directory",
-        )
-        .with_help(
-            "files can be read only by scripts in a project directory, not by the standard library",
-        ));
-    };
-    let joined = normalize(&dir.join(path));
-    let root = call
-        .root
-        .map(|r| r.canonicalize().unwrap_or_else(|_| normalize(r)));
-    let escapes = |p: &Path| root.as_ref().is_some_and(|r| !p.starts_with(r));
-    let escape = || {
-        let r = root
-            .as_ref()
-            .map_or_else(String::new, |r| r.display().to_string());
-        Diagnostic::new("die::path_escapes_root", format!("`{path}` lies outside the project root {r}"), span, "outside the project")
-            .with_label(call.span, "read here")
-            .with_help("scripts may only read files inside the project; copy the file into the project and name it relative to the script")
-    };
-    match joined.canonicalize() {
-        Ok(full) => {
-            if escapes(&full) {
-                return Err(escape());
-            }
-            Ok(full)
+    resolve_in_root(path, call.dir, call.root, span_of(call, "path")).map_err(|d| {
+        if d.code == "die::path_escapes_root" {
+            d.with_label(call.span, "read here")
+        } else {
+            d
         }
-        Err(_) => {
-            if escapes(&canonical_prefix(&joined)) {
-                return Err(escape());
-            }
-            Err(Diagnostic::new(
-                "die::file_not_found",
-                format!("the file {} does not exist", joined.display()),
-                span,
-                "no such file",
-            )
-            .with_help("paths are relative to the directory of the script that names them"))
-        }
-    }
-}
-
-/// A path that may not exist, with its longest existing ancestor canonicalized (so it
-/// compares with the canonical root even through symbolic links).
-fn canonical_prefix(p: &Path) -> PathBuf {
-    let mut existing = p;
-    let mut rest = Vec::new();
-    loop {
-        if let Ok(mut out) = existing.canonicalize() {
-            out.extend(rest.iter().rev());
-            return out;
-        }
-        match (existing.parent(), existing.file_name()) {
-            (Some(parent), Some(name)) => {
-                rest.push(name);
-                existing = parent;
-            }
-            _ => return p.to_path_buf(),
-        }
-    }
+    })
 }
 
 fn read_obj(call: &Call) -> Result<Data, Diagnostic> {

@@ -37,12 +37,18 @@ pub struct ParamSpec {
 
 /// Shorthand for a required parameter.
 pub const fn req(name: &'static str) -> ParamSpec {
-    ParamSpec { name, required: true }
+    ParamSpec {
+        name,
+        required: true,
+    }
 }
 
 /// Shorthand for an optional parameter.
 pub const fn opt(name: &'static str) -> ParamSpec {
-    ParamSpec { name, required: false }
+    ParamSpec {
+        name,
+        required: false,
+    }
 }
 
 /// A function implemented in Rust.
@@ -66,15 +72,32 @@ impl std::fmt::Debug for Builtin {
 impl Builtin {
     /// `name(a, b, c?)` for help texts.
     pub fn signature(&self) -> String {
-        let params: Vec<String> =
-            self.params.iter().map(|p| if p.required { p.name.to_string() } else { format!("{}?", p.name) }).collect();
+        let params: Vec<String> = self
+            .params
+            .iter()
+            .map(|p| {
+                if p.required {
+                    p.name.to_string()
+                } else {
+                    format!("{}?", p.name)
+                }
+            })
+            .collect();
         format!("{}({})", self.name, params.join(", "))
     }
 }
 
 /// Every builtin module's table.
 fn tables() -> [&'static [Builtin]; 7] {
-    [math::BUILTINS, vectors::BUILTINS, curves::BUILTINS, surfaces::BUILTINS, transforms::BUILTINS, queries::BUILTINS, io::BUILTINS]
+    [
+        math::BUILTINS,
+        vectors::BUILTINS,
+        curves::BUILTINS,
+        surfaces::BUILTINS,
+        transforms::BUILTINS,
+        queries::BUILTINS,
+        io::BUILTINS,
+    ]
 }
 
 /// The builtin called `name`.
@@ -105,8 +128,12 @@ pub struct Call<'a> {
     pub root: Option<&'a std::path::Path>,
     /// Calls a function value (user function, lambda or builtin) with positional
     /// arguments: how `map` and friends call back into the evaluator.
-    pub apply: &'a dyn Fn(&Value, Vec<Value>, Span) -> Result<Value, Diagnostic>,
+    pub apply: &'a Apply<'a>,
 }
+
+/// How a builtin calls a function value back: the function, positional arguments, and
+/// the span of the call that asked.
+pub type Apply<'a> = dyn Fn(&Value, Vec<Value>, Span) -> Result<Value, Diagnostic> + 'a;
 
 impl Call<'_> {
     /// The argument for parameter `name`, if given.
@@ -118,14 +145,23 @@ impl Call<'_> {
     /// The argument for `name`, or a diagnostic that it is missing.
     pub fn required(&self, name: &str) -> Result<&Value, Diagnostic> {
         self.arg(name).ok_or_else(|| {
-            Diagnostic::new("die::missing_argument", format!("`{}` needs the argument `{name}`", self.builtin.name), self.span, "called here")
-                .with_help(format!("the signature is {}", self.builtin.signature()))
+            Diagnostic::new(
+                "die::missing_argument",
+                format!("`{}` needs the argument `{name}`", self.builtin.name),
+                self.span,
+                "called here",
+            )
+            .with_help(format!("the signature is {}", self.builtin.signature()))
         })
     }
 
     /// A diagnostic for a wrong argument.
     pub fn bad(&self, value: &Value, name: &str, expected: &str) -> Diagnostic {
-        type_error(value, &format!("`{name}` of `{}`", self.builtin.name), expected)
+        type_error(
+            value,
+            &format!("`{name}` of `{}`", self.builtin.name),
+            expected,
+        )
     }
 
     /// A plain number (bare or ratio).
@@ -187,13 +223,19 @@ impl Call<'_> {
     /// A list of 2-D points.
     pub fn points2(&self, name: &str) -> Result<Vec<DVec2>, Diagnostic> {
         let what = self.what(name);
-        self.list(name)?.iter().map(|v| as_point2(v, self.units, &what)).collect()
+        self.list(name)?
+            .iter()
+            .map(|v| as_point2(v, self.units, &what))
+            .collect()
     }
 
     /// A list of 3-D points.
     pub fn points3(&self, name: &str) -> Result<Vec<DVec3>, Diagnostic> {
         let what = self.what(name);
-        self.list(name)?.iter().map(|v| as_point3(v, self.units, &what)).collect()
+        self.list(name)?
+            .iter()
+            .map(|v| as_point3(v, self.units, &what))
+            .collect()
     }
 
     /// A 3-D curve; a sketch is placed in 3-D through its view, a 2-D curve at z = 0.
@@ -234,9 +276,14 @@ impl Call<'_> {
             Some(a) => format!("this `{a}` cannot be used: {err}"),
             None => format!("{err}"),
         };
-        Diagnostic::new("die::geometry", format!("`{}` failed: {err}{place}", self.builtin.name), span, label)
-            .with_label(self.span, "in this call")
-            .with_help(kernel_help(&err))
+        Diagnostic::new(
+            "die::geometry",
+            format!("`{}` failed: {err}{place}", self.builtin.name),
+            span,
+            label,
+        )
+        .with_label(self.span, "in this call")
+        .with_help(kernel_help(&err))
     }
 
     fn what(&self, name: &str) -> String {
@@ -266,7 +313,10 @@ fn kernel_help(err: &GeomError) -> String {
 pub fn type_error(value: &Value, what: &str, expected: &str) -> Diagnostic {
     Diagnostic::new(
         "die::type_mismatch",
-        format!("{what} must be {expected}, but this is {}", value.type_name()),
+        format!(
+            "{what} must be {expected}, but this is {}",
+            value.type_name()
+        ),
         value.span,
         format!("this is {}", value.type_name()),
     )
@@ -287,8 +337,13 @@ pub fn as_count(v: &Value, what: &str) -> Result<usize, Diagnostic> {
     if n >= 0.0 && n.fract() == 0.0 && n < 1e9 {
         Ok(n as usize)
     } else {
-        Err(Diagnostic::new("die::type_mismatch", format!("{what} must be a whole number"), v.span, format!("this is {n}"))
-            .with_help("use a whole number such as 3"))
+        Err(Diagnostic::new(
+            "die::type_mismatch",
+            format!("{what} must be a whole number"),
+            v.span,
+            format!("this is {n}"),
+        )
+        .with_help("use a whole number such as 3"))
     }
 }
 
@@ -311,9 +366,17 @@ pub fn as_angle(v: &Value, units: Units, what: &str) -> Result<f64, Diagnostic> 
 }
 
 /// The coordinates of a tuple of lengths.
-fn coords(v: &Value, units: Units, what: &str, n: usize, expected: &str) -> Result<Vec<f64>, Diagnostic> {
+fn coords(
+    v: &Value,
+    units: Units,
+    what: &str,
+    n: usize,
+    expected: &str,
+) -> Result<Vec<f64>, Diagnostic> {
     match &v.data {
-        Data::Tuple(items) if items.len() == n => items.iter().map(|c| as_length(c, units, what)).collect(),
+        Data::Tuple(items) if items.len() == n => {
+            items.iter().map(|c| as_length(c, units, what)).collect()
+        }
         _ => Err(type_error(v, what, expected)),
     }
 }
