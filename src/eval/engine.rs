@@ -29,6 +29,9 @@ use super::stdlib;
 use super::units::{self, Units};
 use super::value::{Closure, Data, Module, Record, Value};
 
+/// Stack size of the evaluation thread.
+const EVAL_STACK_BYTES: usize = 512 << 20;
+
 /// Declaration kinds the language knows. Die-face features join this list as they land.
 pub const KINDS: &[&str] = &["let", "param", "product"];
 
@@ -138,6 +141,26 @@ impl Engine {
     /// Evaluates the file `name` with contents `text`; `dir` is its directory (relative
     /// imports and `read_obj` start there).
     pub fn evaluate(&mut self, name: &str, text: &str, dir: Option<PathBuf>) -> Outcome {
+        // Evaluation recurses with the script's nesting (calls, comprehensions); a thread
+        // with a large stack keeps the 200-call recursion limit reachable in debug
+        // builds and in test threads, whose default stacks are small.
+        let on_big_stack = std::thread::scope(|scope| {
+            let spawned = std::thread::Builder::new()
+                .name("dieface-eval".into())
+                .stack_size(EVAL_STACK_BYTES)
+                .spawn_scoped(scope, || self.evaluate_here(name, text, dir.clone()));
+            // A panic inside is a bug: pass it on rather than hide it.
+            spawned.ok().map(|handle| {
+                handle
+                    .join()
+                    .unwrap_or_else(|payload| std::panic::resume_unwind(payload))
+            })
+        });
+        // No thread to be had: evaluate here, with the caller's stack.
+        on_big_stack.unwrap_or_else(|| self.evaluate_here(name, text, dir))
+    }
+
+    fn evaluate_here(&mut self, name: &str, text: &str, dir: Option<PathBuf>) -> Outcome {
         self.last_evaluated.clear();
         let mut diagnostics = Vec::new();
         let mut stack = Vec::new();
@@ -385,13 +408,19 @@ impl Engine {
         };
         if let Some(existing) = self.sources.find(&name) {
             if let Some(pos) = stack.iter().position(|f| *f == existing) {
-                let chain: Vec<String> = stack[pos..]
+                let mut chain: Vec<String> = stack[pos..]
                     .iter()
-                    .filter_map(|f| self.sources.get(*f).map(|s| s.name.clone()))
+                    .filter_map(|f| self.sources.get(*f).map(|s| format!("`{}`", s.name)))
                     .collect();
+                chain.push(format!("`{name}`"));
                 diagnostics.push(
-                    Diagnostic::new("die::import_cycle", format!("`{name}` imports itself through {}", chain.join(" -> ")), imp.path.span, "this import closes the cycle")
-                        .with_help("modules cannot import each other in a circle; move what both need into a third module"),
+                    Diagnostic::new(
+                        "die::import_cycle",
+                        format!("modules import each other in a circle: {}", chain.join(" -> ")),
+                        imp.path.span,
+                        "this import closes the circle",
+                    )
+                    .with_help("modules cannot import each other in a circle; move what both need into a third module"),
                 );
                 return None;
             }
@@ -513,6 +542,17 @@ impl Engine {
                 (d.name.node.as_str(), u)
             })
             .collect();
+        // Imports that failed were reported; what uses them is skipped without more noise.
+        let failed_imports: HashSet<&str> = items
+            .imports
+            .iter()
+            .map(|i| i.alias.node.as_str())
+            .filter(|a| !import_hashes.contains_key(*a))
+            .collect();
+        let uses_failed_import = |name: &str| {
+            uses.get(name)
+                .is_some_and(|u| u.iter().any(|n| failed_imports.contains(n.as_str())))
+        };
         let deps = |name: &str| -> Vec<&str> {
             uses.get(name).map_or_else(Vec::new, |u| {
                 u.iter()
@@ -584,7 +624,10 @@ impl Engine {
         for &i in &order {
             let d = items.decls[i];
             let name = d.name.node.clone();
-            if in_cycle.contains(&i) || deps(&name).iter().any(|dep| failed.contains(*dep)) {
+            if in_cycle.contains(&i)
+                || uses_failed_import(&name)
+                || deps(&name).iter().any(|dep| failed.contains(*dep))
+            {
                 failed.insert(name.clone());
                 self.mark_failed(file, &name);
                 continue;

@@ -120,7 +120,14 @@ impl<'w> Ctx<'w> {
             }
             ExprKind::Field { target, name } => {
                 let t = self.eval(target, locals)?;
-                return self.field(&t, &name.node, name.span, span);
+                let what = match &target.kind {
+                    ExprKind::Name(n) => match &t.data {
+                        Data::Module(m) => format!("module `{}` (imported as `{n}`)", m.path),
+                        _ => format!("`{n}`"),
+                    },
+                    _ => t.type_name(),
+                };
+                return self.field(&t, &what, &name.node, name.span, span);
             }
             ExprKind::Index { target, index } => {
                 let t = self.eval(target, locals)?;
@@ -257,12 +264,14 @@ impl<'w> Ctx<'w> {
     /// Resolves a name: locals, the file's declarations, functions and imports, the
     /// views, the builtins.
     fn lookup(&self, name: &str, span: Span, locals: &Locals) -> Result<Value, Diagnostic> {
+        // A name's value is labelled where the name is used: diagnostics about an operand
+        // then point at the operand, not at the line that defined it.
         if let Some((_, v)) = locals.iter().rev().find(|(n, _)| n == name) {
-            return Ok(v.clone());
+            return Ok(Value::new(v.data.clone(), span));
         }
         if let Some(g) = self.world.globals(self.file) {
             if let Some(v) = g.decls.get(name) {
-                return Ok(v.clone());
+                return Ok(Value::new(v.data.clone(), span));
             }
             if let Some(c) = g.functions.get(name) {
                 return Ok(Value::new(Data::Function(c.clone()), span));
@@ -318,9 +327,11 @@ impl<'w> Ctx<'w> {
         d
     }
 
+    /// `t.name`; `what` names `t` in messages (`` `blank` ``, "module `std/sketch`").
     fn field(
         &self,
         t: &Value,
+        what: &str,
         name: &str,
         name_span: Span,
         span: Span,
@@ -351,7 +362,7 @@ impl<'w> Ctx<'w> {
             _ => {
                 return Err(Diagnostic::new(
                     "die::no_field",
-                    format!("{} has no fields", t.type_name()),
+                    format!("{what} has no fields ({} has none)", t.type_name()),
                     name_span,
                     format!("`.{name}` asked for here"),
                 )
@@ -363,7 +374,7 @@ impl<'w> Ctx<'w> {
             Err(names) => {
                 let d = Diagnostic::new(
                     "die::no_field",
-                    format!("{} has no field `{name}`", t.type_name()),
+                    format!("{what} has no field `{name}`"),
                     name_span,
                     "no such field",
                 );
@@ -448,9 +459,16 @@ impl<'w> Ctx<'w> {
         span: Span,
     ) -> Result<Value, Diagnostic> {
         if self.depth >= MAX_CALL_DEPTH {
+            let what = match &f.data {
+                Data::Function(c) => format!(
+                    "`{}` is called more than {MAX_CALL_DEPTH} levels deep",
+                    c.name
+                ),
+                _ => format!("function calls nest deeper than {MAX_CALL_DEPTH} levels"),
+            };
             return Err(Diagnostic::new(
                 "die::recursion_limit",
-                format!("function calls nest deeper than {MAX_CALL_DEPTH} levels"),
+                what,
                 span,
                 "this call goes too deep",
             )
@@ -459,7 +477,7 @@ impl<'w> Ctx<'w> {
         match &f.data {
             Data::Builtin(b) => {
                 let names: Vec<&str> = b.params.iter().map(|p| p.name).collect();
-                let slots = bind_arguments(b.name, &names, positional, named, span)?;
+                let slots = bind_arguments(b.name, &names, positional, named)?;
                 for (p, slot) in b.params.iter().zip(&slots) {
                     if p.required && slot.is_none() {
                         return Err(missing(b.name, p.name, &b.signature(), span));
@@ -483,7 +501,7 @@ impl<'w> Ctx<'w> {
             }
             Data::Function(c) => {
                 let names: Vec<&str> = c.params.iter().map(|p| p.name.node.as_str()).collect();
-                let slots = bind_arguments(&c.name, &names, positional, named, span)?;
+                let slots = bind_arguments(&c.name, &names, positional, named)?;
                 let inner = self.with_file(c.file, self.depth + 1);
                 let mut locals = c.captured.clone();
                 for (p, slot) in c.params.iter().zip(slots) {
@@ -521,7 +539,8 @@ impl<'w> Ctx<'w> {
                 f.span,
                 format!("this is {}", f.type_name()),
             )
-            .with_label(span, "called here")),
+            .with_label(span, "called here")
+            .with_help("only functions can be called: `name(args)`; for arithmetic write the operator, e.g. `radius * 2`")),
         }
     }
 }
@@ -557,7 +576,6 @@ fn bind_arguments(
     params: &[&str],
     positional: Vec<Value>,
     named: Vec<(crate::syntax::ast::Ident, Value)>,
-    span: Span,
 ) -> Result<Vec<Option<Value>>, Diagnostic> {
     let mut slots: Vec<Option<Value>> = vec![None; params.len()];
     let count = positional.len();
@@ -573,7 +591,6 @@ fn bind_arguments(
                 v.span,
                 "one too many",
             )
-            .with_label(span, "in this call")
             .with_help(format!("the parameters are {}", params.join(", "))));
         }
         slots[i] = Some(v);

@@ -32,11 +32,8 @@ pub fn resolve_in_root(
     let root = root.map(|r| r.canonicalize().unwrap_or_else(|_| normalize(r)));
     let escapes = |p: &Path| root.as_ref().is_some_and(|r| !p.starts_with(r));
     let escape = || {
-        let r = root
-            .as_ref()
-            .map_or_else(String::new, |r| r.display().to_string());
-        Diagnostic::new("die::path_escapes_root", format!("`{path}` lies outside the project root {r}"), span, "outside the project")
-            .with_help("scripts may only read files inside the project; move the file into the project and name it relative to the script, or widen --root")
+        Diagnostic::new("die::path_escapes_root", format!("`{path}` lies outside the project folder"), span, "outside the project")
+            .with_help("scripts may only read files inside the project folder (the script's folder, or --root); move the file there and name it relative to the script")
     };
     match joined.canonicalize() {
         Ok(full) if escapes(&full) => Err(escape()),
@@ -44,7 +41,7 @@ pub fn resolve_in_root(
         Err(_) if escapes(&canonical_prefix(&joined)) => Err(escape()),
         Err(_) => Err(Diagnostic::new(
             "die::file_not_found",
-            format!("the file {} does not exist", joined.display()),
+            format!("`{path}` does not exist (looked relative to this script's folder)"),
             span,
             "no such file",
         )

@@ -56,7 +56,7 @@ pub enum GeomError {
     NotPositive { what: &'static str, value: f64 },
 
     /// Boundary curves that should meet at a corner leave a gap there.
-    #[error("boundary curves do not meet at corner {corner}: gap {gap}")]
+    #[error("boundary curves do not meet at corner {corner}: they are {gap} mm apart")]
     CornersDoNotMeet { corner: usize, gap: f64 },
 
     /// An iterative solver (Newton, bisection) did not reach its tolerance.

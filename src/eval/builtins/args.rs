@@ -60,9 +60,7 @@ pub fn bad_argument(
     help: impl Into<String>,
 ) -> Diagnostic {
     let label = format!("this `{name}`");
-    Diagnostic::new("die::bad_argument", message, span_of(call, name), label)
-        .with_label(call.span, "in this call")
-        .with_help(help)
+    Diagnostic::new("die::bad_argument", message, span_of(call, name), label).with_help(help)
 }
 
 /// A quantity argument of any dimension.
@@ -113,8 +111,7 @@ pub fn unify(call: &Call, items: &[(Quantity, &Value)]) -> Result<Vec<Quantity>,
                 v.span,
                 format!("this is {}", describe(q)),
             )
-            .with_label(call.span, "in this call")
-            .with_help("give all values in the same kind of unit (lengths with lengths, angles with angles)"));
+                .with_help("give all values in the same kind of unit (lengths with lengths, angles with angles)"));
         }
         out.push(q);
     }

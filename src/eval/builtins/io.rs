@@ -50,14 +50,14 @@ fn read_obj(call: &Call) -> Result<Data, Diagnostic> {
     let (models, _materials) = tobj::load_obj(&full, &options).map_err(|e| {
         Diagnostic::new(
             "die::bad_obj",
-            format!("cannot read {} as OBJ: {e}", full.display()),
+            format!("cannot read `{path}` as OBJ: {e}"),
             span,
             "this file",
         )
         .with_help("the file must be a Wavefront OBJ mesh (v, vn and f lines)")
     })?;
     let mesh = to_mesh(&models).map_err(|e| {
-        Diagnostic::new("die::bad_obj", format!("{} is not a valid mesh: {e}", full.display()), span, "this file")
+        Diagnostic::new("die::bad_obj", format!("`{path}` is not a valid mesh: {e}"), span, "this file")
             .with_help("faces must name existing, distinct vertices; faces with more than four corners are split into triangles")
     })?;
     Ok(Data::Mesh(Arc::new(mesh)))

@@ -282,7 +282,6 @@ impl Call<'_> {
             span,
             label,
         )
-        .with_label(self.span, "in this call")
         .with_help(kernel_help(&err))
     }
 
@@ -304,7 +303,14 @@ fn kernel_help(err: &GeomError) -> String {
         GeomError::Weight { .. } => "weights must be positive numbers".into(),
         GeomError::ZeroVector { .. } => "give a direction or tangent of non-zero length".into(),
         GeomError::NoConvergence { .. } => "check that the inputs are not degenerate or far apart".into(),
-        GeomError::CornersDoNotMeet { .. } => "the boundary curves must share their end points".into(),
+        GeomError::CornersDoNotMeet { corner, .. } => {
+            let which = ["start of `bottom` and `left`", "end of `bottom` and start of `right`", "end of `top` and `right`", "start of `top` and end of `left`"];
+            match which.get(*corner) {
+                Some(w) => format!("each corner is the end of two boundaries; here the {w} must be the same point"),
+                None => "the curves must meet end to end".into(),
+            }
+        }
+        GeomError::Singular { .. } => "the points are degenerate: three points on one line, or points too close together".into(),
         _ => "check the values passed to this call".into(),
     }
 }
