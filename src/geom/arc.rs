@@ -143,7 +143,7 @@ impl<P: Point> Circle<P> {
         let det = uu * vv - uv * uv;
         if det <= 1e-24 * uu * vv {
             return Err(GeomError::Singular {
-                what: "circle through collinear points",
+                what: "the three points lie on one straight line, so no circle passes through them",
             });
         }
         let s = 0.5 * (uu * vv - vv * uv) / det;

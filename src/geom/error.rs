@@ -71,9 +71,9 @@ pub enum GeomError {
     #[error("no intersection: {what}")]
     NoIntersection { what: &'static str },
 
-    /// A linear system that is singular (for example interpolation through points whose
-    /// parameters make the collocation matrix degenerate).
-    #[error("singular system in {what}")]
+    /// Input that admits no unique result: a singular interpolation system, three
+    /// collinear points asked for a circle, non-positive weights out of a loft.
+    #[error("degenerate input: {what}")]
     Singular { what: &'static str },
 
     /// A matrix given as an affine transform has a projective last row or is singular.

@@ -232,7 +232,7 @@ pub fn interpolate_at<P: Point>(
         }
     }
     let solution = a.lu().solve(&rhs).ok_or(GeomError::Singular {
-        what: "interpolation",
+        what: "the interpolation system has no unique solution for these parameters",
     })?;
     let mut control = Vec::with_capacity(count);
     for i in 0..count {
@@ -242,7 +242,7 @@ pub fn interpolate_at<P: Point>(
         }
         if !q.is_finite() {
             return Err(GeomError::Singular {
-                what: "interpolation",
+                what: "the interpolation system has no unique solution for these parameters",
             });
         }
         control.push(q);

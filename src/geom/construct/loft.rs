@@ -103,7 +103,7 @@ pub fn loft(sections: &[Curve3], opts: &Loft) -> Result<NurbsSurface> {
     }
     if weights.iter().any(|w| !(w.is_finite() && *w > 0.0)) {
         return Err(GeomError::Singular {
-            what: "loft: interpolated weights are not positive",
+            what: "the loft's interpolated weights are not positive",
         });
     }
     Ok(NurbsSurface::from_parts(
