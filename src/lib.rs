@@ -12,5 +12,6 @@
 pub mod cli;
 pub mod diag;
 pub mod eval;
+pub mod export;
 pub mod geom;
 pub mod syntax;

@@ -1,12 +1,22 @@
-//! The command line: `dieface check` (build, inspect and watch arrive with the export
-//! stage). Exit codes: 0 clean, 1 errors in the script, 2 usage errors.
+//! The command line: `dieface check`, `build`, `inspect` and `watch` (clap).
+//!
+//! Exit codes, for every command: 0 success, 1 errors in the script (diagnostics are
+//! printed on stderr), 2 usage errors (bad arguments, a missing file, an output with an
+//! unknown extension). Progress spinners appear on stderr only when it is a terminal.
+
+mod build;
+mod inspect;
+mod watch;
 
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::time::Duration;
 
-use clap::{Parser, Subcommand};
+use clap::{Args, Parser, Subcommand};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
+use crate::eval::overrides::parse_define;
 use crate::eval::Engine;
 
 /// dieface: a declarative language for the faces of automotive stamping dies.
@@ -24,16 +34,70 @@ pub enum Command {
     /// Parse and evaluate a script and print its diagnostics (exit 0 when clean, 1 on
     /// errors).
     Check {
-        /// The `.die` script.
-        file: PathBuf,
-        /// The project root: imports and file reads may not leave it (default: the
-        /// script's folder).
-        #[arg(long)]
-        root: Option<PathBuf>,
-        /// Colour diagnostics: auto (when stderr is a terminal), always or never.
-        #[arg(long, default_value = "auto")]
-        color: ColorChoice,
+        /// What to evaluate.
+        #[command(flatten)]
+        script: ScriptArgs,
     },
+    /// Evaluate a script and write its geometry (glTF binary `.glb`, glTF JSON `.gltf`,
+    /// Wavefront `.obj`; the format comes from each output's extension).
+    Build {
+        /// What to evaluate.
+        #[command(flatten)]
+        script: ScriptArgs,
+        /// What to write.
+        #[command(flatten)]
+        output: OutputArgs,
+    },
+    /// Print every declaration's kind and a short geometric summary, or with `--json`
+    /// the full evaluated data (schema: docs/inspect-json.md).
+    Inspect {
+        /// What to evaluate.
+        #[command(flatten)]
+        script: ScriptArgs,
+        /// Print the evaluated data as JSON on stdout.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Build, then rebuild whenever the script or a file it imports changes (Ctrl-C
+    /// stops).
+    Watch {
+        /// What to evaluate.
+        #[command(flatten)]
+        script: ScriptArgs,
+        /// What to write.
+        #[command(flatten)]
+        output: OutputArgs,
+    },
+}
+
+/// The script and how to evaluate it (shared by every command).
+#[derive(Debug, Clone, Args)]
+pub struct ScriptArgs {
+    /// The `.die` script.
+    pub file: PathBuf,
+    /// The project root: imports and file reads may not leave it (default: the
+    /// script's folder).
+    #[arg(long)]
+    pub root: Option<PathBuf>,
+    /// Colour diagnostics: auto (when stderr is a terminal), always or never.
+    #[arg(long, default_value = "auto")]
+    pub color: ColorChoice,
+    /// Override a top-level `param` with a value of the same type and unit, e.g.
+    /// `-D delta=0.005mm` (repeatable; the value is an expression of the language).
+    #[arg(short = 'D', value_name = "NAME=VALUE", value_parser = parse_define)]
+    pub define: Vec<(String, String)>,
+}
+
+/// Outputs and tessellation (build and watch).
+#[derive(Debug, Clone, Args)]
+pub struct OutputArgs {
+    /// An output file: `.glb`, `.gltf` or `.obj` (repeatable).
+    #[arg(short = 'o', long = "output", value_name = "FILE", required = true)]
+    pub outputs: Vec<PathBuf>,
+    /// Chordal tolerance of the tessellation, a length with its unit (`0.01mm`,
+    /// `0.001 in`). Default: the script's top-level `param tolerance`, else 0.05 mm.
+    #[arg(long, value_name = "LENGTH")]
+    pub tolerance: Option<String>,
 }
 
 /// When to colour diagnostics.
@@ -57,30 +121,59 @@ pub fn main() -> ExitCode {
         }
     };
     match cli.command {
-        Command::Check { file, root, color } => check(&file, root.as_deref(), color),
+        Command::Check { script } => check(&script),
+        Command::Build { script, output } => build::run(&script, &output),
+        Command::Inspect { script, json } => inspect::run(&script, json),
+        Command::Watch { script, output } => watch::run(&script, &output),
+    }
+}
+
+/// Exit code 1: errors in the script.
+pub(crate) const SCRIPT_ERROR: u8 = 1;
+/// Exit code 2: usage errors.
+pub(crate) const USAGE_ERROR: u8 = 2;
+
+impl ScriptArgs {
+    /// Whether to colour diagnostics.
+    fn color(&self) -> bool {
+        match self.color {
+            ColorChoice::Auto => std::io::stderr().is_terminal(),
+            ColorChoice::Always => true,
+            ColorChoice::Never => false,
+        }
+    }
+
+    /// The project root (default: the script's folder).
+    fn root(&self) -> PathBuf {
+        self.root.clone().unwrap_or_else(|| script_dir(&self.file))
+    }
+
+    /// An engine for the script with its overrides, or a usage error if the script is
+    /// not a file.
+    fn engine(&self) -> Result<Engine, ExitCode> {
+        if !self.file.is_file() {
+            eprintln!("error: cannot read `{}`: no such file", self.file.display());
+            return Err(ExitCode::from(USAGE_ERROR));
+        }
+        let mut engine = Engine::new(Some(self.root()));
+        engine.set_overrides(self.define.clone());
+        Ok(engine)
     }
 }
 
 /// `dieface check`.
-fn check(file: &Path, root: Option<&Path>, color: ColorChoice) -> ExitCode {
-    let color = match color {
-        ColorChoice::Auto => std::io::stderr().is_terminal(),
-        ColorChoice::Always => true,
-        ColorChoice::Never => false,
+fn check(script: &ScriptArgs) -> ExitCode {
+    let color = script.color();
+    let file = script.file.as_path();
+    let mut engine = match script.engine() {
+        Ok(e) => e,
+        Err(code) => return code,
     };
-    let root = root
-        .map(Path::to_path_buf)
-        .unwrap_or_else(|| script_dir(file));
-    if !file.is_file() {
-        eprintln!("error: cannot read `{}`: no such file", file.display());
-        return ExitCode::from(2);
-    }
-    let mut engine = Engine::new(Some(root));
     let outcome = match engine.evaluate_path(file) {
         Ok(o) => o,
         Err(e) => {
             eprintln!("error: cannot read `{}`: {e}", file.display());
-            return ExitCode::from(2);
+            return ExitCode::from(USAGE_ERROR);
         }
     };
     for d in &outcome.diagnostics {
@@ -102,7 +195,7 @@ fn check(file: &Path, root: Option<&Path>, color: ColorChoice) -> ExitCode {
             if n == 1 { "" } else { "s" },
             outcome.decls.len()
         );
-        ExitCode::from(1)
+        ExitCode::from(SCRIPT_ERROR)
     }
 }
 
@@ -112,4 +205,24 @@ fn script_dir(file: &Path) -> PathBuf {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
         _ => PathBuf::from("."),
     }
+}
+
+/// A spinner on stderr with `message`, drawn only when stderr is a terminal (hidden,
+/// and free, otherwise). Finish it with `finish_and_clear`.
+fn progress(message: impl Into<String>) -> ProgressBar {
+    if !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
+    if let Ok(style) = ProgressStyle::with_template("{spinner} {msg} {elapsed}") {
+        bar.set_style(style);
+    }
+    bar.set_message(message.into());
+    bar.enable_steady_tick(Duration::from_millis(80));
+    bar
+}
+
+/// Milliseconds with one decimal, for timing lines.
+fn ms(d: Duration) -> String {
+    format!("{:.1} ms", d.as_secs_f64() * 1e3)
 }

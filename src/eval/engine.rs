@@ -17,6 +17,7 @@ use std::collections::{BTreeSet, HashMap, HashSet};
 use std::hash::{Hash, Hasher};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
+use std::time::{Duration, Instant};
 
 use crate::diag::{did_you_mean, Diagnostic, Sources};
 use crate::syntax::ast::{self, Block, DeclBody, FieldValue, Item};
@@ -97,8 +98,14 @@ pub struct Engine {
     root: Option<PathBuf>,
     files: HashMap<FileId, FileState>,
     memo: HashMap<(FileId, String), MemoEntry>,
+    /// The last parse of each file, by the hash of its text.
+    parsed: HashMap<FileId, (u64, Arc<ast::File>)>,
     evaluations: u64,
     last_evaluated: Vec<String>,
+    // CLI hooks (see `overrides.rs` and `last_timings`): `-D name=value` texts for the
+    // main file's params, and how long each evaluated declaration took.
+    overrides: Vec<(String, String)>,
+    last_timings: Vec<(String, Duration)>,
 }
 
 impl World for Engine {
@@ -122,9 +129,30 @@ impl Engine {
             root: root.and_then(|r| r.canonicalize().ok()),
             files: HashMap::new(),
             memo: HashMap::new(),
+            parsed: HashMap::new(),
             evaluations: 0,
             last_evaluated: Vec::new(),
+            overrides: Vec::new(),
+            last_timings: Vec::new(),
         }
+    }
+
+    /// Sets the command line's `-D name=value` overrides (name, expression text) of the
+    /// main file's `param`s; a later entry for the same name wins. See
+    /// [`super::overrides`].
+    pub fn set_overrides(&mut self, overrides: Vec<(String, String)>) {
+        let mut kept: Vec<(String, String)> = Vec::new();
+        for (name, text) in overrides {
+            kept.retain(|(n, _)| *n != name);
+            kept.push((name, text));
+        }
+        self.overrides = kept;
+    }
+
+    /// How long each declaration evaluated by the last [`Engine::evaluate`] took (named
+    /// as in [`Engine::last_evaluated`]; memoized ones are absent).
+    pub fn last_timings(&self) -> &[(String, Duration)] {
+        &self.last_timings
     }
 
     /// How many declarations have been evaluated (not taken from the memo) so far.
@@ -162,6 +190,7 @@ impl Engine {
 
     fn evaluate_here(&mut self, name: &str, text: &str, dir: Option<PathBuf>) -> Outcome {
         self.last_evaluated.clear();
+        self.last_timings.clear();
         let mut diagnostics = Vec::new();
         let mut stack = Vec::new();
         let (file, decls) = self.load(name, text, dir, &mut stack, &mut diagnostics, true);
@@ -225,12 +254,21 @@ impl Engine {
             module_hash: hash_of(&text),
         };
         self.files.insert(file, state);
-        let ast = match parse(text, file) {
-            Ok(a) => a,
-            Err(d) => {
-                diagnostics.push(d);
-                return (file, Vec::new());
-            }
+        // Unchanged files (the standard library, untouched imports) are not parsed again.
+        let text_hash = hash_of(&text);
+        let ast = match self.parsed.get(&file) {
+            Some((h, ast)) if *h == text_hash => ast.clone(),
+            _ => match parse(text, file) {
+                Ok(a) => {
+                    let a = Arc::new(a);
+                    self.parsed.insert(file, (text_hash, a.clone()));
+                    a
+                }
+                Err(d) => {
+                    diagnostics.push(d);
+                    return (file, Vec::new());
+                }
+            },
         };
         stack.push(file);
         let items = self.collect(&ast, diagnostics);
@@ -619,6 +657,16 @@ impl Engine {
             .map(|f| (f.name.node.as_str(), &text[f.span.range()]))
             .collect();
 
+        // CLI hook: `-D` overrides must each name a `param` of the main file.
+        if main && !self.overrides.is_empty() {
+            let overrides = self.overrides.clone();
+            diagnostics.extend(super::overrides::check_names(
+                &mut self.sources,
+                &overrides,
+                &items.decls,
+            ));
+        }
+
         let mut hashes: HashMap<String, u64> = HashMap::new();
         let mut failed: HashSet<String> = HashSet::new();
         for &i in &order {
@@ -649,6 +697,11 @@ impl Engine {
                     }
                 }
             }
+            // CLI hook: a `-D` override's text is part of its param's memo key.
+            let override_text = self.override_for(main, d);
+            if let Some(t) = &override_text {
+                h = combine(h, hash_of(t.as_str()));
+            }
             hashes.insert(name.clone(), h);
 
             let key = (file, name.clone());
@@ -662,7 +715,18 @@ impl Engine {
                     .insert(name, value);
                 continue;
             }
-            let result = self.evaluate_decl(file, d);
+            let started = Instant::now();
+            let result = match override_text {
+                // CLI hook: the param's value comes from `-D` (checked against its default).
+                Some(t) => {
+                    let src = self
+                        .sources
+                        .add(super::overrides::source_name(&name), t.as_str());
+                    let declared = self.evaluate_decl(file, d);
+                    super::overrides::evaluate_override(src, d, &t, units, declared)
+                }
+                None => self.evaluate_decl(file, d),
+            };
             self.evaluations += 1;
             self.last_evaluated.push(if main {
                 name.clone()
@@ -672,6 +736,10 @@ impl Engine {
                     self.sources.get(file).map_or("", |f| f.name.as_str())
                 )
             });
+            let took = started.elapsed();
+            if let Some(n) = self.last_evaluated.last() {
+                self.last_timings.push((n.clone(), took));
+            }
             match result {
                 Ok(value) => {
                     if !contains_function(&value) {
@@ -711,6 +779,14 @@ impl Engine {
                     .and_then(|f| f.globals.decls.get(&d.name.node).cloned()),
             })
             .collect()
+    }
+
+    /// The `-D` text for `d` if it is a `param` of the main file with an override.
+    fn override_for(&self, main: bool, d: &ast::Decl) -> Option<String> {
+        (main && d.kind.node == "param")
+            .then(|| self.overrides.iter().find(|(n, _)| *n == d.name.node))
+            .flatten()
+            .map(|(_, t)| t.clone())
     }
 
     fn mark_failed(&mut self, file: FileId, name: &str) {

@@ -11,6 +11,7 @@ pub mod deps;
 pub mod engine;
 pub mod expr;
 pub mod ops;
+pub mod overrides;
 pub mod paths;
 pub mod sketch;
 pub mod stdlib;

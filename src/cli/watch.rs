@@ -1,0 +1,238 @@
+//! `dieface watch FILE -o OUT.glb`: build, then rebuild on every change of the script
+//! or of a file it imports, until Ctrl-C.
+//!
+//! The rename trap: editors such as vim and VS Code save by writing a new file and
+//! renaming it over the old one, so a watch on the file itself follows the old inode and
+//! goes deaf after the first save (notify issues 531, 165, 166). We therefore watch the
+//! *parent directories* of the script and of every imported file, non-recursively, and
+//! keep the events whose path is one of those files (compared by folder and file name,
+//! never by inode). Bursts of events (write, chmod, rename, close) are debounced into
+//! one rebuild.
+//!
+//! One [`Engine`] lives across rebuilds, so its memo re-evaluates only the declarations
+//! an edit touched; each rebuild prints one line with its time and the declarations
+//! that re-ran. A rebuild with errors prints the diagnostics and leaves the outputs as
+//! the last good build wrote them (writes are atomic).
+
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::sync::mpsc::{self, RecvTimeoutError};
+use std::time::{Duration, Instant};
+
+use notify::event::{AccessKind, AccessMode};
+use notify::{EventKind, RecursiveMode, Watcher};
+
+use crate::eval::Engine;
+
+use super::build::{Built, Plan};
+use super::{ms, OutputArgs, ScriptArgs, USAGE_ERROR};
+
+/// Quiet time that ends a burst of events.
+const DEBOUNCE: Duration = Duration::from_millis(150);
+/// Longest a burst may delay a rebuild.
+const MAX_DELAY: Duration = Duration::from_secs(2);
+
+enum Msg {
+    Fs(notify::Result<notify::Event>),
+    Quit,
+}
+
+/// `dieface watch`.
+pub(crate) fn run(script: &ScriptArgs, out: &OutputArgs) -> ExitCode {
+    let plan = match Plan::new(script, out) {
+        Ok(p) => p,
+        Err(code) => return code,
+    };
+    let mut engine = match script.engine() {
+        Ok(e) => e,
+        Err(code) => return code,
+    };
+    let main_file = match normalize(&script.file) {
+        Some(p) => p,
+        None => {
+            eprintln!("error: cannot read `{}`", script.file.display());
+            return ExitCode::from(USAGE_ERROR);
+        }
+    };
+
+    let (tx, rx) = mpsc::channel::<Msg>();
+    let quit = tx.clone();
+    if let Err(e) = ctrlc::set_handler(move || {
+        let _ = quit.send(Msg::Quit);
+    }) {
+        eprintln!("warning: cannot catch Ctrl-C: {e}");
+    }
+    let mut watcher = match notify::recommended_watcher(move |res| {
+        let _ = tx.send(Msg::Fs(res));
+    }) {
+        Ok(w) => w,
+        Err(e) => {
+            eprintln!("error: cannot watch files: {e}");
+            return ExitCode::from(USAGE_ERROR);
+        }
+    };
+
+    // Watch the script's folder before the first build, so no save is missed.
+    let mut files: BTreeSet<PathBuf> = BTreeSet::from([main_file.clone()]);
+    let mut dirs: BTreeSet<PathBuf> = BTreeSet::new();
+    register(&mut watcher, &files, &mut dirs);
+
+    let mut state = State::default();
+    rebuild(&plan, &mut engine, script, &mut state);
+    files.extend(loaded_files(&engine, &script.root()));
+    register(&mut watcher, &files, &mut dirs);
+    eprintln!(
+        "watching {} file{} in {} folder{} (Ctrl-C to stop)",
+        files.len(),
+        if files.len() == 1 { "" } else { "s" },
+        dirs.len(),
+        if dirs.len() == 1 { "" } else { "s" }
+    );
+
+    loop {
+        let Ok(msg) = rx.recv() else {
+            return ExitCode::SUCCESS;
+        };
+        match msg {
+            Msg::Quit => return ExitCode::SUCCESS,
+            Msg::Fs(Err(e)) => eprintln!("warning: file watching: {e}"),
+            Msg::Fs(Ok(event)) => {
+                if !relevant(&event, &files) {
+                    continue;
+                }
+                // Debounce: wait until our files have been quiet for DEBOUNCE (or too
+                // long has passed). Only events on our files extend the wait: reads of
+                // the outputs (a viewer reloading them) must not hold the rebuild back.
+                let first = Instant::now();
+                let mut last = first;
+                loop {
+                    let deadline = (last + DEBOUNCE).min(first + MAX_DELAY);
+                    let now = Instant::now();
+                    if now >= deadline {
+                        break;
+                    }
+                    match rx.recv_timeout(deadline - now) {
+                        Ok(Msg::Quit) => return ExitCode::SUCCESS,
+                        Ok(Msg::Fs(Ok(e))) if relevant(&e, &files) => last = Instant::now(),
+                        Ok(Msg::Fs(_)) => {}
+                        Err(RecvTimeoutError::Timeout) => break,
+                        Err(RecvTimeoutError::Disconnected) => return ExitCode::SUCCESS,
+                    }
+                }
+                rebuild(&plan, &mut engine, script, &mut state);
+                // Imports may have changed: watch the folders of new ones too.
+                files.extend(loaded_files(&engine, &script.root()));
+                register(&mut watcher, &files, &mut dirs);
+            }
+        }
+    }
+}
+
+/// What the previous builds left.
+#[derive(Default)]
+struct State {
+    /// Whether any build has written the outputs.
+    built_once: bool,
+    /// Whether the last build failed (its outputs are those of an earlier one).
+    last_failed: bool,
+}
+
+/// One build, and its line: `built in ...`, `rebuilt in 12.3 ms: a, b`, `no changes`,
+/// or the diagnostics and `error: see above, keeping the last good output`.
+fn rebuild(plan: &Plan, engine: &mut Engine, script: &ScriptArgs, state: &mut State) {
+    let started = Instant::now();
+    let unchanged_ok = state.built_once && !state.last_failed;
+    match plan.build(engine, script, unchanged_ok) {
+        Err(msg) => {
+            // Typically the moment between an editor's delete and its write: the next
+            // event brings the new file.
+            eprintln!("warning: {msg}; waiting for the next change");
+        }
+        Ok(Built::Unchanged) => println!("no changes"),
+        Ok(Built::ScriptErrors(_)) | Ok(Built::WriteFailed) => {
+            state.last_failed = true;
+            if state.built_once {
+                eprintln!("error: see above, keeping the last good output");
+            } else {
+                eprintln!("error: see above, no output written yet");
+            }
+        }
+        Ok(Built::Written { files, .. }) => {
+            let ran = engine.last_evaluated();
+            let took = ms(started.elapsed());
+            if !state.built_once {
+                let names: Vec<String> =
+                    files.iter().map(|(p, _)| p.display().to_string()).collect();
+                println!(
+                    "built in {took}: {} declarations, wrote {}",
+                    ran.len(),
+                    names.join(", ")
+                );
+            } else if ran.is_empty() {
+                println!("rebuilt in {took}: nothing re-ran (all memoized)");
+            } else {
+                println!("rebuilt in {took}: {}", ran.join(", "));
+            }
+            state.built_once = true;
+            state.last_failed = false;
+        }
+    }
+}
+
+/// Watches the folder of every file not yet covered (non-recursive).
+fn register(watcher: &mut impl Watcher, files: &BTreeSet<PathBuf>, dirs: &mut BTreeSet<PathBuf>) {
+    for f in files {
+        let Some(dir) = f.parent() else { continue };
+        if dirs.contains(dir) {
+            continue;
+        }
+        match watcher.watch(dir, RecursiveMode::NonRecursive) {
+            Ok(()) => {
+                dirs.insert(dir.to_path_buf());
+            }
+            Err(e) => eprintln!("warning: cannot watch `{}`: {e}", dir.display()),
+        }
+    }
+}
+
+/// The files on disk the engine has loaded (the script and its imports), normalized.
+/// Diagnostic names are relative to the root; the standard library and `-D` texts are
+/// not files and are skipped.
+fn loaded_files(engine: &Engine, root: &Path) -> Vec<PathBuf> {
+    let root = root.canonicalize().unwrap_or_else(|_| root.to_path_buf());
+    (0u32..)
+        .map_while(|i| engine.sources.get(crate::syntax::FileId(i)))
+        .filter(|f| !f.name.starts_with("-D ") && !f.name.starts_with("--"))
+        .filter_map(|f| {
+            let p = root.join(&f.name);
+            p.is_file().then(|| normalize(&p)).flatten()
+        })
+        .collect()
+}
+
+/// A path as its canonical folder plus its file name: stable across saves that replace
+/// the file (new inode) and comparable with the paths in events.
+fn normalize(p: &Path) -> Option<PathBuf> {
+    let name = p.file_name()?;
+    let dir = match p.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    Some(dir.canonicalize().ok()?.join(name))
+}
+
+/// Whether an event may have changed one of `files`: any creation, modification,
+/// rename or removal of such a path (reads are ignored: the build itself reads).
+fn relevant(event: &notify::Event, files: &BTreeSet<PathBuf>) -> bool {
+    let counts = match event.kind {
+        EventKind::Access(AccessKind::Close(AccessMode::Write)) => true,
+        EventKind::Access(_) => false,
+        _ => true,
+    };
+    counts
+        && event
+            .paths
+            .iter()
+            .any(|p| files.contains(p) || normalize(p).is_some_and(|n| files.contains(&n)))
+}

@@ -1,0 +1,394 @@
+//! glTF 2.0 writer: `.glb` (binary container) and `.gltf` (JSON, buffer embedded).
+//!
+//! The JSON is built with `serde_json` rather than the `gltf` crate's `gltf-json` types:
+//! the document needs only a dozen object kinds, `serde_json` is small, and its output
+//! is deterministic (object keys in a fixed order, floats printed by the shortest
+//! round-trip rule), which the byte-identical-builds promise rests on.
+//!
+//! Conventions (glTF 2.0 spec, section 3.4): metres, right-handed, +Y up, front faces
+//! counter-clockwise. Press coordinates are millimetres with +Z up, so a point or normal
+//! `(x, y, z)` maps to `(x, z, -y)`, positions also divided by 1000. The map is a
+//! rotation (determinant +1), so windings keep facing the same way.
+//!
+//! Layout: one buffer; every accessor has its own tightly packed buffer view (no
+//! `byteStride` needed), each view starts on a 4-byte boundary. Positions are `f32`
+//! `VEC3` with exact `min`/`max` (computed on the `f32` values the buffer holds), normals
+//! `f32` unit `VEC3`, indices `u16` when every index fits below the primitive-restart
+//! value 65535 and `u32` otherwise. Triangles are mode 4, curves mode 3 (`LINE_STRIP`).
+//! One material per declaration kind present, double-sided (die faces are open sheets).
+//! Every node has `extras` { name, kind, line, tolerance_mm, source }.
+
+use glam::DVec3;
+use serde_json::{json, Map, Value};
+
+use super::scene::{Geometry, Node, Scene};
+
+/// `componentType` values (glTF 2.0, 3.6.2.2).
+const UNSIGNED_SHORT: u32 = 5123;
+const UNSIGNED_INT: u32 = 5125;
+const FLOAT: u32 = 5126;
+/// `bufferView.target` values.
+const ARRAY_BUFFER: u32 = 34962;
+const ELEMENT_ARRAY_BUFFER: u32 = 34963;
+/// Primitive modes.
+const MODE_LINE_STRIP: u32 = 3;
+const MODE_TRIANGLES: u32 = 4;
+
+/// GLB header and chunk magic numbers (glTF 2.0, section 4.4).
+const GLB_MAGIC: u32 = 0x4654_6C67; // "glTF"
+const GLB_VERSION: u32 = 2;
+const CHUNK_JSON: u32 = 0x4E4F_534A; // "JSON"
+const CHUNK_BIN: u32 = 0x004E_4942; // "BIN\0"
+
+/// The scene as a binary glTF (`.glb`): 12-byte header, a JSON chunk padded with
+/// spaces, and a BIN chunk padded with zeros (absent when there is no geometry).
+pub fn encode_glb(scene: &Scene) -> Vec<u8> {
+    let doc = Document::build(scene);
+    let mut json = serde_json::to_vec(&doc.json(None)).expect("a JSON value always serializes");
+    pad(&mut json, b' ');
+    let mut bin = doc.buffer;
+    pad(&mut bin, 0);
+    let mut total = 12 + 8 + json.len();
+    if !bin.is_empty() {
+        total += 8 + bin.len();
+    }
+    let mut out = Vec::with_capacity(total);
+    for word in [GLB_MAGIC, GLB_VERSION, total as u32] {
+        out.extend_from_slice(&word.to_le_bytes());
+    }
+    out.extend_from_slice(&(json.len() as u32).to_le_bytes());
+    out.extend_from_slice(&CHUNK_JSON.to_le_bytes());
+    out.extend_from_slice(&json);
+    if !bin.is_empty() {
+        out.extend_from_slice(&(bin.len() as u32).to_le_bytes());
+        out.extend_from_slice(&CHUNK_BIN.to_le_bytes());
+        out.extend_from_slice(&bin);
+    }
+    out
+}
+
+/// The scene as a JSON glTF (`.gltf`), pretty-printed, with the buffer embedded as a
+/// base64 data URI so the file stands alone.
+pub fn encode_gltf(scene: &Scene) -> Vec<u8> {
+    let doc = Document::build(scene);
+    let uri = format!(
+        "data:application/octet-stream;base64,{}",
+        base64(&doc.buffer)
+    );
+    let mut out =
+        serde_json::to_vec_pretty(&doc.json(Some(uri))).expect("a JSON value always serializes");
+    out.push(b'\n');
+    out
+}
+
+/// Press millimetres to glTF metres, +Y up.
+pub fn to_gltf_position(p: DVec3) -> [f32; 3] {
+    // `+ 0.0` turns a negative zero (from `-y` with y = 0) into a plain zero.
+    [p.x / 1000.0, p.z / 1000.0, -p.y / 1000.0].map(|c| c as f32 + 0.0)
+}
+
+/// A press direction to glTF axes (unit length kept).
+pub fn to_gltf_direction(n: DVec3) -> [f32; 3] {
+    let n = n.try_normalize().unwrap_or(DVec3::Z);
+    [n.x, n.z, -n.y].map(|c| c as f32 + 0.0)
+}
+
+/// The base colour of a declaration kind's material (linear RGB).
+pub fn kind_color(kind: &str) -> [f64; 3] {
+    match kind {
+        "product" => [0.45, 0.55, 0.70],                // grey-blue
+        "step_draw" => [0.95, 0.50, 0.10],              // orange
+        "blankholder" | "binder" => [0.25, 0.65, 0.30], // green
+        "punch_opening" => [0.85, 0.15, 0.15],          // red
+        "bead" => [0.55, 0.25, 0.75],                   // purple
+        _ => [0.80, 0.80, 0.80],                        // let, param, others: light grey
+    }
+}
+
+/// The glTF document being assembled: JSON arrays and the binary buffer.
+#[derive(Default)]
+struct Document {
+    nodes: Vec<Value>,
+    roots: Vec<usize>,
+    meshes: Vec<Value>,
+    materials: Vec<Value>,
+    material_kinds: Vec<String>,
+    accessors: Vec<Value>,
+    views: Vec<Value>,
+    buffer: Vec<u8>,
+    tolerance_mm: f64,
+    source: String,
+}
+
+impl Document {
+    fn build(scene: &Scene) -> Document {
+        let mut doc = Document {
+            tolerance_mm: scene.tolerance_mm,
+            source: scene.source_name.clone(),
+            ..Document::default()
+        };
+        for node in &scene.nodes {
+            let i = doc.node(node);
+            doc.roots.push(i);
+        }
+        doc
+    }
+
+    /// Adds `node` and its descendants (parents first); returns its index.
+    fn node(&mut self, node: &Node) -> usize {
+        let index = self.nodes.len();
+        self.nodes.push(Value::Null);
+        let mut obj = Map::new();
+        obj.insert("name".into(), json!(node.name));
+        if let Some(mesh) = self.mesh(node) {
+            obj.insert("mesh".into(), json!(mesh));
+        }
+        let children: Vec<usize> = node.children.iter().map(|c| self.node(c)).collect();
+        if !children.is_empty() {
+            obj.insert("children".into(), json!(children));
+        }
+        obj.insert(
+            "extras".into(),
+            json!({
+                "name": node.name,
+                "kind": node.kind,
+                "line": node.line,
+                "tolerance_mm": self.tolerance_mm,
+                "source": self.source,
+            }),
+        );
+        self.nodes[index] = Value::Object(obj);
+        index
+    }
+
+    /// The mesh of `node`'s own primitives, or `None` when it has none to draw.
+    fn mesh(&mut self, node: &Node) -> Option<usize> {
+        let geometry: Vec<&Geometry> = node.geometry.iter().filter(|g| !g.is_empty()).collect();
+        if geometry.is_empty() {
+            return None;
+        }
+        let material = self.material(&node.kind);
+        let mut primitives = Vec::new();
+        for g in geometry {
+            match g {
+                Geometry::Triangles {
+                    positions,
+                    normals,
+                    indices,
+                } => {
+                    let pos = self.positions(positions);
+                    let dirs: Vec<[f32; 3]> = (0..positions.len())
+                        .map(|i| to_gltf_direction(normals.get(i).copied().unwrap_or(DVec3::Z)))
+                        .collect();
+                    let nrm = self.vec3(&dirs, false);
+                    let idx = self.indices(indices, positions.len());
+                    primitives.push(json!({
+                        "attributes": { "POSITION": pos, "NORMAL": nrm },
+                        "indices": idx,
+                        "material": material,
+                        "mode": MODE_TRIANGLES,
+                    }));
+                }
+                Geometry::LineStrip { points } => {
+                    let pos = self.positions(points);
+                    primitives.push(json!({
+                        "attributes": { "POSITION": pos },
+                        "material": material,
+                        "mode": MODE_LINE_STRIP,
+                    }));
+                }
+            }
+        }
+        self.meshes
+            .push(json!({ "name": node.name, "primitives": primitives }));
+        Some(self.meshes.len() - 1)
+    }
+
+    /// The material of a kind, created on first use.
+    fn material(&mut self, kind: &str) -> usize {
+        if let Some(i) = self.material_kinds.iter().position(|k| k == kind) {
+            return i;
+        }
+        let [r, g, b] = kind_color(kind);
+        self.materials.push(json!({
+            "name": kind,
+            "pbrMetallicRoughness": {
+                "baseColorFactor": [r, g, b, 1.0],
+                "metallicFactor": 0.0,
+                "roughnessFactor": 0.6,
+            },
+            "doubleSided": true,
+        }));
+        self.material_kinds.push(kind.to_string());
+        self.materials.len() - 1
+    }
+
+    /// A position accessor (converted to glTF metres, with min and max).
+    fn positions(&mut self, points: &[DVec3]) -> usize {
+        let converted: Vec<[f32; 3]> = points.iter().map(|&p| to_gltf_position(p)).collect();
+        self.vec3(&converted, true)
+    }
+
+    /// A `VEC3` float accessor, with `min`/`max` when asked.
+    fn vec3(&mut self, data: &[[f32; 3]], bounds: bool) -> usize {
+        let mut bytes = Vec::with_capacity(data.len() * 12);
+        for v in data {
+            for c in v {
+                bytes.extend_from_slice(&c.to_le_bytes());
+            }
+        }
+        let view = self.view(&bytes, ARRAY_BUFFER);
+        let mut acc = Map::new();
+        acc.insert("bufferView".into(), json!(view));
+        acc.insert("componentType".into(), json!(FLOAT));
+        acc.insert("count".into(), json!(data.len()));
+        acc.insert("type".into(), json!("VEC3"));
+        if bounds {
+            let mut lo = [f32::INFINITY; 3];
+            let mut hi = [f32::NEG_INFINITY; 3];
+            for v in data {
+                for k in 0..3 {
+                    lo[k] = lo[k].min(v[k]);
+                    hi[k] = hi[k].max(v[k]);
+                }
+            }
+            let as_json = |a: [f32; 3]| json!(a.map(f64::from));
+            acc.insert("min".into(), as_json(lo));
+            acc.insert("max".into(), as_json(hi));
+        }
+        self.accessors.push(Value::Object(acc));
+        self.accessors.len() - 1
+    }
+
+    /// An index accessor: `u16` when every index is below 65535, else `u32`.
+    fn indices(&mut self, indices: &[u32], vertex_count: usize) -> usize {
+        let small = vertex_count < usize::from(u16::MAX);
+        let mut bytes = Vec::with_capacity(indices.len() * if small { 2 } else { 4 });
+        for &i in indices {
+            if small {
+                bytes.extend_from_slice(&(i as u16).to_le_bytes());
+            } else {
+                bytes.extend_from_slice(&i.to_le_bytes());
+            }
+        }
+        let view = self.view(&bytes, ELEMENT_ARRAY_BUFFER);
+        self.accessors.push(json!({
+            "bufferView": view,
+            "componentType": if small { UNSIGNED_SHORT } else { UNSIGNED_INT },
+            "count": indices.len(),
+            "type": "SCALAR",
+        }));
+        self.accessors.len() - 1
+    }
+
+    /// Appends `bytes` as a buffer view starting on a 4-byte boundary.
+    fn view(&mut self, bytes: &[u8], target: u32) -> usize {
+        pad(&mut self.buffer, 0);
+        let offset = self.buffer.len();
+        self.buffer.extend_from_slice(bytes);
+        self.views.push(json!({
+            "buffer": 0,
+            "byteOffset": offset,
+            "byteLength": bytes.len(),
+            "target": target,
+        }));
+        self.views.len() - 1
+    }
+
+    /// The JSON document; `uri` is the buffer's data URI for `.gltf` (none in a GLB).
+    fn json(&self, uri: Option<String>) -> Value {
+        let mut root = Map::new();
+        root.insert(
+            "asset".into(),
+            json!({
+                "version": "2.0",
+                "generator": format!("dieface {}", env!("CARGO_PKG_VERSION")),
+            }),
+        );
+        let mut scene = Map::new();
+        scene.insert("name".into(), json!(self.source));
+        // The schema wants at least one node in a scene's list, so an empty scene has none.
+        if !self.roots.is_empty() {
+            scene.insert("nodes".into(), json!(self.roots));
+        }
+        root.insert("scene".into(), json!(0));
+        root.insert("scenes".into(), json!([Value::Object(scene)]));
+        let mut put = |key: &str, items: &[Value]| {
+            if !items.is_empty() {
+                root.insert(key.into(), Value::Array(items.to_vec()));
+            }
+        };
+        put("nodes", &self.nodes);
+        put("meshes", &self.meshes);
+        put("materials", &self.materials);
+        put("accessors", &self.accessors);
+        put("bufferViews", &self.views);
+        if !self.buffer.is_empty() {
+            let mut buffer = Map::new();
+            buffer.insert("byteLength".into(), json!(self.buffer.len()));
+            if let Some(uri) = uri {
+                buffer.insert("uri".into(), json!(uri));
+            }
+            root.insert("buffers".into(), json!([Value::Object(buffer)]));
+        }
+        Value::Object(root)
+    }
+}
+
+/// Pads `bytes` with `fill` to a multiple of 4.
+fn pad(bytes: &mut Vec<u8>, fill: u8) {
+    while bytes.len() % 4 != 0 {
+        bytes.push(fill);
+    }
+}
+
+/// Standard base64 with padding (RFC 4648), for the `.gltf` data URI.
+fn base64(bytes: &[u8]) -> String {
+    const ALPHABET: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut out = String::with_capacity(bytes.len().div_ceil(3) * 4);
+    for chunk in bytes.chunks(3) {
+        let b = [
+            chunk[0],
+            chunk.get(1).copied().unwrap_or(0),
+            chunk.get(2).copied().unwrap_or(0),
+        ];
+        let n = (u32::from(b[0]) << 16) | (u32::from(b[1]) << 8) | u32::from(b[2]);
+        for k in 0..4 {
+            if k <= chunk.len() {
+                out.push(ALPHABET[((n >> (18 - 6 * k)) & 63) as usize] as char);
+            } else {
+                out.push('=');
+            }
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn base64_matches_rfc4648_vectors() {
+        for (input, expected) in [
+            ("", ""),
+            ("f", "Zg=="),
+            ("fo", "Zm8="),
+            ("foo", "Zm9v"),
+            ("foob", "Zm9vYg=="),
+            ("fooba", "Zm9vYmE="),
+            ("foobar", "Zm9vYmFy"),
+        ] {
+            assert_eq!(base64(input.as_bytes()), expected);
+        }
+    }
+
+    #[test]
+    fn press_axes_map_to_gltf_y_up_metres() {
+        assert_eq!(
+            to_gltf_position(DVec3::new(1000.0, 2000.0, 3000.0)),
+            [1.0, 3.0, -2.0]
+        );
+        assert_eq!(to_gltf_direction(DVec3::Z), [0.0, 1.0, 0.0]);
+    }
+}

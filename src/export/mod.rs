@@ -1,0 +1,69 @@
+//! Export: evaluated declarations to files a viewer or a mesher reads.
+//!
+//! The pipeline is two steps. [`build_scene`] tessellates every declaration whose value is
+//! geometry into a [`Scene`] of named [`Node`]s (press coordinates, millimetres, one node
+//! per declaration, children for the parts of lists and feature blocks). [`encode`] then
+//! writes the scene in a [`Format`]:
+//!
+//! * glTF 2.0 (`.glb` binary, `.gltf` JSON with the buffer embedded as a data URI): metres
+//!   and +Y up as the glTF spec requires, so press `(x, y, z)` mm becomes glTF
+//!   `(x, z, -y) / 1000` (a proper rotation: windings and normals stay right-handed);
+//!   see [`gltf`].
+//! * Wavefront OBJ: millimetres in press coordinates (OBJ has no unit or axis
+//!   convention), one group per node; see [`obj`].
+//!
+//! Every encoder is deterministic: the same scene gives the same bytes (no hash-map
+//! order, stable float formatting, little-endian buffers). [`atomic::write_atomic`]
+//! writes a file through a temporary sibling and a rename, so a failed build never
+//! leaves a half-written or missing output behind.
+
+pub mod atomic;
+pub mod gltf;
+pub mod obj;
+pub mod scene;
+
+use std::path::Path;
+
+pub use scene::{build_scene, Geometry, Node, Scene};
+
+/// Output formats by file extension.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Format {
+    /// Binary glTF 2.0 (`.glb`).
+    Glb,
+    /// JSON glTF 2.0 with the buffer embedded as a base64 data URI (`.gltf`).
+    Gltf,
+    /// Wavefront OBJ (`.obj`), millimetres, press coordinates.
+    Obj,
+}
+
+impl Format {
+    /// The format named by `p`'s extension (case-insensitive), or `None` for any other.
+    pub fn from_path(p: &Path) -> Option<Format> {
+        let ext = p.extension()?.to_str()?.to_ascii_lowercase();
+        match ext.as_str() {
+            "glb" => Some(Format::Glb),
+            "gltf" => Some(Format::Gltf),
+            "obj" => Some(Format::Obj),
+            _ => None,
+        }
+    }
+
+    /// The extension the format is written with (without the dot).
+    pub fn extension(self) -> &'static str {
+        match self {
+            Format::Glb => "glb",
+            Format::Gltf => "gltf",
+            Format::Obj => "obj",
+        }
+    }
+}
+
+/// Encodes a scene in a format (deterministic bytes).
+pub fn encode(scene: &Scene, format: Format) -> Vec<u8> {
+    match format {
+        Format::Glb => gltf::encode_glb(scene),
+        Format::Gltf => gltf::encode_gltf(scene),
+        Format::Obj => obj::encode_obj(scene),
+    }
+}

@@ -1,0 +1,93 @@
+//! Wavefront OBJ writer.
+//!
+//! OBJ has no unit or axis convention, so the file keeps the die's own: millimetres in
+//! press coordinates (+Z up), as the header comment says. Every node with geometry
+//! starts an object and a group of the same name (`o pol/side-front`, `g pol/side-front`:
+//! importers differ in which of the two they split by); nested names keep the '/' path.
+//! Triangles are `f a//a b//b c//c` (positions and normals share indices), curves are
+//! `l` polylines. Numbers are printed with six decimals (nanometres), a fixed format so
+//! the same scene always gives the same bytes.
+
+use std::fmt::Write;
+
+use glam::DVec3;
+
+use super::scene::{Geometry, Scene};
+
+/// The scene as OBJ text (UTF-8, `\n` line ends).
+pub fn encode_obj(scene: &Scene) -> Vec<u8> {
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "# dieface {} export of {}",
+        env!("CARGO_PKG_VERSION"),
+        scene.source_name
+    );
+    out.push_str("# units: millimetres, press coordinates (x, y, z), +Z up;\n");
+    out.push_str("# OBJ has no unit convention: scale by 0.001 for metres.\n");
+    let _ = writeln!(out, "# chordal tolerance: {} mm", scene.tolerance_mm);
+    // OBJ indices are 1-based and global to the file.
+    let mut next_vertex = 1usize;
+    for node in scene.all_nodes() {
+        let geometry: Vec<&Geometry> = node.geometry.iter().filter(|g| !g.is_empty()).collect();
+        if geometry.is_empty() {
+            continue;
+        }
+        let name = obj_name(&node.name);
+        let _ = writeln!(out, "o {name}\ng {name}");
+        let _ = writeln!(out, "# kind: {}, line: {}", node.kind, node.line);
+        for g in geometry {
+            match g {
+                Geometry::Triangles {
+                    positions,
+                    normals,
+                    indices,
+                } => {
+                    for &p in positions {
+                        vector(&mut out, "v", p);
+                    }
+                    for i in 0..positions.len() {
+                        let n = normals.get(i).copied().unwrap_or(DVec3::Z);
+                        vector(&mut out, "vn", n.try_normalize().unwrap_or(DVec3::Z));
+                    }
+                    for t in indices.chunks_exact(3) {
+                        let [a, b, c] = [t[0], t[1], t[2]].map(|i| i as usize + next_vertex);
+                        let _ = writeln!(out, "f {a}//{a} {b}//{b} {c}//{c}");
+                    }
+                    next_vertex += positions.len();
+                }
+                Geometry::LineStrip { points } => {
+                    for &p in points {
+                        vector(&mut out, "v", p);
+                    }
+                    out.push('l');
+                    for i in 0..points.len() {
+                        let _ = write!(out, " {}", next_vertex + i);
+                    }
+                    out.push('\n');
+                    next_vertex += points.len();
+                }
+            }
+        }
+    }
+    out.into_bytes()
+}
+
+/// A name usable after `o` / `g`: whitespace (which would split it) becomes `_`.
+fn obj_name(name: &str) -> String {
+    name.chars()
+        .map(|c| if c.is_whitespace() { '_' } else { c })
+        .collect()
+}
+
+/// `tag x y z` with six decimals and no negative zero.
+fn vector(out: &mut String, tag: &str, v: DVec3) {
+    out.push_str(tag);
+    for c in [v.x, v.y, v.z] {
+        let s = format!("{c:.6}");
+        let s = if s == "-0.000000" { "0.000000" } else { &s };
+        out.push(' ');
+        out.push_str(s);
+    }
+    out.push('\n');
+}
