@@ -5,10 +5,10 @@
 //! A cold build evaluates the fender example with a fresh engine, tessellates it and
 //! encodes a GLB. A rebuild keeps the engine and the scene cache (as `dieface watch`
 //! does), changes one declaration (the draft angle of the key section) and builds again.
-//! Both are timed over several repetitions; the median of each and their ratio are
-//! printed as a markdown table for BENCHMARKS.md.
+//! Both are timed over several repetitions at two tolerances; the medians, their ratio
+//! and where the rebuild's time goes are printed as markdown for BENCHMARKS.md.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use dieface::eval::Engine;
@@ -18,106 +18,87 @@ use dieface::geom::tessellate::Tolerance;
 
 const REPEATS: usize = 9;
 
-fn main() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/fender");
-    let dir = dir.canonicalize().expect("the fender example exists");
-    let text = std::fs::read_to_string(dir.join("fender.die")).expect("readable example");
-    let edits = ["let draft = 8 deg", "let draft = 9 deg"];
-    assert!(
-        text.contains(edits[0]),
-        "the example declares the draft angle"
-    );
-    let tol = Tolerance::new(0.05).expect("valid tolerance");
-    if std::env::var_os("PHASES").is_some() {
-        parse_cost(&text);
-    }
-
-    let build = |engine: &mut Engine, cache: &mut SceneCache, source: &str| -> (Duration, usize) {
-        let start = Instant::now();
-        let outcome = engine.evaluate("fender.die", source, Some(dir.clone()));
-        assert!(outcome.diagnostics.is_empty(), "the example builds");
-        let t1 = start.elapsed();
-        let scene = cache.build(&outcome, &engine.sources, &tol).expect("scene");
-        let t2 = start.elapsed();
-        let bytes = encode(&scene, Format::Glb);
-        if std::env::var_os("PHASES").is_some() {
-            eprintln!(
-                "evaluate {:?}, scene {:?}, encode {:?}",
-                t1,
-                t2 - t1,
-                start.elapsed() - t2
-            );
-        }
-        (start.elapsed(), bytes.len())
-    };
-
-    let mut cold = Vec::new();
-    let mut warm = Vec::new();
-    let mut size = 0;
-    let mut reran = Vec::new();
-    for _ in 0..REPEATS {
-        let mut engine = Engine::new(Some(dir.clone()));
-        let mut cache = SceneCache::default();
-        let (t, n) = build(&mut engine, &mut cache, &text);
-        cold.push(t);
-        size = n;
-        // Edit one declaration and rebuild with the same engine and cache.
-        let edited = text.replace(edits[0], edits[1]);
-        let (t, _) = build(&mut engine, &mut cache, &edited);
-        warm.push(t);
-        reran = engine.last_evaluated().to_vec();
-    }
-    cold.sort();
-    warm.sort();
-    let (c, w) = (cold[REPEATS / 2], warm[REPEATS / 2]);
-    println!("| example | cold build | rebuild after editing `draft` | ratio |");
-    println!("| --- | ---: | ---: | ---: |");
-    println!(
-        "| examples/fender/fender.die ({} KiB GLB at 0.05 mm) | {:.1} ms | {:.2} ms | {:.1}x |",
-        size / 1024,
-        c.as_secs_f64() * 1e3,
-        w.as_secs_f64() * 1e3,
-        c.as_secs_f64() / w.as_secs_f64()
-    );
-    println!();
-    println!(
-        "Declarations re-evaluated by the rebuild: {}",
-        reran.join(", ")
-    );
-    println!("Medians of {REPEATS} runs each (evaluation + tessellation + GLB encoding, no file writes).");
+/// Time of each phase of one build.
+#[derive(Clone, Copy, Default)]
+struct Phases {
+    evaluate: Duration,
+    scene: Duration,
+    encode: Duration,
 }
 
-#[allow(dead_code)]
-fn parse_cost(text: &str) {
-    let start = Instant::now();
-    for _ in 0..100 {
-        let _ = dieface::syntax::parse(text, dieface::syntax::FileId(0));
+impl Phases {
+    fn total(&self) -> Duration {
+        self.evaluate + self.scene + self.encode
     }
-    eprintln!("parse: {:?} per file", start.elapsed() / 100);
+}
+
+fn build(engine: &mut Engine, cache: &mut SceneCache, source: &str, dir: &Path, tol: &Tolerance) -> (Phases, usize) {
     let start = Instant::now();
-    for _ in 0..100 {
-        let _ = dieface::syntax::parse("let a = 1", dieface::syntax::FileId(0));
-    }
-    eprintln!("parse of one line: {:?}", start.elapsed() / 100);
-    for (label, line) in [
-        ("let a = 1 mm", "let a = 1 mm\n"),
-        ("let b = f(x, y: 2)", "let b = f(x, y: 2)\n"),
-        ("tuple", "let c = (1, 2, 3)\n"),
-        ("comment", "// a comment line here\n"),
-        ("arith", "let d = a * b + c / 2 - (e + f)\n"),
-    ] {
-        let text: String = (0..70)
-            .map(|i| {
-                line.replace("let a", &format!("let a{i}"))
-                    .replace("let b", &format!("let b{i}"))
-                    .replace("let c", &format!("let c{i}"))
-                    .replace("let d", &format!("let d{i}"))
-            })
-            .collect();
-        let start = Instant::now();
-        for _ in 0..50 {
-            let _ = dieface::syntax::parse(&text, dieface::syntax::FileId(0));
+    let outcome = engine.evaluate("fender.die", source, Some(dir.to_path_buf()));
+    assert!(outcome.diagnostics.is_empty(), "the example builds");
+    let evaluated = Instant::now();
+    let scene = cache.build(&outcome, &engine.sources, tol).expect("scene");
+    let tessellated = Instant::now();
+    let bytes = encode(&scene, Format::Glb);
+    let done = Instant::now();
+    let phases =
+        Phases { evaluate: evaluated - start, scene: tessellated - evaluated, encode: done - tessellated };
+    (phases, bytes.len())
+}
+
+fn median(mut v: Vec<Phases>) -> Phases {
+    v.sort_by_key(Phases::total);
+    v[v.len() / 2]
+}
+
+fn ms(d: Duration) -> f64 {
+    d.as_secs_f64() * 1e3
+}
+
+fn main() {
+    let dir: PathBuf = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/fender").canonicalize().expect("example");
+    let text = std::fs::read_to_string(dir.join("fender.die")).expect("readable example");
+    let (before, after) = ("let draft = 8 deg", "let draft = 9 deg");
+    assert!(text.contains(before), "the example declares the draft angle");
+    let edited = text.replace(before, after);
+
+    println!("| tolerance | GLB size | cold build | rebuild after editing `draft` | ratio |");
+    println!("| ---: | ---: | ---: | ---: | ---: |");
+    let mut breakdown = Vec::new();
+    let mut reran = Vec::new();
+    for chordal in [0.05, 0.01] {
+        let tol = Tolerance::new(chordal).expect("valid tolerance");
+        let (mut cold, mut warm) = (Vec::new(), Vec::new());
+        let mut size = 0;
+        for _ in 0..REPEATS {
+            let mut engine = Engine::new(Some(dir.clone()));
+            let mut cache = SceneCache::default();
+            let (c, n) = build(&mut engine, &mut cache, &text, &dir, &tol);
+            let (w, _) = build(&mut engine, &mut cache, &edited, &dir, &tol);
+            cold.push(c);
+            warm.push(w);
+            size = n;
+            reran = engine.last_evaluated().to_vec();
         }
-        eprintln!("70 x {label}: {:?}", start.elapsed() / 50);
+        let (c, w) = (median(cold), median(warm));
+        println!(
+            "| {chordal} mm | {} KiB | {:.1} ms | {:.2} ms | {:.1}x |",
+            size / 1024,
+            ms(c.total()),
+            ms(w.total()),
+            c.total().as_secs_f64() / w.total().as_secs_f64()
+        );
+        breakdown.push((chordal, c, w));
     }
+    println!();
+    println!("| tolerance | build | evaluate (parse included) | tessellate | encode GLB |");
+    println!("| ---: | --- | ---: | ---: | ---: |");
+    for (chordal, c, w) in breakdown {
+        for (label, p) in [("cold", c), ("rebuild", w)] {
+            println!("| {chordal} mm | {label} | {:.2} ms | {:.2} ms | {:.2} ms |", ms(p.evaluate), ms(p.scene), ms(p.encode));
+        }
+    }
+    println!();
+    println!("Declarations re-evaluated by the rebuild: {}.", reran.join(", "));
+    println!("Medians of {REPEATS} runs each; no file writes.");
 }
