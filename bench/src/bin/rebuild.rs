@@ -32,7 +32,13 @@ impl Phases {
     }
 }
 
-fn build(engine: &mut Engine, cache: &mut SceneCache, source: &str, dir: &Path, tol: &Tolerance) -> (Phases, usize) {
+fn build(
+    engine: &mut Engine,
+    cache: &mut SceneCache,
+    source: &str,
+    dir: &Path,
+    tol: &Tolerance,
+) -> (Phases, usize) {
     let start = Instant::now();
     let outcome = engine.evaluate("fender.die", source, Some(dir.to_path_buf()));
     assert!(outcome.diagnostics.is_empty(), "the example builds");
@@ -41,8 +47,11 @@ fn build(engine: &mut Engine, cache: &mut SceneCache, source: &str, dir: &Path, 
     let tessellated = Instant::now();
     let bytes = encode(&scene, Format::Glb);
     let done = Instant::now();
-    let phases =
-        Phases { evaluate: evaluated - start, scene: tessellated - evaluated, encode: done - tessellated };
+    let phases = Phases {
+        evaluate: evaluated - start,
+        scene: tessellated - evaluated,
+        encode: done - tessellated,
+    };
     (phases, bytes.len())
 }
 
@@ -56,10 +65,16 @@ fn ms(d: Duration) -> f64 {
 }
 
 fn main() {
-    let dir: PathBuf = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/fender").canonicalize().expect("example");
+    let dir: PathBuf = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../examples/fender")
+        .canonicalize()
+        .expect("example");
     let text = std::fs::read_to_string(dir.join("fender.die")).expect("readable example");
     let (before, after) = ("let draft = 8 deg", "let draft = 9 deg");
-    assert!(text.contains(before), "the example declares the draft angle");
+    assert!(
+        text.contains(before),
+        "the example declares the draft angle"
+    );
     let edited = text.replace(before, after);
 
     println!("| tolerance | GLB size | cold build | rebuild after editing `draft` | ratio |");
@@ -95,10 +110,18 @@ fn main() {
     println!("| ---: | --- | ---: | ---: | ---: |");
     for (chordal, c, w) in breakdown {
         for (label, p) in [("cold", c), ("rebuild", w)] {
-            println!("| {chordal} mm | {label} | {:.2} ms | {:.2} ms | {:.2} ms |", ms(p.evaluate), ms(p.scene), ms(p.encode));
+            println!(
+                "| {chordal} mm | {label} | {:.2} ms | {:.2} ms | {:.2} ms |",
+                ms(p.evaluate),
+                ms(p.scene),
+                ms(p.encode)
+            );
         }
     }
     println!();
-    println!("Declarations re-evaluated by the rebuild: {}.", reran.join(", "));
+    println!(
+        "Declarations re-evaluated by the rebuild: {}.",
+        reran.join(", ")
+    );
     println!("Medians of {REPEATS} runs each; no file writes.");
 }
