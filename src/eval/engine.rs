@@ -21,6 +21,7 @@ use std::time::{Duration, Instant};
 
 use crate::diag::{did_you_mean, Diagnostic, Sources};
 use crate::syntax::ast::{self, Block, DeclBody, FieldValue, Item};
+use crate::syntax::incremental::reparse;
 use crate::syntax::{parse, FileId, Span};
 
 use super::deps::{free_names_of_body, free_names_of_function};
@@ -99,7 +100,7 @@ pub struct Engine {
     files: HashMap<FileId, FileState>,
     memo: HashMap<(FileId, String), MemoEntry>,
     /// The last parse of each file, by the hash of its text.
-    parsed: HashMap<FileId, (u64, Arc<ast::File>)>,
+    parsed: HashMap<FileId, (u64, Arc<str>, Arc<ast::File>)>,
     evaluations: u64,
     last_evaluated: Vec<String>,
     // CLI hooks (see `overrides.rs` and `last_timings`): `-D name=value` texts for the
@@ -176,7 +177,11 @@ impl Engine {
             let spawned = std::thread::Builder::new()
                 .name("dieface-eval".into())
                 .stack_size(EVAL_STACK_BYTES)
-                .spawn_scoped(scope, || self.evaluate_here(name, text, dir.clone()));
+                .spawn_scoped(scope, || {
+                    // This thread's stack is far larger than the parser needs.
+                    crate::syntax::parse::mark_large_stack();
+                    self.evaluate_here(name, text, dir.clone())
+                });
             // A panic inside is a bug: pass it on rather than hide it.
             spawned.ok().map(|handle| {
                 handle
@@ -254,21 +259,30 @@ impl Engine {
             module_hash: hash_of(&text),
         };
         self.files.insert(file, state);
-        // Unchanged files (the standard library, untouched imports) are not parsed again.
+        // Unchanged files (the standard library, untouched imports) are not parsed again;
+        // an edited one is re-parsed only where it changed.
         let text_hash = hash_of(&text);
-        let ast = match self.parsed.get(&file) {
-            Some((h, ast)) if *h == text_hash => ast.clone(),
-            _ => match parse(text, file) {
-                Ok(a) => {
-                    let a = Arc::new(a);
-                    self.parsed.insert(file, (text_hash, a.clone()));
-                    a
+        let previous = self.parsed.get(&file).cloned();
+        let ast = match previous {
+            Some((h, _, ast)) if h == text_hash => ast,
+            _ => {
+                let result = match &previous {
+                    Some((_, old_text, old_ast)) => reparse(old_text, old_ast, text, file),
+                    None => parse(text, file),
+                };
+                match result {
+                    Ok(a) => {
+                        let a = Arc::new(a);
+                        self.parsed
+                            .insert(file, (text_hash, Arc::from(text), a.clone()));
+                        a
+                    }
+                    Err(d) => {
+                        diagnostics.push(d);
+                        return (file, Vec::new());
+                    }
                 }
-                Err(d) => {
-                    diagnostics.push(d);
-                    return (file, Vec::new());
-                }
-            },
+            }
         };
         stack.push(file);
         let items = self.collect(&ast, diagnostics);

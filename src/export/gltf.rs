@@ -231,13 +231,13 @@ impl Document {
 
     /// A `VEC3` float accessor, with `min`/`max` when asked.
     fn vec3(&mut self, data: &[[f32; 3]], bounds: bool) -> usize {
-        let mut bytes = Vec::with_capacity(data.len() * 12);
-        for v in data {
-            for c in v {
-                bytes.extend_from_slice(&c.to_le_bytes());
+        let view = self.view_with(data.len() * 12, ARRAY_BUFFER, |buffer| {
+            for v in data {
+                for c in v {
+                    buffer.extend_from_slice(&c.to_le_bytes());
+                }
             }
-        }
-        let view = self.view(&bytes, ARRAY_BUFFER);
+        });
         let mut acc = Map::new();
         acc.insert("bufferView".into(), json!(view));
         acc.insert("componentType".into(), json!(FLOAT));
@@ -263,15 +263,16 @@ impl Document {
     /// An index accessor: `u16` when every index is below 65535, else `u32`.
     fn indices(&mut self, indices: &[u32], vertex_count: usize) -> usize {
         let small = vertex_count < usize::from(u16::MAX);
-        let mut bytes = Vec::with_capacity(indices.len() * if small { 2 } else { 4 });
-        for &i in indices {
-            if small {
-                bytes.extend_from_slice(&(i as u16).to_le_bytes());
-            } else {
-                bytes.extend_from_slice(&i.to_le_bytes());
+        let len = indices.len() * if small { 2 } else { 4 };
+        let view = self.view_with(len, ELEMENT_ARRAY_BUFFER, |buffer| {
+            for &i in indices {
+                if small {
+                    buffer.extend_from_slice(&(i as u16).to_le_bytes());
+                } else {
+                    buffer.extend_from_slice(&i.to_le_bytes());
+                }
             }
-        }
-        let view = self.view(&bytes, ELEMENT_ARRAY_BUFFER);
+        });
         self.accessors.push(json!({
             "bufferView": view,
             "componentType": if small { UNSIGNED_SHORT } else { UNSIGNED_INT },
@@ -281,15 +282,22 @@ impl Document {
         self.accessors.len() - 1
     }
 
-    /// Appends `bytes` as a buffer view starting on a 4-byte boundary.
-    fn view(&mut self, bytes: &[u8], target: u32) -> usize {
+    /// Appends a buffer view of `len` bytes, starting on a 4-byte boundary, that `write`
+    /// fills straight into the buffer (no intermediate copy).
+    fn view_with(&mut self, len: usize, target: u32, write: impl FnOnce(&mut Vec<u8>)) -> usize {
         pad(&mut self.buffer, 0);
         let offset = self.buffer.len();
-        self.buffer.extend_from_slice(bytes);
+        self.buffer.reserve(len);
+        write(&mut self.buffer);
+        debug_assert_eq!(
+            self.buffer.len() - offset,
+            len,
+            "the writer fills exactly its view"
+        );
         self.views.push(json!({
             "buffer": 0,
             "byteOffset": offset,
-            "byteLength": bytes.len(),
+            "byteLength": len,
             "target": target,
         }));
         self.views.len() - 1

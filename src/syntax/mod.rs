@@ -4,6 +4,7 @@
 //! and syntax errors into diagnostics that name what was expected in words.
 
 pub mod ast;
+pub mod incremental;
 pub mod parse;
 pub mod print;
 pub mod span;

@@ -15,6 +15,7 @@ use pest::error::{ErrorVariant, InputLocation};
 use pest::iterators::Pair;
 use pest::Parser as _;
 use pest_derive::Parser;
+use std::cell::Cell;
 
 use super::ast::{
     self, Arg, BinaryOp, Block, Decl, DeclBody, Expr, ExprKind, Field, FieldValue, FnDecl, Ident,
@@ -46,6 +47,9 @@ pub fn parse(text: &str, file: FileId) -> Result<ast::File, SyntaxError> {
     if let Some(d) = lex::too_deep(text, file, MAX_DEPTH) {
         return Err(d);
     }
+    if LARGE_STACK.with(Cell::get) {
+        return parse_here(text, file);
+    }
     // pest's generated parser takes tens of kilobytes of stack per nesting level, more
     // than a test thread's 2 MiB allows at the depth limit: parse on a thread of our own
     // with room to spare (the memory is only committed as it is touched).
@@ -62,6 +66,18 @@ pub fn parse(text: &str, file: FileId) -> Result<ast::File, SyntaxError> {
         Some(Err(panic)) => std::panic::resume_unwind(panic),
         None => parse_here(text, file),
     }
+}
+
+thread_local! {
+    /// Set on threads whose stack is at least [`PARSE_STACK`] (the evaluation thread):
+    /// they parse in place instead of starting a thread.
+    static LARGE_STACK: Cell<bool> = const { Cell::new(false) };
+}
+
+/// Declares that the calling thread's stack is at least [`PARSE_STACK`] bytes, so
+/// [`parse`] may run on it directly.
+pub fn mark_large_stack() {
+    LARGE_STACK.with(|f| f.set(true));
 }
 
 /// Stack for the parsing thread: enough for [`MAX_DEPTH`] levels in a debug build.
