@@ -98,3 +98,28 @@ fn editing_the_fender_example_reevaluates_only_the_dependents() {
     assert_eq!(ran, ["crown", "fender", "net"]);
     assert_eq!(engine.evaluation_count(), after_cold + 3);
 }
+
+/// A declaration that reads a file (`read_obj`) is re-evaluated, with its dependents,
+/// when the file's content changes, even though the script text did not.
+#[test]
+fn editing_a_file_read_by_a_builtin_reevaluates_its_readers() {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("memo_obj");
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let dir = dir.canonicalize().expect("canonical temp dir");
+    let obj = dir.join("part.obj");
+    std::fs::write(&obj, "v 0 0 0\nv 100 0 0\nv 0 100 0\nf 1 2 3\n").expect("write obj");
+    let script = "let mesh = read_obj(\"part.obj\")\nproduct part = mesh\nlet other = 5 mm\n";
+    let mut engine = Engine::new(Some(dir.clone()));
+    let first = engine.evaluate("part.die", script, Some(dir.clone()));
+    assert!(first.diagnostics.is_empty(), "{:?}", first.diagnostics);
+    assert_eq!(engine.read_files(), [obj.clone()]);
+
+    engine.evaluate("part.die", script, Some(dir.clone()));
+    assert!(engine.last_evaluated().is_empty(), "nothing changed");
+
+    std::fs::write(&obj, "v 0 0 0\nv 200 0 0\nv 0 100 0\nf 1 2 3\n").expect("edit obj");
+    engine.evaluate("part.die", script, Some(dir));
+    let mut ran = engine.last_evaluated().to_vec();
+    ran.sort();
+    assert_eq!(ran, ["mesh", "part"]);
+}

@@ -196,7 +196,8 @@ fn register(watcher: &mut impl Watcher, files: &BTreeSet<PathBuf>, dirs: &mut BT
     }
 }
 
-/// The files on disk the engine has loaded (the script and its imports), normalized.
+/// The files on disk the engine has loaded (the script, its imports and the files
+/// builtins read, such as a product OBJ), normalized.
 /// Diagnostic names are relative to the root; the standard library and `-D` texts are
 /// not files and are skipped.
 fn loaded_files(engine: &Engine, root: &Path) -> Vec<PathBuf> {
@@ -208,6 +209,7 @@ fn loaded_files(engine: &Engine, root: &Path) -> Vec<PathBuf> {
             let p = root.join(&f.name);
             p.is_file().then(|| normalize(&p)).flatten()
         })
+        .chain(engine.read_files().iter().filter_map(|p| normalize(p)))
         .collect()
 }
 

@@ -26,7 +26,7 @@ use crate::syntax::{parse, FileId, Span};
 
 use super::deps::{free_names_of_body, free_names_of_function};
 use super::expr::{Ctx, Locals, World};
-use super::paths::resolve_in_root;
+use super::paths::{self, resolve_in_root};
 use super::stdlib;
 use super::units::{self, Units};
 use super::value::{Closure, Data, Module, Record, Value};
@@ -88,6 +88,9 @@ struct FileState {
 struct MemoEntry {
     hash: u64,
     value: Value,
+    /// Files the evaluation read (with builtins such as `read_obj`) and their content
+    /// hashes: the value is stale once one of them changes.
+    reads: Vec<(PathBuf, u64)>,
     /// Where each top-level item stood when the value was computed.
     layout: HashMap<String, (u32, u32)>,
 }
@@ -99,6 +102,8 @@ pub struct Engine {
     root: Option<PathBuf>,
     files: HashMap<FileId, FileState>,
     memo: HashMap<(FileId, String), MemoEntry>,
+    /// Files read by builtins (`read_obj`) in any evaluation, for `watch`.
+    read_files: Vec<PathBuf>,
     /// The last parse of each file, by the hash of its text.
     parsed: HashMap<FileId, (u64, Arc<str>, Arc<ast::File>)>,
     evaluations: u64,
@@ -131,6 +136,7 @@ impl Engine {
             files: HashMap::new(),
             memo: HashMap::new(),
             parsed: HashMap::new(),
+            read_files: Vec::new(),
             evaluations: 0,
             last_evaluated: Vec::new(),
             overrides: Vec::new(),
@@ -154,6 +160,12 @@ impl Engine {
     /// as in [`Engine::last_evaluated`]; memoized ones are absent).
     pub fn last_timings(&self) -> &[(String, Duration)] {
         &self.last_timings
+    }
+
+    /// Files that builtins such as `read_obj` have read (absolute paths): `watch` watches
+    /// them besides the scripts.
+    pub fn read_files(&self) -> &[PathBuf] {
+        &self.read_files
     }
 
     /// How many declarations have been evaluated (not taken from the memo) so far.
@@ -719,7 +731,17 @@ impl Engine {
             hashes.insert(name.clone(), h);
 
             let key = (file, name.clone());
-            if let Some(entry) = self.memo.get(&key).filter(|e| e.hash == h) {
+            let fresh = |e: &&MemoEntry| {
+                e.hash == h && e.reads.iter().all(|(p, c)| paths::content_hash(p) == *c)
+            };
+            if let Some(entry) = self.memo.get(&key).filter(fresh) {
+                // What the value read is part of what dependents see.
+                for (_, c) in &entry.reads {
+                    hashes.insert(
+                        name.clone(),
+                        combine(hashes.get(&name).copied().unwrap_or(h), *c),
+                    );
+                }
                 let value = remap(&entry.value, &entry.layout, &layout, file);
                 self.files
                     .get_mut(&file)
@@ -730,6 +752,7 @@ impl Engine {
                 continue;
             }
             let started = Instant::now();
+            paths::take_reads();
             let result = match override_text {
                 // CLI hook: the param's value comes from `-D` (checked against its default).
                 Some(t) => {
@@ -751,6 +774,22 @@ impl Engine {
                 )
             });
             let took = started.elapsed();
+            let reads: Vec<(PathBuf, u64)> = paths::take_reads()
+                .into_iter()
+                .map(|p| {
+                    let c = paths::content_hash(&p);
+                    (p, c)
+                })
+                .collect();
+            for (p, c) in &reads {
+                hashes.insert(
+                    name.clone(),
+                    combine(hashes.get(&name).copied().unwrap_or(h), *c),
+                );
+                if !self.read_files.contains(p) {
+                    self.read_files.push(p.clone());
+                }
+            }
             if let Some(n) = self.last_evaluated.last() {
                 self.last_timings.push((n.clone(), took));
             }
@@ -762,6 +801,7 @@ impl Engine {
                             MemoEntry {
                                 hash: h,
                                 value: value.clone(),
+                                reads,
                                 layout: layout.clone(),
                             },
                         );

@@ -4,6 +4,7 @@
 //! inside the project root (after resolving `..` and symbolic links), so a script
 //! cannot read arbitrary files of the machine it is built on.
 
+use std::cell::RefCell;
 use std::path::{Component, Path, PathBuf};
 
 use crate::diag::Diagnostic;
@@ -82,4 +83,32 @@ fn canonical_prefix(p: &Path) -> PathBuf {
             _ => return p.to_path_buf(),
         }
     }
+}
+
+thread_local! {
+    /// Files read by builtins during the declaration being evaluated.
+    static READS: RefCell<Vec<PathBuf>> = const { RefCell::new(Vec::new()) };
+}
+
+/// Records that the declaration being evaluated read `path` (a product OBJ, say): its
+/// memoized value is then only reused while the file is unchanged, and `watch` watches it.
+pub fn record_read(path: &Path) {
+    READS.with(|r| r.borrow_mut().push(path.to_path_buf()));
+}
+
+/// The files recorded since the last call, and forgets them.
+pub fn take_reads() -> Vec<PathBuf> {
+    READS.with(|r| std::mem::take(&mut *r.borrow_mut()))
+}
+
+/// A hash of a file's bytes (0 when it cannot be read): what a memoized value that read
+/// the file is checked against.
+pub fn content_hash(path: &Path) -> u64 {
+    use std::hash::{Hash, Hasher};
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    match std::fs::read(path) {
+        Ok(bytes) => bytes.hash(&mut h),
+        Err(_) => 0u8.hash(&mut h),
+    }
+    h.finish()
 }

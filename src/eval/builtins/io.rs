@@ -14,7 +14,7 @@ use crate::diag::Diagnostic;
 use crate::geom::mesh::{Face, FaceId, Mesh};
 use crate::geom::GeomError;
 
-use super::super::paths::resolve_in_root;
+use super::super::paths::{record_read, resolve_in_root};
 use super::super::value::Data;
 use super::args::span_of;
 use super::{req, Builtin, Call};
@@ -41,6 +41,7 @@ fn resolve(call: &Call, path: &str) -> Result<PathBuf, Diagnostic> {
 fn read_obj(call: &Call) -> Result<Data, Diagnostic> {
     let path = call.string("path")?;
     let full = resolve(call, &path)?;
+    record_read(&full);
     let span = span_of(call, "path");
     let options = tobj::LoadOptions {
         triangulate: false,
