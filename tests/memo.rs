@@ -112,7 +112,7 @@ fn editing_a_file_read_by_a_builtin_reevaluates_its_readers() {
     let mut engine = Engine::new(Some(dir.clone()));
     let first = engine.evaluate("part.die", script, Some(dir.clone()));
     assert!(first.diagnostics.is_empty(), "{:?}", first.diagnostics);
-    assert_eq!(engine.read_files(), [obj.clone()]);
+    assert_eq!(engine.read_files(), std::slice::from_ref(&obj));
 
     engine.evaluate("part.die", script, Some(dir.clone()));
     assert!(engine.last_evaluated().is_empty(), "nothing changed");
