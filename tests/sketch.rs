@@ -540,7 +540,7 @@ fn repeated_spline_point() {
     ]);
     assert_eq!(
         e.message,
-        "points 2 and 3 of the spline are the same point (20, 5)"
+        "the spline passes through (20, 5) twice in a row (items 2 and 3 of the list, counting from 1)"
     );
     assert_eq!(e.primary.span, sp(1));
     let e = error(vec![

@@ -532,10 +532,10 @@ impl Drawer {
                     )
                 } else {
                     format!(
-                        "points {} and {} of the spline are the same point {}",
+                        "the spline passes through {} twice in a row (items {} and {} of the list, counting from 1)",
+                        pt(w[1]),
                         i,
-                        i + 1,
-                        pt(w[1])
+                        i + 1
                     )
                 };
                 return Err(sketch_error(message, span, "repeated point")

@@ -24,7 +24,7 @@ pub enum GeomError {
     TooFewPoints { needed: usize, given: usize },
 
     /// Two consecutive input points coincide, so no parameter step can separate them.
-    #[error("points {first} and {second} coincide")]
+    #[error("points {first} and {second} (counting from 0) coincide")]
     CoincidentPoints { first: usize, second: usize },
 
     /// A tangent or direction of zero length where a direction is required.

@@ -294,7 +294,7 @@ impl Call<'_> {
 fn kernel_help(err: &GeomError) -> String {
     match err {
         GeomError::CoincidentPoints { first, second } => {
-            format!("points {first} and {second} (counting from 0) are the same point; remove one or move it")
+            format!("points {first} and {second} of the list (counting from 0) are the same point; remove one or move it")
         }
         GeomError::TooFewPoints { needed, .. } => format!("give at least {needed} points, or lower the degree"),
         GeomError::KnotVector { .. } => {
