@@ -913,22 +913,37 @@ fn check_product(v: &Value) -> Result<(), Diagnostic> {
 /// space: `side front`).
 fn block(ctx: &Ctx, b: &Block) -> Result<Record, Diagnostic> {
     let mut rec = Record::default();
-    for f in &b.fields {
+    // Where each field's name was written, for the duplicate-field labels.
+    let name_span = |f: &ast::Field| match (f.path.first(), f.path.last()) {
+        (Some(a), Some(z)) => a.span.to(z.span),
+        _ => f.span,
+    };
+    for (k, f) in b.fields.iter().enumerate() {
         let name = f
             .path
             .iter()
             .map(|w| w.node.as_str())
             .collect::<Vec<_>>()
             .join(" ");
-        if let Some(prev) = rec.get(&name) {
-            return Err(Diagnostic::new(
+        if rec.get(&name).is_some() {
+            let first = b.fields[..k].iter().find(|g| {
+                g.path
+                    .iter()
+                    .map(|w| w.node.as_str())
+                    .collect::<Vec<_>>()
+                    .join(" ")
+                    == name
+            });
+            let mut d = Diagnostic::new(
                 "die::duplicate_field",
                 format!("the field `{name}` is given twice"),
-                f.span,
+                name_span(f),
                 "given again here",
-            )
-            .with_label(prev.span, "first given here")
-            .with_help("remove one of them"));
+            );
+            if let Some(first) = first {
+                d = d.with_label(name_span(first), "first given here");
+            }
+            return Err(d.with_help("remove one of them"));
         }
         let value = match &f.value {
             FieldValue::Expr(e) => ctx.eval(e, &Locals::new())?,

@@ -578,6 +578,8 @@ fn bind_arguments(
     named: Vec<(crate::syntax::ast::Ident, Value)>,
 ) -> Result<Vec<Option<Value>>, Diagnostic> {
     let mut slots: Vec<Option<Value>> = vec![None; params.len()];
+    // Where each named argument's name was written, for the duplicate labels.
+    let mut named_at: Vec<Option<Span>> = vec![None; params.len()];
     let count = positional.len();
     for (i, v) in positional.into_iter().enumerate() {
         if i >= params.len() {
@@ -609,15 +611,20 @@ fn bind_arguments(
             });
         };
         if let Some(prev) = &slots[i] {
+            let (first, what) = match named_at[i] {
+                Some(s) => (s, "first given here"),
+                None => (prev.span, "given here by position"),
+            };
             return Err(Diagnostic::new(
                 "die::duplicate_argument",
                 format!("`{}` is given twice", name.node),
                 name.span,
                 "given again here",
             )
-            .with_label(prev.span, "first given here")
+            .with_label(first, what)
             .with_help("give each argument once"));
         }
+        named_at[i] = Some(name.span);
         slots[i] = Some(v);
     }
     Ok(slots)
