@@ -11,6 +11,7 @@
 
 pub mod cli;
 pub mod diag;
+pub mod die;
 pub mod eval;
 pub mod export;
 pub mod geom;

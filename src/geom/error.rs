@@ -92,6 +92,12 @@ pub enum GeomError {
     /// plane (or on the coordinate value) within tolerance.
     #[error("{what}: the curve lies entirely in the intersecting plane")]
     Overlap { what: &'static str },
+
+    /// The side view of a punch-opening side does not cover the x range of its top
+    /// view, so part of the 3-D side curve would have no height: both ranges are given
+    /// (x from, x to) so the short end can be found.
+    #[error("the side view covers x in [{}, {}] but the top view spans [{}, {}]: the side view must cover the whole top view", side.0, side.1, top.0, top.1)]
+    ViewsDoNotOverlap { top: (f64, f64), side: (f64, f64) },
 }
 
 /// The kernel's result type.

@@ -310,7 +310,10 @@ fn kernel_help(err: &GeomError) -> String {
                 None => "the curves must meet end to end".into(),
             }
         }
-        GeomError::Singular { .. } => "the points are degenerate: three points on one line, or points too close together".into(),
+        GeomError::Singular { .. } => "the input is degenerate; see the message for which values".into(),
+        GeomError::ViewsDoNotOverlap { .. } => {
+            "the side view must cover the top view's x range at both ends; extend the shorter view".into()
+        }
         _ => "check the values passed to this call".into(),
     }
 }
