@@ -7,4 +7,5 @@
 //! the first step of the punch opening line (`punch_opening`, to come: sides joined by
 //! corrected corners).
 
+pub mod corner;
 pub mod two_view;
