@@ -371,3 +371,25 @@ fn two_d_profiles_are_curves_too() {
     );
     assert_eq!(c.to_3d().point_at(0.5), c.point_at(0.5).extend(0.0));
 }
+
+#[test]
+fn surface_area_of_a_quarter_cylinder() {
+    let (r, h) = (50.0, 100.0);
+    let bottom = circular_arc(DVec3::ZERO, DVec3::X, DVec3::Y, r, 0.0, FRAC_PI_2).unwrap();
+    let top = circular_arc(
+        DVec3::new(0.0, 0.0, h),
+        DVec3::X,
+        DVec3::Y,
+        r,
+        0.0,
+        FRAC_PI_2,
+    )
+    .unwrap();
+    let s = ruled(&bottom, &top).unwrap();
+    let exact = FRAC_PI_2 * r * h;
+    assert!(
+        (s.area() - exact).abs() < 1e-9 * exact,
+        "area {} vs {exact}",
+        s.area()
+    );
+}

@@ -3,6 +3,7 @@
 
 use glam::DVec3;
 
+use crate::geom::curve::bounds;
 use crate::geom::Point;
 
 use super::units::{display, round};
@@ -144,13 +145,6 @@ fn sampled_surface(s: &crate::geom::NurbsSurface) -> impl Iterator<Item = DVec3>
             )
         })
     })
-}
-
-fn bounds(points: impl Iterator<Item = DVec3>) -> (DVec3, DVec3) {
-    points.fold(
-        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-        |(lo, hi), p| (lo.min(p), hi.max(p)),
-    )
 }
 
 fn bbox(lo: DVec3, hi: DVec3) -> String {
