@@ -2,6 +2,8 @@
 //! per declaration (kind, value type, dimensions, bounds; floats rounded). Every
 //! example must evaluate without a diagnostic.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 
 use dieface::eval::summary::describe;
@@ -9,25 +11,7 @@ use dieface::eval::Engine;
 use dieface::syntax::{parse, print::print_ast, FileId};
 
 fn examples() -> Vec<PathBuf> {
-    let mut out = Vec::new();
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
-    collect(&root, &mut out);
-    out.sort();
-    out
-}
-
-fn collect(dir: &Path, out: &mut Vec<PathBuf>) {
-    let Ok(entries) = std::fs::read_dir(dir) else {
-        return;
-    };
-    for e in entries.flatten() {
-        let p = e.path();
-        if p.is_dir() {
-            collect(&p, out);
-        } else if p.extension().is_some_and(|x| x == "die") {
-            out.push(p);
-        }
-    }
+    common::die_files("examples")
 }
 
 fn snapshot_name(path: &Path) -> String {

@@ -1,6 +1,8 @@
 //! Export: scenes from scripts, glTF and OBJ encoding, determinism, atomic writes.
 //! (The Khronos validator run is `tests/gltf_validator.rs`.)
 
+mod common;
+
 use std::path::{Path, PathBuf};
 
 use dieface::eval::Engine;
@@ -15,23 +17,7 @@ fn root() -> PathBuf {
 }
 
 fn examples() -> Vec<PathBuf> {
-    fn collect(dir: &Path, out: &mut Vec<PathBuf>) {
-        let Ok(entries) = std::fs::read_dir(dir) else {
-            return;
-        };
-        for e in entries.flatten() {
-            let p = e.path();
-            if p.is_dir() {
-                collect(&p, out);
-            } else if p.extension().is_some_and(|x| x == "die") {
-                out.push(p);
-            }
-        }
-    }
-    let mut out = Vec::new();
-    collect(&root().join("examples"), &mut out);
-    out.sort();
-    out
+    common::die_files("examples")
 }
 
 fn tol() -> Tolerance {

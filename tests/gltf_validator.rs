@@ -6,6 +6,8 @@
 //! `tests/validate.mjs` with Node. Without it this test fails: a validator that is not
 //! there must never look like a pass.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -18,23 +20,7 @@ fn root() -> PathBuf {
 }
 
 fn examples() -> Vec<PathBuf> {
-    fn collect(dir: &Path, out: &mut Vec<PathBuf>) {
-        let Ok(entries) = std::fs::read_dir(dir) else {
-            return;
-        };
-        for e in entries.flatten() {
-            let p = e.path();
-            if p.is_dir() {
-                collect(&p, out);
-            } else if p.extension().is_some_and(|x| x == "die") {
-                out.push(p);
-            }
-        }
-    }
-    let mut out = Vec::new();
-    collect(&root().join("examples"), &mut out);
-    out.sort();
-    out
+    common::die_files("examples")
 }
 
 /// Builds `script` at the default 0.01 mm tolerance and writes it in `format` under
