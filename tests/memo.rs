@@ -75,7 +75,7 @@ fn memoized_values_follow_their_declarations_when_text_above_moves() {
 }
 
 /// The fender example: changing the crown height re-evaluates the height function's
-/// users (the control net and the product) and nothing else.
+/// users (the control net, the product and its outline) and nothing else.
 #[test]
 fn editing_the_fender_example_reevaluates_only_the_dependents() {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/fender");
@@ -95,8 +95,22 @@ fn editing_the_fender_example_reevaluates_only_the_dependents() {
     assert!(warm.diagnostics.is_empty());
     let mut ran = engine.last_evaluated().to_vec();
     ran.sort();
-    assert_eq!(ran, ["crown", "fender", "net"]);
-    assert_eq!(engine.evaluation_count(), after_cold + 3);
+    assert_eq!(ran, ["crown", "fender", "net", "outline"]);
+    assert_eq!(engine.evaluation_count(), after_cold + 4);
+
+    // Redrawing one side's binder wrap rebuilds that sketch, the punch opening and the
+    // blankholder around it, and leaves the product alone.
+    let rewrapped = edited.replace("(0, -78)", "(0, -76)");
+    assert_ne!(rewrapped, edited, "the example's front wrap passes (0, -78)");
+    let warm = engine.evaluate("fender.die", &rewrapped, Some(dir_again()));
+    assert!(warm.diagnostics.is_empty());
+    let mut ran = engine.last_evaluated().to_vec();
+    ran.sort();
+    assert_eq!(ran, ["binder", "opening", "wrap_front"]);
+}
+
+fn dir_again() -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/fender")
 }
 
 /// A declaration that reads a file (`read_obj`) is re-evaluated, with its dependents,

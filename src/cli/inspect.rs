@@ -14,7 +14,7 @@ use serde_json::{json, Map, Value as Json};
 
 use crate::diag::Sources;
 use crate::eval::sketch::View;
-use crate::eval::summary::describe;
+use crate::eval::summary::{describe, feature_report};
 use crate::eval::units::round;
 use crate::eval::value::{Data, Dim, Quantity, Value};
 use crate::geom::{NurbsCurve, NurbsSurface, Point};
@@ -127,6 +127,11 @@ pub(crate) fn run(script: &ScriptArgs, json: bool) -> ExitCode {
                 summary.push_str(&format!(", area {} mm²", round(a)));
             }
             println!("{} {} (line {line}{time}): {summary}", d.kind, d.name);
+            if let Some(v) = &d.value {
+                for l in feature_report(v) {
+                    println!("    {l}");
+                }
+            }
         }
     }
     if outcome.diagnostics.is_empty() {

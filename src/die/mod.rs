@@ -7,5 +7,8 @@
 //! the first step of the punch opening line (`punch_opening`, to come: sides joined by
 //! corrected corners).
 
+pub mod blankholder;
+pub mod continuity;
 pub mod corner;
+pub mod punch_opening;
 pub mod two_view;

@@ -26,6 +26,7 @@ use crate::syntax::{parse, FileId, Span};
 
 use super::deps::{free_names_of_body, free_names_of_function};
 use super::expr::{Ctx, Locals, World};
+use super::features;
 use super::paths::{self, resolve_in_root};
 use super::stdlib;
 use super::units::{self, Units};
@@ -35,7 +36,7 @@ use super::value::{Closure, Data, Module, Record, Value};
 const EVAL_STACK_BYTES: usize = 512 << 20;
 
 /// Declaration kinds the language knows. Die-face features join this list as they land.
-pub const KINDS: &[&str] = &["let", "param", "product"];
+pub const KINDS: &[&str] = &["let", "param", "product", "punch_opening", "blankholder"];
 
 /// The names, values and units visible at the top level of one file.
 #[derive(Debug, Default)]
@@ -874,6 +875,41 @@ impl Engine {
             decl: Some(d.name.node.as_str()),
             depth: 0,
         };
+        if features::FEATURES.contains(&kind) {
+            let DeclBody::Block(b) = &d.body else {
+                return Err(Diagnostic::new(
+                    "die::feature_block",
+                    format!("a `{kind}` is written as a block of fields"),
+                    d.name.span.to(d.span),
+                    "written with `=`",
+                )
+                .with_help(format!(
+                    "write `{kind} {} {{ field = value ... }}`; see docs/language.md",
+                    d.name.node
+                )));
+            };
+            let rec = block(&ctx, b)?;
+            let fields = b
+                .fields
+                .iter()
+                .zip(rec.fields)
+                .map(|(f, (_, value))| features::Field {
+                    words: f.path.iter().map(|w| w.node.clone()).collect(),
+                    name_span: match (f.path.first(), f.path.last()) {
+                        (Some(a), Some(z)) => a.span.to(z.span),
+                        _ => f.span,
+                    },
+                    value,
+                })
+                .collect();
+            return features::build(&features::Block {
+                kind,
+                name: &d.name.node,
+                span: d.span,
+                fields,
+                units: ctx.units(),
+            });
+        }
         let value = match &d.body {
             DeclBody::Expr(e) => ctx.eval(e, &Locals::new())?,
             DeclBody::Block(b) => {
@@ -1105,6 +1141,7 @@ fn remap_with(v: &Value, f: &dyn Fn(Span) -> Span) -> Value {
                 .iter()
                 .map(|(n, v)| (n.clone(), remap_with(v, f)))
                 .collect(),
+            feature: r.feature.clone(),
         })),
         Data::Sketch(s) => {
             let mut s = (**s).clone();

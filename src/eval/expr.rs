@@ -45,7 +45,8 @@ pub struct Ctx<'w> {
 }
 
 impl<'w> Ctx<'w> {
-    fn units(&self) -> Units {
+    /// The default units of the file in scope.
+    pub fn units(&self) -> Units {
         self.world
             .globals(self.file)
             .map_or_else(Units::default, |g| g.units)

@@ -10,6 +10,7 @@ pub mod builtins;
 pub mod deps;
 pub mod engine;
 pub mod expr;
+pub mod features;
 pub mod ops;
 pub mod overrides;
 pub mod paths;

@@ -268,6 +268,7 @@ fn shift_value(v: &Value, file: FileId, by: u32) -> Value {
                 .iter()
                 .map(|(n, f)| (n.clone(), shift_value(f, file, by)))
                 .collect(),
+            feature: r.feature.clone(),
         })),
         Data::Sketch(s) => {
             let mut s = (**s).clone();

@@ -91,6 +91,22 @@ impl Sketch {
     pub fn to_3d(&self) -> Curve3 {
         self.curve.map_points(|p| self.view.place(p))
     }
+
+    /// Segment `k` on its own, on its parameter range `[k, k + 1]` of the joined curve.
+    pub fn segment_curve(&self, k: usize) -> crate::geom::Result<Curve2> {
+        let (a, b) = self.segments.get(k).map_or((0.0, 1.0), |s| s.range);
+        let (lo, hi) = self.curve.domain();
+        let tail = if a > lo {
+            self.curve.split_at(a)?.1
+        } else {
+            self.curve.clone()
+        };
+        if b < hi {
+            Ok(tail.split_at(b)?.0)
+        } else {
+            Ok(tail)
+        }
+    }
 }
 
 /// A sketch command with its arguments evaluated (points in mm, radii in mm).

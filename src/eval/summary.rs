@@ -7,7 +7,8 @@ use crate::geom::curve::bounds;
 use crate::geom::Point;
 
 use super::units::{display, round};
-use super::value::{Data, Value};
+use super::value::{Data, Feature, Record, Value};
+use crate::die::punch_opening::PieceKind;
 
 /// `kind name: summary` for a declaration, or `(failed)` when it has no value.
 pub fn describe(value: Option<&Value>) -> String {
@@ -42,6 +43,7 @@ pub fn summarize(v: &Value) -> String {
                 .collect();
             format!("({})", inner.join(", "))
         }
+        Data::Record(r) if r.feature.is_some() => feature_summary(r),
         Data::Record(r) => {
             let fields: Vec<String> = r
                 .fields
@@ -150,4 +152,86 @@ fn sampled_surface(s: &crate::geom::NurbsSurface) -> impl Iterator<Item = DVec3>
 fn bbox(lo: DVec3, hi: DVec3) -> String {
     let f = |p: DVec3| format!("({}, {}, {})", round(p.x), round(p.y), round(p.z));
     format!("{}..{}", f(lo), f(hi))
+}
+
+/// One line for a feature: its pieces and its worst quality figures.
+fn feature_summary(r: &Record) -> String {
+    match &r.feature {
+        Some(Feature::PunchOpening(p)) => {
+            let names = |kind: PieceKind| -> Vec<&str> {
+                p.pieces
+                    .iter()
+                    .filter(|x| x.kind == kind)
+                    .map(|x| x.name.as_str())
+                    .collect()
+            };
+            let (lo, hi) = bounds(sampled_curve(&p.line));
+            format!(
+                "punch opening, sides [{}], corners [{}], closed line of {} mm, bounds {}",
+                names(PieceKind::Side).join(", "),
+                names(PieceKind::Corner).join(", "),
+                round(p.line.length()),
+                bbox(lo, hi)
+            )
+        }
+        Some(Feature::Blankholder(b)) => {
+            let pts = b.patches.iter().flat_map(|p| sampled_surface(&p.surface));
+            let (lo, hi) = bounds(pts);
+            let area: f64 = b.patches.iter().map(|p| p.surface.area()).sum();
+            format!(
+                "blankholder, {} patches [{}], area {} mm², bounds {}",
+                b.patches.len(),
+                b.patches
+                    .iter()
+                    .map(|p| p.name.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                round(area),
+                bbox(lo, hi)
+            )
+        }
+        None => String::new(),
+    }
+}
+
+/// The quality report of a feature, one line per figure group (empty for other values):
+/// what `dieface inspect` prints under the feature's line.
+pub fn feature_report(v: &Value) -> Vec<String> {
+    let Data::Record(r) = &v.data else {
+        return Vec::new();
+    };
+    let Some(quality) = r.get("quality") else {
+        return Vec::new();
+    };
+    if r.feature.is_none() {
+        return Vec::new();
+    }
+    let Data::Record(q) = &quality.data else {
+        return Vec::new();
+    };
+    let mut lines = Vec::new();
+    let mut overall = Vec::new();
+    for (name, value) in &q.fields {
+        match &value.data {
+            Data::Record(inner) => {
+                let figures: Vec<String> = inner
+                    .fields
+                    .iter()
+                    .map(|(n, v)| format!("{n} {}", figure(v)))
+                    .collect();
+                lines.push(format!("{name}: {}", figures.join(", ")));
+            }
+            _ => overall.push(format!("{name} {}", figure(value))),
+        }
+    }
+    lines.insert(0, format!("worst: {}", overall.join(", ")));
+    lines
+}
+
+/// A figure as `12.5 mm`, `0.01 deg`, `3`.
+fn figure(v: &Value) -> String {
+    match &v.data {
+        Data::Number(q) => super::units::display(*q),
+        _ => summarize(v),
+    }
 }

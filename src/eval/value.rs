@@ -10,6 +10,8 @@ use std::sync::Arc;
 
 use glam::{DVec2, DVec3};
 
+use crate::die::blankholder::Blankholder;
+use crate::die::punch_opening::PunchOpening;
 use crate::geom::mesh::Mesh;
 use crate::geom::{Curve2, Curve3, NurbsSurface, Transform};
 use crate::syntax::ast::{Expr, Param};
@@ -227,6 +229,26 @@ pub struct Record {
     pub kind: Option<String>,
     /// Fields in source order.
     pub fields: Vec<(String, Value)>,
+    /// For a die-face feature (`punch_opening`, `blankholder`), the kernel model its
+    /// fields were taken from: what later features build on.
+    pub feature: Option<Feature>,
+}
+
+/// The kernel model behind a feature's record.
+#[derive(Debug, Clone)]
+pub enum Feature {
+    /// A punch opening line.
+    PunchOpening(Arc<PunchOpening>),
+    /// A blankholder.
+    Blankholder(Arc<Blankholder>),
+}
+
+impl Feature {
+    /// Whether the record field `name` is exported as its own scene node. The closed
+    /// `line` of a punch opening repeats its pieces, so only the pieces are exported.
+    pub fn exports_field(&self, name: &str) -> bool {
+        !matches!((self, name), (Feature::PunchOpening(_), "line"))
+    }
 }
 
 impl Record {

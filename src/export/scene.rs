@@ -12,9 +12,11 @@
 //!   element's index in the list (so names stay stable when a non-geometric element sits
 //!   in between). Children rather than one node with several primitives, so every part
 //!   can be picked, hidden and traced on its own in a viewer;
-//! * a record (a feature block such as `punch_opening pol { top = ...; side front = ... }`,
-//!   a nested block or a record literal): one child per geometric field, named
-//!   `pol/side-front` (the words of a field name joined by `-`).
+//! * a record (a nested block or a record literal): one child per geometric field, named
+//!   `rec/side-front` (the words of a field name joined by `-`);
+//! * a feature (`punch_opening opening { ... }`, `blankholder binder { ... }`): one child
+//!   per piece, `opening/front`, `opening/front_nose`, `binder/front`; the opening's
+//!   closed `line` is not repeated, its pieces are the line.
 //!
 //! Node names are full paths from the declaration (`pol/side-front`, `bead_lines/1`), so
 //! they are unique in the scene and an OBJ group keeps the nesting. Children carry the
@@ -283,6 +285,9 @@ impl Ctx<'_> {
             }
             Data::Record(r) => {
                 for (field, v) in &r.fields {
+                    if r.feature.as_ref().is_some_and(|f| !f.exports_field(field)) {
+                        continue;
+                    }
                     let part = field.split_whitespace().collect::<Vec<_>>().join("-");
                     if let Some(child) = self.node(format!("{}/{part}", node.name), v)? {
                         node.children.push(child);

@@ -11,8 +11,10 @@ use std::sync::Arc;
 use glam::DVec3;
 
 use crate::diag::Diagnostic;
+use crate::geom::join::join_curves;
+use crate::geom::surface::Direction;
 use crate::geom::tessellate::{tessellate_curve, tessellate_surface, Tolerance};
-use crate::geom::{GeomError, NurbsCurve, NurbsSurface, Point};
+use crate::geom::{Curve3, GeomError, NurbsCurve, NurbsSurface, Point};
 
 use super::super::value::{Data, Quantity, Record, Value};
 use super::args::{any_curve, fraction, point2, point3, what, AnyCurve};
@@ -26,8 +28,59 @@ pub static BUILTINS: &[Builtin] = &[
     Builtin { name: "end_point", params: &[req("curve")], doc: "where a curve ends", run: end_point },
     Builtin { name: "point_on", params: &[req("surface"), req("u"), req("v")], doc: "the surface point at fractions u, v of its parameter ranges", run: point_on },
     Builtin { name: "normal_at", params: &[req("surface"), req("u"), req("v")], doc: "the unit surface normal (S_u x S_v) at fractions u, v, 1 mm long", run: normal_at },
+    Builtin { name: "edge", params: &[req("surface"), req("side")], doc: "one boundary curve of a surface: side \"u0\", \"u1\" (v runs along it) or \"v0\", \"v1\" (u runs along it)", run: edge },
+    Builtin { name: "boundary", params: &[req("surface")], doc: "the closed boundary of a surface as one curve: v0, u1, v1 reversed, u0 reversed (counter-clockwise in the parameter plane)", run: boundary },
     Builtin { name: "bounds", params: &[req("geom")], doc: "{min, max}: the axis-aligned box around geometry (to 1e-4 of its size for curves and surfaces)", run: bounds },
 ];
+
+/// The four boundary curves of a surface in counter-clockwise order, each running
+/// forwards along the loop.
+fn edges(s: &NurbsSurface) -> [(&'static str, Curve3); 4] {
+    let (u0, u1) = s.domain_u();
+    let (v0, v1) = s.domain_v();
+    [
+        ("v0", s.iso_curve(Direction::V, v0)),
+        ("u1", s.iso_curve(Direction::U, u1)),
+        ("v1", s.iso_curve(Direction::V, v1).reversed()),
+        ("u0", s.iso_curve(Direction::U, u0).reversed()),
+    ]
+}
+
+fn edge(call: &Call) -> Result<Data, Diagnostic> {
+    let s = call.surface("surface")?;
+    let side = call.string("side")?;
+    let (u0, u1) = s.domain_u();
+    let (v0, v1) = s.domain_v();
+    let c = match side.as_ref() {
+        "u0" => s.iso_curve(Direction::U, u0),
+        "u1" => s.iso_curve(Direction::U, u1),
+        "v0" => s.iso_curve(Direction::V, v0),
+        "v1" => s.iso_curve(Direction::V, v1),
+        other => {
+            return Err(super::args::bad_argument(
+                call,
+                "side",
+                format!("`side` of `edge` names a boundary, \"u0\", \"u1\", \"v0\" or \"v1\", not \"{other}\""),
+                "\"u0\" is the edge where u is smallest (v runs along it); \"v1\" where v is largest",
+            ))
+        }
+    };
+    Ok(Data::Curve3(Arc::new(c)))
+}
+
+fn boundary(call: &Call) -> Result<Data, Diagnostic> {
+    let s = call.surface("surface")?;
+    let pieces: Vec<Curve3> = edges(&s)
+        .into_iter()
+        .map(|(_, c)| c)
+        .filter(|c| {
+            let (lo, hi) = c.control_bounds();
+            (hi - lo).length() > 1e-9 * (1.0 + s.control_scale())
+        })
+        .collect();
+    let joined = join_curves(&pieces).map_err(|e| call.kernel_error(e, Some("surface")))?;
+    Ok(Data::Curve3(Arc::new(joined)))
+}
 
 fn curve(call: &Call) -> Result<AnyCurve, Diagnostic> {
     any_curve(call.required("curve")?, &what(call, "curve"))
@@ -176,6 +229,7 @@ fn bounds(call: &Call) -> Result<Data, Diagnostic> {
             ("min".to_string(), Value::point3(b.min, call.span)),
             ("max".to_string(), Value::point3(b.max, call.span)),
         ],
+        feature: None,
     };
     Ok(Data::Record(Arc::new(record)))
 }

@@ -1,0 +1,252 @@
+//! Die-face feature declarations: `punch_opening name { ... }`, `blankholder name { ... }`.
+//!
+//! A feature is written as a block. The engine evaluates the block's fields like any
+//! record, then hands them here with the spans of their names; each feature reads its
+//! fields (checking types, units and names, with "did you mean"), calls the kernel
+//! feature in [`crate::die`], and turns the result into a record of the feature's kind:
+//! one geometric field per named piece (what `build` exports and scripts reach with
+//! `name.piece`), plus a `quality` record of the figures a reviewer checks. The kernel
+//! model rides along in [`Record::feature`] for the features built on top of it.
+
+mod blankholder;
+mod punch_opening;
+
+use std::sync::Arc;
+
+use crate::diag::{did_you_mean, Diagnostic};
+use crate::syntax::Span;
+
+use super::builtins::{as_angle, as_length, as_number, type_error};
+use super::units::Units;
+use super::value::{Data, Dim, Quantity, Record, Value};
+
+/// Declaration kinds that are features, built by [`build`].
+pub const FEATURES: &[&str] = &["punch_opening", "blankholder"];
+
+/// One field of a feature block.
+#[derive(Debug, Clone)]
+pub struct Field {
+    /// Its words (`["side", "front"]`).
+    pub words: Vec<String>,
+    /// Where its name was written.
+    pub name_span: Span,
+    /// Its value.
+    pub value: Value,
+}
+
+/// A feature block, evaluated.
+#[derive(Debug, Clone)]
+pub struct Block<'a> {
+    /// The declaration's kind.
+    pub kind: &'a str,
+    /// The declaration's name.
+    pub name: &'a str,
+    /// The whole declaration.
+    pub span: Span,
+    /// Its fields in source order.
+    pub fields: Vec<Field>,
+    /// The file's default units, for bare numbers.
+    pub units: Units,
+}
+
+impl Block<'_> {
+    /// The one-word field `name`.
+    pub fn get(&self, name: &str) -> Option<&Field> {
+        self.fields
+            .iter()
+            .find(|f| f.words.len() == 1 && f.words[0] == name)
+    }
+
+    /// The fields `word <name>`, with their names.
+    pub fn named(&self, word: &str) -> Vec<(&str, &Field)> {
+        self.fields
+            .iter()
+            .filter(|f| f.words.len() == 2 && f.words[0] == word)
+            .map(|f| (f.words[1].as_str(), f))
+            .collect()
+    }
+
+    /// Refuses fields other than `single` (one word) and `named` (`word <name>`).
+    pub fn check_fields(&self, single: &[&str], named: &[&str]) -> Result<(), Diagnostic> {
+        for f in &self.fields {
+            let ok = match f.words.as_slice() {
+                [one] => single.contains(&one.as_str()),
+                [word, _] => named.contains(&word.as_str()),
+                _ => false,
+            };
+            if ok {
+                continue;
+            }
+            let written = f.words.join(" ");
+            let mut forms: Vec<String> = single.iter().map(|s| s.to_string()).collect();
+            forms.extend(named.iter().map(|n| format!("{n} <name>")));
+            let guess = did_you_mean(&f.words[0], single.iter().chain(named).copied());
+            let d = Diagnostic::new(
+                "die::unknown_field",
+                format!("a `{}` has no field `{written}`", self.kind),
+                f.name_span,
+                "not a field of this feature",
+            );
+            return Err(match guess {
+                Some(g) if g != f.words[0] => d.with_help(format!(
+                    "did you mean `{g}`? The fields are: {}",
+                    forms.join(", ")
+                )),
+                _ => d.with_help(format!("the fields are: {}", forms.join(", "))),
+            });
+        }
+        Ok(())
+    }
+
+    /// A diagnostic that the required field `name` is missing.
+    pub fn missing(&self, name: &str, help: &str) -> Diagnostic {
+        Diagnostic::new(
+            "die::missing_field",
+            format!("a `{}` needs the field `{name}`", self.kind),
+            self.span,
+            format!("`{}` has no `{name}`", self.name),
+        )
+        .with_help(help.to_string())
+    }
+
+    /// The length in field `name`, or `default`.
+    pub fn length_or(&self, name: &str, default: f64) -> Result<f64, Diagnostic> {
+        match self.get(name) {
+            Some(f) => as_length(&f.value, self.units, &format!("`{name}`")),
+            None => Ok(default),
+        }
+    }
+}
+
+/// Builds the feature `block.kind` from its evaluated block.
+pub fn build(block: &Block) -> Result<Value, Diagnostic> {
+    match block.kind {
+        "punch_opening" => punch_opening::build(block),
+        "blankholder" => blankholder::build(block),
+        other => Err(Diagnostic::new(
+            "die::unknown_kind",
+            format!("`{other}` is not a die-face feature"),
+            block.span,
+            "here",
+        )),
+    }
+}
+
+/// A `die::<feature>` diagnostic for a bad value.
+fn feature_error(
+    kind: &str,
+    message: impl Into<String>,
+    span: Span,
+    label: impl Into<String>,
+    help: impl Into<String>,
+) -> Diagnostic {
+    let code = match kind {
+        "punch_opening" => "die::punch_opening",
+        "blankholder" => "die::blankholder",
+        _ => "die::feature",
+    };
+    Diagnostic::new(code, message, span, label).with_help(help)
+}
+
+/// A value as a list of items (a single value is a list of one).
+fn items(v: &Value) -> Vec<Value> {
+    match &v.data {
+        Data::List(items) => items.to_vec(),
+        _ => vec![v.clone()],
+    }
+}
+
+/// A length value.
+fn length(v: &Value, units: Units, what: &str) -> Result<f64, Diagnostic> {
+    as_length(v, units, what)
+}
+
+/// An angle value.
+fn angle(v: &Value, units: Units, what: &str) -> Result<f64, Diagnostic> {
+    as_angle(v, units, what)
+}
+
+/// A plain number or a ratio (`50 %`).
+fn number(v: &Value, what: &str) -> Result<f64, Diagnostic> {
+    as_number(v, what)
+}
+
+/// A record value's fields, or a type error.
+fn record<'v>(v: &'v Value, what: &str, expected: &str) -> Result<&'v Record, Diagnostic> {
+    match &v.data {
+        Data::Record(r) => Ok(r),
+        _ => Err(type_error(v, what, expected)),
+    }
+}
+
+/// Refuses fields of a nested block other than `allowed`.
+fn check_record(r: &Record, at: Span, what: &str, allowed: &[&str]) -> Result<(), Diagnostic> {
+    for (name, value) in &r.fields {
+        if allowed.contains(&name.as_str()) {
+            continue;
+        }
+        let span = if value.span.file == at.file {
+            value.span
+        } else {
+            at
+        };
+        let d = Diagnostic::new(
+            "die::unknown_field",
+            format!("{what} has no field `{name}`"),
+            span,
+            format!("the value of `{name}`"),
+        );
+        return Err(match did_you_mean(name, allowed.iter().copied()) {
+            Some(g) => d.with_help(format!(
+                "did you mean `{g}`? The fields are: {}",
+                allowed.join(", ")
+            )),
+            None => d.with_help(format!("the fields are: {}", allowed.join(", "))),
+        });
+    }
+    Ok(())
+}
+
+/// A number value with a dimension, at `span`.
+fn quantity(q: Quantity, span: Span) -> Value {
+    Value::new(Data::Number(q), span)
+}
+
+/// A length in mm as a value.
+fn mm(v: f64, span: Span) -> Value {
+    quantity(Quantity::length(v), span)
+}
+
+/// An angle in degrees as a value.
+fn deg(v: f64, span: Span) -> Value {
+    quantity(Quantity::angle(v.to_radians()), span)
+}
+
+/// A plain count as a value.
+fn count(v: usize, span: Span) -> Value {
+    quantity(
+        Quantity {
+            value: v as f64,
+            dim: Dim::NONE,
+            bare: true,
+        },
+        span,
+    )
+}
+
+/// A plain ratio as a value.
+fn ratio(v: f64, span: Span) -> Value {
+    quantity(Quantity::ratio(v), span)
+}
+
+/// A record value of named fields.
+fn record_value(fields: Vec<(String, Value)>, span: Span) -> Value {
+    Value::new(
+        Data::Record(Arc::new(Record {
+            kind: None,
+            fields,
+            feature: None,
+        })),
+        span,
+    )
+}
