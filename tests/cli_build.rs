@@ -345,3 +345,27 @@ fn an_override_is_part_of_its_params_memo_key() {
         other => panic!("{other:?}"),
     }
 }
+
+/// `dieface inspect` of every example, timings removed: the reviewed summary, feature
+/// quality reports included.
+#[test]
+fn inspect_of_every_example_is_a_snapshot() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    for name in ["fender", "door", "sections"] {
+        let dir = root.join("examples").join(name);
+        let (code, stdout, stderr) = dieface(&dir, &["inspect", &format!("{name}.die")]);
+        assert_eq!(code, Some(0), "{name}: {stderr}");
+        let stable: Vec<String> = stdout.lines().map(without_timing).collect();
+        insta::assert_snapshot!(format!("inspect__{name}"), stable.join("\n"));
+    }
+}
+
+/// `kind name (line 3, 1.2 ms): ...` without the timing, which varies between runs.
+fn without_timing(line: &str) -> String {
+    let (Some(open), Some(close)) = (line.find(" (line "), line.find("): ")) else {
+        return line.to_string();
+    };
+    let inside = &line[open + 2..close];
+    let kept = inside.split(", ").next().unwrap_or(inside);
+    format!("{} ({kept}{}", &line[..open], &line[close..])
+}

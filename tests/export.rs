@@ -631,3 +631,65 @@ fn cached_rebuild_equals_a_fresh_build() {
     );
     assert!(warm == cold, "cached and fresh builds give the same bytes");
 }
+
+/// The fender die exports its product, every piece of the punch opening line (as line
+/// strips, without repeating the closed line) and every blankholder patch as named
+/// nodes, in the glTF too.
+#[test]
+fn the_fender_exports_product_opening_pieces_and_binder_patches() {
+    let scene = scene_of_path(&root().join("examples/fender/fender.die"));
+    let product = scene.find("fender").expect("the product is a node");
+    assert!(matches!(product.geometry[0], Geometry::Triangles { .. }));
+    assert_eq!(product.kind, "product");
+
+    let pieces = [
+        "front",
+        "front_nose",
+        "nose",
+        "nose_top",
+        "top",
+        "top_rear",
+        "rear",
+        "rear_front",
+    ];
+    let opening = scene.find("opening").expect("the punch opening is a node");
+    let names: Vec<&str> = opening.children.iter().map(|n| n.name.as_str()).collect();
+    let expected: Vec<String> = pieces.iter().map(|p| format!("opening/{p}")).collect();
+    assert_eq!(names, expected, "one line per piece, no repeated closed line");
+    for child in &opening.children {
+        assert_eq!(child.kind, "punch_opening");
+        assert!(matches!(child.geometry[0], Geometry::LineStrip { .. }));
+    }
+    // The pieces chain end to end into one closed line.
+    let ends: Vec<(DVec3, DVec3)> = opening
+        .children
+        .iter()
+        .map(|c| match &c.geometry[0] {
+            Geometry::LineStrip { points } => (points[0], points[points.len() - 1]),
+            Geometry::Triangles { .. } => unreachable!("checked above"),
+        })
+        .collect();
+    for k in 0..ends.len() {
+        let next = ends[(k + 1) % ends.len()].0;
+        assert!(ends[k].1.distance(next) < 1e-9, "piece {k} meets the next");
+    }
+
+    let binder = scene.find("binder").expect("the blankholder is a node");
+    let names: Vec<&str> = binder.children.iter().map(|n| n.name.as_str()).collect();
+    let expected: Vec<String> = pieces.iter().map(|p| format!("binder/{p}")).collect();
+    assert_eq!(names, expected, "one surface patch per piece");
+    for child in &binder.children {
+        assert_eq!(child.kind, "blankholder");
+        assert!(matches!(child.geometry[0], Geometry::Triangles { .. }));
+    }
+
+    let (json, _) = parse_glb(&encode(&scene, Format::Glb));
+    for name in ["fender", "opening", "binder"]
+        .into_iter()
+        .map(String::from)
+        .chain(expected)
+    {
+        assert_eq!(node_named(&json, &name)["name"], name.as_str());
+    }
+    assert_eq!(node_named(&json, "binder/front")["extras"]["kind"], "blankholder");
+}
