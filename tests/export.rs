@@ -655,7 +655,10 @@ fn the_fender_exports_product_opening_pieces_and_binder_patches() {
     let opening = scene.find("opening").expect("the punch opening is a node");
     let names: Vec<&str> = opening.children.iter().map(|n| n.name.as_str()).collect();
     let expected: Vec<String> = pieces.iter().map(|p| format!("opening/{p}")).collect();
-    assert_eq!(names, expected, "one line per piece, no repeated closed line");
+    assert_eq!(
+        names, expected,
+        "one line per piece, no repeated closed line"
+    );
     for child in &opening.children {
         assert_eq!(child.kind, "punch_opening");
         assert!(matches!(child.geometry[0], Geometry::LineStrip { .. }));
@@ -691,5 +694,8 @@ fn the_fender_exports_product_opening_pieces_and_binder_patches() {
     {
         assert_eq!(node_named(&json, &name)["name"], name.as_str());
     }
-    assert_eq!(node_named(&json, "binder/front")["extras"]["kind"], "blankholder");
+    assert_eq!(
+        node_named(&json, "binder/front")["extras"]["kind"],
+        "blankholder"
+    );
 }

@@ -101,7 +101,10 @@ fn editing_the_fender_example_reevaluates_only_the_dependents() {
     // Redrawing one side's binder wrap rebuilds that sketch, the punch opening and the
     // blankholder around it, and leaves the product alone.
     let rewrapped = edited.replace("(0, -78)", "(0, -76)");
-    assert_ne!(rewrapped, edited, "the example's front wrap passes (0, -78)");
+    assert_ne!(
+        rewrapped, edited,
+        "the example's front wrap passes (0, -78)"
+    );
     let warm = engine.evaluate("fender.die", &rewrapped, Some(dir_again()));
     assert!(warm.diagnostics.is_empty());
     let mut ran = engine.last_evaluated().to_vec();

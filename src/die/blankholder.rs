@@ -24,7 +24,8 @@
 //! Two sides that meet without a corner share their boundary ruling; their outer curves
 //! get end tangents in the same ratio as the opening's, which is again eq. 4.
 //!
-//! Every patch is degree 1 across the binder and its normal points up (+Z).
+//! Every patch is degree 1 across the binder and its normal points up (+Z); a patch
+//! that folds over itself (its normal turning down) is refused.
 
 use glam::{DVec2, DVec3};
 
@@ -188,6 +189,9 @@ pub const JOIN_SAMPLES: usize = 200;
 /// Samples per outer edge for the "crosses the opening" check.
 const CROSSING_SAMPLES: usize = 200;
 
+/// Samples along each patch for the "normal points up" check.
+const FOLD_SAMPLES: usize = 400;
+
 /// Builds the blankholder around `opening` (module documentation).
 pub fn build(opening: &PunchOpening, spec: &[PieceSpec]) -> Result<Blankholder, Error> {
     let n = opening.pieces.len();
@@ -310,6 +314,7 @@ pub fn build(opening: &PunchOpening, spec: &[PieceSpec]) -> Result<Blankholder, 
             return Err(fail(k, Problem::Mismatch));
         };
         let surface = rule(&piece.curve, &outer).map_err(at(k))?;
+        check_upward(&surface, k)?;
         patches.push(Patch {
             name: piece.name.clone(),
             kind: piece.kind,
@@ -476,6 +481,31 @@ fn check_outside(opening: &PunchOpening, outer: &Curve3, k: usize) -> Result<(),
         let p = outer.point_at(t0 + (t1 - t0) * i as f64 / CROSSING_SAMPLES as f64);
         if opening.contains_in_top_view(p.truncate()) {
             return Err(fail(k, Problem::CrossesOpening { at: p }));
+        }
+    }
+    Ok(())
+}
+
+/// Refuses a patch whose normal does not point up somewhere: a fold, where the outer
+/// edge runs back against the opening (a station direction almost along the opening, an
+/// end tangent turning back, an outer corner rotated the other way round at a concave
+/// corner) and the rulings cross. The patch is ruled, `S = (1 - v) A(u) + v B(u)`, so the
+/// +Z component of `S_u x S_v` is linear in v along every ruling: its signs on the two
+/// long edges decide the whole ruling.
+fn check_upward(surface: &NurbsSurface, k: usize) -> Result<(), Error> {
+    let ((u0, u1), (v0, v1)) = (surface.domain_u(), surface.domain_v());
+    for i in 0..=FOLD_SAMPLES {
+        let u = u0 + (u1 - u0) * i as f64 / FOLD_SAMPLES as f64;
+        for v in [v0, v1] {
+            let d = surface.derivatives::<2>(u, v);
+            if d[1][0].cross(d[0][1]).z.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+                return Err(fail(
+                    k,
+                    Problem::Kernel(GeomError::Singular {
+                        what: "the binder patch folds over itself (its normal turns down there)",
+                    }),
+                ));
+            }
         }
     }
     Ok(())

@@ -26,20 +26,71 @@ use glam::{DVec2, DVec3};
 use crate::diag::{did_you_mean, Diagnostic};
 use crate::die::blankholder::{self as bh, PieceSpec, SideSpec, Station};
 use crate::die::punch_opening::{PieceKind, PunchOpening};
+use crate::geom::GeomError;
 use crate::syntax::Span;
 
 use super::super::builtins::{as_point2, as_point3, type_error};
-use super::super::units::Units;
 use super::super::value::{Data, Feature, Record, Value};
 use super::{
     angle, check_record, deg, feature_error, items, length, mm, number, ratio, record,
-    record_value, Block,
+    record_value, show, show_value, Block,
 };
 
 const KIND: &str = "blankholder";
 
 /// Default number of stations along a side when the designer gives no lists.
 const DEFAULT_STATIONS: usize = 5;
+
+/// The fields of a `side NAME { ... }` block.
+const SIDE_FIELDS: &[&str] = &[
+    "at",
+    "width",
+    "angle",
+    "direction",
+    "start_tangent",
+    "end_tangent",
+];
+
+/// Where one side's values were written, for the kernel's diagnostics.
+struct SideBlame {
+    /// The side's own block, or the blankholder's `width` (its head) when it has none.
+    block: Span,
+    /// Whether the side has a block of its own.
+    own: bool,
+    /// Per station: where its width was written.
+    width: Vec<Span>,
+    /// Per station: where its direction was written, if it was.
+    direction: Vec<Option<Span>>,
+    start_tangent: Option<Span>,
+    end_tangent: Option<Span>,
+}
+
+impl SideBlame {
+    /// What places the outer point of station `i`: its direction if given, else its width.
+    fn station(&self, i: usize) -> Span {
+        self.direction
+            .get(i)
+            .copied()
+            .flatten()
+            .or_else(|| self.width.get(i).copied())
+            .unwrap_or(self.block)
+    }
+
+    fn first(&self) -> Span {
+        self.station(0)
+    }
+
+    fn last(&self) -> Span {
+        self.station(self.width.len().saturating_sub(1))
+    }
+}
+
+/// Where each piece's values were written.
+enum Blame {
+    Side(SideBlame),
+    /// A corner's own field, or `corners`, or the block's head.
+    Corner(Span),
+}
 
 /// Builds the blankholder of `block`.
 pub fn build(block: &Block) -> Result<Value, Diagnostic> {
@@ -56,11 +107,19 @@ pub fn build(block: &Block) -> Result<Value, Diagnostic> {
     })?;
     let opening = opening_of(&opening_field.value)?;
     let default_width = match block.get("width") {
-        Some(f) => Some((length(&f.value, units, "`width`")?, f.value.span)),
+        Some(f) => {
+            let w = length(&f.value, units, "`width`")?;
+            check_width(w, f.value.span, "the binder `width`")?;
+            Some((w, f.value.span))
+        }
         None => None,
     };
     let default_angle = match block.get("angle") {
-        Some(f) => angle(&f.value, units, "`angle`")?,
+        Some(f) => {
+            let a = angle(&f.value, units, "`angle`")?;
+            check_angle(a, f.value.span, "the binder's rise `angle`")?;
+            a
+        }
         None => 0.0,
     };
     let default_tautness = match block.get("corners") {
@@ -94,23 +153,70 @@ pub fn build(block: &Block) -> Result<Value, Diagnostic> {
         (&corner_fields, PieceKind::Corner, "corner"),
     ] {
         let known = names_of(kind);
+        let other = names_of(match kind {
+            PieceKind::Side => PieceKind::Corner,
+            PieceKind::Corner => PieceKind::Side,
+        });
         for (name, f) in fields.iter() {
             if !known.contains(name) {
                 let d = feature_error(
                     KIND,
                     format!("the punch opening has no {word} `{name}`"),
-                    f.name_span,
+                    f.name_word(),
                     format!("no such {word}"),
                     "",
                 );
-                return Err(match did_you_mean(name, known.iter().copied()) {
-                    Some(g) => d.with_help(format!(
-                        "did you mean `{g}`? The {word}s are: {}",
-                        known.join(", ")
-                    )),
-                    None => d.with_help(format!("the {word}s are: {}", known.join(", "))),
+                let all = known.join(", ");
+                return Err(if other.contains(name) {
+                    let is = if word == "side" { "a corner" } else { "a side" };
+                    let fix = if word == "side" { "corner" } else { "side" };
+                    d.with_help(format!(
+                        "`{name}` is {is} of the punch opening: write `{fix} {name}`; the {word}s are: {all}"
+                    ))
+                } else {
+                    match did_you_mean(name, known.iter().copied()) {
+                        Some(g) => {
+                            d.with_help(format!("did you mean `{g}`? The {word}s are: {all}"))
+                        }
+                        None => d.with_help(format!("the {word}s are: {all}")),
+                    }
                 });
             }
+        }
+    }
+    if default_width.is_none() {
+        // Every side needs a width: its own, or the blankholder's.
+        let lacking: Vec<&str> = names_of(PieceKind::Side)
+            .into_iter()
+            .filter(|name| {
+                !side_fields.iter().any(|(n, f)| {
+                    n == name
+                        && matches!(&f.value.data, Data::Record(r) if r.get("width").is_some())
+                })
+            })
+            .collect();
+        if lacking.len() == names_of(PieceKind::Side).len() {
+            return Err(block.missing(
+                "width",
+                "give the binder width for every side, `width = 180 mm`, or per side: `side NAME { width = ... }`",
+            ));
+        }
+        if !lacking.is_empty() {
+            let quoted: Vec<String> = lacking.iter().map(|n| format!("`{n}`")).collect();
+            let list = match quoted.split_last() {
+                Some((last, rest)) if !rest.is_empty() => format!("{} and {last}", rest.join(", ")),
+                _ => quoted.join(""),
+            };
+            return Err(Diagnostic::new(
+                "die::missing_field",
+                format!("the blankholder `{}` gives no width for the sides {list}", block.name),
+                block.head(),
+                format!("`{}` has no `width` for {list}", block.name),
+            )
+            .with_help(format!(
+                "give a width for every side, `width = 180 mm` (a side's own `width` overrides it), or add `width = ...` to `side {} {{ ... }}`",
+                lacking[0]
+            )));
         }
     }
 
@@ -123,10 +229,9 @@ pub fn build(block: &Block) -> Result<Value, Diagnostic> {
                     .iter()
                     .find(|(n, _)| *n == piece.name)
                     .map(|(_, f)| *f);
-                let (side, span) =
-                    side_spec(block, own, default_width, default_angle, &piece.name)?;
+                let (side, b) = side_spec(block, own, default_width, default_angle, &piece.name)?;
                 spec.push(PieceSpec::Side(side));
-                blame.push(span);
+                blame.push(Blame::Side(b));
             }
             PieceKind::Corner => {
                 let own = corner_fields
@@ -154,15 +259,16 @@ pub fn build(block: &Block) -> Result<Value, Diagnostic> {
                     }
                     None => (
                         default_tautness,
-                        block.get("corners").map_or(block.span, |f| f.value.span),
+                        block.get("corners").map_or(block.head(), |f| f.value.span),
                     ),
                 };
                 spec.push(PieceSpec::Corner { tautness: t });
-                blame.push(span);
+                blame.push(Blame::Corner(span));
             }
         }
     }
-    let binder = bh::build(&opening, &spec).map_err(|e| build_error(block, &opening, &blame, e))?;
+    let binder =
+        bh::build(&opening, &spec).map_err(|e| build_error(block, &opening, &spec, &blame, e))?;
     Ok(output(block, binder))
 }
 
@@ -174,13 +280,13 @@ fn opening_of(v: &Value) -> Result<Arc<PunchOpening>, Diagnostic> {
             _ => Err(type_error(
                 v,
                 "`opening` of a blankholder",
-                "a punch opening",
+                "a punch opening (the name of a `punch_opening` declaration)",
             )),
         },
         _ => Err(type_error(
             v,
             "`opening` of a blankholder",
-            "a punch opening",
+            "a punch opening (the name of a `punch_opening` declaration)",
         )),
     }
 }
@@ -189,22 +295,86 @@ fn opening_of(v: &Value) -> Result<Arc<PunchOpening>, Diagnostic> {
 fn tautness(v: &Value) -> Result<f64, Diagnostic> {
     let t = number(v, "a corner's `tautness`")?;
     if !(0.0..=1.0).contains(&t) {
-        return Err(feature_error(KIND, format!("a corner's tautness lies between 0 and 1, but this is {t}"), v.span, "this tautness", "0 keeps the sag of the punch-opening corner, 1 makes the outer edge straight in height; `50 %` is halfway"));
+        let bare = matches!(&v.data, Data::Number(q) if q.bare);
+        let help = if bare && t > 1.0 && t <= 100.0 {
+            format!("tautness is a fraction: did you mean `{} %`? 0 keeps the sag of the punch-opening corner, 1 (`100 %`) makes the outer edge straight in height", show(t))
+        } else {
+            "0 keeps the sag of the punch-opening corner, 1 (`100 %`) makes the outer edge straight in height; `50 %` is halfway".to_string()
+        };
+        return Err(feature_error(
+            KIND,
+            format!(
+                "a corner's tautness lies between 0 and 1 (0 % and 100 %), but this is {}",
+                show_value(v)
+            ),
+            v.span,
+            "outside 0 to 1",
+            help,
+        ));
     }
     Ok(t)
 }
 
-/// One side's stations: its own block over the blankholder's defaults. Returns the span
-/// to blame for the side's problems.
+/// Refuses a width that is not a positive length.
+fn check_width(w: f64, span: Span, what: &str) -> Result<(), Diagnostic> {
+    if w.is_finite() && w > 0.0 {
+        return Ok(());
+    }
+    Err(feature_error(
+        KIND,
+        format!("{what} must be positive, but it is {} mm", show(w)),
+        span,
+        "not a positive width",
+        "the width is the distance from the punch opening out to the binder's outer edge, e.g. `180 mm`",
+    ))
+}
+
+/// Refuses a rise angle that does not lie strictly between -90 and 90 deg.
+fn check_angle(a: f64, span: Span, what: &str) -> Result<(), Diagnostic> {
+    if a.is_finite() && a.abs() < std::f64::consts::FRAC_PI_2 {
+        return Ok(());
+    }
+    Err(feature_error(
+        KIND,
+        format!(
+            "{what} must lie between -90 and 90 deg, but it is {} deg",
+            show(a.to_degrees())
+        ),
+        span,
+        "not a rise angle",
+        "the angle tilts the binder up (positive) or down from the horizontal, going out from the opening; binders rise a few degrees, e.g. `angle = 3 deg`",
+    ))
+}
+
+/// `1st`, `2nd`, `3rd`, `4th`, ...
+fn ordinal(n: usize) -> String {
+    let suffix = match (n % 10, n % 100) {
+        (_, 11..=13) => "th",
+        (1, _) => "st",
+        (2, _) => "nd",
+        (3, _) => "rd",
+        _ => "th",
+    };
+    format!("{n}{suffix}")
+}
+
+/// A top-view direction in words: `(0, -1)`.
+fn show2(v: DVec2) -> String {
+    format!("({}, {})", show(v.x), show(v.y))
+}
+
+/// One side's stations: its own block over the blankholder's defaults, with where each
+/// value was written.
 fn side_spec(
     block: &Block,
     own: Option<&super::Field>,
     default_width: Option<(f64, Span)>,
     default_angle: f64,
     name: &str,
-) -> Result<(SideSpec, Span), Diagnostic> {
+) -> Result<(SideSpec, SideBlame), Diagnostic> {
     let units = block.units;
     let empty = Record::default();
+    let default_span = default_width.map_or(block.head(), |(_, s)| s);
     let (r, span) = match own {
         Some(f) => (
             record(
@@ -214,48 +384,22 @@ fn side_spec(
             )?,
             f.value.span,
         ),
-        None => (&empty, default_width.map_or(block.span, |(_, s)| s)),
+        None => (&empty, default_span),
     };
     let what = format!("`side {name}`");
-    check_record(
-        r,
-        span,
-        &what,
-        &[
-            "at",
-            "width",
-            "angle",
-            "direction",
-            "start_tangent",
-            "end_tangent",
-        ],
-    )?;
-    let lists: Vec<(&str, Vec<Value>)> = ["width", "angle", "direction"]
+    check_record(r, span, &what, SIDE_FIELDS)?;
+    // Lists per station, in the order they decide the number of stations.
+    let lists: Vec<(&str, &Value)> = ["width", "angle", "direction"]
         .iter()
         .filter_map(|k| r.get(k).map(|v| (*k, v)))
         .filter(|(_, v)| matches!(v.data, Data::List(_)))
-        .map(|(k, v)| (k, items(v)))
         .collect();
     let at: Vec<f64> = match r.get("at") {
-        Some(v) => {
-            let list = items(v);
-            let mut out = Vec::with_capacity(list.len());
-            for item in &list {
-                out.push(number(item, &format!("`at` of {what}"))?);
-            }
-            if out.len() < 2
-                || out[0] != 0.0
-                || out[out.len() - 1] != 1.0
-                || out.windows(2).any(|w| w[1] <= w[0])
-            {
-                return Err(feature_error(KIND, format!("the stations `at` of {what} must run from 0 to 1 and increase"), v.span, "these stations", "stations are fractions of the side's length: e.g. `at = [0, 30 %, 1]`; the first is 0 (the side's start) and the last 1 (its end)"));
-            }
-            out
-        }
+        Some(v) => stations(v, &what)?,
         None => {
             let n = lists
                 .iter()
-                .map(|(_, l)| l.len())
+                .map(|(_, v)| items(v).len())
                 .max()
                 .unwrap_or(DEFAULT_STATIONS)
                 .max(2);
@@ -263,6 +407,14 @@ fn side_spec(
         }
     };
     let n = at.len();
+    // What set the number of stations, for the diagnostics of a list of another length.
+    let counted: Option<(Span, String)> = match r.get("at") {
+        Some(v) => Some((v.span, format!("{n} stations"))),
+        None => lists
+            .iter()
+            .find(|(_, v)| items(v).len() == n)
+            .map(|(k, v)| (v.span, format!("{n} values of `{k}` make {n} stations"))),
+    };
     let per_station = |key: &str| -> Result<Option<Vec<Value>>, Diagnostic> {
         let Some(v) = r.get(key) else { return Ok(None) };
         let list = match &v.data {
@@ -270,7 +422,7 @@ fn side_spec(
             _ => vec![v.clone(); n],
         };
         if list.len() != n {
-            return Err(feature_error(
+            let mut d = feature_error(
                 KIND,
                 format!(
                     "`{key}` of {what} gives {} values for {n} stations",
@@ -278,73 +430,97 @@ fn side_spec(
                 ),
                 v.span,
                 format!("{} values", list.len()),
-                "give one value, or one per station (`at`)",
-            ));
+                format!("give one `{key}` for the whole side, or one per station (`at` places the stations)"),
+            );
+            if let Some((s, m)) = &counted {
+                if *s != v.span {
+                    d = d.with_label(*s, m.clone());
+                }
+            }
+            return Err(d);
         }
         Ok(Some(list))
     };
-    let widths = match per_station("width")? {
-        Some(list) => list
-            .iter()
-            .map(|v| length(v, units, &format!("`width` of {what}")))
-            .collect::<Result<Vec<_>, _>>()?,
+    let (widths, width_spans) = match per_station("width")? {
+        Some(list) => {
+            let mut widths = Vec::with_capacity(n);
+            for (i, v) in list.iter().enumerate() {
+                let w = length(v, units, &format!("`width` of {what}"))?;
+                let whose = if matches!(r.get("width").map(|w| &w.data), Some(Data::List(_))) {
+                    format!(
+                        "the binder width at the {} station of {what}",
+                        ordinal(i + 1)
+                    )
+                } else {
+                    format!("the `width` of {what}")
+                };
+                check_width(w, v.span, &whose)?;
+                widths.push(w);
+            }
+            let spans = list.iter().map(|v| v.span).collect();
+            (widths, spans)
+        }
         None => match default_width {
-            Some((w, _)) => vec![w; n],
+            Some((w, s)) => (vec![w; n], vec![s; n]),
             None => {
                 return Err(block.missing("width", &format!("give the binder width for every side (`width = 180 mm`) or in `side {name} {{ width = ... }}`")));
             }
         },
     };
-    for (i, &w) in widths.iter().enumerate() {
-        if !(w.is_finite() && w > 0.0) {
-            let s =
-                r.get("width")
-                    .map_or(default_width.map_or(block.span, |(_, s)| s), |v| {
-                        match &v.data {
-                            Data::List(items) => items.get(i).map_or(v.span, |x| x.span),
-                            _ => v.span,
-                        }
-                    });
-            return Err(feature_error(KIND, format!("a binder width must be positive, but this is {w} mm"), s, "this width", "the width is the distance from the punch opening to the binder's outer edge, e.g. 180 mm"));
-        }
-    }
     let angles = match per_station("angle")? {
-        Some(list) => list
-            .iter()
-            .map(|v| angle(v, units, &format!("`angle` of {what}")))
-            .collect::<Result<Vec<_>, _>>()?,
+        Some(list) => {
+            let mut out = Vec::with_capacity(n);
+            for v in &list {
+                let a = angle(v, units, &format!("`angle` of {what}"))?;
+                check_angle(a, v.span, &format!("the rise `angle` of {what}"))?;
+                out.push(a);
+            }
+            out
+        }
         None => vec![default_angle; n],
     };
-    let directions: Vec<Option<DVec2>> = match r.get("direction") {
-        Some(v) => {
-            let list = match &v.data {
-                Data::List(items) => items.to_vec(),
-                _ => vec![v.clone(); n],
-            };
-            if list.len() != n {
-                return Err(feature_error(
-                    KIND,
-                    format!(
-                        "`direction` of {what} gives {} values for {n} stations",
-                        list.len()
-                    ),
-                    v.span,
-                    format!("{} values", list.len()),
-                    "give one direction, or one per station",
-                ));
+    let (directions, direction_spans): (Vec<Option<DVec2>>, Vec<Option<Span>>) = match per_station(
+        "direction",
+    )? {
+        Some(list) => {
+            let mut dirs = Vec::with_capacity(n);
+            for v in &list {
+                let d = as_point2(v, units, &format!("`direction` of {what}"))?;
+                if d.normalize_or_zero() == DVec2::ZERO {
+                    return Err(feature_error(
+                            KIND,
+                            format!("the `direction` {} of {what} is not a direction", show2(d)),
+                            v.span,
+                            "no usable direction",
+                            "a station's direction points from the punch opening out to the binder's outer edge, e.g. `(0, -1)`; leave it out to go straight out of the opening",
+                        ));
+                }
+                dirs.push(Some(d));
             }
-            list.iter()
-                .map(|d| direction2(d, units, &what).map(Some))
-                .collect::<Result<Vec<_>, _>>()?
+            (dirs, list.iter().map(|v| Some(v.span)).collect())
         }
-        None => vec![None; n],
+        None => (vec![None; n], vec![None; n]),
     };
-    let tangent = |key: &str| -> Result<Option<DVec3>, Diagnostic> {
-        match r.get(key) {
-            Some(v) => Ok(Some(as_point3(v, units, &format!("`{key}` of {what}"))?)),
-            None => Ok(None),
+    let tangent = |key: &str| -> Result<Option<(DVec3, Span)>, Diagnostic> {
+        let Some(v) = r.get(key) else { return Ok(None) };
+        let t = as_point3(v, units, &format!("`{key}` of {what}"))?;
+        if t.normalize_or_zero() == DVec3::ZERO {
+            return Err(feature_error(
+                KIND,
+                format!(
+                    "`{key}` of {what} is not a direction: it is ({}, {}, {})",
+                    show(t.x),
+                    show(t.y),
+                    show(t.z)
+                ),
+                v.span,
+                "no usable direction",
+                "give the direction the binder's outer edge leaves in, e.g. `(1, 0, 0)`, or leave it out to follow the punch opening",
+            ));
         }
+        Ok(Some((t, v.span)))
     };
+    let (start_tangent, end_tangent) = (tangent("start_tangent")?, tangent("end_tangent")?);
     let stations = (0..n)
         .map(|i| Station {
             at: at[i],
@@ -356,46 +532,364 @@ fn side_spec(
     Ok((
         SideSpec {
             stations,
-            start_tangent: tangent("start_tangent")?,
-            end_tangent: tangent("end_tangent")?,
+            start_tangent: start_tangent.map(|(t, _)| t),
+            end_tangent: end_tangent.map(|(t, _)| t),
         },
-        span,
+        SideBlame {
+            block: span,
+            own: own.is_some(),
+            width: width_spans,
+            direction: direction_spans,
+            start_tangent: start_tangent.map(|(_, s)| s),
+            end_tangent: end_tangent.map(|(_, s)| s),
+        },
     ))
 }
 
-fn direction2(v: &Value, units: Units, what: &str) -> Result<DVec2, Diagnostic> {
-    as_point2(v, units, &format!("`direction` of {what}"))
+/// The stations `at` of a side: fractions of its length from 0 to 1, increasing.
+fn stations(v: &Value, what: &str) -> Result<Vec<f64>, Diagnostic> {
+    let list = items(v);
+    let mut out = Vec::with_capacity(list.len());
+    for item in &list {
+        out.push(number(item, &format!("`at` of {what}"))?);
+    }
+    let help = "stations are fractions of the side's length in drawing order, from 0 (its start) to 1 (its end): e.g. `at = [0, 30 %, 1]`";
+    let bad = |span: Span, message: String, label: &str| {
+        Err(feature_error(KIND, message, span, label, help))
+    };
+    if out.len() < 2 {
+        return bad(
+            v.span,
+            format!(
+                "the stations `at` of {what} need at least two entries, 0 and 1, but there {}",
+                match out.len() {
+                    0 => "are none".to_string(),
+                    _ => "is one".to_string(),
+                }
+            ),
+            "too few stations",
+        );
+    }
+    if out[0] != 0.0 {
+        return bad(
+            list[0].span,
+            format!(
+                "the first station of {what} must be 0, the side's start, but it is {}",
+                show_value(&list[0])
+            ),
+            "not 0",
+        );
+    }
+    let last = out.len() - 1;
+    if out[last] != 1.0 {
+        return bad(
+            list[last].span,
+            format!(
+                "the last station of {what} must be 1 (100 %), the side's end, but it is {}",
+                show_value(&list[last])
+            ),
+            "not 1",
+        );
+    }
+    if let Some(i) = (1..out.len()).find(|&i| out[i] <= out[i - 1]) {
+        return bad(
+            list[i].span,
+            format!(
+                "the stations of {what} must increase, but the {} ({}) does not come after the {} ({})",
+                ordinal(i + 1),
+                show_value(&list[i]),
+                ordinal(i),
+                show_value(&list[i - 1])
+            ),
+            "out of order",
+        );
+    }
+    Ok(out)
 }
 
-fn build_error(block: &Block, opening: &PunchOpening, blame: &[Span], e: bh::Error) -> Diagnostic {
-    let piece = opening.pieces.get(e.piece);
-    let name = piece.map_or("?", |p| p.name.as_str());
-    let what = match piece.map(|p| p.kind) {
+/// The unit top-view direction out of the opening at the fraction `at` of piece `k`'s
+/// length, as the kernel computes it.
+fn outward_at(opening: &PunchOpening, k: usize, at: f64) -> Option<DVec2> {
+    let c = &opening.pieces.get(k)?.curve;
+    let t = if at <= 0.0 {
+        0.0
+    } else if at >= 1.0 {
+        1.0
+    } else {
+        c.parameter_at_length(at * c.length()).ok()?
+    };
+    let [_, d] = c.derivatives::<2>(t);
+    Some(opening.outward(d))
+}
+
+fn build_error(
+    block: &Block,
+    opening: &PunchOpening,
+    spec: &[PieceSpec],
+    blame: &[Blame],
+    e: bh::Error,
+) -> Diagnostic {
+    let n = opening.pieces.len().max(1);
+    let name_of = |k: usize| opening.pieces.get(k).map_or("?", |p| p.name.as_str());
+    let name = name_of(e.piece);
+    let (before, after) = ((e.piece + n - 1) % n, (e.piece + 1) % n);
+    let side_blame = |k: usize| match blame.get(k) {
+        Some(Blame::Side(b)) => Some(b),
+        _ => None,
+    };
+    let side_of = |k: usize| match spec.get(k) {
+        Some(PieceSpec::Side(s)) => Some(s),
+        _ => None,
+    };
+    let span = match blame.get(e.piece) {
+        Some(Blame::Side(b)) => b.block,
+        Some(Blame::Corner(s)) => *s,
+        None => block.head(),
+    };
+    let what = match opening.pieces.get(e.piece).map(|p| p.kind) {
         Some(PieceKind::Corner) => "corner",
         _ => "side",
     };
-    let span = blame.get(e.piece).copied().unwrap_or(block.span);
-    let help = match &e.problem {
-        bh::Problem::CrossesOpening { .. } => "the outer edge must stay outside the punch opening: widen the binder here, lower the angle, or point `direction` out of the opening",
-        bh::Problem::OuterEndsDisagree { .. } => "sides that meet without a corner share their end station: give them the same width, angle and direction there",
-        bh::Problem::TangentAtSideJoin => "remove this end tangent: where two sides meet without a corner, eq. 4 decides it",
-        bh::Problem::Direction => "a direction points from the punch opening out to the binder's edge",
-        bh::Problem::Stations => "stations run from 0 to 1 and increase",
-        bh::Problem::Width(_) => "give a positive width",
-        bh::Problem::Tautness(_) => "tautness lies between 0 and 1",
-        bh::Problem::Mismatch => "this is a bug in dieface: please report it",
-        bh::Problem::Kernel(_) => "check this piece's widths, angles and tangents for degenerate input",
+    match &e.problem {
+        bh::Problem::Direction => {
+            // Find the station the kernel refused, to point at its direction.
+            let found = side_of(e.piece).and_then(|s| {
+                s.stations.iter().enumerate().find_map(|(i, st)| {
+                    let dir = st.direction?;
+                    let out = outward_at(opening, e.piece, st.at)?;
+                    let u = dir.normalize_or_zero();
+                    (u == DVec2::ZERO || u.dot(out) <= 0.0).then_some((i, st.at, dir, out))
+                })
+            });
+            match found {
+                Some((i, at, dir, out)) => {
+                    let at_span = side_blame(e.piece)
+                        .and_then(|b| b.direction.get(i).copied().flatten())
+                        .unwrap_or(span);
+                    feature_error(
+                        KIND,
+                        format!(
+                            "the `direction` {} of `side {name}` points into the punch opening at its {} station ({} % along the side)",
+                            show2(dir),
+                            ordinal(i + 1),
+                            show(at * 100.0)
+                        ),
+                        at_span,
+                        "into the opening",
+                        format!(
+                            "a station's direction points from the punch opening out to the binder's outer edge; out of the opening there is {}, and any direction less than 90 deg from it will do",
+                            show2(DVec2::new((out.x * 100.0).round() / 100.0, (out.y * 100.0).round() / 100.0))
+                        ),
+                    )
+                }
+                None => feature_error(
+                    KIND,
+                    format!("a station `direction` of `side {name}` does not point out of the punch opening"),
+                    span,
+                    format!("the side `{name}`"),
+                    "a station's direction points from the punch opening out to the binder's outer edge",
+                ),
+            }
+        }
+        bh::Problem::CrossesOpening { at } => {
+            let near = format!("({:.1}, {:.1})", at.x, at.y);
+            if what == "corner" {
+                let (prev, next) = (name_of(before), name_of(after));
+                return corner_ends(
+                    blame,
+                    (before, prev),
+                    (after, next),
+                    span,
+                    format!("the binder's outer edge at the corner `{name}` crosses into the punch opening near {near}"),
+                    format!("a corner's outer edge runs from the outer end of `{prev}` to the outer start of `{next}`, shaped like the opening's corner: place those two ends (their `direction` and `width`) so that the edge between them stays outside the opening"),
+                );
+            }
+            let own = side_blame(e.piece)
+                .is_some_and(|b| !block.get("width").is_some_and(|f| f.value.span == b.block));
+            let label = if own {
+                format!("the binder of `{name}`")
+            } else {
+                format!("this width puts the outer edge of `{name}` inside the opening")
+            };
+            feature_error(
+                KIND,
+                format!("the binder's outer edge along the side `{name}` crosses into the punch opening near {near}"),
+                span,
+                label,
+                format!("the outer edge must stay outside the opening in the top view: where the opening curves in, as at a notch, the binder must be narrower than the gap across it; make the binder narrower here with `side {name} {{ width = ... }}`, or turn its `direction` away from the opening"),
+            )
+        }
+        bh::Problem::Kernel(GeomError::Singular { what: why }) if why.contains("fold") => {
+            if what == "corner" {
+                let (prev, next) = (name_of(before), name_of(after));
+                return corner_ends(
+                    blame,
+                    (before, prev),
+                    (after, next),
+                    span,
+                    format!("the binder at the corner `{name}` folds over itself: its outer edge runs back against the punch opening"),
+                    format!("a corner's outer edge runs from the outer end of `{prev}` to the outer start of `{next}`, turning the same way as the opening's corner: place those two ends (their `direction` and `width`) so that it can, or make the binder narrower or the punch-opening corner fuller here"),
+                );
+            }
+            // Point at what steers the outer edge: directions, then end tangents.
+            let (primary, label) = match side_blame(e.piece) {
+                Some(b) => match (
+                    own_directions(side_of(e.piece), b),
+                    b.start_tangent.or(b.end_tangent),
+                ) {
+                    (Some(s), _) => (s, "these directions turn the outer edge back".to_string()),
+                    (None, Some(s)) => {
+                        (s, "this end tangent turns the outer edge back".to_string())
+                    }
+                    (None, None) => (b.block, format!("the binder of `{name}`")),
+                },
+                None => (span, format!("the binder of `{name}`")),
+            };
+            feature_error(
+                KIND,
+                format!("the binder along the side `{name}` folds over itself: its outer edge runs back against the punch opening"),
+                primary,
+                label,
+                "the outer edge must run along the side the same way as the opening: point each station's `direction` squarely out of the opening rather than along it, keep end tangents along the side, and avoid large changes of width between close stations",
+            )
+        }
+        bh::Problem::OuterEndsDisagree { gap } => {
+            let prev = name_of(before);
+            let start = side_blame(e.piece).map_or(span, SideBlame::first);
+            let end = side_blame(before).map(SideBlame::last);
+            let start_label = format!("places the outer start of `{name}`");
+            let end_label = format!("places the outer end of `{prev}`");
+            // Blame the side the designer set apart with a block of its own.
+            let before_own = side_blame(before).is_some_and(|b| b.own);
+            let this_own = side_blame(e.piece).is_some_and(|b| b.own);
+            let (primary, label, other) = match end {
+                Some(end) if before_own && !this_own => {
+                    (end, end_label, Some((start, start_label)))
+                }
+                _ => (start, start_label, end.map(|s| (s, end_label))),
+            };
+            let d = feature_error(
+                KIND,
+                format!("the sides `{prev}` and `{name}` meet without a corner, but their binder outer edges end {gap:.1} mm apart there"),
+                primary,
+                label,
+                format!("sides that meet without a corner share their end station: give `{prev}` and `{name}` the same `width`, `angle` and `direction` where they meet"),
+            );
+            match other {
+                Some((s, m)) if s != primary => d.with_label(s, m),
+                _ => d,
+            }
+        }
+        bh::Problem::TangentAtSideJoin => {
+            // The kernel refuses the end tangent of the side before a join first.
+            let this = side_of(e.piece);
+            let end_case =
+                side_of(after).is_some() && this.is_some_and(|s| s.end_tangent.is_some());
+            let start_case =
+                side_of(before).is_some() && this.is_some_and(|s| s.start_tangent.is_some());
+            // The kernel checks each join in order, the one before piece 0 last.
+            let end = end_case && (!start_case || e.piece == 0);
+            let (key, other, tangent_span) = if end {
+                (
+                    "end_tangent",
+                    name_of(after),
+                    side_blame(e.piece).and_then(|b| b.end_tangent),
+                )
+            } else {
+                (
+                    "start_tangent",
+                    name_of(before),
+                    side_blame(e.piece).and_then(|b| b.start_tangent),
+                )
+            };
+            feature_error(
+                KIND,
+                format!("`{key}` of `side {name}` is given where `{name}` meets `{other}` without a corner"),
+                tangent_span.unwrap_or(span),
+                "not allowed where two sides meet",
+                format!("remove `{key}`: where two sides meet without a corner the binder's outer edge runs on smoothly from one to the other, with the tangent the opening gives it (eq. 4); end tangents are for ends at a corner"),
+            )
+        }
+        problem => {
+            let help = match problem {
+                bh::Problem::Stations => "stations run from 0 to 1 and increase",
+                bh::Problem::Width(_) => "give a positive width",
+                bh::Problem::Tautness(_) => "tautness lies between 0 and 1",
+                bh::Problem::Mismatch => "this is a bug in dieface: please report it",
+                _ => "check this piece's widths, angles and tangents for degenerate input",
+            };
+            feature_error(
+                KIND,
+                format!(
+                    "the blankholder {what} `{name}` cannot be built: {problem} (in `{}`)",
+                    block.name
+                ),
+                span,
+                format!("the {what} `{name}`"),
+                help,
+            )
+        }
+    }
+}
+
+/// The span of a side's `direction` value, when the designer gave directions.
+fn own_directions(side: Option<&SideSpec>, b: &SideBlame) -> Option<Span> {
+    side?
+        .stations
+        .iter()
+        .any(|st| st.direction.is_some())
+        .then_some(())?;
+    let spans: Vec<Span> = b.direction.iter().flatten().copied().collect();
+    let first = *spans.first()?;
+    Some(spans.iter().fold(first, |all, s| all.to(*s)))
+}
+
+/// A corner's problem blamed on the outer ends of its sides, `(index, name)` before and
+/// after it: the end whose direction the designer set, else the end before.
+fn corner_ends(
+    blame: &[Blame],
+    (before, prev): (usize, &str),
+    (after, next): (usize, &str),
+    fallback: Span,
+    message: String,
+    help: String,
+) -> Diagnostic {
+    let side = |k: usize| match blame.get(k) {
+        Some(Blame::Side(b)) => Some(b),
+        _ => None,
     };
-    feature_error(
-        KIND,
-        format!(
-            "the blankholder {what} `{name}` cannot be built: {} (in `{}`)",
-            e.problem, block.name
-        ),
-        span,
-        format!("the {what} `{name}`"),
-        help,
-    )
+    let steered = |k: usize, last: bool| {
+        side(k).is_some_and(|s| {
+            let i = if last {
+                s.width.len().saturating_sub(1)
+            } else {
+                0
+            };
+            s.direction.get(i).copied().flatten().is_some()
+        })
+    };
+    let end = side(before).map(SideBlame::last);
+    let start = side(after).map(SideBlame::first);
+    let end_label = format!("places the outer end of `{prev}`");
+    let start_label = format!("places the outer start of `{next}`");
+    let (primary, label, other) = if steered(before, true) || !steered(after, false) {
+        (
+            end.unwrap_or(fallback),
+            end_label,
+            start.map(|s| (s, start_label)),
+        )
+    } else {
+        (
+            start.unwrap_or(fallback),
+            start_label,
+            end.map(|s| (s, end_label)),
+        )
+    };
+    let d = feature_error(KIND, message, primary, label, help);
+    match other {
+        Some((s, m)) if s != primary => d.with_label(s, m),
+        _ => d,
+    }
 }
 
 /// The feature record: one surface per patch and `quality`.

@@ -34,6 +34,15 @@ pub struct Field {
     pub value: Value,
 }
 
+impl Field {
+    /// Where the field's last word was written: the name in `side front`.
+    pub fn name_word(&self) -> Span {
+        let (start, end) = (self.name_span.start as usize, self.name_span.end as usize);
+        let len = self.words.last().map_or(0, String::len);
+        Span::new(self.name_span.file, end.saturating_sub(len).max(start), end)
+    }
+}
+
 /// A feature block, evaluated.
 #[derive(Debug, Clone)]
 pub struct Block<'a> {
@@ -68,6 +77,9 @@ impl Block<'_> {
 
     /// Refuses fields other than `single` (one word) and `named` (`word <name>`).
     pub fn check_fields(&self, single: &[&str], named: &[&str]) -> Result<(), Diagnostic> {
+        let mut forms: Vec<String> = single.iter().map(|s| s.to_string()).collect();
+        forms.extend(named.iter().map(|n| format!("{n} <name>")));
+        let forms = forms.join(", ");
         for f in &self.fields {
             let ok = match f.words.as_slice() {
                 [one] => single.contains(&one.as_str()),
@@ -78,9 +90,32 @@ impl Block<'_> {
                 continue;
             }
             let written = f.words.join(" ");
-            let mut forms: Vec<String> = single.iter().map(|s| s.to_string()).collect();
-            forms.extend(named.iter().map(|n| format!("{n} <name>")));
-            let guess = did_you_mean(&f.words[0], single.iter().chain(named).copied());
+            let first = f.words.first().map_or("", String::as_str);
+            // The right word with the wrong number of names.
+            if f.words.len() == 1 && named.contains(&first) {
+                return Err(Diagnostic::new(
+                    "die::unknown_field",
+                    format!("a `{}` field `{first}` needs a name", self.kind),
+                    f.name_span,
+                    format!("which {first}?"),
+                )
+                .with_help(format!(
+                    "write `{first} NAME ...`, e.g. `{first} front = ...`; the fields are: {forms}"
+                )));
+            }
+            if f.words.len() == 2 && single.contains(&first) {
+                return Err(Diagnostic::new(
+                    "die::unknown_field",
+                    format!(
+                        "the field `{first}` of a `{}` takes no name, but this one is `{written}`",
+                        self.kind
+                    ),
+                    f.name_span,
+                    "a name after a field that has none",
+                )
+                .with_help(format!("write `{first} = ...`; the fields are: {forms}")));
+            }
+            let guess = did_you_mean(first, single.iter().chain(named).copied());
             let d = Diagnostic::new(
                 "die::unknown_field",
                 format!("a `{}` has no field `{written}`", self.kind),
@@ -88,14 +123,24 @@ impl Block<'_> {
                 "not a field of this feature",
             );
             return Err(match guess {
-                Some(g) if g != f.words[0] => d.with_help(format!(
-                    "did you mean `{g}`? The fields are: {}",
-                    forms.join(", ")
-                )),
-                _ => d.with_help(format!("the fields are: {}", forms.join(", "))),
+                Some(g) if g != first => {
+                    let fix = match f.words.as_slice() {
+                        [_, name] if named.contains(&g) => format!("{g} {name}"),
+                        _ => g.to_string(),
+                    };
+                    d.with_help(format!("did you mean `{fix}`? The fields are: {forms}"))
+                }
+                _ => d.with_help(format!("the fields are: {forms}")),
             });
         }
         Ok(())
+    }
+
+    /// The declaration's head: its kind word (`blankholder` in `blankholder binder {`),
+    /// where a diagnostic about the whole block points.
+    pub fn head(&self) -> Span {
+        let end = (self.span.start as usize + self.kind.len()).min(self.span.end as usize);
+        Span::new(self.span.file, self.span.start as usize, end)
     }
 
     /// A diagnostic that the required field `name` is missing.
@@ -103,7 +148,7 @@ impl Block<'_> {
         Diagnostic::new(
             "die::missing_field",
             format!("a `{}` needs the field `{name}`", self.kind),
-            self.span,
+            self.head(),
             format!("`{}` has no `{name}`", self.name),
         )
         .with_help(help.to_string())
@@ -205,6 +250,35 @@ fn check_record(r: &Record, at: Span, what: &str, allowed: &[&str]) -> Result<()
         });
     }
     Ok(())
+}
+
+/// A number as a designer reads it: at most six decimals, no trailing zeros.
+fn show(x: f64) -> String {
+    if !x.is_finite() {
+        return format!("{x}");
+    }
+    if x != 0.0 && !(1e-4..1e9).contains(&x.abs()) {
+        return format!("{x:e}");
+    }
+    let s = format!("{x:.6}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s == "-0" {
+        "0".to_string()
+    } else {
+        s.to_string()
+    }
+}
+
+/// A plain number or ratio value as it was written: `90 %` for a ratio, `0.9` for a bare
+/// number, `120 mm` for a length.
+fn show_value(v: &Value) -> String {
+    match &v.data {
+        Data::Number(q) if q.dim == Dim::LENGTH => format!("{} mm", show(q.value)),
+        Data::Number(q) if q.dim.is_none() && !q.bare => format!("{} %", show(q.value * 100.0)),
+        Data::Number(q) if q.dim.is_none() => show(q.value),
+        Data::Number(q) => show(q.value),
+        _ => v.type_name().to_string(),
+    }
 }
 
 /// A number value with a dimension, at `span`.

@@ -33,9 +33,20 @@ use crate::syntax::Span;
 
 use super::super::sketch::{Sketch, View};
 use super::super::value::{Data, Dim, Feature, Record, Value};
-use super::{check_record, count, deg, feature_error, length, mm, record, record_value, Block};
+use super::{
+    check_record, count, deg, feature_error, length, mm, record, record_value, show, show_value,
+    Block,
+};
 
 const KIND: &str = "punch_opening";
+
+/// The finest tolerance `delta` (mm): finer ones multiply the points of every side and
+/// corner past what the kernel's interpolation can hold.
+const MIN_DELTA: f64 = 0.001;
+
+/// The most two-view steps `max_step` may ask of one side: the side's points are
+/// interpolated all at once.
+const MAX_STEPS_PER_SIDE: f64 = 1000.0;
 
 /// Where each piece came from, for diagnostics.
 struct PieceSource {
@@ -43,6 +54,18 @@ struct PieceSource {
     segment: Span,
     /// The `side` field's value, or the corner's tangent value if one was given.
     field: Option<Span>,
+    /// For a side: its view's first and last segments, with the view's coordinate along
+    /// the axis at the start and the end of the drawing.
+    view_ends: Option<ViewEnds>,
+}
+
+/// The two drawn ends of a side view.
+#[derive(Clone, Copy)]
+struct ViewEnds {
+    first: Span,
+    last: Span,
+    start: f64,
+    end: f64,
 }
 
 /// Builds the punch opening of `block`.
@@ -64,10 +87,25 @@ pub fn build(block: &Block) -> Result<Value, Diagnostic> {
         let span = block.get("delta").map_or(block.span, |f| f.value.span);
         return Err(feature_error(
             KIND,
-            format!("the tolerance `delta` must be a positive length, but it is {delta} mm"),
+            format!(
+                "the tolerance `delta` must be a positive length, but it is {} mm",
+                show(delta)
+            ),
             span,
             "this tolerance",
             "die-face practice is 0.01 mm",
+        ));
+    }
+    if delta < MIN_DELTA {
+        let span = block.get("delta").map_or(block.span, |f| f.value.span);
+        return Err(feature_error(
+            KIND,
+            format!(
+                "the tolerance `delta` must be at least {MIN_DELTA} mm, but it is {delta:e} mm"
+            ),
+            span,
+            "too fine a tolerance",
+            format!("a finer tolerance multiplies the points of every side and corner without making the die any better: use at least {MIN_DELTA} mm (die-face practice is 0.01 mm)"),
         ));
     }
     let max_step = match block.get("max_step") {
@@ -76,7 +114,10 @@ pub fn build(block: &Block) -> Result<Value, Diagnostic> {
             if !(m.is_finite() && m > 0.0) {
                 return Err(feature_error(
                     KIND,
-                    format!("`max_step` must be a positive length, but it is {m} mm"),
+                    format!(
+                        "`max_step` must be a positive length, but it is {} mm",
+                        show(m)
+                    ),
                     f.value.span,
                     "this step",
                     "L_max is the longest step along a straight side, e.g. 50 mm",
@@ -98,12 +139,37 @@ pub fn build(block: &Block) -> Result<Value, Diagnostic> {
         .collect();
     if side_segments.len() != sides.len() {
         return Err(side_count_error(
-            block,
             &top,
             &top_field.value,
             &side_segments,
             &sides,
         ));
+    }
+    if let (Some(m), Some(f)) = (max_step, block.get("max_step")) {
+        // The longest side, for the number of steps `max_step` asks of it.
+        let longest = side_segments
+            .iter()
+            .zip(&sides)
+            .filter_map(|(&k, (name, _))| Some((top.segment_curve(k).ok()?.length(), *name)))
+            .reduce(|a, b| if b.0 > a.0 { b } else { a });
+        if let Some((len, name)) = longest {
+            if len / m > MAX_STEPS_PER_SIDE {
+                return Err(feature_error(
+                    KIND,
+                    format!(
+                        "`max_step` = {} mm would cut the side `{name}` ({len:.1} mm long) into {:.0} steps",
+                        show(m),
+                        (len / m).ceil()
+                    ),
+                    f.value.span,
+                    "too short a step",
+                    format!(
+                        "a side's points are interpolated all at once, so keep to {MAX_STEPS_PER_SIDE} steps per side: `max_step` of at least {} mm here (die-face practice is 20 to 50 mm)",
+                        show((len / MAX_STEPS_PER_SIDE * 100.0).ceil() / 100.0)
+                    ),
+                ));
+            }
+        }
     }
     let default_tangent = match block.get("corners") {
         Some(f) => {
@@ -114,7 +180,7 @@ pub fn build(block: &Block) -> Result<Value, Diagnostic> {
             )?;
             check_record(r, f.value.span, "`corners`", &["tangent"])?;
             match r.get("tangent") {
-                Some(t) => Some(magnitudes(t, units)?),
+                Some(t) => Some(magnitudes(t, units, "of every corner (`corners`)")?),
                 None => None,
             }
         }
@@ -144,14 +210,16 @@ pub fn build(block: &Block) -> Result<Value, Diagnostic> {
         match side_of_segment[k] {
             Some(i) => {
                 let (name, field) = sides[i];
+                let (view, ends) = side_view(&field.value, name)?;
                 pieces.push(PieceSpec::Side(SideSpec {
                     name: name.to_string(),
                     top: curve,
-                    view: side_view(&field.value)?,
+                    view,
                 }));
                 sources.push(PieceSource {
                     segment: segment.span,
                     field: Some(field.value.span),
+                    view_ends: ends,
                 });
             }
             None => {
@@ -173,7 +241,10 @@ pub fn build(block: &Block) -> Result<Value, Diagnostic> {
                             }
                             _ => f.value.clone(),
                         };
-                        (magnitudes(&t, units)?, Some(t.span))
+                        (
+                            magnitudes(&t, units, &format!("of the corner `{name}`"))?,
+                            Some(t.span),
+                        )
                     }
                     None => (
                         default_tangent.unwrap_or([Magnitude::Natural(1.0); 2]),
@@ -189,6 +260,7 @@ pub fn build(block: &Block) -> Result<Value, Diagnostic> {
                 sources.push(PieceSource {
                     segment: segment.span,
                     field: span,
+                    view_ends: None,
                 });
             }
         }
@@ -197,14 +269,26 @@ pub fn build(block: &Block) -> Result<Value, Diagnostic> {
         if !corner_names.iter().any(|c| c == name) {
             let d = feature_error(
                 KIND,
-                format!("the opening has no corner `{name}`"),
-                f.name_span,
+                format!("the punch opening has no corner `{name}`"),
+                f.name_word(),
                 "no such corner",
                 "",
             );
-            return Err(match did_you_mean(name, corner_names.iter().map(String::as_str)) {
-                Some(g) => d.with_help(format!("did you mean `{g}`? Corners are named after their sides, `<previous>_<next>`: {}", corner_names.join(", "))),
-                None => d.with_help(format!("corners are named after their sides, `<previous>_<next>`: {}", corner_names.join(", "))),
+            // A corner named with its sides the wrong way round: `right_front`.
+            let swapped = corner_names.iter().find(|c| {
+                sides.iter().any(|(a, _)| {
+                    sides.iter().any(|(b, _)| {
+                        c.as_str() == format!("{a}_{b}") && name == &format!("{b}_{a}")
+                    })
+                })
+            });
+            let all = corner_names.join(", ");
+            return Err(match swapped {
+                Some(g) => d.with_help(format!("did you mean `{g}`? A corner is named after its sides in drawing order, `<previous>_<next>`; the corners are: {all}")),
+                None => match did_you_mean(name, corner_names.iter().map(String::as_str)) {
+                    Some(g) => d.with_help(format!("did you mean `{g}`? Corners are named after their sides in drawing order, `<previous>_<next>`: {all}")),
+                    None => d.with_help(format!("corners are named after their sides in drawing order, `<previous>_<next>`: {all}")),
+                },
             });
         }
         if sides.iter().any(|(s, _)| s == name) {
@@ -261,28 +345,41 @@ fn top_sketch(v: &Value) -> Result<Arc<Sketch>, Diagnostic> {
     }
     if !s.closed {
         let (a, b) = (s.curve.start_point(), s.curve.end_point());
-        return Err(feature_error(
-            KIND,
-            "the top-view profile of a punch opening must be closed",
-            v.span,
-            format!(
-                "this profile ends at ({:.1}, {:.1}), {:.1} mm from its start",
-                b.x,
-                b.y,
-                a.distance(b)
+        let gap = format!(
+            "ends at ({:.1}, {:.1}), {:.1} mm from its start",
+            b.x,
+            b.y,
+            a.distance(b)
+        );
+        let d = match s.segments.last() {
+            Some(last) => feature_error(
+                KIND,
+                "the top-view profile of a punch opening must be closed",
+                last.span,
+                format!("the profile {gap}"),
+                "end the sketch with `close` (add `fillet R` before it to round the last corner)",
+            )
+            .with_label(v.span, "the top view of this punch opening"),
+            None => feature_error(
+                KIND,
+                "the top-view profile of a punch opening must be closed",
+                v.span,
+                format!("this profile {gap}"),
+                "end the sketch with `close` (add `fillet R` before it to round the last corner)",
             ),
-            "end the sketch with `close` (add `fillet R` before it to round the last corner)",
-        ));
+        };
+        return Err(d);
     }
     Ok(s.clone())
 }
 
-/// A side's view: a sketch in `side_xz`, `side_yz` or a section plane.
-fn side_view(v: &Value) -> Result<SideView, Diagnostic> {
+/// A side's view: a sketch in `side_xz`, `side_yz` or a section plane, with its drawn
+/// ends.
+fn side_view(v: &Value, name: &str) -> Result<(SideView, Option<ViewEnds>), Diagnostic> {
     let Data::Sketch(s) = &v.data else {
         return Err(super::super::builtins::type_error(
             v,
-            "a `side` of a punch opening",
+            &format!("`side {name}` of a punch opening"),
             "a side-view sketch (`sketch(side_xz)`, `sketch(side_yz)` or `sketch(section(a, b))`)",
         ));
     };
@@ -291,30 +388,58 @@ fn side_view(v: &Value) -> Result<SideView, Diagnostic> {
         View::SideYZ => (DVec2::ZERO, DVec2::Y),
         View::Section { a, b } => (a, (b - a).normalize_or_zero()),
         View::Top => {
-            return Err(feature_error(KIND, "a side's binder wrap is drawn in a side view, but this sketch is in the top view", v.span, "a top-view sketch", "draw it with `sketch(side_xz)` for sides along X, `sketch(side_yz)` for sides along Y, or `sketch(section(a, b))`"));
+            return Err(feature_error(
+                KIND,
+                format!("the binder wrap of the side `{name}` must be drawn in a side view, but this sketch is in the top view"),
+                v.span,
+                "a top-view sketch",
+                "draw it with `sketch(side_xz)` for a side along X, `sketch(side_yz)` for a side along Y, or `sketch(section(a, b))` for a slanted one",
+            ));
         }
     };
-    Ok(SideView {
-        origin,
-        axis,
-        curve: s.curve.clone(),
-    })
+    let ends = match (s.segments.first(), s.segments.last()) {
+        (Some(first), Some(last)) => Some(ViewEnds {
+            first: first.span,
+            last: last.span,
+            start: s.curve.start_point().x,
+            end: s.curve.end_point().x,
+        }),
+        _ => None,
+    };
+    Ok((
+        SideView {
+            origin,
+            axis,
+            curve: s.curve.clone(),
+        },
+        ends,
+    ))
 }
 
-/// A tangent spec: a magnitude, or a pair for start and end.
-fn magnitudes(v: &Value, units: super::super::units::Units) -> Result<[Magnitude; 2], Diagnostic> {
+/// A tangent spec: a magnitude, or a pair for start and end. `whose` completes "the
+/// tangent magnitude ..." (`of the corner `front_nose``).
+fn magnitudes(
+    v: &Value,
+    units: super::super::units::Units,
+    whose: &str,
+) -> Result<[Magnitude; 2], Diagnostic> {
     match &v.data {
-        Data::Tuple(items) if items.len() == 2 => {
-            Ok([magnitude(&items[0], units)?, magnitude(&items[1], units)?])
-        }
+        Data::Tuple(items) if items.len() == 2 => Ok([
+            magnitude(&items[0], units, whose)?,
+            magnitude(&items[1], units, whose)?,
+        ]),
         _ => {
-            let m = magnitude(v, units)?;
+            let m = magnitude(v, units, whose)?;
             Ok([m, m])
         }
     }
 }
 
-fn magnitude(v: &Value, units: super::super::units::Units) -> Result<Magnitude, Diagnostic> {
+fn magnitude(
+    v: &Value,
+    units: super::super::units::Units,
+    whose: &str,
+) -> Result<Magnitude, Diagnostic> {
     let (m, value) = match &v.data {
         Data::Number(q) if q.dim == Dim::LENGTH => (Magnitude::Length(q.value), q.value),
         Data::Number(q) if q.dim.is_none() && !q.bare => (Magnitude::Natural(q.value), q.value),
@@ -326,49 +451,131 @@ fn magnitude(v: &Value, units: super::super::units::Units) -> Result<Magnitude, 
         _ => {
             return Err(super::super::builtins::type_error(
                 v,
-                "a corner tangent",
+                &format!("the tangent magnitude {whose}"),
                 "a length such as `120 mm`, a ratio such as `90 %`, or a pair of them",
             ));
         }
     };
     if !(value.is_finite() && value > 0.0) {
-        return Err(feature_error(KIND, "a corner's tangent magnitude must be positive", v.span, format!("this magnitude is {value}"), "a magnitude near the corner's length gives a round corner: try `100 %`, or a length such as `120 mm`"));
+        return Err(feature_error(
+            KIND,
+            format!(
+                "the tangent magnitude {whose} must be positive, but it is {}",
+                show_value(v)
+            ),
+            v.span,
+            "not a positive magnitude",
+            "a corner cannot be sharp or turn back on itself: `100 %` gives a circle-like corner, a smaller ratio such as `80 %` a tauter one, or give a length such as `120 mm`; for a tighter corner draw a smaller fillet in the top view",
+        ));
     }
     Ok(m)
 }
 
+/// `1st`, `2nd`, `3rd`, `4th`, ...
+fn ordinal(n: usize) -> String {
+    let suffix = match (n % 10, n % 100) {
+        (_, 11..=13) => "th",
+        (1, _) => "st",
+        (2, _) => "nd",
+        (3, _) => "rd",
+        _ => "th",
+    };
+    format!("{n}{suffix}")
+}
+
 fn side_count_error(
-    block: &Block,
     top: &Sketch,
     top_value: &Value,
     side_segments: &[usize],
     sides: &[(&str, &super::Field)],
 ) -> Diagnostic {
-    if sides.len() < side_segments.len() {
-        let missing = top.segments[side_segments[sides.len()]].span;
-        feature_error(
-            KIND,
-            format!("the top view has {} sides but the block gives {} `side` fields", side_segments.len(), sides.len()),
-            missing,
-            "this side of the top view has no side view",
-            "add `side NAME = sketch(side_xz) { ... }` for every side, in the order the top view draws them (every segment that is not a `fillet` is a side)",
-        )
-        .with_label(top_value.span, "the top view")
-        .with_label(block.span, "in this punch opening")
-    } else {
-        let extra = sides[side_segments.len()].1;
-        feature_error(
-            KIND,
-            format!(
-                "the top view has {} sides but the block gives {} `side` fields",
-                side_segments.len(),
-                sides.len()
+    let (want, given) = (side_segments.len(), sides.len());
+    if given < want {
+        let missing = top.segments[side_segments[given]].span;
+        let (message, after) = match sides.last() {
+            Some((last, _)) => (
+                format!("the top view has {want} sides but only {given} `side` views are given"),
+                format!(" after `side {last}`"),
             ),
-            extra.name_span,
-            "no side of the top view is left for this one",
-            "give one `side` per top-view segment that is not a `fillet`, in drawing order",
+            None => (
+                format!("the top view has {want} sides but no `side` view is given"),
+                String::new(),
+            ),
+        };
+        let mut d = feature_error(
+            KIND,
+            message,
+            missing,
+            format!("the {} side has no side view", ordinal(given + 1)),
+            format!("the `side` fields take the top view's sides in drawing order (every segment that is not a `fillet` is a side): add `side NAME = sketch(side_xz) {{ ... }}`{after} for this one"),
+        )
+        .with_label(top_value.span, "the top view");
+        if let Some((last, f)) = sides.last() {
+            d = d.with_label(
+                f.name_span,
+                format!("`{last}` takes the {} side", ordinal(given)),
+            );
+        }
+        d
+    } else {
+        let (extra, f) = sides[want];
+        feature_error(
+            KIND,
+            format!("the top view has {want} sides but {given} `side` views are given"),
+            f.name_span,
+            format!("no side of the top view is left for `{extra}`"),
+            "the `side` fields take the top view's sides in drawing order, one per segment that is not a `fillet`: remove this field, or draw the missing side in the top view",
         )
         .with_label(top_value.span, "the top view")
+    }
+}
+
+/// A position along a side view's axis, as a designer reads it: `x = 200.0`.
+fn along(view: &SideView, v: f64) -> String {
+    if view.axis == DVec2::X {
+        format!("x = {v:.1}")
+    } else if view.axis == DVec2::Y {
+        format!("y = {v:.1}")
+    } else {
+        format!("{v:.1} mm along the section")
+    }
+}
+
+/// A range along a side view's axis: `x = -320.0 to 320.0`.
+fn range(view: &SideView, a: f64, b: f64) -> String {
+    if view.axis == DVec2::X {
+        format!("x = {a:.1} to {b:.1}")
+    } else if view.axis == DVec2::Y {
+        format!("y = {a:.1} to {b:.1}")
+    } else {
+        format!("{a:.1} to {b:.1} mm along the section")
+    }
+}
+
+/// The view a side view is drawn in, in words: "`side_xz` (along X)".
+fn view_words(view: &SideView) -> String {
+    if view.axis == DVec2::X {
+        "`side_xz` (along X)".to_string()
+    } else if view.axis == DVec2::Y {
+        "`side_yz` (along Y)".to_string()
+    } else {
+        format!("a section along ({:.2}, {:.2})", view.axis.x, view.axis.y)
+    }
+}
+
+/// Which way a top-view chord runs, in words, with the view to draw it in.
+fn runs(chord: DVec2) -> (String, &'static str) {
+    let angle = chord.y.atan2(chord.x).to_degrees().rem_euclid(180.0);
+    if !(1.0..=179.0).contains(&angle) {
+        ("along X".to_string(), "`sketch(side_xz)`")
+    } else if (angle - 90.0).abs() < 1.0 {
+        ("along Y".to_string(), "`sketch(side_yz)`")
+    } else {
+        let to_x = angle.min(180.0 - angle);
+        (
+            format!("at {to_x:.0} deg to X"),
+            "`sketch(section(a, b))` with `a` and `b` at its ends",
+        )
     }
 }
 
@@ -379,59 +586,146 @@ fn build_error(
     e: po::Error,
 ) -> Diagnostic {
     let names = po::piece_names(spec);
+    let n = names.len().max(1);
     let name = names.get(e.piece).copied().unwrap_or("?");
+    let before = (e.piece + n - 1) % n;
+    let prev = names.get(before).copied().unwrap_or("?");
     let source = sources.get(e.piece);
-    let segment = source.map_or(block.span, |s| s.segment);
+    let segment = source.map_or(block.head(), |s| s.segment);
     let field = source.and_then(|s| s.field).unwrap_or(segment);
-    let is_side = matches!(spec.pieces.get(e.piece), Some(PieceSpec::Side(_)));
-    let what = if is_side { "side" } else { "corner" };
+    let side = match spec.pieces.get(e.piece) {
+        Some(PieceSpec::Side(s)) => Some(s),
+        _ => None,
+    };
+    let what = if side.is_some() { "side" } else { "corner" };
+    // Secondary labels, in order; any on the primary span are dropped.
+    let mut extra: Vec<(Span, String)> = Vec::new();
     let d = match &e.problem {
-        po::Problem::Kernel(GeomError::ViewsDoNotOverlap { top, side }) => feature_error(
-            KIND,
-            format!("the side view of `{name}` does not cover the side's range along its axis: the side runs from {:.1} to {:.1}, the view from {:.1} to {:.1}", top.0, top.1, side.0.min(side.1), side.0.max(side.1)),
-            field,
-            "this side view is too short",
-            "extend the side view's curve past both ends of the side (the two-view method reads the height at every point of the side)",
-        ),
-        po::Problem::Kernel(GeomError::Singular { what: why }) if why.contains("top view") => feature_error(
-            KIND,
-            format!("the side `{name}` cannot be built from its views: {why}"),
-            segment,
-            "this top-view side",
-            "a side must advance along its side view's axis: draw sides running along X in `side_xz`, sides along Y in `side_yz`, slanted ones in `section(a, b)` along them",
-        ),
-        po::Problem::Kernel(GeomError::Singular { what: why }) => feature_error(
-            KIND,
-            format!("the side `{name}` cannot be built from its views: {why}"),
-            field,
-            "this side view",
-            "the side view must be a graph over its axis: one height per position",
-        ),
-        po::Problem::Kernel(GeomError::NotPositive { what: w, value }) if w.contains("magnitude") => feature_error(
-            KIND,
-            format!("the corner `{name}` has a tangent magnitude that is not positive ({value})"),
-            field,
-            "this magnitude",
-            "give a positive length or ratio",
-        ),
-        po::Problem::SharpJoin { angle_deg } => feature_error(
-            KIND,
-            format!("the sides before and at `{name}` meet at {angle_deg:.2} deg without a corner"),
-            segment,
-            "this side starts at a kink",
-            "put a `fillet R` between the two segments in the top view, or draw the second one `tangent`",
-        ),
-        po::Problem::SidesDisagree { gap } => feature_error(
-            KIND,
-            format!("`{name}` and the side before it meet without a corner, but their side views put the shared point {gap:.4} mm apart"),
-            field,
-            "this side view",
-            format!("make both side views give the same height at the shared point (within delta = {} mm), or put a fillet between them", spec.delta),
-        ),
+        po::Problem::Kernel(GeomError::ViewsDoNotOverlap { top, side: drawn }) => {
+            let (t0, t1) = (top.0.min(top.1), top.0.max(top.1));
+            let (v0, v1) = (drawn.0.min(drawn.1), drawn.0.max(drawn.1));
+            let (range_top, range_view, at_lo, at_hi) = match side {
+                Some(s) => (
+                    range(&s.view, t0, t1),
+                    range(&s.view, v0, v1),
+                    along(&s.view, v0),
+                    along(&s.view, v1),
+                ),
+                None => (
+                    format!("{t0:.1} to {t1:.1}"),
+                    format!("{v0:.1} to {v1:.1}"),
+                    format!("{v0:.1}"),
+                    format!("{v1:.1}"),
+                ),
+            };
+            if let Some(ends) = source.and_then(|s| s.view_ends) {
+                let (lo, hi) = if ends.start <= ends.end {
+                    (ends.first, ends.last)
+                } else {
+                    (ends.last, ends.first)
+                };
+                let tol = 1e-6 * (1.0 + t0.abs().max(t1.abs()));
+                if v1 < t1 - tol {
+                    extra.push((hi, format!("the view ends at {at_hi}")));
+                }
+                if v0 > t0 + tol {
+                    extra.push((lo, format!("the view starts at {at_lo}")));
+                }
+            }
+            extra.push((segment, format!("the side `{name}` runs from {range_top}")));
+            feature_error(
+                KIND,
+                format!("the side view of `{name}` does not reach past both ends of the side: the side runs from {range_top}, its view only from {range_view}"),
+                field,
+                "this side view is too short",
+                "extend the side view past both ends of the side: the side's height is read from it at every point of the side (drawing it as long as the whole edge of the opening is enough)",
+            )
+        }
+        po::Problem::Kernel(GeomError::Singular { what: why }) if why.contains("top view") => {
+            let chord = side.map(|s| s.top.end_point() - s.top.start_point());
+            let across = match (side, chord) {
+                (Some(s), Some(c)) => c.dot(s.view.axis).abs() < c.dot(s.view.axis.perp()).abs(),
+                _ => false,
+            };
+            match (side, chord) {
+                (Some(s), Some(c)) if across => {
+                    let (way, fix) = runs(c);
+                    let drawn = view_words(&s.view);
+                    extra.push((segment, format!("`{name}` runs {way} in the top view")));
+                    feature_error(
+                        KIND,
+                        format!("the side `{name}` runs {way} in the top view, but its side view is drawn in {drawn}"),
+                        field,
+                        format!("drawn in {drawn}"),
+                        format!("the side's height is read from its side view along the view's axis, so the side must advance along that axis: draw the binder wrap of `{name}` in {fix}"),
+                    )
+                }
+                _ => {
+                    extra.push((field, format!("the side view of `{name}`")));
+                    feature_error(
+                        KIND,
+                        format!("the side `{name}` cannot be built from its views: {why}"),
+                        segment,
+                        "this top-view side",
+                        "a side must advance steadily along its side view's axis: draw sides running along X in `side_xz`, sides along Y in `side_yz`, slanted ones in `section(a, b)` along them, and split a side that turns back with a fillet",
+                    )
+                }
+            }
+        }
+        po::Problem::Kernel(GeomError::Singular { what: why }) => {
+            extra.push((segment, format!("the side `{name}` in the top view")));
+            feature_error(
+                KIND,
+                format!("the side `{name}` cannot be built from its views: {why}"),
+                field,
+                "this side view",
+                "the side view must be a graph over its axis: one height per position, never turning back or standing vertical",
+            )
+        }
+        po::Problem::Kernel(GeomError::NotPositive { what: w, value })
+            if w.contains("magnitude") =>
+        {
+            extra.push((segment, format!("the corner `{name}` in the top view")));
+            feature_error(
+                KIND,
+                format!("the tangent magnitude of the corner `{name}` must be positive, but it comes to {} mm", show(*value)),
+                field,
+                "this magnitude",
+                "give a positive length such as `120 mm` or a ratio such as `100 %`",
+            )
+        }
+        po::Problem::SharpJoin { angle_deg } => {
+            if let Some(s) = sources.get(before) {
+                extra.push((s.segment, format!("`{prev}` ends here")));
+            }
+            feature_error(
+                KIND,
+                format!("the sides `{prev}` and `{name}` meet at a {angle_deg:.2} deg kink in the top view, with no corner between them"),
+                segment,
+                format!("`{name}` starts at a kink"),
+                format!("put a `fillet R` between the two segments in the top view (it becomes a corner), or draw `{name}` on from `{prev}` without a kink (`tangent arc to ...`, `spline tangent through [...]`); sides may meet without a corner only where they turn by less than {} deg", po::MAX_SIDE_JOIN_ANGLE_DEG),
+            )
+        }
+        po::Problem::SidesDisagree { gap } => {
+            if let Some(f) = sources.get(before).and_then(|s| s.field) {
+                extra.push((f, format!("the side view of `{prev}`")));
+            }
+            extra.push((
+                segment,
+                format!("`{name}` starts where `{prev}` ends, without a corner"),
+            ));
+            feature_error(
+                KIND,
+                format!("the sides `{prev}` and `{name}` meet without a corner, but their side views put the shared point {gap:.3} mm apart"),
+                field,
+                format!("the side view of `{name}`"),
+                format!("make both side views give the same height where the sides meet (within delta = {} mm), or put a fillet between them in the top view", show(spec.delta)),
+            )
+        }
         po::Problem::NoSides => feature_error(
             KIND,
             "the top view has no side: every segment is a fillet",
-            block.span,
+            block.head(),
             "this punch opening",
             "draw the sides as lines or splines, joined by `fillet R`",
         ),
@@ -442,19 +736,35 @@ fn build_error(
             "two fillets in a row",
             "put a side between the two fillets",
         ),
-        po::Problem::Kernel(err) => feature_error(
-            KIND,
-            format!("the {what} `{name}` cannot be built: {err} (in `{}`)", block.name),
-            field,
-            format!("this {what}"),
-            "check the views and tangents of this piece for degenerate input",
-        ),
+        po::Problem::Kernel(err) => {
+            let help = if side.is_some() {
+                "check this side's top view and side view for degenerate input (zero-length or self-overlapping segments)"
+            } else {
+                "a tangent magnitude far from the corner's size makes it loop or collapse: try a ratio near `100 %`"
+            };
+            extra.push((segment, format!("the {what} `{name}` in the top view")));
+            feature_error(
+                KIND,
+                format!(
+                    "the {what} `{name}` of `{}` cannot be built: {err}",
+                    block.name
+                ),
+                field,
+                format!("this {what}"),
+                help,
+            )
+        }
     };
-    if field != segment {
-        d.with_label(segment, format!("the {what} `{name}` in the top view"))
-    } else {
-        d
-    }
+    let primary = d.primary.span;
+    let mut seen = vec![primary];
+    extra.into_iter().fold(d, |d, (span, message)| {
+        if seen.contains(&span) {
+            d
+        } else {
+            seen.push(span);
+            d.with_label(span, message)
+        }
+    })
 }
 
 /// The feature record: one 3-D curve per piece, the closed `line`, and `quality`.
