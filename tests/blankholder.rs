@@ -3,6 +3,9 @@
 //! on the fender example through the language and on hand-checkable inputs built with
 //! the kernel API. Run with `--nocapture` to see the measured figures.
 
+#[path = "common/square.rs"]
+mod square;
+
 use std::f64::consts::FRAC_PI_2;
 use std::path::Path;
 use std::sync::Arc;
@@ -14,15 +17,16 @@ use dieface::die::blankholder::{
 use dieface::die::continuity::measure_join;
 use dieface::die::punch_opening::{
     self as po, CornerSpec, Magnitude, PieceKind, PieceSpec, PunchOpening, PunchOpeningSpec,
-    SideSpec, SideView,
+    SideView,
 };
 use dieface::eval::value::Feature;
 use dieface::eval::{Data, Engine, Value};
 use dieface::geom::arc::circular_arc;
 use dieface::geom::inversion::closest_point_on_curve;
 use dieface::geom::tessellate::{tessellate_curve, Tolerance};
-use dieface::geom::{Curve2, Curve3, GeomError, NurbsSurface};
+use dieface::geom::{Curve3, GeomError, NurbsSurface};
 use glam::{DVec2, DVec3};
+use square::*;
 
 /// Samples per boundary for the measured join figures.
 const JOIN_SAMPLES: usize = 200;
@@ -373,71 +377,6 @@ fn fender_blankholder_is_c1_and_follows_its_stations() {
 // ---------------------------------------------------------------------------------
 // Synthetic, hand-checkable inputs.
 // ---------------------------------------------------------------------------------
-
-const DELTA: f64 = 0.01;
-/// Half the side of the square opening (400 x 400 mm) and its fillet radius.
-const HALF: f64 = 200.0;
-const RADIUS: f64 = 50.0;
-/// Where the fillets' centres are, on each axis.
-const INSET: f64 = HALF - RADIUS;
-
-fn line2(a: (f64, f64), b: (f64, f64)) -> Curve2 {
-    Curve2::line(DVec2::new(a.0, a.1), DVec2::new(b.0, b.1)).unwrap()
-}
-
-fn flat_view(axis: DVec2, z: f64) -> SideView {
-    SideView {
-        origin: DVec2::ZERO,
-        axis,
-        curve: line2((-HALF - 50.0, z), (HALF + 50.0, z)),
-    }
-}
-
-fn side(name: &str, top: Curve2, view: SideView) -> PieceSpec {
-    PieceSpec::Side(SideSpec {
-        name: name.into(),
-        top,
-        view,
-    })
-}
-
-fn corner(name: &str, center: DVec2, from_deg: f64) -> PieceSpec {
-    let a = from_deg.to_radians();
-    PieceSpec::Corner(CornerSpec {
-        name: name.into(),
-        top: circular_arc(center, DVec2::X, DVec2::Y, RADIUS, a, a + FRAC_PI_2).unwrap(),
-        magnitudes: [Magnitude::Natural(1.0); 2],
-    })
-}
-
-/// The 400 x 400 square with R 50 fillets, counter-clockwise from the bottom side(s),
-/// flat side views at z = 0 elsewhere.
-fn square_with_bottom(bottom: Vec<PieceSpec>) -> PunchOpeningSpec {
-    let (h, s) = (HALF, INSET);
-    let mut pieces = bottom;
-    pieces.extend([
-        corner("bottom_right", DVec2::new(s, -s), -90.0),
-        side("right", line2((h, -s), (h, s)), flat_view(DVec2::Y, 0.0)),
-        corner("right_top", DVec2::new(s, s), 0.0),
-        side("top", line2((s, h), (-s, h)), flat_view(DVec2::X, 0.0)),
-        corner("top_left", DVec2::new(-s, s), 90.0),
-        side("left", line2((-h, s), (-h, -s)), flat_view(DVec2::Y, 0.0)),
-        corner("left_bottom", DVec2::new(-s, -s), 180.0),
-    ]);
-    PunchOpeningSpec {
-        pieces,
-        delta: DELTA,
-        max_step: None,
-    }
-}
-
-fn square() -> PunchOpeningSpec {
-    square_with_bottom(vec![side(
-        "bottom",
-        line2((-INSET, -HALF), (INSET, -HALF)),
-        flat_view(DVec2::X, 0.0),
-    )])
-}
 
 /// The same square drawn clockwise: pieces in reverse order, each reversed.
 fn clockwise_square() -> PunchOpeningSpec {

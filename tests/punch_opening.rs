@@ -6,13 +6,16 @@
 //! 10,000 samples per piece, independently of the figures the kernel stores (which are
 //! cross-checked, not trusted). Run with `--nocapture` to see the worst figures.
 
+#[path = "common/square.rs"]
+mod square;
+
 use std::f64::consts::{FRAC_PI_2, PI};
 use std::path::Path;
 use std::sync::Arc;
 
 use dieface::die::punch_opening::{
-    self as po, natural_magnitude, side_quality, CornerSpec, Magnitude, PieceKind, PieceQuality,
-    PieceSpec, Problem, PunchOpening, PunchOpeningSpec, SideSpec, SideView,
+    self as po, natural_magnitude, side_quality, PieceKind, PieceQuality, PieceSpec, Problem,
+    PunchOpening, PunchOpeningSpec, SideSpec, SideView,
 };
 use dieface::eval::sketch::View;
 use dieface::eval::value::Feature;
@@ -20,6 +23,7 @@ use dieface::eval::{Data, Engine, Value};
 use dieface::geom::arc::{circular_arc, Circle};
 use dieface::geom::{Curve2, Curve3};
 use glam::{DVec2, DVec3};
+use square::*;
 
 /// Samples per piece for every measured figure.
 const SAMPLES: usize = 10_000;
@@ -428,73 +432,6 @@ fn fender_punch_opening_meets_its_drawings() {
 // ---------------------------------------------------------------------------------
 // Synthetic, hand-checkable inputs.
 // ---------------------------------------------------------------------------------
-
-const DELTA: f64 = 0.01;
-/// Half the side of the square opening (400 x 400 mm).
-const HALF: f64 = 200.0;
-/// Its fillet radius.
-const RADIUS: f64 = 50.0;
-
-fn line2(a: (f64, f64), b: (f64, f64)) -> Curve2 {
-    Curve2::line(DVec2::new(a.0, a.1), DVec2::new(b.0, b.1)).unwrap()
-}
-
-/// A flat side view at height `z`, reaching 50 mm past the square.
-fn flat_view(axis: DVec2, z: f64) -> SideView {
-    SideView {
-        origin: DVec2::ZERO,
-        axis,
-        curve: line2((-HALF - 50.0, z), (HALF + 50.0, z)),
-    }
-}
-
-fn side(name: &str, top: Curve2, view: SideView) -> PieceSpec {
-    PieceSpec::Side(SideSpec {
-        name: name.into(),
-        top,
-        view,
-    })
-}
-
-fn corner(name: &str, center: DVec2, from_deg: f64) -> PieceSpec {
-    let a = from_deg.to_radians();
-    PieceSpec::Corner(CornerSpec {
-        name: name.into(),
-        top: circular_arc(center, DVec2::X, DVec2::Y, RADIUS, a, a + FRAC_PI_2).unwrap(),
-        magnitudes: [Magnitude::Natural(1.0); 2],
-    })
-}
-
-/// The 400 x 400 square with R 50 fillets, counter-clockwise from the bottom side, with
-/// the given bottom side(s) and flat side views at z = 0 elsewhere.
-fn square_with_bottom(bottom: Vec<PieceSpec>) -> PunchOpeningSpec {
-    let (h, s) = (HALF, HALF - RADIUS);
-    let mut pieces = bottom;
-    pieces.extend([
-        corner("bottom_right", DVec2::new(s, -s), -90.0),
-        side("right", line2((h, -s), (h, s)), flat_view(DVec2::Y, 0.0)),
-        corner("right_top", DVec2::new(s, s), 0.0),
-        side("top", line2((s, h), (-s, h)), flat_view(DVec2::X, 0.0)),
-        corner("top_left", DVec2::new(-s, s), 90.0),
-        side("left", line2((-h, s), (-h, -s)), flat_view(DVec2::Y, 0.0)),
-        corner("left_bottom", DVec2::new(-s, -s), 180.0),
-    ]);
-    PunchOpeningSpec {
-        pieces,
-        delta: DELTA,
-        max_step: None,
-    }
-}
-
-/// The flat square of case (a).
-fn square() -> PunchOpeningSpec {
-    let s = HALF - RADIUS;
-    square_with_bottom(vec![side(
-        "bottom",
-        line2((-s, -HALF), (s, -HALF)),
-        flat_view(DVec2::X, 0.0),
-    )])
-}
 
 /// Case (a): straight flat sides, corners on their quarter circles; the natural
 /// magnitude of a quarter circle is its arc length, pi R / 2.

@@ -32,8 +32,8 @@ use crate::syntax::Span;
 use super::super::builtins::{as_point2, as_point3, type_error};
 use super::super::value::{Data, Feature, Record, Value};
 use super::{
-    angle, check_record, deg, feature_error, items, length, mm, number, ratio, record,
-    record_value, show, show_value, Block,
+    angle, check_record, deg, feature_error, feature_value, items, length, mm, number, ratio,
+    record, record_value, show, show_value, Block,
 };
 
 const KIND: &str = "blankholder";
@@ -895,7 +895,7 @@ fn corner_ends(
 /// The feature record: one surface per patch and `quality`.
 fn output(block: &Block, binder: bh::Blankholder) -> Value {
     let span = block.span;
-    let mut fields: Vec<(String, Value)> = binder
+    let fields: Vec<(String, Value)> = binder
         .patches
         .iter()
         .map(|p| {
@@ -933,13 +933,11 @@ fn output(block: &Block, binder: bh::Blankholder) -> Value {
         ("ratio_spread".to_string(), ratio(spread, span)),
     ];
     quality.extend(joins);
-    fields.push(("quality".into(), record_value(quality, span)));
-    Value::new(
-        Data::Record(Arc::new(Record {
-            kind: Some(KIND.to_string()),
-            fields,
-            feature: Some(Feature::Blankholder(Arc::new(binder))),
-        })),
+    feature_value(
+        KIND,
         span,
+        fields,
+        quality,
+        Feature::Blankholder(Arc::new(binder)),
     )
 }

@@ -324,3 +324,23 @@ fn record_value(fields: Vec<(String, Value)>, span: Span) -> Value {
         span,
     )
 }
+
+/// The value of a feature block: its pieces' fields, then `quality` (the overall figures
+/// followed by the per-piece records), with the kernel model attached.
+fn feature_value(
+    kind: &str,
+    span: Span,
+    mut fields: Vec<(String, Value)>,
+    quality: Vec<(String, Value)>,
+    feature: super::value::Feature,
+) -> Value {
+    fields.push(("quality".into(), record_value(quality, span)));
+    Value::new(
+        Data::Record(Arc::new(Record {
+            kind: Some(kind.to_string()),
+            fields,
+            feature: Some(feature),
+        })),
+        span,
+    )
+}

@@ -32,10 +32,10 @@ use crate::geom::GeomError;
 use crate::syntax::Span;
 
 use super::super::sketch::{Sketch, View};
-use super::super::value::{Data, Dim, Feature, Record, Value};
+use super::super::value::{Data, Dim, Feature, Value};
 use super::{
-    check_record, count, deg, feature_error, length, mm, record, record_value, show, show_value,
-    Block,
+    check_record, count, deg, feature_error, feature_value, length, mm, record, record_value, show,
+    show_value, Block,
 };
 
 const KIND: &str = "punch_opening";
@@ -821,13 +821,11 @@ fn output(block: &Block, opening: po::PunchOpening) -> Value {
         ("corner_tangent_error".to_string(), mm(magnitude, span)),
     ];
     quality.extend(per_piece);
-    fields.push(("quality".into(), record_value(quality, span)));
-    Value::new(
-        Data::Record(Arc::new(Record {
-            kind: Some(KIND.to_string()),
-            fields,
-            feature: Some(Feature::PunchOpening(Arc::new(opening))),
-        })),
+    feature_value(
+        KIND,
         span,
+        fields,
+        quality,
+        Feature::PunchOpening(Arc::new(opening)),
     )
 }
