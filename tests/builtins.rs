@@ -983,3 +983,260 @@ fn no_builtin_panics_on_odd_arguments() {
         }
     }
 }
+
+// ---- project --------------------------------------------------------------------------
+
+/// A product-like bicubic patch over x in [-600, 600], y in [-420, 420], with a crown
+/// and a twist (z from about -75 to 112 mm).
+fn crowned_product() -> Arc<NurbsSurface> {
+    let height = |i: f64, j: f64| {
+        80.0 * (45f64.to_radians() * i).sin()
+            + 40.0 * (60f64.to_radians() * j).cos()
+            + 0.0002 * (i * 250.0 - 500.0) * (j * 233.0 - 350.0)
+    };
+    let rows = (0..5)
+        .map(|i| {
+            list(
+                (0..4)
+                    .map(|j| {
+                        let (i, j) = (i as f64, j as f64);
+                        p3(-600.0 + i * 300.0, -420.0 + j * 280.0, height(i, j))
+                    })
+                    .collect(),
+            )
+        })
+        .collect();
+    surface(call("nurbs_surface", vec![bare(3.0), list(rows)]).unwrap())
+}
+
+/// A closed top-view rectangle with rounded corners, drawn like std/sketch's
+/// `rectangle` (the last fillet after `close`, so the seam is a line-fillet join).
+fn rounded_rectangle(center: DVec2, w: f64, h: f64, r: f64) -> Value {
+    use dieface::eval::sketch::{build, Command::*, View};
+    let (x0, x1, y0, y1) = (
+        center.x - w / 2.0,
+        center.x + w / 2.0,
+        center.y - h / 2.0,
+        center.y + h / 2.0,
+    );
+    let cmds = vec![
+        From(DVec2::new(x0, y0)),
+        LineTo(DVec2::new(x1, y0)),
+        Fillet(r),
+        LineTo(DVec2::new(x1, y1)),
+        Fillet(r),
+        LineTo(DVec2::new(x0, y1)),
+        Fillet(r),
+        Close,
+        Fillet(r),
+    ];
+    let cmds: Vec<_> = cmds.into_iter().map(|c| (c, CALL)).collect();
+    data(Data::Sketch(Arc::new(
+        build(View::Top, &cmds, CALL).unwrap(),
+    )))
+}
+
+/// The distance of `p` from the surface: `closest_point_on_surface`, or, where its
+/// Newton cannot settle because `p` lies within rounding of the surface (it then fails
+/// with `NoConvergence`, its cosine test being relative to that tiny distance), the
+/// vertical distance to the surface, which bounds the true distance from above.
+fn distance_to_surface(s: &NurbsSurface, p: DVec3) -> f64 {
+    use dieface::geom::inversion::closest_point_on_surface;
+    use dieface::geom::GeomError;
+    match closest_point_on_surface(s, p) {
+        Ok(sp) => sp.distance,
+        Err(GeomError::NoConvergence { .. }) => {
+            dieface::geom::intersect::intersect_ray_surface(p, DVec3::Z, s)
+                .unwrap()
+                .w
+                .abs()
+        }
+        Err(e) => panic!("{e}"),
+    }
+}
+
+/// The largest distance of the projected curve from the surface and of its top view
+/// from the input's top view, at `n` evenly spaced parameters.
+fn projection_errors(
+    c: &Curve3,
+    s: &NurbsSurface,
+    top: &dieface::geom::Curve2,
+    n: usize,
+) -> (f64, f64) {
+    use dieface::geom::inversion::closest_point_on_curve;
+    let (t0, t1) = c.domain();
+    let (mut on_surface, mut in_top) = (0.0f64, 0.0f64);
+    for k in 0..=n {
+        let p = c.point_at(t0 + (t1 - t0) * k as f64 / n as f64);
+        on_surface = on_surface.max(distance_to_surface(s, p));
+        in_top = in_top.max(closest_point_on_curve(top, p.truncate()).unwrap().distance);
+    }
+    (on_surface, in_top)
+}
+
+/// Simple interior knots: the projected curve is C2 between its ends.
+fn interior_knots_are_simple(c: &Curve3) -> bool {
+    let (t0, t1) = c.domain();
+    c.knots()
+        .distinct()
+        .iter()
+        .all(|&(k, m)| k == t0 || k == t1 || m == 1)
+}
+
+#[test]
+fn project_a_closed_top_view_trim_line_onto_the_product() {
+    let product = crowned_product();
+    let trim = rounded_rectangle(DVec2::new(20.0, -10.0), 900.0, 560.0, 60.0);
+    let Data::Sketch(sketch) = &trim.data else {
+        unreachable!()
+    };
+    let top = sketch.curve.clone();
+    let c = curve3(
+        call(
+            "project",
+            vec![trim.clone(), data(Data::Surface(product.clone()))],
+        )
+        .unwrap(),
+    );
+    assert_eq!(c.degree(), 3);
+    assert!(!c.is_rational());
+    assert!(interior_knots_are_simple(&c), "repeated interior knots");
+    let (on_surface, in_top) = projection_errors(&c, &product, &top, 1000);
+    assert!(on_surface < 1e-3, "{on_surface} mm off the surface");
+    assert!(in_top < 1e-2, "{in_top} mm off the top view");
+    // Closed, and C1 across the seam: equal end derivatives.
+    let (t0, t1) = c.domain();
+    assert!(c.start_point().distance(c.end_point()) < 1e-12);
+    let (d0, d1) = (c.derivative_at(t0), c.derivative_at(t1));
+    assert!(
+        (d0 - d1).length() <= 1e-9 * d0.length(),
+        "seam derivatives {d0} and {d1}"
+    );
+    // The seam lies over the sketch's start, on the surface.
+    let start = sketch.curve.start_point();
+    assert!(c.start_point().truncate().distance(start) < 1e-9);
+    println!(
+        "closed trim line: {} control points, {on_surface:.2e} mm off the surface, {in_top:.2e} mm off the top view",
+        c.control_points().len()
+    );
+}
+
+#[test]
+fn project_an_open_curve_and_along_a_slanted_direction() {
+    let product = crowned_product();
+    // A 2-D spline (z = 0), open.
+    let spline = call(
+        "interpolate",
+        vec![list(vec![
+            p2(-500.0, -300.0),
+            p2(-200.0, -100.0),
+            p2(100.0, 50.0),
+            p2(450.0, 300.0),
+        ])],
+    )
+    .unwrap();
+    let Data::Curve2(top) = &spline else {
+        panic!("not a 2-D curve: {spline:?}")
+    };
+    let top = (**top).clone();
+    let c = curve3(
+        call(
+            "project",
+            vec![data(spline.clone()), data(Data::Surface(product.clone()))],
+        )
+        .unwrap(),
+    );
+    assert!(interior_knots_are_simple(&c));
+    let (on_surface, in_top) = projection_errors(&c, &product, &top, 1000);
+    assert!(on_surface < 1e-3, "{on_surface}");
+    assert!(in_top < 1e-2, "{in_top}");
+    // The ends lie over the input's ends.
+    assert!(c.start_point().truncate().distance(top.start_point()) < 1e-8);
+    assert!(c.end_point().truncate().distance(top.end_point()) < 1e-8);
+    println!(
+        "open spline: {} control points, {on_surface:.2e} mm off the surface, {in_top:.2e} mm off the top view",
+        c.control_points().len()
+    );
+
+    // A 3-D curve above the product, projected along a slanted direction: every point
+    // of the result lies on the surface and on the line through some input point.
+    let high = call(
+        "line_between",
+        vec![p3(-400.0, -200.0, 400.0), p3(300.0, 250.0, 400.0)],
+    )
+    .unwrap();
+    let dir = DVec3::new(0.2, -0.1, -1.0);
+    let c = curve3(
+        call(
+            "project",
+            vec![
+                data(high),
+                data(Data::Surface(product.clone())),
+                p3(dir.x, dir.y, dir.z),
+            ],
+        )
+        .unwrap(),
+    );
+    let u = dir.normalize();
+    let (a, b) = (
+        DVec3::new(-400.0, -200.0, 400.0),
+        DVec3::new(300.0, 250.0, 400.0),
+    );
+    let plane_normal = (b - a).cross(u).normalize();
+    let (t0, t1) = c.domain();
+    for k in 0..=200 {
+        let p = c.point_at(t0 + (t1 - t0) * k as f64 / 200.0);
+        let on = distance_to_surface(&product, p);
+        assert!(on < 1e-3, "{on}");
+        // In the plane swept by the line along the direction.
+        assert!((p - a).dot(plane_normal).abs() < 1e-2);
+    }
+}
+
+#[test]
+fn project_errors() {
+    let product = crowned_product();
+    let s = data(Data::Surface(product));
+    // Wider than the product: the curve leaves it.
+    let wide = rounded_rectangle(DVec2::ZERO, 1300.0, 560.0, 60.0);
+    let e = call_with(
+        "project",
+        vec![Some(wide), Some(s.clone()), None],
+        None,
+        None,
+    )
+    .unwrap_err();
+    assert_eq!(e.code, "die::bad_argument");
+    assert!(
+        e.message.contains("leaves the surface near ("),
+        "{}",
+        e.message
+    );
+    assert_eq!(e.primary.span, at(0));
+    assert_eq!(e.secondary[0].span, at(1));
+    // A zero direction.
+    let inside = rounded_rectangle(DVec2::ZERO, 400.0, 300.0, 50.0);
+    let e = call(
+        "project",
+        vec![inside.clone(), s.clone(), p3(0.0, 0.0, 0.0)],
+    )
+    .unwrap_err();
+    assert_eq!(e.code, "die::bad_argument");
+    assert!(e.message.contains("zero length"), "{}", e.message);
+    assert_eq!(e.primary.span, at(2));
+    // A corner the smooth result cannot follow.
+    let corner = call(
+        "nurbs_curve",
+        vec![
+            bare(1.0),
+            list(vec![p2(-100.0, 0.0), p2(0.0, 0.0), p2(0.0, 100.0)]),
+        ],
+    )
+    .unwrap();
+    let e = call("project", vec![data(corner), s.clone()]).unwrap_err();
+    assert!(e.message.contains("corner at (0, 0)"), "{}", e.message);
+    assert!(e.message.contains("90 deg"), "{}", e.message);
+    // A surface that is not one.
+    let e = call("project", vec![inside, mm(3.0)]).unwrap_err();
+    assert_eq!(e.code, "die::type_mismatch");
+}

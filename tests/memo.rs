@@ -75,7 +75,8 @@ fn memoized_values_follow_their_declarations_when_text_above_moves() {
 }
 
 /// The fender example: changing the crown height re-evaluates the height function's
-/// users (the control net, the product and its outline) and nothing else.
+/// users (the control net, the product, its outline and the step draw that meets it)
+/// and nothing else.
 #[test]
 fn editing_the_fender_example_reevaluates_only_the_dependents() {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/fender");
@@ -95,11 +96,12 @@ fn editing_the_fender_example_reevaluates_only_the_dependents() {
     assert!(warm.diagnostics.is_empty());
     let mut ran = engine.last_evaluated().to_vec();
     ran.sort();
-    assert_eq!(ran, ["crown", "fender", "net", "outline"]);
-    assert_eq!(engine.evaluation_count(), after_cold + 4);
+    assert_eq!(ran, ["addendum", "crown", "fender", "net", "outline"]);
+    assert_eq!(engine.evaluation_count(), after_cold + 5);
 
-    // Redrawing one side's binder wrap rebuilds that sketch, the punch opening and the
-    // blankholder around it, and leaves the product alone.
+    // Redrawing one side's binder wrap rebuilds that sketch, the punch opening, the
+    // blankholder around it and the step draw that reaches it, and leaves the product
+    // alone.
     let rewrapped = edited.replace("(0, -78)", "(0, -76)");
     assert_ne!(
         rewrapped, edited,
@@ -109,7 +111,7 @@ fn editing_the_fender_example_reevaluates_only_the_dependents() {
     assert!(warm.diagnostics.is_empty());
     let mut ran = engine.last_evaluated().to_vec();
     ran.sort();
-    assert_eq!(ran, ["binder", "opening", "wrap_front"]);
+    assert_eq!(ran, ["addendum", "binder", "opening", "wrap_front"]);
 }
 
 fn dir_again() -> std::path::PathBuf {

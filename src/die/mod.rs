@@ -11,4 +11,5 @@ pub mod blankholder;
 pub mod continuity;
 pub mod corner;
 pub mod punch_opening;
+pub mod step_draw;
 pub mod two_view;

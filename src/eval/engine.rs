@@ -36,7 +36,14 @@ use super::value::{Closure, Data, Module, Record, Value};
 const EVAL_STACK_BYTES: usize = 512 << 20;
 
 /// Declaration kinds the language knows. Die-face features join this list as they land.
-pub const KINDS: &[&str] = &["let", "param", "product", "punch_opening", "blankholder"];
+pub const KINDS: &[&str] = &[
+    "let",
+    "param",
+    "product",
+    "punch_opening",
+    "blankholder",
+    "step_draw",
+];
 
 /// The names, values and units visible at the top level of one file.
 #[derive(Debug, Default)]
@@ -902,12 +909,14 @@ impl Engine {
                     value,
                 })
                 .collect();
+            let apply = |g: &Value, args: Vec<Value>, s: Span| ctx.apply(g, args, Vec::new(), s);
             return features::build(&features::Block {
                 kind,
                 name: &d.name.node,
                 span: d.span,
                 fields,
                 units: ctx.units(),
+                apply: &apply,
             });
         }
         let value = match &d.body {

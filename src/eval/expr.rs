@@ -199,7 +199,7 @@ impl<'w> Ctx<'w> {
                     return Err(type_error(
                         &v,
                         "the view of a sketch",
-                        "a view (top, side_xz, side_yz or section(a, b))",
+                        "a view (top, side_xz, side_yz, section(a, b) or profile)",
                     ));
                 };
                 let units = self.units();
@@ -294,6 +294,7 @@ impl<'w> Ctx<'w> {
             "top" => Some(View::Top),
             "side_xz" => Some(View::SideXZ),
             "side_yz" => Some(View::SideYZ),
+            "profile" => Some(View::Profile),
             _ => None,
         };
         if let Some(v) = view {
@@ -310,7 +311,7 @@ impl<'w> Ctx<'w> {
         if let Some(g) = self.world.globals(self.file) {
             candidates.extend(g.names.iter().cloned());
         }
-        candidates.extend(["top", "side_xz", "side_yz"].map(String::from));
+        candidates.extend(["top", "side_xz", "side_yz", "profile"].map(String::from));
         candidates.extend(builtins::names().map(String::from));
         candidates.extend(super::views::names().map(String::from));
         let mut d = Diagnostic::new(

@@ -35,6 +35,11 @@ pub enum View {
         /// Second top-view point (sets the sketch's +s direction).
         b: DVec2,
     },
+    /// A section profile drawn before its plane is known (the step draw's addendum
+    /// profiles, `std/addendum`): sketch (s, z), s along the section and z up. The
+    /// feature that uses the profile places it in its own section planes; on its own it
+    /// is shown like `side_xz`, at press (s, 0, z).
+    Profile,
 }
 
 impl View {
@@ -42,7 +47,7 @@ impl View {
     pub fn place(&self, p: DVec2) -> DVec3 {
         match *self {
             View::Top => DVec3::new(p.x, p.y, 0.0),
-            View::SideXZ => DVec3::new(p.x, 0.0, p.y),
+            View::SideXZ | View::Profile => DVec3::new(p.x, 0.0, p.y),
             View::SideYZ => DVec3::new(0.0, p.x, p.y),
             View::Section { a, b } => {
                 let d = (b - a).normalize_or_zero();
@@ -58,6 +63,7 @@ impl View {
             View::SideXZ => "side_xz",
             View::SideYZ => "side_yz",
             View::Section { .. } => "section",
+            View::Profile => "profile",
         }
     }
 }

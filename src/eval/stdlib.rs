@@ -5,6 +5,7 @@
 const MODULES: &[(&str, &str)] = &[
     ("units", include_str!("../../stdlib/units.die")),
     ("sketch", include_str!("../../stdlib/sketch.die")),
+    ("addendum", include_str!("../../stdlib/addendum.die")),
 ];
 
 /// The source of the standard module `name`.

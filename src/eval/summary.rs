@@ -190,6 +190,23 @@ fn feature_summary(r: &Record) -> String {
                 bbox(lo, hi)
             )
         }
+        Some(Feature::StepDraw(s)) => {
+            let pts = s.patches.iter().flat_map(|p| sampled_surface(&p.surface));
+            let (lo, hi) = bounds(pts);
+            let area: f64 = s.patches.iter().map(|p| p.surface.area()).sum();
+            format!(
+                "step draw, {} key sections [{}], {} patches, area {} mm², bounds {}",
+                s.key_sections.len(),
+                s.key_sections
+                    .iter()
+                    .map(|(n, _)| n.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                s.patches.len(),
+                round(area),
+                bbox(lo, hi)
+            )
+        }
         None => String::new(),
     }
 }

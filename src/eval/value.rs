@@ -12,6 +12,7 @@ use glam::{DVec2, DVec3};
 
 use crate::die::blankholder::Blankholder;
 use crate::die::punch_opening::PunchOpening;
+use crate::die::step_draw::StepDraw;
 use crate::geom::mesh::Mesh;
 use crate::geom::{Curve2, Curve3, NurbsSurface, Transform};
 use crate::syntax::ast::{Expr, Param};
@@ -241,6 +242,8 @@ pub enum Feature {
     PunchOpening(Arc<PunchOpening>),
     /// A blankholder.
     Blankholder(Arc<Blankholder>),
+    /// A step draw.
+    StepDraw(Arc<StepDraw>),
 }
 
 impl Feature {

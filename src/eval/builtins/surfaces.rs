@@ -1,5 +1,5 @@
-//! Surface builtins: NURBS from a control net, and the constructions die faces are
-//! made of (ruled, loft, Coons, revolution).
+//! Surface builtins: NURBS from a control net, the constructions die faces are made of
+//! (ruled, loft, Coons, revolution), and curves projected onto a surface.
 //!
 //! Curves given to them are 3-D: sketches are placed through their views and 2-D
 //! curves lie at z = 0.
@@ -7,15 +7,20 @@
 use std::f64::consts::TAU;
 use std::sync::Arc;
 
+use glam::{DVec2, DVec3};
+
 use crate::diag::Diagnostic;
 use crate::geom::construct::{
     coons as coons_patch, coons_triangle, loft as loft_surface, revolve as revolve_surface,
     ruled as ruled_surface, Loft,
 };
+use crate::geom::interpolate::{interpolate, parameters, Interpolation, Parametrization};
+use crate::geom::intersect::intersect_line_surface_all;
+use crate::geom::tessellate::{tessellate_curve, Tolerance};
 use crate::geom::{Curve3, GeomError, KnotVector, NurbsSurface};
 
 use super::super::value::{Data, Value};
-use super::args::{bad_argument, direction3, opt_count, vector3, what};
+use super::args::{bad_argument, direction3, opt_count, span_of, vector3, what};
 use super::{as_count, as_curve3, as_number, as_point3, opt, req, type_error, Builtin, Call};
 
 /// The surface builtins.
@@ -45,6 +50,12 @@ pub static BUILTINS: &[Builtin] = &[
         params: &[req("profile"), req("axis_point"), req("axis_dir"), opt("angle")],
         doc: "the exact surface swept by a profile turning about an axis (a full turn by default)",
         run: revolve,
+    },
+    Builtin {
+        name: "project",
+        params: &[req("curve"), req("surface"), opt("direction")],
+        doc: "the curve on a surface under a curve seen along a direction (default press -Z: a trim line drawn in the top view, dropped onto the product); a smooth cubic, closed if the curve is",
+        run: project,
     },
 ];
 
@@ -235,4 +246,403 @@ fn revolve(call: &Call) -> Result<Data, Diagnostic> {
     let s = revolve_surface(&profile, point, dir, angle)
         .map_err(|e| call.kernel_error(e, Some("profile")))?;
     Ok(Data::Surface(Arc::new(s)))
+}
+
+// ---- project --------------------------------------------------------------------------
+//
+// The curve is sampled densely (the chordal tessellation, with an edge limit so straight
+// pieces get points too), every sample is moved along the direction onto the surface
+// (Newton continuing from the previous sample's (u, v); a global line-surface search
+// where that fails), and the hits are interpolated by one cubic B-spline (chord length,
+// averaged knots: simple interior knots, so the result is C2 between its samples). The
+// fit is then checked at the middle of every sample interval against the true
+// projection there, and intervals that deviate get that point as a new sample, until
+// the fit holds everywhere.
+
+/// Chordal tolerance (mm) of the first sampling of the input curve.
+const PROJECT_CHORDAL: f64 = 0.005;
+
+/// Longest step (mm) between first samples, so straight pieces get points too.
+const PROJECT_MAX_EDGE: f64 = 20.0;
+
+/// A short curve gets at least about this many first samples.
+const PROJECT_MIN_SAMPLES: f64 = 16.0;
+
+/// Largest deviation (mm) of the fitted curve from the true projection, measured across
+/// the curve at the middle of every sample interval.
+const PROJECT_FIT: f64 = 1e-4;
+
+/// Rounds of the fit check at most (each adds points only where the fit is off).
+const PROJECT_ROUNDS: usize = 12;
+
+/// Most samples the fit may use (the interpolation solves a dense system).
+const PROJECT_MAX_SAMPLES: usize = 4000;
+
+/// A turn of the input curve's direction (across the projection direction) larger than
+/// this at one point is a corner, which one smooth cubic cannot follow: 0.5 deg.
+const PROJECT_CORNER: f64 = 0.5 * std::f64::consts::PI / 180.0;
+
+/// The input direction is nearly parallel to the surface (the projected tangent is
+/// ill-conditioned) where `|direction . normal|` is below this; there the seam tangent
+/// of a closed curve comes from the neighbouring samples, and an open curve's end is
+/// left free.
+const PROJECT_GRAZING: f64 = 0.05;
+
+/// A point of the projected curve with its surface parameters.
+#[derive(Debug, Clone, Copy)]
+struct Hit {
+    u: f64,
+    v: f64,
+    point: DVec3,
+}
+
+/// Moves points along a fixed direction onto a surface.
+struct Projector<'a> {
+    surface: &'a NurbsSurface,
+    /// Unit direction.
+    dir: DVec3,
+    /// Unit vectors across the direction.
+    across: (DVec3, DVec3),
+    /// Accepted distance of a hit from its line (mm).
+    tol: f64,
+}
+
+impl<'a> Projector<'a> {
+    fn new(surface: &'a NurbsSurface, dir: DVec3, size: f64) -> Self {
+        let e1 = dir.any_orthonormal_vector();
+        Self {
+            surface,
+            dir,
+            across: (e1, dir.cross(e1)),
+            tol: 1e-12 * size.max(1.0),
+        }
+    }
+
+    /// Where the line through `p` leaves the line, in the plane across it.
+    fn offset(&self, q: DVec3) -> DVec2 {
+        DVec2::new(q.dot(self.across.0), q.dot(self.across.1))
+    }
+
+    /// Newton on `(S(u, v) - p)` across the direction, from `(u, v)`, clamped to the
+    /// domain, with step halving; `None` where it does not converge (the line leaves
+    /// the patch there, or the surface is parallel to the direction).
+    fn near(&self, p: DVec3, u: f64, v: f64) -> Option<Hit> {
+        let s = self.surface;
+        let (u0, u1) = s.domain_u();
+        let (v0, v1) = s.domain_v();
+        let (mut u, mut v) = (u, v);
+        for _ in 0..40 {
+            let d = s.derivatives::<2>(u, v);
+            let f = self.offset(d[0][0] - p);
+            let res = f.length();
+            if !res.is_finite() {
+                return None;
+            }
+            if res <= self.tol {
+                return Some(Hit {
+                    u,
+                    v,
+                    point: d[0][0],
+                });
+            }
+            let (su, sv) = (self.offset(d[1][0]), self.offset(d[0][1]));
+            let det = su.perp_dot(sv);
+            if !det.is_finite() || det.abs() <= 1e-14 * su.length() * sv.length() {
+                return None;
+            }
+            // Solve [su sv] (du, dv) = -f.
+            let du = -f.perp_dot(sv) / det;
+            let dv = -su.perp_dot(f) / det;
+            let mut lambda = 1.0;
+            let mut moved = false;
+            for _ in 0..30 {
+                let nu = (u + lambda * du).clamp(u0, u1);
+                let nv = (v + lambda * dv).clamp(v0, v1);
+                if self.offset(s.point_at(nu, nv) - p).length() < res {
+                    (u, v, moved) = (nu, nv, true);
+                    break;
+                }
+                lambda *= 0.5;
+            }
+            if !moved {
+                return None;
+            }
+        }
+        None
+    }
+
+    /// The hit of the line through `p`: continuing from `prev` when given, else (or
+    /// where that fails) the global search's hit nearest to `prev`'s point, or to `p`
+    /// along the line. `None`: the line misses the surface.
+    fn hit(&self, p: DVec3, prev: Option<Hit>) -> Result<Option<Hit>, GeomError> {
+        if let Some(h) = prev {
+            if let Some(found) = self.near(p, h.u, h.v) {
+                return Ok(Some(found));
+            }
+        }
+        let hits = intersect_line_surface_all(p, self.dir, self.surface)?;
+        let key = |h: &crate::geom::intersect::RayHit| match prev {
+            Some(q) => h.point.distance(q.point),
+            None => h.w.abs(),
+        };
+        Ok(hits
+            .iter()
+            .min_by(|a, b| key(a).total_cmp(&key(b)))
+            .map(|h| Hit {
+                u: h.u,
+                v: h.v,
+                point: h.point,
+            }))
+    }
+
+    /// The unit tangent of the projected curve where the input curve runs along
+    /// `tangent` and its projection is at `hit` (the tangent moved along the direction
+    /// into the surface's tangent plane), or `None` where the surface is too steep to
+    /// tell.
+    fn tangent(&self, tangent: DVec3, hit: Hit) -> Option<DVec3> {
+        let n = self.surface.normal(hit.u, hit.v).ok()?;
+        let rn = self.dir.dot(n);
+        if rn.abs() < PROJECT_GRAZING {
+            return None;
+        }
+        (tangent - self.dir * (tangent.dot(n) / rn)).try_normalize()
+    }
+}
+
+/// The part of `v` across the unit direction `dir`, normalized.
+fn across(v: DVec3, dir: DVec3) -> Option<DVec3> {
+    (v - dir * v.dot(dir)).try_normalize()
+}
+
+/// The first kink of `curve` seen along `dir` (a C0 knot, or the seam of a closed
+/// curve, where the direction turns by more than [`PROJECT_CORNER`]): the point and
+/// the turn in radians.
+fn first_corner(curve: &Curve3, dir: DVec3, closed: bool) -> Option<(DVec3, f64)> {
+    let (t0, t1) = curve.domain();
+    let turn = |a: Option<DVec3>, b: Option<DVec3>| match (a, b) {
+        (Some(a), Some(b)) => a.angle_between(b),
+        _ => 0.0,
+    };
+    let end_dir = |c: &Curve3, t: f64| c.unit_tangent(t).ok().and_then(|d| across(d, dir));
+    for (k, m) in curve.knots().distinct() {
+        if k <= t0 || k >= t1 || m < curve.degree() {
+            continue;
+        }
+        let Ok((left, right)) = curve.split_at(k) else {
+            continue;
+        };
+        let a = turn(
+            end_dir(&left, left.domain().1),
+            end_dir(&right, right.domain().0),
+        );
+        if a > PROJECT_CORNER {
+            return Some((curve.point_at(k), a));
+        }
+    }
+    if closed {
+        let a = turn(end_dir(curve, t1), end_dir(curve, t0));
+        if a > PROJECT_CORNER {
+            return Some((curve.start_point(), a));
+        }
+    }
+    None
+}
+
+/// The cubic through `points` (chord length), with end tangents along the unit
+/// directions given, scaled to the parameter speed (the total chord on [0, 1]).
+fn fit(points: &[DVec3], ends: (Option<DVec3>, Option<DVec3>)) -> Result<Curve3, GeomError> {
+    let chord: f64 = points.windows(2).map(|w| w[0].distance(w[1])).sum();
+    let opts = Interpolation {
+        degree: 3,
+        parametrization: Parametrization::ChordLength,
+        start_tangent: ends.0.map(|d| d * chord),
+        end_tangent: ends.1.map(|d| d * chord),
+        ..Interpolation::default()
+    };
+    interpolate(points, &opts)
+}
+
+/// A point in words: `(x, y)` across a vertical direction, else `(x, y, z)`.
+fn place(p: DVec3, dir: DVec3) -> String {
+    let r = crate::eval::units::round;
+    if dir.z.abs() >= 1.0 - 1e-12 {
+        format!("({}, {})", r(p.x), r(p.y))
+    } else {
+        format!("({}, {}, {})", r(p.x), r(p.y), r(p.z))
+    }
+}
+
+fn project(call: &Call) -> Result<Data, Diagnostic> {
+    let input = call.curve3("curve")?;
+    let surface = call.surface("surface")?;
+    let dir = match call.arg("direction") {
+        Some(_) => direction3(call, "direction")?,
+        None => -DVec3::Z,
+    };
+    let Some(dir) = dir.try_normalize() else {
+        return Err(bad_argument(
+            call,
+            "direction",
+            "`direction` of `project` has zero length",
+            "give a direction of non-zero length, such as `(0, 0, -1)` (the default)",
+        ));
+    };
+    let (t0, t1) = input.domain();
+    let scale = input.control_scale().max(surface.control_scale());
+    let closed = match &call.required("curve")?.data {
+        Data::Sketch(s) => s.closed,
+        _ => input.start_point().distance(input.end_point()) <= 1e-9 * scale.max(1.0),
+    };
+    if let Some((p, turn)) = first_corner(&input, dir, closed) {
+        return Err(bad_argument(
+            call,
+            "curve",
+            format!(
+                "the curve has a corner at {} (it turns by {} deg there); `project` makes one smooth curve and cannot follow it",
+                place(p, dir),
+                crate::eval::units::round(turn.to_degrees())
+            ),
+            "round the corner with a `fillet` (or draw it with a `tangent arc` or `tangent spline`), or project the pieces on either side of it separately",
+        ));
+    }
+    let length = input.length();
+    if !(length.is_finite() && length > 0.0) {
+        return Err(bad_argument(
+            call,
+            "curve",
+            "the curve to project has no length",
+            "pass a curve that goes somewhere",
+        ));
+    }
+    let fail = |e: GeomError| call.kernel_error(e, Some("curve"));
+    let tol = Tolerance::new(PROJECT_CHORDAL)
+        .and_then(|t| t.with_max_edge(PROJECT_MAX_EDGE.min(length / PROJECT_MIN_SAMPLES)))
+        .map_err(fail)?;
+    let first = tessellate_curve(&input, &tol).map_err(fail)?;
+    let too_many = |n: usize| {
+        bad_argument(
+            call,
+            "curve",
+            format!(
+                "projecting this curve needs more than {PROJECT_MAX_SAMPLES} points ({n} so far)"
+            ),
+            "the curve is very long or very finely curved for the surface; project it in pieces",
+        )
+    };
+    if first.params.len() > PROJECT_MAX_SAMPLES {
+        return Err(too_many(first.params.len()));
+    }
+    let projector = Projector::new(&surface, dir, scale);
+    let leaves = |p: DVec3| {
+        bad_argument(
+            call,
+            "curve",
+            format!(
+                "the curve leaves the surface near {}: the line through it along the direction misses the surface",
+                place(p, dir)
+            ),
+            "keep the curve inside the surface's outline as seen along the direction (the top view by default), or extend the surface",
+        )
+        .with_label(span_of(call, "surface"), "the surface")
+    };
+    let mut params = Vec::with_capacity(first.params.len());
+    let mut hits: Vec<Hit> = Vec::with_capacity(first.params.len());
+    for (&t, &p) in first.params.iter().zip(&first.points) {
+        let h = projector
+            .hit(p, hits.last().copied())
+            .map_err(fail)?
+            .ok_or_else(|| leaves(p))?;
+        params.push(t);
+        hits.push(h);
+    }
+    if closed {
+        // The seam: the same point at both ends.
+        let n = hits.len() - 1;
+        hits[n] = hits[0];
+    }
+    if let Some(i) = (1..hits.len())
+        .find(|&i| hits[i].point.distance(hits[i - 1].point) <= 1e-9 * scale.max(1.0))
+    {
+        return Err(bad_argument(
+            call,
+            "curve",
+            format!(
+                "the curve runs along the direction near {}: its projection there shrinks to a point",
+                place(first.points[i], dir)
+            ),
+            "a projected curve must advance across the direction; project a curve drawn across it (in the top view for the default direction)",
+        ));
+    }
+    // End tangents from the input's, moved onto the surface; where the surface is too
+    // steep for that, from the neighbouring samples (closed) or free (open).
+    let end_tangents = |hits: &[Hit]| -> (Option<DVec3>, Option<DVec3>) {
+        let at = |t: f64, h: Hit| {
+            input
+                .unit_tangent(t)
+                .ok()
+                .and_then(|d| projector.tangent(d, h))
+        };
+        let n = hits.len() - 1;
+        if closed {
+            let exact = match (at(t0, hits[0]), at(t1, hits[n])) {
+                (Some(a), Some(b)) => (a + b).try_normalize(),
+                _ => None,
+            };
+            let seam = exact.or_else(|| {
+                // Bessel's estimate: the parabola through the seam's neighbours.
+                let (a, b, c) = (hits[n - 1].point, hits[0].point, hits[1].point);
+                let (h0, h1) = (a.distance(b), b.distance(c));
+                ((b - a) * (h1 / (h0 * (h0 + h1))) + (c - b) * (h0 / (h1 * (h0 + h1))))
+                    .try_normalize()
+            });
+            (seam, seam)
+        } else {
+            (at(t0, hits[0]), at(t1, hits[n]))
+        }
+    };
+    let points = |hits: &[Hit]| hits.iter().map(|h| h.point).collect::<Vec<_>>();
+    let mut curve = fit(&points(&hits), end_tangents(&hits)).map_err(fail)?;
+    for _ in 0..PROJECT_ROUNDS {
+        let pts = points(&hits);
+        let s = parameters(&pts, Parametrization::ChordLength).map_err(fail)?;
+        let mut inserts: Vec<(usize, f64, Hit)> = Vec::new();
+        for i in 0..hits.len() - 1 {
+            let tm = 0.5 * (params[i] + params[i + 1]);
+            let pm = input.point_at(tm);
+            let truth = projector
+                .hit(pm, Some(hits[i]))
+                .map_err(fail)?
+                .ok_or_else(|| leaves(pm))?;
+            let sm = 0.5 * (s[i] + s[i + 1]);
+            let [c, d] = curve.derivatives::<2>(sm);
+            let off = c - truth.point;
+            let across = match d.try_normalize() {
+                Some(u) => off - u * off.dot(u),
+                None => off,
+            };
+            if across.length() > PROJECT_FIT {
+                inserts.push((i, tm, truth));
+            }
+        }
+        if inserts.is_empty() {
+            break;
+        }
+        if hits.len() + inserts.len() > PROJECT_MAX_SAMPLES {
+            return Err(too_many(hits.len() + inserts.len()));
+        }
+        let mut new_params = Vec::with_capacity(params.len() + inserts.len());
+        let mut new_hits = Vec::with_capacity(params.len() + inserts.len());
+        let mut next = inserts.iter().peekable();
+        for i in 0..hits.len() {
+            new_params.push(params[i]);
+            new_hits.push(hits[i]);
+            if let Some(&(_, tm, h)) = next.next_if(|(k, _, _)| *k == i) {
+                new_params.push(tm);
+                new_hits.push(h);
+            }
+        }
+        (params, hits) = (new_params, new_hits);
+        curve = fit(&points(&hits), end_tangents(&hits)).map_err(fail)?;
+    }
+    Ok(Data::Curve3(Arc::new(curve)))
 }

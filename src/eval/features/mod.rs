@@ -10,6 +10,7 @@
 
 mod blankholder;
 mod punch_opening;
+mod step_draw;
 
 use std::sync::Arc;
 
@@ -21,7 +22,7 @@ use super::units::Units;
 use super::value::{Data, Dim, Quantity, Record, Value};
 
 /// Declaration kinds that are features, built by [`build`].
-pub const FEATURES: &[&str] = &["punch_opening", "blankholder"];
+pub const FEATURES: &[&str] = &["punch_opening", "blankholder", "step_draw"];
 
 /// One field of a feature block.
 #[derive(Debug, Clone)]
@@ -44,7 +45,6 @@ impl Field {
 }
 
 /// A feature block, evaluated.
-#[derive(Debug, Clone)]
 pub struct Block<'a> {
     /// The declaration's kind.
     pub kind: &'a str,
@@ -56,6 +56,9 @@ pub struct Block<'a> {
     pub fields: Vec<Field>,
     /// The file's default units, for bare numbers.
     pub units: Units,
+    /// Calls a function value given in a field (a step-draw profile) with positional
+    /// arguments, at the span of the call that asks.
+    pub apply: &'a super::builtins::Apply<'a>,
 }
 
 impl Block<'_> {
@@ -168,6 +171,7 @@ pub fn build(block: &Block) -> Result<Value, Diagnostic> {
     match block.kind {
         "punch_opening" => punch_opening::build(block),
         "blankholder" => blankholder::build(block),
+        "step_draw" => step_draw::build(block),
         other => Err(Diagnostic::new(
             "die::unknown_kind",
             format!("`{other}` is not a die-face feature"),
@@ -188,6 +192,7 @@ fn feature_error(
     let code = match kind {
         "punch_opening" => "die::punch_opening",
         "blankholder" => "die::blankholder",
+        "step_draw" => "die::step_draw",
         _ => "die::feature",
     };
     Diagnostic::new(code, message, span, label).with_help(help)

@@ -396,6 +396,15 @@ fn side_view(v: &Value, name: &str) -> Result<(SideView, Option<ViewEnds>), Diag
                 "draw it with `sketch(side_xz)` for a side along X, `sketch(side_yz)` for a side along Y, or `sketch(section(a, b))` for a slanted one",
             ));
         }
+        View::Profile => {
+            return Err(feature_error(
+                KIND,
+                format!("the binder wrap of the side `{name}` must be drawn in a side view, but this sketch is a section profile (`profile`), which has no place in the press until a feature puts it there"),
+                v.span,
+                "a `profile` sketch",
+                "draw it with `sketch(side_xz)` for a side along X, `sketch(side_yz)` for a side along Y, or `sketch(section(a, b))` for a slanted one",
+            ));
+        }
     };
     let ends = match (s.segments.first(), s.segments.last()) {
         (Some(first), Some(last)) => Some(ViewEnds {

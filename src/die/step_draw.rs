@@ -1,0 +1,1293 @@
+//! The step draw (addendum) between the product outline and the punch opening line
+//! (primer section 4; paper 001 section 4, eq. 5-9, Fig. 9-12).
+//!
+//! The two guides are the product outline `G_D`, which the step draw meets exactly, and
+//! the punch opening line `G_U`, which it follows within a reported deviation (the crease
+//! there is machined into a fillet anyway). The designer places key sections, each a
+//! vertical plane through two top-view points (eq. 5) with a 2-D profile drawn in it from
+//! the product to the opening. [`build`]:
+//!
+//! 1. finds where each section plane meets both guides, checks the profile reaches both
+//!    points and never folds back, and approximates every profile by a non-rational
+//!    cubic on one shared knot vector `U` (so all sections are compatible), running from
+//!    `G_U` (u = 0) to `G_D` (u = 1);
+//! 2. splits the guides at the sections into patches; in each patch the product piece
+//!    keeps its own knots `V` (refined where the opening needs it: knot insertion does not
+//!    move the product) and the opening piece is re-approximated at those knots, matched
+//!    by arc-length fraction: the guides are then compatible;
+//! 3. puts an intermediate section at every knot of `V` (eq. 7-9): each end section is
+//!    carried along `G_U` (translated, turned about Z with the guide), scaled (eq. 7) and
+//!    rotated so its ends land on `G_U(v_j)` and `G_D(v_j)`, the two blended linearly
+//!    (eq. 8); the same anchored on `G_D`; the two results Hermite-blended across the
+//!    section (eq. 9), on the control points;
+//! 4. interpolates each row of section control points along the patch with end
+//!    derivatives from Fig. 12: direction from the circle through the neighbouring rows'
+//!    points, magnitude varying linearly across the section between the guides' end
+//!    derivatives and matched across the boundary by eq. 4; the product row is the
+//!    product piece itself. Patches are C1 where they meet, and the product edge is the
+//!    outline.
+//!
+//! A product piece with a repeated knot (a C1 or C0 joint of the outline) is split there
+//! into sub-patches whose shared section is computed like an intermediate one.
+
+use glam::{DVec2, DVec3};
+
+use super::continuity::{measure_join, JoinQuality};
+use crate::geom::interpolate::{interpolate_at, Interpolation, KnotPlacement};
+use crate::geom::intersect::{intersect_curve_plane, Plane};
+use crate::geom::inversion::{closest_point_on_curve, project_to_curve_near};
+use crate::geom::join::join_curves;
+use crate::geom::tessellate::{tessellate_curve, Tolerance};
+use crate::geom::{Curve2, Curve3, GeomError, NurbsSurface, Transform};
+
+/// The two guides.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Guides {
+    /// `G_D`: the product outline (cubic, non-rational).
+    pub product: Curve3,
+    /// `G_U`: the punch opening line.
+    pub opening: Curve3,
+    /// Whether the section sequence wraps around (both guides closed).
+    pub closed: bool,
+}
+
+/// A key section as the designer gives it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SectionSpec {
+    /// Its name.
+    pub name: String,
+    /// First top-view point: the plane's origin (s = 0).
+    pub a: DVec2,
+    /// Second top-view point: +s points from `a` towards it.
+    pub b: DVec2,
+    /// The profile in the plane, (s, z), from the product to the opening (either
+    /// direction is accepted).
+    pub profile: Curve2,
+}
+
+/// Where a section plane meets the guides, in the plane's (s, z) and in press
+/// coordinates.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SectionEnds {
+    /// The product point (s, z).
+    pub product: DVec2,
+    /// The opening point (s, z).
+    pub opening: DVec2,
+    /// Parameter on `G_D`.
+    pub product_t: f64,
+    /// Parameter on `G_U`.
+    pub opening_t: f64,
+}
+
+/// Options of [`build`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Options {
+    /// How far (mm) a drawn profile's ends may lie from the guides (they are then moved
+    /// onto them), and the accuracy asked of the profile approximation and of the
+    /// opening-side guide.
+    pub tolerance: f64,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Self { tolerance: 0.01 }
+    }
+}
+
+/// One patch of the step draw.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Patch {
+    /// `<left section>_to_<right section>`, with `_2`, `_3` for sub-patches.
+    pub name: String,
+    /// The surface: u along the outline (the guides' direction), v across from the
+    /// opening (0) to the product (1), or reversed so the normal points up.
+    pub surface: NurbsSurface,
+    /// Whether v was reversed (then v = 0 is the product edge).
+    pub reversed: bool,
+    /// The sections at the knots, from `G_U` to `G_D` (key and intermediate).
+    pub sections: Vec<Curve3>,
+}
+
+/// Quality figures.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Quality {
+    /// Largest distance (mm) from the step draw's product edge to the product outline.
+    pub product_gap: f64,
+    /// Largest distance (mm) from the step draw's punch edge to the punch opening line.
+    pub opening_deviation: f64,
+    /// Largest distance (mm) between a key profile and its cubic approximation.
+    pub section_fit: f64,
+    /// Largest distance (mm) by which a drawn profile's end was moved onto its guide.
+    pub end_snap: f64,
+    /// Every join between neighbouring patches.
+    pub joins: Vec<(String, String, JoinQuality)>,
+}
+
+/// The built step draw.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StepDraw {
+    /// Patches in order along the outline.
+    pub patches: Vec<Patch>,
+    /// The key sections in 3-D (exact profiles placed in their planes).
+    pub key_sections: Vec<(String, Curve3)>,
+    /// Quality figures.
+    pub quality: Quality,
+}
+
+/// What went wrong, and at which section.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Error {
+    /// Index of the culprit section (0 when it concerns the whole feature).
+    pub section: usize,
+    /// The problem.
+    pub problem: Problem,
+}
+
+/// The problems [`build`] reports.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Problem {
+    /// Fewer sections than the outline needs.
+    TooFewSections {
+        /// Needed.
+        needed: usize,
+    },
+    /// The section plane does not meet a guide.
+    MissesGuide {
+        /// `true` for the product outline, `false` for the opening.
+        product: bool,
+    },
+    /// The profile's ends are not at the guides' points.
+    EndsOffGuides {
+        /// Where the product point is (s, z).
+        product: DVec2,
+        /// Where the opening point is (s, z).
+        opening: DVec2,
+        /// Largest distance of a profile end from its point.
+        gap: f64,
+    },
+    /// The profile turns back towards where it came from.
+    FoldsBack {
+        /// The point (s, z) where it runs backwards.
+        at: DVec2,
+    },
+    /// This section comes before the previous one along the outline.
+    WrongOrder,
+    /// The product outline is not a non-rational cubic.
+    ProductNotCubic,
+    /// The kernel failed.
+    Kernel(GeomError),
+}
+
+impl std::fmt::Display for Problem {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Problem::TooFewSections { needed } => {
+                write!(f, "the step draw needs at least {needed} sections")
+            }
+            Problem::MissesGuide { product: true } => {
+                write!(f, "the section plane does not meet the product outline")
+            }
+            Problem::MissesGuide { product: false } => {
+                write!(f, "the section plane does not meet the punch opening line")
+            }
+            Problem::EndsOffGuides { gap, .. } => {
+                write!(f, "the profile's ends are {gap:.3} mm from the guides")
+            }
+            Problem::FoldsBack { at } => write!(
+                f,
+                "the profile folds back on itself near ({:.2}, {:.2})",
+                at.x, at.y
+            ),
+            Problem::WrongOrder => write!(
+                f,
+                "this section comes before the previous one along the outline"
+            ),
+            Problem::ProductNotCubic => {
+                write!(f, "the product outline must be a non-rational cubic curve")
+            }
+            Problem::Kernel(e) => write!(f, "{e}"),
+        }
+    }
+}
+
+fn at(section: usize) -> impl Fn(GeomError) -> Error {
+    move |e| Error {
+        section,
+        problem: Problem::Kernel(e),
+    }
+}
+
+fn fail(section: usize, problem: Problem) -> Error {
+    Error { section, problem }
+}
+
+/// Spans of the product piece shorter than this (mm) are not split further for the
+/// opening's sake.
+const MIN_SPAN: f64 = 2.0;
+
+/// The most distinct knots a patch's product piece gets by refinement.
+const MAX_KNOTS: usize = 400;
+
+/// Samples per patch for the quality figures.
+pub const QUALITY_SAMPLES: usize = 1000;
+
+/// Samples per boundary for the join figures.
+pub const JOIN_SAMPLES: usize = 200;
+
+/// The guides run counter-clockwise seen from above when closed (a closed guide drawn
+/// clockwise is reversed), so the sections' order along both agrees.
+pub fn oriented(guides: Guides) -> Guides {
+    let ccw = |c: &Curve3| -> Curve3 {
+        if !guides.closed {
+            return c.clone();
+        }
+        let (t0, t1) = c.domain();
+        let n = 256;
+        let pts: Vec<DVec2> = (0..n)
+            .map(|i| c.point_at(t0 + (t1 - t0) * i as f64 / n as f64).truncate())
+            .collect();
+        let area: f64 = (0..n).map(|k| pts[k].perp_dot(pts[(k + 1) % n])).sum();
+        if area < 0.0 {
+            c.reversed()
+        } else {
+            c.clone()
+        }
+    };
+    Guides {
+        product: ccw(&guides.product),
+        opening: ccw(&guides.opening),
+        closed: guides.closed,
+    }
+}
+
+/// Where the section plane through `a`, `b` meets the guides: the crossing of each
+/// guide nearest to the segment `a b` in the top view.
+pub fn section_ends(guides: &Guides, a: DVec2, b: DVec2) -> Result<SectionEnds, Problem> {
+    let d = (b - a).normalize_or_zero();
+    if d == DVec2::ZERO {
+        return Err(Problem::Kernel(GeomError::ZeroVector {
+            what: "section plane direction",
+        }));
+    }
+    let plane = Plane::new(a.extend(0.0), DVec3::new(-d.y, d.x, 0.0)).map_err(Problem::Kernel)?;
+    let pick = |curve: &Curve3, product: bool| -> Result<(f64, DVec2), Problem> {
+        let hits = intersect_curve_plane(curve, &plane).map_err(Problem::Kernel)?;
+        let len = a.distance(b);
+        hits.iter()
+            .map(|h| {
+                let s = (h.point.truncate() - a).dot(d);
+                let off = if s < 0.0 {
+                    -s
+                } else if s > len {
+                    s - len
+                } else {
+                    0.0
+                };
+                (off, h.t, DVec2::new(s, h.point.z))
+            })
+            .min_by(|x, y| x.0.total_cmp(&y.0))
+            .map(|(_, t, p)| (t, p))
+            .ok_or(Problem::MissesGuide { product })
+    };
+    let (product_t, product) = pick(&guides.product, true)?;
+    let (opening_t, opening) = pick(&guides.opening, false)?;
+    Ok(SectionEnds {
+        product,
+        opening,
+        product_t,
+        opening_t,
+    })
+}
+
+/// Builds the step draw (module documentation).
+pub fn build(guides: &Guides, sections: &[SectionSpec], opts: &Options) -> Result<StepDraw, Error> {
+    let needed = if guides.closed { 3 } else { 2 };
+    if sections.len() < needed {
+        return Err(fail(
+            sections.len().saturating_sub(1),
+            Problem::TooFewSections { needed },
+        ));
+    }
+    let product = &guides.product;
+    if product.degree() != 3 || product.is_rational() {
+        return Err(fail(0, Problem::ProductNotCubic));
+    }
+    let tol = opts.tolerance;
+
+    // Step 1: ends, orientation, folds, placement.
+    let mut ends = Vec::with_capacity(sections.len());
+    let mut placed = Vec::with_capacity(sections.len());
+    let mut end_snap: f64 = 0.0;
+    let product_knots: Vec<f64> = product.knots().distinct().iter().map(|&(k, _)| k).collect();
+    for (k, s) in sections.iter().enumerate() {
+        let mut e = section_ends(guides, s.a, s.b).map_err(|p| fail(k, p))?;
+        // A cut just beside a knot of the outline would leave a sliver span (a kink in
+        // every row there): the section's product end moves along the outline onto the
+        // knot instead, a fraction of a span away; the move counts in `end_snap`.
+        let snapped = snap_to_knot(&product_knots, e.product_t);
+        if snapped != e.product_t {
+            end_snap = end_snap.max(
+                product
+                    .point_at(snapped)
+                    .distance(product.point_at(e.product_t)),
+            );
+            e.product_t = snapped;
+        }
+        let (p0, p1) = (s.profile.start_point(), s.profile.end_point());
+        let forward = p0.distance(e.product) + p1.distance(e.opening);
+        let backward = p1.distance(e.product) + p0.distance(e.opening);
+        // u = 0 at the opening, u = 1 at the product.
+        let profile = if forward <= backward {
+            s.profile.reversed()
+        } else {
+            s.profile.clone()
+        };
+        let gap = profile
+            .start_point()
+            .distance(e.opening)
+            .max(profile.end_point().distance(e.product));
+        if gap > tol {
+            return Err(fail(
+                k,
+                Problem::EndsOffGuides {
+                    product: e.product,
+                    opening: e.opening,
+                    gap,
+                },
+            ));
+        }
+        end_snap = end_snap.max(gap);
+        check_no_fold(&profile, e).map_err(|p| fail(k, p))?;
+        let d = (s.b - s.a).normalize_or_zero();
+        let place = |p: DVec2| (s.a + d * p.x).extend(p.y);
+        let mut curve = profile.map_points(place);
+        // The ends exactly on the guides.
+        curve = snap_ends(
+            &curve,
+            guides.opening.point_at(e.opening_t),
+            product.point_at(e.product_t),
+        );
+        ends.push(e);
+        placed.push(curve);
+    }
+
+    // Sections in order along both guides.
+    check_order(
+        &ends.iter().map(|e| e.product_t).collect::<Vec<_>>(),
+        guides.closed,
+    )?;
+    check_order(
+        &ends.iter().map(|e| e.opening_t).collect::<Vec<_>>(),
+        guides.closed,
+    )?;
+
+    // Step 1 (continued): one knot vector for every section.
+    let (key, u_knots, section_fit) = fit_sections(&placed, tol).map_err(at(0))?;
+
+    // Step 2-3: patches, their guides and sections.
+    let n = sections.len();
+    let patch_count = if guides.closed { n } else { n - 1 };
+    let mut chain: Vec<SubPatch> = Vec::new();
+    for k in 0..patch_count {
+        let next = (k + 1) % n;
+        let subs = patch(
+            guides,
+            (&ends[k], &ends[next]),
+            (&key[k], &key[next]),
+            &u_knots,
+            tol,
+        )
+        .map_err(at(next))?;
+        let base = format!("{}_to_{}", sections[k].name, sections[next].name);
+        let count = subs.len();
+        for (i, mut s) in subs.into_iter().enumerate() {
+            s.name = if i == 0 || count == 1 {
+                base.clone()
+            } else {
+                format!("{base}_{}", i + 1)
+            };
+            chain.push(s);
+        }
+    }
+
+    // Step 4: rows with the Fig. 12 end derivatives.
+    let m = u_knots.len() - 4;
+    let nodes = greville(&u_knots, m);
+    let count = chain.len();
+    let mut patches = Vec::with_capacity(count);
+    for (c, sub) in chain.iter().enumerate() {
+        let prev = if c > 0 {
+            Some(&chain[c - 1])
+        } else if guides.closed {
+            chain.last()
+        } else {
+            None
+        };
+        let next = if c + 1 < count {
+            Some(&chain[c + 1])
+        } else if guides.closed {
+            chain.first()
+        } else {
+            None
+        };
+        let start = boundary_derivatives(prev, sub, &nodes, End::Start);
+        let end = boundary_derivatives(Some(sub), next.unwrap_or(sub), &nodes, End::End);
+        let end = if next.is_none() {
+            open_end_derivatives(sub, &nodes, End::End)
+        } else {
+            end
+        };
+        let start = if prev.is_none() {
+            open_end_derivatives(sub, &nodes, End::Start)
+        } else {
+            start
+        };
+        let surface = rows_to_surface(sub, &u_knots, &start, &end).map_err(at(0))?;
+        let (surface, reversed) = upward(surface);
+        patches.push(Patch {
+            name: sub.name.clone(),
+            surface,
+            reversed,
+            sections: sub.sections.clone(),
+        });
+    }
+
+    // Quality. The opening deviation is measured to the opening line tessellated to a
+    // hundredth of the tolerance (its chords are that close to it).
+    let opening_polyline = tessellate_curve(
+        &guides.opening,
+        &Tolerance::new(tol / 100.0).map_err(at(0))?,
+    )
+    .map_err(at(0))?
+    .points;
+    let mut product_gap: f64 = 0.0;
+    let mut opening_deviation: f64 = 0.0;
+    for p in &patches {
+        let (pv, ov) = if p.reversed { (0.0, 1.0) } else { (1.0, 0.0) };
+        product_gap = product_gap.max(edge_distance(&p.surface, pv, product).map_err(at(0))?);
+        let od = edge_to_polyline(&p.surface, ov, &opening_polyline);
+        opening_deviation = opening_deviation.max(od);
+    }
+    let mut joins = Vec::new();
+    let pairs = if guides.closed { count } else { count - 1 };
+    for c in 0..pairs {
+        let (a, b) = (&patches[c], &patches[(c + 1) % count]);
+        joins.push((
+            a.name.clone(),
+            b.name.clone(),
+            measure_join(&a.surface, &b.surface, JOIN_SAMPLES),
+        ));
+    }
+    let key_sections = sections
+        .iter()
+        .zip(&placed)
+        .map(|(s, c)| (s.name.clone(), c.clone()))
+        .collect();
+    Ok(StepDraw {
+        patches,
+        key_sections,
+        quality: Quality {
+            product_gap,
+            opening_deviation,
+            section_fit,
+            end_snap,
+            joins,
+        },
+    })
+}
+
+/// A patch between two sections before its rows are interpolated.
+#[derive(Debug, Clone)]
+struct SubPatch {
+    name: String,
+    /// The product piece on [0, 1] (simple interior knots).
+    product: Curve3,
+    /// The opening piece re-approximated on the product piece's knots.
+    opening: Curve3,
+    /// Sections at the distinct knots of `product`, compatible (knot vector U).
+    sections: Vec<Curve3>,
+    /// The distinct knots.
+    params: Vec<f64>,
+}
+
+#[derive(Clone, Copy, PartialEq)]
+enum End {
+    Start,
+    End,
+}
+
+/// The profile (u = 0 at the opening) must advance from the opening towards the product
+/// in s, never turning back.
+fn check_no_fold(profile: &Curve2, e: SectionEnds) -> Result<(), Problem> {
+    let sign = (e.product.x - e.opening.x).signum();
+    let sign = if sign == 0.0 { 1.0 } else { sign };
+    let (t0, t1) = profile.domain();
+    let scale = profile.control_scale().max(1.0);
+    let mut furthest = f64::NEG_INFINITY;
+    let samples = 400;
+    for i in 0..=samples {
+        let p = profile.point_at(t0 + (t1 - t0) * i as f64 / samples as f64);
+        let s = p.x * sign;
+        if s < furthest - 1e-6 * scale {
+            return Err(Problem::FoldsBack { at: p });
+        }
+        furthest = furthest.max(s);
+    }
+    Ok(())
+}
+
+/// How close (as a share of the shorter neighbouring span) a section's cut must come to
+/// a knot of the outline to be moved onto it.
+const SNAP_FRACTION: f64 = 0.1;
+
+/// `t` moved onto the nearest knot when it lies within [`SNAP_FRACTION`] of the shorter
+/// neighbouring span of it.
+fn snap_to_knot(knots: &[f64], t: f64) -> f64 {
+    let i = knots.partition_point(|&k| k < t);
+    let (mut best, mut best_gap) = (t, f64::INFINITY);
+    for j in [i.saturating_sub(1), i.min(knots.len() - 1)] {
+        let k = knots[j];
+        let before = if j > 0 {
+            k - knots[j - 1]
+        } else {
+            f64::INFINITY
+        };
+        let after = if j + 1 < knots.len() {
+            knots[j + 1] - k
+        } else {
+            f64::INFINITY
+        };
+        let span = before.min(after);
+        let gap = (t - k).abs();
+        if gap <= SNAP_FRACTION * span && gap < best_gap {
+            (best, best_gap) = (k, gap);
+        }
+    }
+    best
+}
+
+/// `curve` with its first and last control points moved to `a` and `b` (a non-rational
+/// or rational curve's ends are its end control points).
+fn snap_ends(curve: &Curve3, a: DVec3, b: DVec3) -> Curve3 {
+    let n = curve.control_points().len();
+    let start = curve.start_point();
+    let end = curve.end_point();
+    let points: Vec<DVec3> = curve
+        .control_points()
+        .iter()
+        .enumerate()
+        .map(|(i, &p)| {
+            if i == 0 {
+                p + (a - start)
+            } else if i + 1 == n {
+                p + (b - end)
+            } else {
+                p
+            }
+        })
+        .collect();
+    with_points(curve, points)
+}
+
+/// `curve` with new control points (same degree, knots and weights).
+fn with_points(curve: &Curve3, points: Vec<DVec3>) -> Curve3 {
+    let knots = curve.knots().as_slice().to_vec();
+    let rebuilt = match curve.weights() {
+        Some(w) => Curve3::new_rational(curve.degree(), knots, points, w.to_vec()),
+        None => Curve3::new(curve.degree(), knots, points),
+    };
+    // Same knots and as many points as a valid curve: rebuilding cannot fail.
+    rebuilt.unwrap_or_else(|_| curve.clone())
+}
+
+/// Sections' parameters must increase along the guide (cyclically for a closed one).
+fn check_order(ts: &[f64], closed: bool) -> Result<(), Error> {
+    let mut wraps = 0;
+    for k in 1..ts.len() {
+        if ts[k] <= ts[k - 1] {
+            wraps += 1;
+            if !closed || wraps > 1 {
+                return Err(fail(k, Problem::WrongOrder));
+            }
+        }
+    }
+    if closed && wraps == 1 && ts[ts.len() - 1] >= ts[0] {
+        // Wrapped once and then passed the first section again.
+        let k = (1..ts.len()).find(|&k| ts[k] <= ts[k - 1]).unwrap_or(1);
+        return Err(fail(k, Problem::WrongOrder));
+    }
+    Ok(())
+}
+
+/// Non-rational cubic approximations of the sections on one shared knot vector: each
+/// interpolates points at equal steps of its own curvature-weighted length (`ds (1 + c
+/// kappa)`, so fillets get more points), at the same parameters. The number of points
+/// doubles until every section is within `tol` of its profile.
+fn fit_sections(placed: &[Curve3], tol: f64) -> crate::geom::Result<(Vec<Curve3>, Vec<f64>, f64)> {
+    let tables: Vec<ArcTable> = placed.iter().map(ArcTable::weighted).collect();
+    let mut count = 33;
+    loop {
+        let params: Vec<f64> = (0..count).map(|i| i as f64 / (count - 1) as f64).collect();
+        let mut fitted = Vec::with_capacity(placed.len());
+        let mut worst: f64 = 0.0;
+        for (c, table) in placed.iter().zip(&tables) {
+            let points: Vec<DVec3> = params.iter().map(|&f| c.point_at(table.t_at(f))).collect();
+            let fit = interpolate_at(&points, &params, &Interpolation::default())?;
+            worst = worst.max(fit_error(&fit, c)?);
+            fitted.push(fit);
+        }
+        if worst <= tol || count >= MAX_SECTION_POINTS {
+            let knots = fitted[0].knots().as_slice().to_vec();
+            return Ok((fitted, knots, worst));
+        }
+        count = 2 * count - 1;
+    }
+}
+
+/// The most points a section approximation interpolates.
+const MAX_SECTION_POINTS: usize = 257;
+
+/// Curvature weight of [`fit_sections`] (mm per radian of turning).
+const TURN_WEIGHT: f64 = 10.0;
+
+/// Largest distance from the fit to the exact profile, sampled.
+fn fit_error(fit: &Curve3, exact: &Curve3) -> crate::geom::Result<f64> {
+    let mut worst: f64 = 0.0;
+    let mut guess = exact.domain().0;
+    let n = 8 * fit.control_points().len();
+    for i in 0..=n {
+        let p = fit.point_at(i as f64 / n as f64);
+        let hit = project_to_curve_near(exact, p, guess)?;
+        guess = hit.t;
+        worst = worst.max(hit.distance);
+    }
+    Ok(worst)
+}
+
+/// The piece of `curve` from `t0` to `t1`, wrapping over the seam of a closed curve when
+/// `t1 <= t0`, on [0, 1].
+fn piece(curve: &Curve3, t0: f64, t1: f64) -> crate::geom::Result<Curve3> {
+    let (lo, hi) = curve.domain();
+    // A cut within rounding of an existing knot is made at the knot: no sliver spans.
+    let snap = |t: f64| -> f64 {
+        curve
+            .knots()
+            .distinct()
+            .iter()
+            .map(|&(k, _)| k)
+            .find(|k| (k - t).abs() <= 1e-9 * (hi - lo))
+            .unwrap_or(t)
+    };
+    let (t0, t1) = (snap(t0), snap(t1));
+    let cut = |c: &Curve3, a: f64, b: f64| -> crate::geom::Result<Curve3> {
+        let tail = if a > lo { c.split_at(a)?.1 } else { c.clone() };
+        if b < hi {
+            Ok(tail.split_at(b)?.0)
+        } else {
+            Ok(tail)
+        }
+    };
+    let p = if t1 > t0 {
+        cut(curve, t0, t1)?
+    } else if t1 <= lo {
+        cut(curve, t0, hi)?
+    } else if t0 >= hi {
+        cut(curve, lo, t1)?
+    } else {
+        let first = cut(curve, t0, hi)?;
+        let second = cut(curve, lo, t1)?;
+        join_curves(&[first, second])?
+    };
+    p.reparametrized(0.0, 1.0)
+}
+
+/// The sub-patches of the patch between two key sections.
+fn patch(
+    guides: &Guides,
+    ends: (&SectionEnds, &SectionEnds),
+    key: (&Curve3, &Curve3),
+    u_knots: &[f64],
+    tol: f64,
+) -> crate::geom::Result<Vec<SubPatch>> {
+    let product = piece(&guides.product, ends.0.product_t, ends.1.product_t)?;
+    let opening = piece(&guides.opening, ends.0.opening_t, ends.1.opening_t)?;
+    let matching = Matching::new(&product, &opening);
+    let product = refine_for_opening(&product, &opening, &matching, tol)?;
+    let knots = product.knots().distinct();
+    let params: Vec<f64> = knots.iter().map(|&(k, _)| k).collect();
+    // Each knot's point on the opening, by arc-length fraction.
+    let ends = (opening.start_point(), opening.end_point());
+    let mut sections = Vec::with_capacity(params.len());
+    for &v in &params {
+        let t = matching.opening_t(v);
+        let (a, b) = (opening.point_at(t), product.point_at(v));
+        sections.push(intermediate_section(
+            key,
+            (&opening, &product),
+            ends,
+            (t, v),
+            a,
+            b,
+            u_knots,
+        )?);
+    }
+    // The opening guide on the product's knots: through the sections' opening ends.
+    let opening_points: Vec<DVec3> = sections.iter().map(Curve3::start_point).collect();
+    // Split at repeated knots into sub-patches with simple knots.
+    let mut cuts = vec![0usize];
+    for (i, &(_, mult)) in knots.iter().enumerate() {
+        if i > 0 && i + 1 < knots.len() && mult > 1 {
+            cuts.push(i);
+        }
+    }
+    cuts.push(knots.len() - 1);
+    let mut subs = Vec::new();
+    for w in cuts.windows(2) {
+        let (i0, i1) = (w[0], w[1]);
+        let (v0, v1) = (params[i0], params[i1]);
+        let mut sub_product = product.clone();
+        if v0 > 0.0 {
+            sub_product = sub_product.split_at(v0)?.1;
+        }
+        if v1 < 1.0 {
+            sub_product = sub_product.split_at(v1)?.0;
+        }
+        let sub_product = sub_product.reparametrized(0.0, 1.0)?;
+        let sub_params: Vec<f64> = params[i0..=i1]
+            .iter()
+            .map(|v| (v - v0) / (v1 - v0))
+            .collect();
+        // One-sided at a joint of the product piece: the sub-piece's own end speeds.
+        let d0 = matching.opening_derivative_at_speed(
+            &opening,
+            params[i0],
+            sub_product.derivative_at(0.0).length(),
+        );
+        let d1 = matching.opening_derivative_at_speed(
+            &opening,
+            params[i1],
+            sub_product.derivative_at(1.0).length(),
+        );
+        let sub_opening = interpolate_at(
+            &opening_points[i0..=i1],
+            &sub_params,
+            &Interpolation {
+                knots: KnotPlacement::AtParameters,
+                ..Interpolation::cubic_with_tangents(d0, d1)
+            },
+        )?;
+        subs.push(SubPatch {
+            name: String::new(),
+            product: sub_product,
+            opening: sub_opening,
+            sections: sections[i0..=i1].to_vec(),
+            params: sub_params,
+        });
+    }
+    Ok(subs)
+}
+
+/// The correspondence between a patch's product piece and its opening piece by
+/// arc-length fraction, from tables of both curves' lengths (dense enough that the
+/// linear interpolation between entries is smooth; the points taken on the opening are
+/// always exactly on it).
+struct Matching {
+    product: ArcTable,
+    opening: ArcTable,
+}
+
+impl Matching {
+    fn new(product: &Curve3, opening: &Curve3) -> Self {
+        Self {
+            product: ArcTable::new(product),
+            opening: ArcTable::new(opening),
+        }
+    }
+
+    /// The opening parameter matched with the product parameter `v`.
+    fn opening_t(&self, v: f64) -> f64 {
+        self.opening.t_at(self.product.fraction_at(v))
+    }
+
+    /// The derivative, per unit of the product parameter, of the matched opening point:
+    /// the opening's unit tangent times its length per unit of fraction times the
+    /// fraction's rate along the product.
+    fn opening_derivative(&self, product: &Curve3, opening: &Curve3, v: f64) -> DVec3 {
+        self.opening_derivative_at_speed(opening, v, product.derivative_at(v).length())
+    }
+
+    /// [`Matching::opening_derivative`] for a product parameter whose speed `|G_D'|` is
+    /// given (one side of a joint, or a sub-piece's own parameter).
+    fn opening_derivative_at_speed(&self, opening: &Curve3, v: f64, product_speed: f64) -> DVec3 {
+        let t = self.opening_t(v);
+        let dop = opening.derivative_at(t);
+        let speed = dop.length();
+        if speed == 0.0 || self.product.total == 0.0 {
+            return DVec3::ZERO;
+        }
+        dop / speed * self.opening.total * product_speed / self.product.total
+    }
+}
+
+/// Cumulative chord length of a curve at dense parameters, for arc-length fractions.
+struct ArcTable {
+    ts: Vec<f64>,
+    lengths: Vec<f64>,
+    total: f64,
+}
+
+impl ArcTable {
+    /// Samples per knot span (and at least 256 in all).
+    const PER_SPAN: usize = 16;
+
+    fn new(c: &Curve3) -> Self {
+        let breaks = c.span_breaks();
+        let mut ts = vec![breaks[0]];
+        let per = Self::PER_SPAN.max(256 / breaks.len().max(1));
+        for w in breaks.windows(2) {
+            for k in 1..=per {
+                ts.push(w[0] + (w[1] - w[0]) * k as f64 / per as f64);
+            }
+        }
+        let mut lengths = Vec::with_capacity(ts.len());
+        let mut acc = 0.0;
+        let mut last = c.point_at(ts[0]);
+        for &t in &ts {
+            let p = c.point_at(t);
+            acc += p.distance(last);
+            lengths.push(acc);
+            last = p;
+        }
+        Self {
+            ts,
+            lengths,
+            total: acc,
+        }
+    }
+
+    /// Like [`ArcTable::new`] with each step weighted by `1 + TURN_WEIGHT kappa`.
+    fn weighted(c: &Curve3) -> Self {
+        let (t0, t1) = c.domain();
+        let n = 4000;
+        let ts: Vec<f64> = (0..=n)
+            .map(|i| t0 + (t1 - t0) * i as f64 / n as f64)
+            .collect();
+        let mut lengths = Vec::with_capacity(ts.len());
+        let mut acc = 0.0;
+        let mut last = c.point_at(ts[0]);
+        for (i, &t) in ts.iter().enumerate() {
+            let p = c.point_at(t);
+            if i > 0 {
+                let mid = 0.5 * (ts[i - 1] + t);
+                let kappa = c.curvature(mid);
+                let kappa = if kappa.is_finite() { kappa } else { 0.0 };
+                acc += p.distance(last) * (1.0 + TURN_WEIGHT * kappa);
+            }
+            lengths.push(acc);
+            last = p;
+        }
+        Self {
+            ts,
+            lengths,
+            total: acc,
+        }
+    }
+
+    /// The fraction of the length up to parameter `t`.
+    fn fraction_at(&self, t: f64) -> f64 {
+        if self.total == 0.0 {
+            return 0.0;
+        }
+        interpolate_table(&self.ts, &self.lengths, t) / self.total
+    }
+
+    /// The parameter at fraction `f` of the length.
+    fn t_at(&self, f: f64) -> f64 {
+        interpolate_table(&self.lengths, &self.ts, f.clamp(0.0, 1.0) * self.total)
+    }
+}
+
+/// Piecewise-linear lookup of `y(x)` in increasing `xs`, clamped at the ends.
+fn interpolate_table(xs: &[f64], ys: &[f64], x: f64) -> f64 {
+    let n = xs.len();
+    if x <= xs[0] {
+        return ys[0];
+    }
+    if x >= xs[n - 1] {
+        return ys[n - 1];
+    }
+    let i = xs.partition_point(|&v| v <= x).clamp(1, n - 1);
+    let (x0, x1) = (xs[i - 1], xs[i]);
+    let f = if x1 > x0 { (x - x0) / (x1 - x0) } else { 0.0 };
+    ys[i - 1] + f * (ys[i] - ys[i - 1])
+}
+
+/// Inserts knots into the product piece (which leaves it unchanged) until the opening
+/// re-approximated at its knots stays within `tol` of the real opening piece, or the
+/// spans are short.
+fn refine_for_opening(
+    product: &Curve3,
+    opening: &Curve3,
+    matching: &Matching,
+    tol: f64,
+) -> crate::geom::Result<Curve3> {
+    let mut product = product.clone();
+    for _ in 0..8 {
+        let knots: Vec<f64> = product.knots().distinct().iter().map(|&(k, _)| k).collect();
+        let points: Vec<DVec3> = knots
+            .iter()
+            .map(|&v| opening.point_at(matching.opening_t(v)))
+            .collect();
+        let d0 = matching.opening_derivative(&product, opening, 0.0);
+        let d1 = matching.opening_derivative(&product, opening, 1.0);
+        let Ok(approx) = interpolate_at(
+            &points,
+            &knots,
+            &Interpolation {
+                knots: KnotPlacement::AtParameters,
+                ..Interpolation::cubic_with_tangents(d0, d1)
+            },
+        ) else {
+            break;
+        };
+        // The geometric distance of the approximation from the opening (not from the
+        // matched point, which may slide along the curve without any shape error).
+        let mut bad = Vec::new();
+        for w in knots.windows(2) {
+            let span_length = product.point_at(w[0]).distance(product.point_at(w[1]));
+            if span_length < MIN_SPAN {
+                continue;
+            }
+            for q in [0.25, 0.5, 0.75] {
+                let v = w[0] + (w[1] - w[0]) * q;
+                let hit =
+                    project_to_curve_near(opening, approx.point_at(v), matching.opening_t(v))?;
+                if hit.distance > tol {
+                    bad.push(0.5 * (w[0] + w[1]));
+                    break;
+                }
+            }
+        }
+        if bad.is_empty() || knots.len() + bad.len() > MAX_KNOTS {
+            break;
+        }
+        product = product.refine(&bad)?;
+    }
+    Ok(product)
+}
+
+/// The section at `v` of a patch (eq. 7-9), compatible with the key sections, from
+/// `a = G_U(v)` to `b = G_D(v)`.
+fn intermediate_section(
+    key: (&Curve3, &Curve3),
+    guides: (&Curve3, &Curve3),
+    opening_ends: (DVec3, DVec3),
+    (tu, v): (f64, f64),
+    a: DVec3,
+    b: DVec3,
+    u_knots: &[f64],
+) -> crate::geom::Result<Curve3> {
+    let (opening, product) = guides;
+    let f = v.clamp(0.0, 1.0);
+    let heading = |c: &Curve3, t: f64| -> f64 {
+        let d = c.derivative_at(t);
+        d.y.atan2(d.x)
+    };
+    let carry = |section: &Curve3, from: DVec3, from_heading: f64, to: DVec3, to_heading: f64| {
+        let turn = to_heading - from_heading;
+        let moved = Transform::translate(-from)?
+            .then(Transform::rotate_about_axis(DVec3::ZERO, DVec3::Z, turn)?)
+            .then(Transform::translate(to)?);
+        Ok::<Curve3, GeomError>(moved.apply_curve(section))
+    };
+    let land = |c: &Curve3, fixed_start: bool| -> crate::geom::Result<Curve3> {
+        // Scale (eq. 7) and rotate about the anchored end so the other end lands.
+        let (p0, p1) = (c.start_point(), c.end_point());
+        let chord = p1 - p0;
+        let target = b - a;
+        let scale = target.length() / chord.length();
+        let (pivot, to_pivot) = if fixed_start { (p0, a) } else { (p1, b) };
+        let t = Transform::translate(-pivot)?
+            .then(Transform::scale_about(DVec3::ZERO, scale)?)
+            .then(Transform::rotation_between(chord, target)?)
+            .then(Transform::translate(to_pivot)?);
+        Ok(t.apply_curve(c))
+    };
+    let (left, right) = key;
+    // Anchored on the opening guide.
+    let h_left_u = heading(opening, 0.0);
+    let h_right_u = heading(opening, 1.0);
+    let h_here_u = heading(opening, tu);
+    let ul = land(&carry(left, opening_ends.0, h_left_u, a, h_here_u)?, true)?;
+    let ur = land(&carry(right, opening_ends.1, h_right_u, a, h_here_u)?, true)?;
+    let c_u = blend(&ul, &ur, f);
+    // Anchored on the product guide.
+    let h_left_d = heading(product, 0.0);
+    let h_right_d = heading(product, 1.0);
+    let h_here_d = heading(product, v);
+    let dl = land(
+        &carry(left, product.start_point(), h_left_d, b, h_here_d)?,
+        false,
+    )?;
+    let dr = land(
+        &carry(right, product.end_point(), h_right_d, b, h_here_d)?,
+        false,
+    )?;
+    let c_d = blend(&dl, &dr, f);
+    // Eq. 9 on the control points, with g the node of each.
+    let m = c_u.control_points().len();
+    let nodes = greville(u_knots, m);
+    let points: Vec<DVec3> = (0..m)
+        .map(|i| {
+            let g = nodes[i];
+            let h1 = 3.0 * g * g - 2.0 * g * g * g;
+            (1.0 - h1) * c_u.control_points()[i] + h1 * c_d.control_points()[i]
+        })
+        .collect();
+    let mut points = points;
+    points[0] = a;
+    points[m - 1] = b;
+    Curve3::new(3, u_knots.to_vec(), points)
+}
+
+/// `(1 - f) a + f b` on the control points (compatible curves).
+fn blend(a: &Curve3, b: &Curve3, f: f64) -> Curve3 {
+    let points = a
+        .control_points()
+        .iter()
+        .zip(b.control_points())
+        .map(|(&p, &q)| (1.0 - f) * p + f * q)
+        .collect();
+    with_points(a, points)
+}
+
+/// Greville abscissae (control nodes) of a cubic with `m` control points, on [0, 1].
+fn greville(knots: &[f64], m: usize) -> Vec<f64> {
+    let (lo, hi) = (knots[0], knots[knots.len() - 1]);
+    (0..m)
+        .map(|i| ((knots[i + 1] + knots[i + 2] + knots[i + 3]) / 3.0 - lo) / (hi - lo))
+        .collect()
+}
+
+/// Row derivatives (one per section control point) at the boundary between `a` (before)
+/// and `b` (after), for `b`'s start (`End::Start`) or `a`'s end (`End::End`): Fig. 12.
+fn boundary_derivatives(
+    a: Option<&SubPatch>,
+    b: &SubPatch,
+    nodes: &[f64],
+    which: End,
+) -> Vec<DVec3> {
+    let Some(a) = a else {
+        return open_end_derivatives(b, nodes, End::Start);
+    };
+    let m = nodes.len();
+    let na = a.sections.len();
+    let q = &a.sections[na - 1];
+    let p = &a.sections[na - 2];
+    let r = &b.sections[1];
+    // Magnitudes at the two ends of the boundary for both patches.
+    let ta = a.product.derivative_at(1.0).length();
+    let ta_u = a.opening.derivative_at(1.0).length();
+    let tb = b.product.derivative_at(0.0).length();
+    (0..m)
+        .map(|i| {
+            let dir = circle_tangent(
+                p.control_points()[i],
+                q.control_points()[i],
+                r.control_points()[i],
+            );
+            let xi = nodes[i];
+            let ma = (1.0 - xi) * ta_u + xi * ta;
+            let mag = match which {
+                End::End => ma,
+                End::Start => ma * tb / ta,
+            };
+            dir * mag
+        })
+        .collect()
+}
+
+/// Row derivatives at an open end of the step draw: the tangent at the end of the
+/// circle through the end section's point and the next two, magnitudes blended between
+/// the guides' end derivatives.
+fn open_end_derivatives(s: &SubPatch, nodes: &[f64], which: End) -> Vec<DVec3> {
+    let n = s.sections.len();
+    let (i0, i1, i2, t) = match which {
+        End::Start => (0, 1, 2.min(n - 1), 0.0),
+        End::End => (n - 1, n - 2, n.saturating_sub(3), 1.0),
+    };
+    let td = s.product.derivative_at(t).length();
+    let tu = s.opening.derivative_at(t).length();
+    (0..nodes.len())
+        .map(|i| {
+            let q = s.sections[i0].control_points()[i];
+            let r = s.sections[i1].control_points()[i];
+            let w = s.sections[i2].control_points()[i];
+            // Pointing from the end into the patch, then along the travel direction.
+            let inward = tangent_at(q, q, r, w, r - q);
+            let dir = match which {
+                End::Start => inward,
+                End::End => -inward,
+            };
+            let xi = nodes[i];
+            dir * ((1.0 - xi) * tu + xi * td)
+        })
+        .collect()
+}
+
+/// Unit tangent at `q` of the circle through `p`, `q`, `r`, pointing from `p` towards
+/// `r` (Fig. 12, step 1).
+fn circle_tangent(p: DVec3, q: DVec3, r: DVec3) -> DVec3 {
+    tangent_at(q, p, q, r, r - p)
+}
+
+/// Unit tangent at `x` (one of `p`, `q`, `r`) of the circle through the three points,
+/// oriented along `toward`; the chord `p r` direction when they are collinear.
+fn tangent_at(x: DVec3, p: DVec3, q: DVec3, r: DVec3, toward: DVec3) -> DVec3 {
+    let (a, b) = (p - q, r - q);
+    let n = a.cross(b);
+    let t = if n.length() <= 1e-12 * a.length() * b.length() {
+        (r - p).normalize_or_zero()
+    } else {
+        let center = q
+            + (b.length_squared() * n.cross(a) + a.length_squared() * b.cross(n))
+                / (2.0 * n.length_squared());
+        n.cross(x - center).normalize_or_zero()
+    };
+    if t.dot(toward) < 0.0 {
+        -t
+    } else {
+        t
+    }
+}
+
+/// Interpolates every row of section control points along the patch (AtParameters on
+/// the product piece's knots), with the given end derivatives; the product row is the
+/// product piece itself. Returns S(u along, v across) with v = 0 at the opening.
+fn rows_to_surface(
+    sub: &SubPatch,
+    u_knots: &[f64],
+    start: &[DVec3],
+    end: &[DVec3],
+) -> crate::geom::Result<NurbsSurface> {
+    let m = u_knots.len() - 4;
+    let mut rows = Vec::with_capacity(m);
+    for i in 0..m {
+        if i == m - 1 {
+            rows.push(sub.product.control_points().to_vec());
+            continue;
+        }
+        let points: Vec<DVec3> = sub.sections.iter().map(|c| c.control_points()[i]).collect();
+        let row = interpolate_at(
+            &points,
+            &sub.params,
+            &Interpolation {
+                knots: KnotPlacement::AtParameters,
+                ..Interpolation::cubic_with_tangents(start[i], end[i])
+            },
+        )?;
+        rows.push(row.control_points().to_vec());
+    }
+    let nv = rows[0].len();
+    if rows.iter().any(|r| r.len() != nv) {
+        return Err(GeomError::LengthMismatch {
+            what: "step-draw row",
+            expected: nv,
+            given: rows.iter().map(Vec::len).find(|&l| l != nv).unwrap_or(0),
+        });
+    }
+    // net[j][i]: j along the outline (u), i across (v).
+    let net: Vec<Vec<DVec3>> = (0..nv)
+        .map(|j| (0..m).map(|i| rows[i][j]).collect())
+        .collect();
+    NurbsSurface::new(
+        3,
+        3,
+        sub.product.knots().as_slice().to_vec(),
+        u_knots.to_vec(),
+        net,
+    )
+}
+
+/// The surface with its across direction reversed if its normal points down.
+fn upward(s: NurbsSurface) -> (NurbsSurface, bool) {
+    let up = s.normal(0.5, 0.5).map_or(0.0, |n| n.z);
+    if up >= 0.0 {
+        (s, false)
+    } else {
+        (reverse_across(&s), true)
+    }
+}
+
+/// The surface with its v direction reversed (non-rational step-draw patches).
+fn reverse_across(s: &NurbsSurface) -> NurbsSurface {
+    let (nu, nv) = s.counts();
+    let kv = s.knots_v().as_slice();
+    let (lo, hi) = (kv[0], kv[kv.len() - 1]);
+    let knots_v: Vec<f64> = kv.iter().rev().map(|k| lo + hi - k).collect();
+    let net: Vec<Vec<DVec3>> = (0..nu)
+        .map(|i| (0..nv).rev().map(|j| s.control_point(i, j)).collect())
+        .collect();
+    // Same degrees, mirrored knots, same net size: a valid surface.
+    NurbsSurface::new(
+        s.degree_u(),
+        s.degree_v(),
+        s.knots_u().as_slice().to_vec(),
+        knots_v,
+        net,
+    )
+    .unwrap_or_else(|_| s.clone())
+}
+
+/// Largest distance from the iso-curve `v = v_edge` of `s` to a polyline, sampled.
+fn edge_to_polyline(s: &NurbsSurface, v_edge: f64, line: &[DVec3]) -> f64 {
+    let (u0, u1) = s.domain_u();
+    let mut worst: f64 = 0.0;
+    for i in 0..=QUALITY_SAMPLES {
+        let p = s.point_at(u0 + (u1 - u0) * i as f64 / QUALITY_SAMPLES as f64, v_edge);
+        let d = line
+            .windows(2)
+            .map(|w| distance_to_segment(p, w[0], w[1]))
+            .fold(f64::INFINITY, f64::min);
+        worst = worst.max(d);
+    }
+    worst
+}
+
+/// Distance from `p` to the segment `a b`.
+fn distance_to_segment(p: DVec3, a: DVec3, b: DVec3) -> f64 {
+    let ab = b - a;
+    let len2 = ab.length_squared();
+    let t = if len2 > 0.0 {
+        ((p - a).dot(ab) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    p.distance(a + ab * t)
+}
+
+/// Largest distance from the iso-curve `v = v_edge` of `s` to `curve`, sampled.
+fn edge_distance(s: &NurbsSurface, v_edge: f64, curve: &Curve3) -> crate::geom::Result<f64> {
+    let (u0, u1) = s.domain_u();
+    let mut worst: f64 = 0.0;
+    let mut guess = None;
+    for i in 0..=QUALITY_SAMPLES {
+        let p = s.point_at(u0 + (u1 - u0) * i as f64 / QUALITY_SAMPLES as f64, v_edge);
+        // Marching from the last foot point, except where that lands far off (across
+        // the seam of a closed curve, where the local search stops at the domain's end).
+        let hit = match guess {
+            Some(t) => {
+                let near = project_to_curve_near(curve, p, t)?;
+                if near.distance > 0.1 {
+                    closest_point_on_curve(curve, p)?
+                } else {
+                    near
+                }
+            }
+            None => closest_point_on_curve(curve, p)?,
+        };
+        guess = Some(hit.t);
+        worst = worst.max(hit.distance);
+    }
+    Ok(worst)
+}
