@@ -17,7 +17,8 @@
 //!    by arc-length fraction: the guides are then compatible;
 //! 3. puts an intermediate section at every knot of `V` (eq. 7-9): each end section is
 //!    carried along `G_U` (translated, turned about Z with the guide), scaled (eq. 7) and
-//!    rotated so its ends land on `G_U(v_j)` and `G_D(v_j)`, the two blended linearly
+//!    rotated so its ends land on `G_U(v_j)` and `G_D(v_j)` (turned about Z, then tilted
+//!    within its vertical plane, so sections stay vertical), the two blended linearly
 //!    (eq. 8); the same anchored on `G_D`; the two results Hermite-blended across the
 //!    section (eq. 9), on the control points;
 //! 4. interpolates each row of section control points along the patch with end
@@ -1009,7 +1010,7 @@ fn intermediate_section(
         let (pivot, to_pivot) = if fixed_start { (p0, a) } else { (p1, b) };
         let t = Transform::translate(-pivot)?
             .then(Transform::scale_about(DVec3::ZERO, scale)?)
-            .then(Transform::rotation_between(chord, target)?)
+            .then(upright_rotation(chord, target)?)
             .then(Transform::translate(to_pivot)?);
         Ok(t.apply_curve(c))
     };
@@ -1048,6 +1049,25 @@ fn intermediate_section(
     points[0] = a;
     points[m - 1] = b;
     Curve3::new(3, u_knots.to_vec(), points)
+}
+
+/// The rotation about the origin taking the direction `from` onto `to` that keeps
+/// vertical planes vertical: a turn about Z onto `to`'s top-view heading, then the tilt
+/// within that vertical plane. (The shortest rotation, about `from x to`, leans a
+/// sloping section's plane sideways by up to its slope times the heading change, which
+/// eats the wall's draft and can turn it into an undercut.) Directions without a
+/// top-view heading take the shortest rotation.
+fn upright_rotation(from: DVec3, to: DVec3) -> crate::geom::Result<Transform> {
+    let (fh, th) = (from.truncate(), to.truncate());
+    let small = 1e-9 * from.length().max(to.length());
+    if fh.length() <= small || th.length() <= small {
+        return Transform::rotation_between(from, to);
+    }
+    // atan2, not `angle_to` (an arc cosine: 1e-8 rad of noise for parallel headings).
+    let turn = fh.perp_dot(th).atan2(fh.dot(th));
+    let about_z = Transform::rotate_about_axis(DVec3::ZERO, DVec3::Z, turn)?;
+    let turned = about_z.apply_vector(from);
+    Ok(about_z.then(Transform::rotation_between(turned, to)?))
 }
 
 /// `(1 - f) a + f b` on the control points (compatible curves).

@@ -25,23 +25,39 @@ use std::sync::Arc;
 use glam::DVec2;
 
 use crate::diag::Diagnostic;
-use crate::die::step_draw::{self as sd, Guides, Options, Problem, SectionSpec};
-use crate::geom::Curve3;
+use crate::die::step_draw::{self as sd, Guides, Options, Problem, SectionEnds, SectionSpec};
+use crate::geom::{Curve2, Curve3, GeomError};
 use crate::syntax::Span;
 
-use super::super::builtins::{as_curve3, as_point2, type_error};
+use super::super::builtins::{as_point2, type_error};
+use super::super::sketch::{Sketch, View};
 use super::super::value::{Data, Feature, Value};
 use super::{
-    check_record, deg, feature_error, feature_value, mm, ratio, record, record_value, Block,
+    check_record, deg, feature_error, feature_value, mm, ratio, record, record_value, show, Block,
 };
 
 const KIND: &str = "step_draw";
 
-/// Spans of one section's inputs, for diagnostics.
+/// A key section as written, with what the diagnostics need to point at it.
 struct SectionSource {
+    name: String,
+    /// The section's name in `section front`.
     name_span: Span,
+    /// The value of `at`.
     at: Span,
+    /// The value of `profile`.
     profile: Span,
+    /// The two `at` points.
+    a: DVec2,
+    b: DVec2,
+    /// Where the plane meets the guides.
+    ends: SectionEnds,
+    /// The profile in the plane's (s, z).
+    curve: Curve2,
+    /// The profile as a sketch (drawn directly or returned by the profile function).
+    sketch: Option<Arc<Sketch>>,
+    /// The profile function's name, when the profile is a function.
+    function: Option<String>,
 }
 
 /// Builds the step draw of `block`.
@@ -54,7 +70,7 @@ pub fn build(block: &Block) -> Result<Value, Diagnostic> {
             "give the product outline: `product = boundary(panel)` or `project(trim, panel)`",
         )
     })?;
-    let product = (*as_curve3(&product_field.value, "`product` of a step draw")?).clone();
+    let product = product_curve(&product_field.value)?;
     let opening_field = block.get("opening").ok_or_else(|| {
         block.missing(
             "opening",
@@ -67,21 +83,19 @@ pub fn build(block: &Block) -> Result<Value, Diagnostic> {
         let span = block.get("tolerance").map_or(block.span, |f| f.value.span);
         return Err(feature_error(
             KIND,
-            "the tolerance must be a positive length",
+            "the tolerance of a step draw must be a positive length",
             span,
-            "this tolerance",
-            "0.01 mm is die-face practice",
+            "not positive",
+            "the tolerance is how far a drawn profile's ends may lie from the guides and how closely the surfaces follow the profiles: 0.01 mm (the default) is die-face practice",
         ));
     }
     let both_closed = is_closed(&product) && is_closed(&opening);
     let closed = match block.get("closed") {
         Some(f) => match &f.value.data {
-            Data::Bool(b) => {
-                if *b && !both_closed {
-                    return Err(feature_error(KIND, "a closed step draw needs a closed product outline and a closed punch opening line", f.value.span, "closed = true", "set `closed = false` for a step draw that stops at its first and last sections"));
-                }
-                *b
+            Data::Bool(true) if !both_closed => {
+                return Err(not_closed(&product, &opening, f.value.span))
             }
+            Data::Bool(b) => *b,
             _ => {
                 return Err(type_error(
                     &f.value,
@@ -93,7 +107,7 @@ pub fn build(block: &Block) -> Result<Value, Diagnostic> {
         None => both_closed,
     };
     if product.degree() != 3 || product.is_rational() {
-        return Err(feature_error(KIND, format!("the product outline must be a non-rational cubic curve, but this one is of degree {}{}", product.degree(), if product.is_rational() { ", rational" } else { "" }), product_field.value.span, "this outline", "project the trim line onto the product with `project(trim, panel)`, or interpolate points of it with `interpolate`"));
+        return Err(not_cubic(&product, product_field.value.span));
     }
     let guides = sd::oriented(Guides {
         product,
@@ -101,7 +115,6 @@ pub fn build(block: &Block) -> Result<Value, Diagnostic> {
         closed,
     });
 
-    let mut specs = Vec::new();
     let mut sources = Vec::new();
     for (name, field) in block.named("section") {
         let what = format!("`section {name}`");
@@ -112,78 +125,222 @@ pub fn build(block: &Block) -> Result<Value, Diagnostic> {
         )?;
         check_record(r, field.value.span, &what, &["at", "profile"])?;
         let at_value = r.get("at").ok_or_else(|| {
-            feature_error(KIND, format!("{what} has no `at`"), field.value.span, "this section", "place the section with two top-view points: `at = ((x1, y1), (x2, y2))`, from the product side outwards")
+            Diagnostic::new(
+                "die::missing_field",
+                format!("{what} needs the field `at`"),
+                field.name_word(),
+                format!("`{name}` has no `at`"),
+            )
+            .with_help("place the section with two top-view points, `at = ((x1, y1), (x2, y2))`: the first inside the product outline, the second beyond the punch opening; the vertical plane through them is the section")
         })?;
         let (a, b) = two_points(at_value, units, &what)?;
         let profile_value = r.get("profile").ok_or_else(|| {
-            feature_error(KIND, format!("{what} has no `profile`"), field.value.span, "this section", "give the profile: a stdlib one such as `profile = add.wall`, or a sketch in the section plane")
-        })?;
-        let ends = sd::section_ends(&guides, a, b).map_err(|p| {
-            problem_diag(
-                block,
-                &p,
-                name,
-                at_value.span,
-                profile_value.span,
+            Diagnostic::new(
+                "die::missing_field",
+                format!("{what} needs the field `profile`"),
                 field.name_word(),
+                format!("`{name}` has no `profile`"),
             )
+            .with_help(format!(
+                "give the profile from the product outline to the punch opening: a profile function such as `profile = add.wall` (it is handed both points), or a sketch in the section plane, `sketch(section({}, {})) {{ ... }}`",
+                p2(a),
+                p2(b)
+            ))
         })?;
-        let profile = match &profile_value.data {
+        if let Data::Sketch(s) = &profile_value.data {
+            check_view(s, profile_value.span, name, a, b, None)?;
+        }
+        let ends = sd::section_ends(&guides, a, b).map_err(|p| match p {
+            Problem::MissesGuide { product } => {
+                misses_guide(&guides, product, name, at_value.span, a, b)
+            }
+            p => feature_error(
+                KIND,
+                format!("the plane of section `{name}` cannot be cut with the guides: {p}"),
+                at_value.span,
+                "this section plane",
+                "place the section with two different top-view points across the addendum: the first inside the product outline, the second beyond the punch opening",
+            ),
+        })?;
+        let (curve, sketch, function) = match &profile_value.data {
             Data::Function(_) | Data::Builtin(_) => {
+                let function = function_name(profile_value);
                 let args = vec![
                     Value::point2(ends.product, profile_value.span),
                     Value::point2(ends.opening, profile_value.span),
                 ];
-                let out = (block.apply)(profile_value, args, profile_value.span)?;
-                profile_curve(&out, &what).map_err(|d| {
-                    d.with_label(profile_value.span, "the profile function called here")
-                })?
+                let out = (block.apply)(profile_value, args, profile_value.span).map_err(|d| {
+                    in_profile_call(d, &function, name, profile_value.span, &ends)
+                })?;
+                match &out.data {
+                    Data::Sketch(s) => {
+                        check_view(s, profile_value.span, name, a, b, Some(&function))?;
+                        (s.curve.clone(), Some(s.clone()), Some(function))
+                    }
+                    Data::Curve2(c) => ((**c).clone(), None, Some(function)),
+                    _ => {
+                        return Err(function_returns(
+                            &out,
+                            &function,
+                            name,
+                            profile_value.span,
+                        ))
+                    }
+                }
             }
-            _ => profile_curve(profile_value, &what)?,
+            Data::Sketch(s) => (s.curve.clone(), Some(s.clone()), None),
+            Data::Curve2(c) => ((**c).clone(), None, None),
+            _ => {
+                return Err(type_error(
+                    profile_value,
+                    &format!("`profile` of {what}"),
+                    "a profile sketch drawn in the section plane (`sketch(section(a, b)) { ... }`), or a profile function such as `add.wall`",
+                ))
+            }
         };
-        specs.push(SectionSpec {
-            name: name.to_string(),
-            a,
-            b,
-            profile,
-        });
         sources.push(SectionSource {
+            name: name.to_string(),
             name_span: field.name_word(),
             at: at_value.span,
             profile: profile_value.span,
+            a,
+            b,
+            ends,
+            curve,
+            sketch,
+            function,
         });
     }
+    let specs: Vec<SectionSpec> = sources
+        .iter()
+        .map(|s| SectionSpec {
+            name: s.name.clone(),
+            a: s.a,
+            b: s.b,
+            profile: s.curve.clone(),
+        })
+        .collect();
     let result = sd::build(&guides, &specs, &Options { tolerance }).map_err(|e| {
-        let (name, src) = match (specs.get(e.section), sources.get(e.section)) {
-            (Some(s), Some(src)) => (s.name.as_str(), Some(src)),
-            _ => ("?", None),
-        };
-        match src {
-            Some(src) => problem_diag(block, &e.problem, name, src.at, src.profile, src.name_span),
-            None => problem_diag(block, &e.problem, name, block.span, block.span, block.span),
+        Context {
+            block,
+            guides: &guides,
+            sections: &sources,
+            tolerance,
         }
+        .diagnose(e.section, &e.problem)
     })?;
     Ok(output(block, result))
 }
 
+/// The product outline of the `product` field: a 3-D curve (a drawing has no heights).
+fn product_curve(v: &Value) -> Result<Curve3, Diagnostic> {
+    match &v.data {
+        Data::Curve3(c) => Ok((**c).clone()),
+        Data::Sketch(_) | Data::Curve2(_) => Err(Diagnostic::new(
+            "die::type_mismatch",
+            format!(
+                "`product` of a step draw must be the product outline in 3-D, but this is {}, without the product's heights",
+                drawing(v)
+            ),
+            v.span,
+            format!("this is {}", drawing(v)),
+        )
+        .with_help("project the trim line onto the product: `product = project(trim, panel)`")),
+        _ => Err(type_error(
+            v,
+            "`product` of a step draw",
+            "the product outline, a 3-D curve such as `project(trim, panel)`",
+        )),
+    }
+}
+
 /// The punch opening line of the `opening` field: a punch opening's closed line, or a
-/// 3-D curve.
+/// 3-D curve (a drawing has no heights).
 fn opening_line(v: &Value) -> Result<Curve3, Diagnostic> {
+    const EXPECTED: &str =
+        "a punch opening (the name of a `punch_opening` declaration) or a 3-D curve";
     match &v.data {
         Data::Record(r) => match &r.feature {
             Some(Feature::PunchOpening(p)) => Ok(p.line.clone()),
-            _ => Err(type_error(
-                v,
-                "`opening` of a step draw",
-                "a punch opening or a 3-D curve",
-            )),
+            _ => Err(type_error(v, "`opening` of a step draw", EXPECTED)),
         },
-        _ => as_curve3(v, "`opening` of a step draw").map(|c| (*c).clone()),
+        Data::Curve3(c) => Ok((**c).clone()),
+        Data::Sketch(_) | Data::Curve2(_) => Err(Diagnostic::new(
+            "die::type_mismatch",
+            format!(
+                "`opening` of a step draw must be the punch opening, but this is {}, without the binder's heights",
+                drawing(v)
+            ),
+            v.span,
+            format!("this is {}", drawing(v)),
+        )
+        .with_help("pass the punch opening built from the drawing (the name of its `punch_opening` declaration), or a 3-D curve")),
+        _ => Err(type_error(v, "`opening` of a step draw", EXPECTED)),
+    }
+}
+
+/// "a sketch in the top view", "a 2-D curve".
+fn drawing(v: &Value) -> String {
+    match &v.data {
+        Data::Sketch(s) => format!("a sketch in the {} view", view_name(&s.view)),
+        _ => v.type_name(),
+    }
+}
+
+/// A view as scripts write it.
+fn view_name(view: &View) -> String {
+    match view {
+        View::Section { a, b } => format!("section({}, {})", p2(*a), p2(*b)),
+        v => v.name().to_string(),
     }
 }
 
 fn is_closed(c: &Curve3) -> bool {
     c.start_point().distance(c.end_point()) <= 1e-9 * (1.0 + c.control_scale())
+}
+
+/// `closed = true` on guides that are not both closed.
+fn not_closed(product: &Curve3, opening: &Curve3, span: Span) -> Diagnostic {
+    let gap = |c: &Curve3| num(c.start_point().distance(c.end_point()));
+    let which = match (is_closed(product), is_closed(opening)) {
+        (false, false) => format!(
+            "both guides are open: the product outline's ends are {} mm apart, the punch opening line's {} mm",
+            gap(product),
+            gap(opening)
+        ),
+        (false, true) => format!(
+            "the product outline is open: its ends are {} mm apart",
+            gap(product)
+        ),
+        _ => format!(
+            "the punch opening line is open: its ends are {} mm apart",
+            gap(opening)
+        ),
+    };
+    feature_error(
+        KIND,
+        format!("`closed = true`, but {which}"),
+        span,
+        "asks for a step draw all the way round",
+        "a closed step draw goes all the way round and needs a closed product outline and a closed punch opening; for a step draw along part of the outline set `closed = false`, or leave `closed` out (it follows the guides)",
+    )
+}
+
+/// A product outline that is not a non-rational cubic.
+fn not_cubic(product: &Curve3, span: Span) -> Diagnostic {
+    let what = match (product.degree(), product.is_rational()) {
+        (1, _) => "a polyline (degree 1)".to_string(),
+        (2, true) => "a curve of exact arcs (degree 2, rational)".to_string(),
+        (d, true) => format!("a rational curve of degree {d}"),
+        (d, false) => format!("a curve of degree {d}"),
+    };
+    feature_error(
+        KIND,
+        format!("the product outline must be a cubic B-spline (degree 3, not rational), but this is {what}"),
+        span,
+        "this outline",
+        "the step draw's product edge takes the outline's own control points, so it must be a cubic: project the trim line onto the product with `project(trim, panel)`, or fit a cubic through points of it with `interpolate(points)` (degree 3 by default)",
+    )
 }
 
 /// `at = (a, b)`: two top-view points.
@@ -193,101 +350,556 @@ fn two_points(
     what: &str,
 ) -> Result<(DVec2, DVec2), Diagnostic> {
     let at_what = format!("`at` of {what}");
+    let expected = "two top-view points `((x1, y1), (x2, y2))`";
     let Data::Tuple(items) = &v.data else {
-        return Err(type_error(
-            v,
-            &at_what,
-            "two top-view points `((x1, y1), (x2, y2))`",
-        ));
+        return Err(type_error(v, &at_what, expected));
     };
     if items.len() != 2 {
-        return Err(type_error(
-            v,
-            &at_what,
-            "two top-view points `((x1, y1), (x2, y2))`",
+        return Err(type_error(v, &at_what, expected));
+    }
+    if items.iter().all(|i| matches!(i.data, Data::Number(_))) {
+        return Err(feature_error(
+            KIND,
+            format!("{at_what} is one point, but a section plane needs two"),
+            v.span,
+            "one top-view point",
+            "give two top-view points, `at = ((x1, y1), (x2, y2))`: the vertical section plane runs through both, from inside the product outline to beyond the punch opening",
         ));
     }
     let a = as_point2(&items[0], units, &at_what)?;
     let b = as_point2(&items[1], units, &at_what)?;
     if a.distance(b) < 1e-6 {
-        return Err(feature_error(KIND, format!("the two points of `at` of {what} are the same point"), v.span, "one point twice", "the section plane runs vertically through two different top-view points: one on the product side, one beyond the punch opening"));
+        return Err(feature_error(
+            KIND,
+            format!("{at_what} gives the same point twice, but a section plane needs two different points"),
+            v.span,
+            format!("{} twice", p2(a)),
+            "the section plane runs vertically through two different top-view points: the first inside the product outline, the second beyond the punch opening",
+        ));
     }
     Ok((a, b))
 }
 
-/// A profile value: a sketch or a 2-D curve in the section plane's (s, z).
-fn profile_curve(v: &Value, what: &str) -> Result<crate::geom::Curve2, Diagnostic> {
+/// A profile sketch must be drawn across the section, not in the top view.
+fn check_view(
+    s: &Sketch,
+    span: Span,
+    name: &str,
+    a: DVec2,
+    b: DVec2,
+    function: Option<&str>,
+) -> Result<(), Diagnostic> {
+    if s.view != View::Top {
+        return Ok(());
+    }
+    let label = match function {
+        Some(f) => format!("`{f}` returns a top-view sketch"),
+        None => "a top-view sketch".to_string(),
+    };
+    Err(feature_error(
+        KIND,
+        format!("the profile of section `{name}` is drawn in the top view, but a profile is drawn in its section plane"),
+        span,
+        label,
+        format!(
+            "draw the profile across the section, s from the first `at` point and z up: `sketch(section({}, {})) {{ ... }}` or `sketch(profile) {{ ... }}`; or give a profile function such as `add.wall`",
+            p2(a),
+            p2(b)
+        ),
+    ))
+}
+
+/// The name of a profile function value.
+fn function_name(v: &Value) -> String {
     match &v.data {
-        Data::Sketch(s) => Ok(s.curve.clone()),
-        Data::Curve2(c) => Ok((**c).clone()),
-        _ => Err(type_error(
-            v,
-            &format!("`profile` of {what}"),
-            "a sketch of the section profile, or a function returning one",
-        )),
+        Data::Function(c) => c.name.clone(),
+        Data::Builtin(b) => b.name.to_string(),
+        _ => "the profile function".to_string(),
     }
 }
 
-fn problem_diag(
-    block: &Block,
-    p: &Problem,
+/// A failure inside (or in calling) the profile function of section `name`: the call is
+/// shown as this section's, with the two points it was given.
+fn in_profile_call(
+    mut d: Diagnostic,
+    function: &str,
+    name: &str,
+    span: Span,
+    ends: &SectionEnds,
+) -> Diagnostic {
+    let points = format!("product {}, opening {}", p2(ends.product), p2(ends.opening));
+    if d.primary.span == span {
+        // The call itself failed: its arguments.
+        let param = d
+            .primary
+            .message
+            .strip_suffix("` is missing")
+            .and_then(|m| m.strip_prefix('`'))
+            .map(str::to_string);
+        let base = format!("a step draw calls a profile function with the section's two points only, `(s, z)` each: for section `{name}`, {points}");
+        let help = match (d.code, param) {
+            ("die::missing_argument", Some(param)) => format!(
+                "{base}; set `{param}` in a function of your own that calls `{function}`: `fn my_profile(product, opening) = {function}(product, opening, {param}: ...)` (through its module when imported, e.g. `add.{function}`)"
+            ),
+            ("die::missing_argument" | "die::too_many_arguments", _) => {
+                format!("{base}: define it as `fn {function}(product, opening) = ...`")
+            }
+            _ => return d,
+        };
+        d.help = Some(help);
+        return d;
+    }
+    let context = format!("in this call of `{function}` for section `{name}`: {points}");
+    match d.secondary.iter_mut().find(|l| l.span == span) {
+        Some(l) => l.message = context,
+        None => d = d.with_label(span, context),
+    }
+    d
+}
+
+/// A profile function that returned something other than a profile.
+fn function_returns(out: &Value, function: &str, name: &str, span: Span) -> Diagnostic {
+    feature_error(
+        KIND,
+        format!(
+            "the profile function `{function}` of section `{name}` returns {}, not a profile",
+            out.type_name()
+        ),
+        span,
+        format!("`{function}` returns {} here", out.type_name()),
+        "a profile function takes the section's product and opening points `(s, z)` and returns the profile between them, drawn as `sketch(profile) { from product ... line to opening }`; `std/addendum` has `wall`, `step` and `flat_binder`",
+    )
+}
+
+/// The plane of section `name` misses a guide.
+fn misses_guide(
+    guides: &Guides,
+    product: bool,
     name: &str,
     at: Span,
-    profile: Span,
-    name_span: Span,
+    a: DVec2,
+    b: DVec2,
 ) -> Diagnostic {
-    let pt = |q: DVec2| format!("(s {:.3}, z {:.3})", q.x, q.y);
-    match p {
-        Problem::TooFewSections { needed } => feature_error(
-            KIND,
-            format!("the step draw has too few sections: a {} outline needs at least {needed}", if *needed == 3 { "closed" } else { "open" }),
-            block.span,
-            "in this step draw",
-            "add `section NAME { at = (...); profile = ... }` blocks around the outline, in order; one at each change of profile and a few along long sides",
+    let (curve, what) = if product {
+        (&guides.product, "product outline")
+    } else {
+        (&guides.opening, "punch opening line")
+    };
+    let (lo, hi) = top_bounds(curve);
+    let ends = if guides.closed {
+        ""
+    } else {
+        " between the guides' ends"
+    };
+    feature_error(
+        KIND,
+        format!("the plane of section `{name}` does not cross the {what}"),
+        at,
+        format!(
+            "the vertical plane through {} and {} misses the {what}",
+            p2(a),
+            p2(b)
         ),
-        Problem::MissesGuide { product } => feature_error(
-            KIND,
-            format!("the plane of section `{name}` does not meet the {}", if *product { "product outline" } else { "punch opening line" }),
-            at,
-            "this section plane",
-            "the plane is vertical through the two `at` points: draw them across the addendum, from inside the product outline to beyond the punch opening",
+        format!(
+            "in the top view the {what} lies within x {} to {} mm, y {} to {} mm: place the section across the addendum{ends}, the first `at` point inside the product outline and the second beyond the punch opening",
+            num(lo.x),
+            num(hi.x),
+            num(lo.y),
+            num(hi.y)
         ),
-        Problem::EndsOffGuides { product, opening, gap } => feature_error(
-            KIND,
-            format!("the profile of section `{name}` does not reach both guides: its ends are up to {gap:.3} mm away"),
-            profile,
-            "this profile",
-            format!("in this section plane the product outline is at {} and the punch opening at {}: start and end the profile there, or use a stdlib profile function that takes them (`profile = add.wall`)", pt(*product), pt(*opening)),
-        ),
-        Problem::FoldsBack { at: q } => feature_error(
-            KIND,
-            format!("the profile of section `{name}` folds back on itself near {}", pt(*q)),
-            profile,
-            "this profile",
-            "a step-draw profile runs from the product outwards to the punch opening without turning back: check the wall angle and the runs, and that the wall fits between the two points",
-        ),
-        Problem::WrongOrder => feature_error(
-            KIND,
-            format!("section `{name}` comes before the previous section along the outline"),
-            name_span,
-            "out of order",
-            "list the sections in order around the outline (counter-clockwise seen from above), each further along than the one before",
-        ),
-        Problem::ProductNotCubic => feature_error(
-            KIND,
-            "the product outline must be a non-rational cubic curve",
-            block.span,
-            "in this step draw",
-            "project the trim line onto the product with `project(trim, panel)`",
-        ),
-        Problem::Kernel(e) => feature_error(
-            KIND,
-            format!("the step draw cannot be built at section `{name}`: {e} (in `{}`)", block.name),
-            profile,
-            "this section",
-            "check this section's points and profile, and its neighbours'",
-        ),
+    )
+}
+
+/// The top-view bounding box of a curve, from samples.
+fn top_bounds(c: &Curve3) -> (DVec2, DVec2) {
+    let (t0, t1) = c.domain();
+    let n = 512;
+    (0..=n)
+        .map(|i| c.point_at(t0 + (t1 - t0) * i as f64 / n as f64).truncate())
+        .fold(
+            (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+            |(lo, hi), p| (lo.min(p), hi.max(p)),
+        )
+}
+
+/// A length as a designer reads it: to the thousandth of a millimetre.
+fn num(x: f64) -> String {
+    show((x * 1000.0).round() / 1000.0)
+}
+
+/// A point `(s, z)` or `(x, y)`.
+fn p2(p: DVec2) -> String {
+    format!("({}, {})", num(p.x), num(p.y))
+}
+
+/// Below this angle (degrees) between a section plane and the product outline, the plane
+/// runs along the outline rather than across it.
+const GRAZING: f64 = 20.0;
+
+/// What the kernel's problems are told with.
+struct Context<'a, 'b> {
+    block: &'a Block<'b>,
+    guides: &'a Guides,
+    sections: &'a [SectionSource],
+    tolerance: f64,
+}
+
+impl Context<'_, '_> {
+    fn diagnose(&self, k: usize, p: &Problem) -> Diagnostic {
+        let Some(src) = self.sections.get(k) else {
+            return match p {
+                Problem::TooFewSections { needed } => self.too_few(*needed),
+                p => feature_error(
+                    KIND,
+                    format!("the step draw `{}` cannot be built: {p}", self.block.name),
+                    self.block.head(),
+                    "this step draw",
+                    "check the sections' `at` points and profiles",
+                ),
+            };
+        };
+        match p {
+            Problem::TooFewSections { needed } => self.too_few(*needed),
+            Problem::MissesGuide { product } => {
+                misses_guide(self.guides, *product, &src.name, src.at, src.a, src.b)
+            }
+            Problem::EndsOffGuides {
+                product, opening, ..
+            } => self
+                .grazing(src)
+                .unwrap_or_else(|| self.ends_off(src, *product, *opening)),
+            Problem::FoldsBack { at } => self
+                .grazing(src)
+                .unwrap_or_else(|| self.folds_back(src, *at)),
+            Problem::WrongOrder => self.wrong_order(k),
+            Problem::ProductNotCubic => not_cubic(&self.guides.product, self.block.head()),
+            Problem::Kernel(e) => self.grazing(src).unwrap_or_else(|| self.kernel(src, e)),
+        }
     }
+
+    fn too_few(&self, needed: usize) -> Diagnostic {
+        let n = self.sections.len();
+        let has = match n {
+            0 => "none".to_string(),
+            n => n.to_string(),
+        };
+        let (message, help) = if self.guides.closed {
+            (
+                format!("a closed step draw needs at least {needed} sections, but `{}` has {has}", self.block.name),
+                "the outline is closed, so the sections go all the way round it: add `section NAME { at = ((x1, y1), (x2, y2)); profile = ... }` blocks in order around the outline (counter-clockwise seen from above), one where the profile changes and a few along each long side",
+            )
+        } else {
+            (
+                format!("an open step draw needs at least {needed} sections, but `{}` has {has}", self.block.name),
+                "an open step draw runs from its first section to its last: add `section NAME { at = ((x1, y1), (x2, y2)); profile = ... }` blocks in order along the outline, one near each end of it and one where the profile changes",
+            )
+        };
+        feature_error(
+            KIND,
+            message,
+            self.block.head(),
+            match n {
+                0 => "no sections".to_string(),
+                1 => "1 section".to_string(),
+                n => format!("{n} sections"),
+            },
+            help,
+        )
+    }
+
+    /// When the plane of `src` runs along the product outline rather than across it,
+    /// that is the problem to report.
+    fn grazing(&self, src: &SectionSource) -> Option<Diagnostic> {
+        let tangent = self
+            .guides
+            .product
+            .derivative_at(src.ends.product_t)
+            .truncate()
+            .normalize_or_zero();
+        let d = (src.b - src.a).normalize_or_zero();
+        if tangent == DVec2::ZERO || d == DVec2::ZERO {
+            return None;
+        }
+        let angle = tangent.dot(d).abs().min(1.0).acos().to_degrees();
+        (angle < GRAZING).then(|| {
+            feature_error(
+                KIND,
+                format!("the plane of section `{}` runs along the product outline instead of across it", src.name),
+                src.at,
+                format!("crosses the outline at {} deg", num(angle)),
+                "place the two `at` points on a line across the addendum, roughly square to the outline: the first inside the product outline, the second beyond the punch opening",
+            )
+        })
+    }
+
+    /// The span of the sketch segment of `src`'s profile nearest to `p`, when the sketch
+    /// is written in this file.
+    fn segment_near(&self, src: &SectionSource, p: DVec2) -> Option<Span> {
+        let sketch = src.sketch.as_ref()?;
+        let (t0, t1) = sketch.curve.domain();
+        let n = 2000;
+        let t = (0..=n)
+            .map(|i| t0 + (t1 - t0) * i as f64 / n as f64)
+            .min_by(|x, y| {
+                let dx = sketch.curve.point_at(*x).distance(p);
+                let dy = sketch.curve.point_at(*y).distance(p);
+                dx.total_cmp(&dy)
+            })?;
+        let seg = sketch
+            .segments
+            .iter()
+            .find(|s| s.range.0 <= t && t <= s.range.1)?;
+        (seg.span.file == self.block.span.file).then_some(seg.span)
+    }
+
+    /// The span of the first or last sketch segment of `src`'s profile, when the sketch
+    /// is written in this file.
+    fn end_segment(&self, src: &SectionSource, first: bool) -> Option<Span> {
+        let sketch = src.sketch.as_ref()?;
+        let seg = if first {
+            sketch.segments.first()?
+        } else {
+            sketch.segments.last()?
+        };
+        (seg.span.file == self.block.span.file).then_some(seg.span)
+    }
+
+    fn ends_off(&self, src: &SectionSource, product: DVec2, opening: DVec2) -> Diagnostic {
+        let tol = self.tolerance;
+        let (p0, p1) = (src.curve.start_point(), src.curve.end_point());
+        // The kernel's pairing: the profile may run either way.
+        let forward = p0.distance(product) + p1.distance(opening)
+            <= p1.distance(product) + p0.distance(opening);
+        let pairs = if forward {
+            [
+                (p0, true, product, "product outline"),
+                (p1, false, opening, "punch opening"),
+            ]
+        } else {
+            [
+                (p1, false, product, "product outline"),
+                (p0, true, opening, "punch opening"),
+            ]
+        };
+        let off: Vec<_> = pairs
+            .iter()
+            .filter(|(p, _, q, _)| p.distance(*q) > tol)
+            .collect();
+        let says = |(p, first, q, what): &(DVec2, bool, DVec2, &str)| {
+            format!(
+                "{} at {}, {} mm from the {what} at {}",
+                if *first { "starts" } else { "ends" },
+                p2(*p),
+                num(p.distance(*q)),
+                p2(*q)
+            )
+        };
+        let reach = match off.as_slice() {
+            [one] => format!("the {}", one.3),
+            _ => "the product outline and the punch opening".to_string(),
+        };
+        let message = format!(
+            "the profile of section `{}` does not reach {reach}",
+            src.name
+        );
+        let segments: Vec<(Span, String)> = off
+            .iter()
+            .filter_map(|x| self.end_segment(src, x.1).map(|s| (s, says(x))))
+            .collect();
+        let mut d = if segments.len() == off.len() && !segments.is_empty() {
+            let mut d = feature_error(KIND, message, segments[0].0, segments[0].1.clone(), "");
+            for (span, label) in &segments[1..] {
+                d = d.with_label(*span, label.clone());
+            }
+            d.with_label(
+                src.profile,
+                format!("the profile of section `{}`", src.name),
+            )
+        } else {
+            let label = off.iter().map(|x| says(x)).collect::<Vec<_>>().join("; ");
+            let label = if label.is_empty() {
+                "this profile".to_string()
+            } else {
+                format!("it {label}")
+            };
+            feature_error(KIND, message, src.profile, label, "")
+        };
+        let view_note = match src.sketch.as_ref().map(|s| s.view) {
+            Some(View::Section { a, b })
+                if a.distance(src.a) > 1e-6
+                    || (b - a).normalize_or_zero().distance((src.b - src.a).normalize_or_zero()) > 1e-9 =>
+            {
+                format!(
+                    "; the sketch is drawn in `section({}, {})`, but the section is `at = ({}, {})`",
+                    p2(a),
+                    p2(b),
+                    p2(src.a),
+                    p2(src.b)
+                )
+            }
+            Some(v @ (View::SideXZ | View::SideYZ)) => format!(
+                "; a `{}` sketch measures from the press origin, a section profile from the first `at` point: draw it in `section({}, {})` or `profile`",
+                v.name(),
+                p2(src.a),
+                p2(src.b)
+            ),
+            _ => String::new(),
+        };
+        d.help = Some(format!(
+            "in this section plane, s from {} towards {} and z up, the product outline is at {} and the punch opening at {}: start and end the profile there (within the tolerance, {} mm), or give a profile function, which is handed both points (`profile = add.wall`){view_note}",
+            p2(src.a),
+            p2(src.b),
+            p2(product),
+            p2(opening),
+            num(tol),
+        ));
+        d
+    }
+
+    fn folds_back(&self, src: &SectionSource, at: DVec2) -> Diagnostic {
+        let (product, opening) = (src.ends.product, src.ends.opening);
+        if let Some(f) = &src.function {
+            if opening.x < product.x {
+                return feature_error(
+                    KIND,
+                    format!("the `at` points of section `{}` run from the punch opening inwards, so its profile `{f}` folds back", src.name),
+                    src.at,
+                    format!("from the outside in: the punch opening is at s {}, the product outline at s {}", num(opening.x), num(product.x)),
+                    format!(
+                        "s runs from the first `at` point towards the second, and profile functions draw outwards along s: swap the points, `at = ({}, {})`",
+                        p2(src.b),
+                        p2(src.a)
+                    ),
+                )
+                .with_label(src.profile, format!("`{f}` draws from the product outwards"));
+            }
+        }
+        let across = (opening.x - product.x).abs();
+        let dz = opening.y - product.y;
+        let height = if dz.abs() < 1e-6 {
+            "at the same height".to_string()
+        } else {
+            format!(
+                "{} mm {}",
+                num(dz.abs()),
+                if dz < 0.0 { "lower" } else { "higher" }
+            )
+        };
+        let message = format!(
+            "the profile of section `{}` folds back on itself near {}",
+            src.name,
+            p2(at)
+        );
+        match (&src.function, self.segment_near(src, at)) {
+            (_, Some(seg)) => feature_error(KIND, message, seg, "runs back towards the product here", "a step-draw profile runs outwards from the product outline to the punch opening, every point at least as far out as the ones before it (a vertical wall is allowed, an undercut is not): move this point outwards, or draw the profile again")
+                .with_label(src.profile, format!("the profile of section `{}`", src.name)),
+            (Some(f), None) => feature_error(
+                KIND,
+                format!("{message}: `{f}` does not fit between the product outline and the punch opening"),
+                src.profile,
+                format!("`{f}` folds back here"),
+                format!(
+                    "here the punch opening is {} mm out from the product outline and {height}: the profile's runs, radii and walls (at their draft) must fit in those {} mm; shorten the runs, make the radii or the draft smaller, or move the section to where the opening is further out",
+                    num(across),
+                    num(across)
+                ),
+            ),
+            (None, None) => feature_error(
+                KIND,
+                message,
+                src.profile,
+                "this profile folds back",
+                "a step-draw profile runs outwards from the product outline to the punch opening, every point at least as far out as the ones before it (a vertical wall is allowed, an undercut is not)",
+            ),
+        }
+    }
+
+    fn wrong_order(&self, k: usize) -> Diagnostic {
+        let n = self.sections.len();
+        let prev_k = if k == 0 { n.saturating_sub(1) } else { k - 1 };
+        let (Some(src), Some(prev)) = (self.sections.get(k), self.sections.get(prev_k)) else {
+            return feature_error(
+                KIND,
+                "the sections are not in order along the outline",
+                self.block.head(),
+                "in this step draw",
+                "list the sections in order along the outline",
+            );
+        };
+        let product = &self.guides.product;
+        let here = product.point_at(src.ends.product_t);
+        let there = product.point_at(prev.ends.product_t);
+        if here.distance(there) < 1e-3 {
+            return feature_error(
+                KIND,
+                format!("sections `{}` and `{}` cut the product outline at the same place", prev.name, src.name),
+                src.name_span,
+                format!("at the same place as `{}`", prev.name),
+                "two sections at one place leave nothing between them: remove one, or move its `at` points along the outline",
+            )
+            .with_label(prev.name_span, format!("`{}` is here", prev.name));
+        }
+        let ts: Vec<f64> = self.sections.iter().map(|s| s.ends.product_t).collect();
+        let order = along(&ts, self.guides.closed);
+        if order.iter().enumerate().any(|(i, &j)| i != j) {
+            let names: Vec<&str> = order
+                .iter()
+                .map(|&i| self.sections[i].name.as_str())
+                .collect();
+            let (way, from) = if self.guides.closed {
+                ("around the outline", "counter-clockwise seen from above")
+            } else {
+                ("along the outline", "from its start")
+            };
+            return feature_error(
+                KIND,
+                format!(
+                    "section `{}` is listed after `{}`, but comes before it {way}",
+                    src.name, prev.name
+                ),
+                src.name_span,
+                "out of order",
+                format!(
+                    "list the sections in order {way}, {from}: {}",
+                    names.join(", ")
+                ),
+            )
+            .with_label(prev.name_span, format!("listed before `{}`", src.name));
+        }
+        // In order along the product outline, not along the opening: the planes cross.
+        feature_error(
+            KIND,
+            format!("the planes of sections `{}` and `{}` cross between the product outline and the punch opening", prev.name, src.name),
+            src.at,
+            format!("`{}` comes after `{}` along the product outline, before it along the punch opening", src.name, prev.name),
+            "turn the `at` points so that neighbouring planes do not cross inside the addendum: each roughly square to the outline",
+        )
+        .with_label(prev.at, format!("the plane of `{}`", prev.name))
+    }
+
+    fn kernel(&self, src: &SectionSource, e: &GeomError) -> Diagnostic {
+        feature_error(
+            KIND,
+            format!("the step draw `{}` cannot be built at section `{}`: {e}", self.block.name, src.name),
+            src.name_span,
+            "cannot be built here",
+            "check this section's `at` points and profile, and its neighbours': sections very close together, or planes crossing inside the addendum, leave no room for a patch",
+        )
+        .with_label(src.profile, "this profile")
+    }
+}
+
+/// The order of the sections along the guide by their parameters `ts`: for a closed guide
+/// counter-clockwise from the first section.
+fn along(ts: &[f64], closed: bool) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..ts.len()).collect();
+    order.sort_by(|&i, &j| ts[i].total_cmp(&ts[j]));
+    if closed {
+        if let Some(p) = order.iter().position(|&i| i == 0) {
+            order.rotate_left(p);
+        }
+    }
+    order
 }
 
 /// The feature record: one surface per patch, one curve per key section, `quality`.
