@@ -8,6 +8,8 @@
 //! Every figure is measured here from the built surfaces and the guides, independently
 //! of the figures the kernel stores (which are cross-checked, not trusted).
 
+#[path = "common/joins.rs"]
+mod joins;
 use std::path::Path;
 use std::sync::Arc;
 
@@ -20,11 +22,10 @@ use dieface::geom::interpolate::{interpolate, Interpolation};
 use dieface::geom::inversion::{closest_point_on_curve, project_to_curve_near};
 use dieface::geom::{Curve2, Curve3, Direction, NurbsCurve, NurbsSurface};
 use glam::{DVec2, DVec3};
+use joins::*;
 
 /// Samples per patch along the outline for the edge figures.
 const EDGE_SAMPLES: usize = 1000;
-/// Samples per shared boundary for the measured join figures.
-const JOIN_SAMPLES: usize = 200;
 /// The step draw meets the product exactly (primer section 4): to rounding, well under
 /// the 0.001 mm of strict checkers.
 const MAX_PRODUCT_GAP: f64 = 1e-6;
@@ -38,10 +39,6 @@ const MAX_NET_ANGLE_DEG: f64 = 1e-6;
 const MAX_RATIO_SPREAD: f64 = 1e-9;
 /// A patch's `sections` are its iso-curves at the knots along the outline.
 const MAX_ISO_MISMATCH: f64 = 1e-8;
-
-fn angle_deg(a: DVec3, b: DVec3) -> f64 {
-    a.cross(b).length().atan2(a.dot(b)).to_degrees()
-}
 
 fn sz(s: f64, z: f64) -> DVec2 {
     DVec2::new(s, z)
@@ -97,56 +94,6 @@ fn distance_to(curve: &Curve3, p: DVec3) -> f64 {
     closest_point_on_curve(curve, p)
         .expect("closest point")
         .distance
-}
-
-/// Eq. 4 from the control points: `first` ends at its u = max boundary where `second`
-/// starts. Returns (largest |S_j - S'_j|, largest angle between S_j - R_j and T_j - S_j
-/// in degrees, spread max/min - 1 of |S_j - R_j| / |T_j - S_j| over the rows j).
-fn eq4(first: &NurbsSurface, second: &NurbsSurface) -> (f64, f64, f64) {
-    let ((na, ma), (_, mb)) = (first.counts(), second.counts());
-    assert_eq!(ma, mb, "the patches have different rows along the boundary");
-    assert!(
-        !first.is_rational() && !second.is_rational(),
-        "eq. 4 on the control points is the C1 condition of polynomial patches"
-    );
-    let (mut gap, mut angle) = (0.0f64, 0.0f64);
-    let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
-    for j in 0..ma {
-        let r = first.control_point(na - 2, j);
-        let s = first.control_point(na - 1, j);
-        let s2 = second.control_point(0, j);
-        let t = second.control_point(1, j);
-        gap = gap.max(s.distance(s2));
-        let (before, after) = (s - r, t - s);
-        assert!(
-            before.length() > 0.0 && after.length() > 0.0,
-            "a collapsed leg in row {j}"
-        );
-        angle = angle.max(angle_deg(before, after));
-        let ratio = before.length() / after.length();
-        lo = lo.min(ratio);
-        hi = hi.max(ratio);
-    }
-    (gap, angle, hi / lo - 1.0)
-}
-
-/// G1 measured along the boundary at `JOIN_SAMPLES + 1` points: (largest gap, largest
-/// angle between the normals in degrees).
-fn measured_g1(first: &NurbsSurface, second: &NurbsSurface) -> (f64, f64) {
-    let (ua, ub) = (first.domain_u().1, second.domain_u().0);
-    let ((va0, va1), (vb0, vb1)) = (first.domain_v(), second.domain_v());
-    let (mut gap, mut angle) = (0.0f64, 0.0f64);
-    for i in 0..=JOIN_SAMPLES {
-        let f = i as f64 / JOIN_SAMPLES as f64;
-        let (va, vb) = (va0 + (va1 - va0) * f, vb0 + (vb1 - vb0) * f);
-        gap = gap.max(first.point_at(ua, va).distance(second.point_at(ub, vb)));
-        let (na, nb) = (
-            first.normal(ua, va).expect("normal"),
-            second.normal(ub, vb).expect("normal"),
-        );
-        angle = angle.max(angle_deg(na, nb));
-    }
-    (gap, angle)
 }
 
 /// The worst measured figures of a step draw.
