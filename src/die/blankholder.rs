@@ -106,6 +106,9 @@ pub struct Blankholder {
     pub patches: Vec<Patch>,
     /// Every join between neighbouring patches (the last with the first included).
     pub joins: Vec<Join>,
+    /// The punch opening's top-view outline (a closed polygon): the binder's inner edge,
+    /// which features on the binder (beads) must stay outside.
+    pub inner_outline: Vec<DVec2>,
 }
 
 /// What went wrong, and at which piece of the opening.
@@ -332,7 +335,11 @@ pub fn build(opening: &PunchOpening, spec: &[PieceSpec]) -> Result<Blankholder, 
             }
         })
         .collect();
-    Ok(Blankholder { patches, joins })
+    Ok(Blankholder {
+        patches,
+        joins,
+        inner_outline: opening.top_outline(),
+    })
 }
 
 /// A side's outer points at its stations, with their parameters on the side curve.

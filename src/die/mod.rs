@@ -7,6 +7,7 @@
 //! the first step of the punch opening line (`punch_opening`, to come: sides joined by
 //! corrected corners).
 
+pub mod bead;
 pub mod blankholder;
 pub mod continuity;
 pub mod corner;

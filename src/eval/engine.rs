@@ -43,6 +43,7 @@ pub const KINDS: &[&str] = &[
     "punch_opening",
     "blankholder",
     "step_draw",
+    "bead",
 ];
 
 /// The names, values and units visible at the top level of one file.

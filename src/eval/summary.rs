@@ -207,6 +207,16 @@ fn feature_summary(r: &Record) -> String {
                 bbox(lo, hi)
             )
         }
+        Some(Feature::Bead(b)) => {
+            let (lo, hi) = bounds(sampled_surface(&b.surface));
+            format!(
+                "draw bead, {} mm long, {} key sections, {} line-bead points, bounds {}",
+                round(b.quality.length),
+                b.quality.sections,
+                b.line_points.len(),
+                bbox(lo, hi)
+            )
+        }
         None => String::new(),
     }
 }

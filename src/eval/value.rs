@@ -10,6 +10,7 @@ use std::sync::Arc;
 
 use glam::{DVec2, DVec3};
 
+use crate::die::bead::Bead;
 use crate::die::blankholder::Blankholder;
 use crate::die::punch_opening::PunchOpening;
 use crate::die::step_draw::StepDraw;
@@ -244,13 +245,18 @@ pub enum Feature {
     Blankholder(Arc<Blankholder>),
     /// A step draw.
     StepDraw(Arc<StepDraw>),
+    /// A draw bead.
+    Bead(Arc<Bead>),
 }
 
 impl Feature {
     /// Whether the record field `name` is exported as its own scene node. The closed
     /// `line` of a punch opening repeats its pieces, so only the pieces are exported.
     pub fn exports_field(&self, name: &str) -> bool {
-        !matches!((self, name), (Feature::PunchOpening(_), "line"))
+        !matches!(
+            (self, name),
+            (Feature::PunchOpening(_), "line") | (Feature::Bead(_), "line_bead")
+        )
     }
 }
 

@@ -72,7 +72,10 @@ fn main() {
         .expect("example");
     let text = std::fs::read_to_string(dir.join("fender.die")).expect("readable example");
     let (before, after) = ("1700 mm, 1400 mm, 80 mm", "1720 mm, 1400 mm, 80 mm");
-    assert!(text.contains(before), "the example declares the blank outline");
+    assert!(
+        text.contains(before),
+        "the example declares the blank outline"
+    );
     let edited = text.replace(before, after);
     // A designer's edit of a die-face input: one point of the front side's binder wrap,
     // which rebuilds the punch opening and the blankholder.
@@ -106,7 +109,9 @@ fn main() {
     }
     println!();
 
-    println!("| tolerance | GLB size | cold build | rebuild after editing the blank outline | ratio |");
+    println!(
+        "| tolerance | GLB size | cold build | rebuild after editing the blank outline | ratio |"
+    );
     println!("| ---: | ---: | ---: | ---: | ---: |");
     let mut breakdown = Vec::new();
     let mut reran = Vec::new();

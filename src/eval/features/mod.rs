@@ -8,6 +8,7 @@
 //! `name.piece`), plus a `quality` record of the figures a reviewer checks. The kernel
 //! model rides along in [`Record::feature`] for the features built on top of it.
 
+mod bead;
 mod blankholder;
 mod punch_opening;
 mod step_draw;
@@ -22,7 +23,7 @@ use super::units::Units;
 use super::value::{Data, Dim, Quantity, Record, Value};
 
 /// Declaration kinds that are features, built by [`build`].
-pub const FEATURES: &[&str] = &["punch_opening", "blankholder", "step_draw"];
+pub const FEATURES: &[&str] = &["punch_opening", "blankholder", "step_draw", "bead"];
 
 /// One field of a feature block.
 #[derive(Debug, Clone)]
@@ -172,6 +173,7 @@ pub fn build(block: &Block) -> Result<Value, Diagnostic> {
         "punch_opening" => punch_opening::build(block),
         "blankholder" => blankholder::build(block),
         "step_draw" => step_draw::build(block),
+        "bead" => bead::build(block),
         other => Err(Diagnostic::new(
             "die::unknown_kind",
             format!("`{other}` is not a die-face feature"),
@@ -193,6 +195,7 @@ fn feature_error(
         "punch_opening" => "die::punch_opening",
         "blankholder" => "die::blankholder",
         "step_draw" => "die::step_draw",
+        "bead" => "die::bead",
         _ => "die::feature",
     };
     Diagnostic::new(code, message, span, label).with_help(help)
