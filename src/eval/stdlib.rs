@@ -6,6 +6,7 @@ const MODULES: &[(&str, &str)] = &[
     ("units", include_str!("../../stdlib/units.die")),
     ("sketch", include_str!("../../stdlib/sketch.die")),
     ("addendum", include_str!("../../stdlib/addendum.die")),
+    ("beads", include_str!("../../stdlib/beads.die")),
 ];
 
 /// The source of the standard module `name`.

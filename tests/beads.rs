@@ -1,0 +1,604 @@
+//! `std/beads`: the standard draw-bead cross-sections, evaluated through the engine and
+//! measured on their curves: feet on the binder at the documented half width, mirror
+//! symmetry, never below the binder, the crest exactly at the height, never backwards
+//! in s, tangent joins, flanks at the draft and radii as asked.
+
+use std::f64::consts::FRAC_PI_4;
+use std::sync::Arc;
+
+use dieface::eval::sketch::{Sketch, View};
+use dieface::eval::{Data, Engine};
+use glam::DVec2;
+
+/// Evaluates `lets` (one `let name = ...` per line) after importing the module, and
+/// returns every declaration's value; panics on any diagnostic.
+fn evaluate(lets: &str) -> Vec<(String, Data)> {
+    let text = format!("import \"std/beads\" as b\nunits mm deg\n{lets}\n");
+    let mut engine = Engine::new(None);
+    let out = engine.evaluate("beads_test.die", &text, None);
+    let rendered: Vec<String> = out
+        .diagnostics
+        .iter()
+        .map(|d| engine.sources.render(d, false))
+        .collect();
+    assert!(rendered.is_empty(), "{}", rendered.join("\n"));
+    out.decls
+        .iter()
+        .map(|d| {
+            let v = d.value.as_ref().expect("a value");
+            (d.name.clone(), v.data.clone())
+        })
+        .collect()
+}
+
+/// The sketch `expr` evaluates to.
+fn sketch(expr: &str) -> Arc<Sketch> {
+    match evaluate(&format!("let p = {expr}")).remove(0).1 {
+        Data::Sketch(s) => s,
+        other => panic!("`{expr}` is not a sketch: {other:?}"),
+    }
+}
+
+/// The length (in mm) `expr` evaluates to.
+fn length(expr: &str) -> f64 {
+    match evaluate(&format!("let x = {expr}")).remove(0).1 {
+        Data::Number(q) => q.value,
+        other => panic!("`{expr}` is not a number: {other:?}"),
+    }
+}
+
+/// The diagnostics' messages of a script importing the module.
+fn messages(lets: &str) -> Vec<String> {
+    let text = format!("import \"std/beads\" as b\nunits mm deg\n{lets}\n");
+    let mut engine = Engine::new(None);
+    engine
+        .evaluate("beads_test.die", &text, None)
+        .diagnostics
+        .iter()
+        .map(|d| format!("{}: {}", d.code, d.message))
+        .collect()
+}
+
+/// `n + 1` points evenly spaced in the parameter of the sketch's curve, plus every
+/// segment's ends.
+fn samples(sk: &Sketch, n: usize) -> Vec<DVec2> {
+    let (t0, t1) = sk.curve.domain();
+    (0..=n)
+        .map(|k| sk.curve.point_at(t0 + (t1 - t0) * k as f64 / n as f64))
+        .collect()
+}
+
+fn kinds(sk: &Sketch) -> Vec<&'static str> {
+    sk.segments.iter().map(|g| g.kind).collect()
+}
+
+fn ends(sk: &Sketch, k: usize) -> (DVec2, DVec2) {
+    let (a, b) = sk.segments[k].range;
+    (sk.curve.point_at(a), sk.curve.point_at(b))
+}
+
+/// The straight segments: (start, end) of each `line`.
+fn lines(sk: &Sketch) -> Vec<(DVec2, DVec2)> {
+    (0..sk.segments.len())
+        .filter(|&k| sk.segments[k].kind == "line")
+        .map(|k| ends(sk, k))
+        .collect()
+}
+
+/// Lines that are not horizontal: the flanks.
+fn flanks(sk: &Sketch) -> Vec<(DVec2, DVec2)> {
+    lines(sk)
+        .into_iter()
+        .filter(|(a, b)| (b.y - a.y).abs() > 1e-9)
+        .collect()
+}
+
+/// Horizontal lines: flat tops and valleys.
+fn flats(sk: &Sketch) -> Vec<(DVec2, DVec2)> {
+    lines(sk)
+        .into_iter()
+        .filter(|(a, b)| (b.y - a.y).abs() <= 1e-9)
+        .collect()
+}
+
+/// The angle of a flank from the vertical.
+fn draft_of((a, b): (DVec2, DVec2)) -> f64 {
+    (b.x - a.x).abs().atan2((b.y - a.y).abs())
+}
+
+/// The radii of the arcs and fillets, in drawing order, each checked to be circular.
+fn radii(sk: &Sketch) -> Vec<f64> {
+    (0..sk.segments.len())
+        .filter(|&k| matches!(sk.segments[k].kind, "arc" | "fillet"))
+        .map(|k| {
+            let (a, b) = sk.segments[k].range;
+            let rs: Vec<f64> = [a + 1e-12, 0.25 * (3.0 * a + b), 0.5 * (a + b), b - 1e-12]
+                .iter()
+                .map(|&t| 1.0 / sk.curve.curvature(t))
+                .collect();
+            for r in &rs {
+                assert!((r - rs[0]).abs() < 1e-6 * rs[0], "not circular: {rs:?}");
+            }
+            rs[2]
+        })
+        .collect()
+}
+
+/// The highest point of the profile: the best of dense samples, refined by golden
+/// section in the parameter around it.
+fn max_z(sk: &Sketch) -> f64 {
+    let (t0, t1) = sk.curve.domain();
+    let n = 20_000;
+    let dt = (t1 - t0) / n as f64;
+    let best = (0..=n)
+        .map(|k| t0 + dt * k as f64)
+        .max_by(|a, b| sk.curve.point_at(*a).y.total_cmp(&sk.curve.point_at(*b).y))
+        .unwrap();
+    let z = |t: f64| sk.curve.point_at(t.clamp(t0, t1)).y;
+    let (mut lo, mut hi) = (best - dt, best + dt);
+    let g = 0.5 * (5f64.sqrt() - 1.0);
+    for _ in 0..200 {
+        let (c, d) = (hi - g * (hi - lo), lo + g * (hi - lo));
+        if z(c) >= z(d) {
+            hi = d;
+        } else {
+            lo = c;
+        }
+    }
+    z(0.5 * (lo + hi)).max(z(best))
+}
+
+/// How steep the profile gets: the smallest angle from the vertical of a chord between
+/// dense samples.
+fn steepest(sk: &Sketch) -> f64 {
+    let pts = samples(sk, 40_000);
+    pts.windows(2)
+        .filter(|w| w[0].distance(w[1]) > 1e-12)
+        .map(|w| draft_of((w[0], w[1])))
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// What every bead profile must satisfy: drawn in `profile`, open, from (-w, 0) to
+/// (w, 0), mirror-symmetric about s = 0, never below the binder, its top exactly at
+/// `height`, never backwards in s, tangent at every join except a sharp corner between
+/// two lines or on the binder (a shoulder of 0).
+fn check_common(name: &str, sk: &Sketch, w: f64, height: f64) {
+    assert_eq!(sk.view, View::Profile, "{name}");
+    assert!(!sk.closed, "{name}");
+    let (a, b) = (sk.curve.start_point(), sk.curve.end_point());
+    assert!(
+        a.distance(DVec2::new(-w, 0.0)) <= 1e-9,
+        "{name} starts at {a}, not (-{w}, 0)"
+    );
+    assert!(
+        b.distance(DVec2::new(w, 0.0)) <= 1e-9,
+        "{name} ends at {b}, not ({w}, 0)"
+    );
+    assert!(
+        a.y.abs() <= 1e-9 && b.y.abs() <= 1e-9,
+        "{name}: feet at {a}, {b}"
+    );
+    // Mirror symmetry: the point at parameter t mirrors the one at the far end's t
+    // (the segments are drawn mirrored, each on its own unit parameter range), and
+    // every segment end mirrors one.
+    let (t0, t1) = sk.curve.domain();
+    let n = 4000;
+    for k in 0..=n {
+        let t = t0 + (t1 - t0) * k as f64 / n as f64;
+        let p = sk.curve.point_at(t);
+        let q = sk.curve.point_at(t0 + t1 - t);
+        assert!(
+            p.distance(DVec2::new(-q.x, q.y)) <= 1e-9,
+            "{name} is not symmetric: {p} against {q}"
+        );
+    }
+    let m = sk.segments.len();
+    for k in 0..m {
+        assert_eq!(
+            sk.segments[k].kind,
+            sk.segments[m - 1 - k].kind,
+            "{name}: {:?}",
+            kinds(sk)
+        );
+    }
+    // Never below the binder, never backwards in s.
+    let pts = samples(sk, 20_000);
+    for w in pts.windows(2) {
+        assert!(w[1].y >= -1e-9, "{name} dips below the binder at {}", w[1]);
+        assert!(
+            w[1].x >= w[0].x - 1e-9,
+            "{name} runs backwards in s: {} after {}",
+            w[1],
+            w[0]
+        );
+    }
+    // The top exactly at the height.
+    let top = max_z(sk);
+    assert!(
+        (top - height).abs() <= 1e-6,
+        "{name}: top at {top}, not {height}"
+    );
+    assert!(
+        pts.iter().all(|p| p.y <= height + 1e-9),
+        "{name} overshoots"
+    );
+    // Tangent joins.
+    for k in 1..m {
+        let (prev, next) = (sk.segments[k - 1].kind, sk.segments[k].kind);
+        let t = sk.segments[k].range.0;
+        let at = sk.curve.point_at(t);
+        if (prev == "line" && next == "line")
+            || at.y.abs() <= 1e-9 && (prev == "line" || next == "line")
+        {
+            continue;
+        }
+        let (left, right) = sk.curve.split_at(t).unwrap();
+        let d_in = left.unit_tangent(left.domain().1).unwrap();
+        let d_out = right.unit_tangent(right.domain().0).unwrap();
+        if at.y.abs() <= 1e-9 && d_in.y.abs() > 1e-6 {
+            // A sharp shoulder: an arc or flank meeting the binder at an angle.
+            continue;
+        }
+        assert!(
+            d_in.distance(d_out) < 1e-9,
+            "{name}: kink at the start of segment {k} ({:?}): {d_in} then {d_out}",
+            kinds(sk)
+        );
+    }
+}
+
+fn deg(x: f64) -> f64 {
+    x.to_radians()
+}
+
+/// `r * tan(45 deg - draft / 2)`.
+fn takes(r: f64, draft: f64) -> f64 {
+    r * (FRAC_PI_4 - draft / 2.0).tan()
+}
+
+/// The straight flank of a round bead, along the flank.
+fn round_flank(h: f64, r: f64, shoulder: f64, draft: f64) -> f64 {
+    (h - (r + shoulder) * (1.0 - draft.sin())) / draft.cos()
+}
+
+/// The documented half width of a round bead.
+fn round_w(h: f64, r: f64, shoulder: f64, draft: f64) -> f64 {
+    let k = r + shoulder;
+    if round_flank(h, r, shoulder, draft) > 1e-6 {
+        h * draft.tan() + takes(k, draft)
+    } else {
+        (h * (2.0 * k - h)).sqrt()
+    }
+}
+
+/// The documented half width of a square bead or lock step.
+fn square_w(h: f64, width: f64, shoulder: f64, draft: f64) -> f64 {
+    width / 2.0 + h * draft.tan() + takes(shoulder, draft)
+}
+
+fn close(a: f64, b: f64) -> bool {
+    (a - b).abs() <= 1e-9 * b.abs().max(1.0)
+}
+
+/// Checks the radii: the sketch's arcs and fillets each have one of `allowed`, and
+/// every one of `required` occurs.
+fn check_radii(name: &str, sk: &Sketch, allowed: &[f64], required: &[f64]) {
+    let rs = radii(sk);
+    for r in &rs {
+        assert!(
+            allowed.iter().any(|x| close(*r, *x)),
+            "{name}: radius {r}, not one of {allowed:?}"
+        );
+    }
+    for x in required {
+        assert!(
+            rs.iter().any(|r| close(*r, *x)),
+            "{name}: no radius {x} in {rs:?}"
+        );
+    }
+}
+
+#[test]
+fn round_beads() {
+    // (height, radius, shoulder, draft deg); None: the defaults.
+    let cases = [
+        (None, "defaults: a low bead, no straight flank"),
+        (Some((6.0, 4.0, 3.0, 15.0)), "a short flank"),
+        (
+            Some((12.0, 5.0, 3.0, 0.0)),
+            "vertical flanks, a half-circle crown",
+        ),
+        (Some((8.0, 6.0, 4.0, 25.0)), "a long flank"),
+        (Some((6.0, 8.0, 0.0, 15.0)), "sharp shoulders with a flank"),
+        (Some((3.0, 8.0, 0.0, 15.0)), "sharp shoulders, no flank"),
+        (Some((2.5, 10.0, 5.0, 10.0)), "a flat, low bead"),
+    ];
+    for (params, what) in cases {
+        let (h, r, s, d) = params.unwrap_or((6.0, 8.0, 3.0, 15.0));
+        let call = match params {
+            None => "b.round()".to_string(),
+            Some(_) => {
+                format!("b.round(height: {h} mm, radius: {r} mm, shoulder: {s} mm, draft: {d} deg)")
+            }
+        };
+        let name = format!("{call} ({what})");
+        let sk = sketch(&call);
+        let draft = deg(d);
+        let w = round_w(h, r, s, draft);
+        check_common(&name, &sk, w, h);
+        let companion = call.replace("b.round(", "b.round_half_width(");
+        assert!(close(length(&companion), w), "{name}: {companion}");
+        // The crown and the shoulders at their radii.
+        let shoulders: &[f64] = if s > 0.0 { &[s] } else { &[] };
+        let allowed: Vec<f64> = [r].iter().chain(shoulders).copied().collect();
+        check_radii(&name, &sk, &allowed, &allowed);
+        // The crest on the centre line, halfway along the (symmetric) parameter.
+        let (t0, t1) = sk.curve.domain();
+        let crest = sk.curve.point_at(0.5 * (t0 + t1));
+        assert!(crest.distance(DVec2::new(0.0, h)) < 1e-9, "{name}: {crest}");
+        let flank = round_flank(h, r, s, draft);
+        let f = flanks(&sk);
+        if flank > 1e-6 {
+            // Two straight flanks, at the draft, `flank` long.
+            assert_eq!(f.len(), 2, "{name}: {:?}", kinds(&sk));
+            for fl in &f {
+                assert!(
+                    (draft_of(*fl) - draft).abs() < 1e-9,
+                    "{name}: flank at {} deg",
+                    draft_of(*fl).to_degrees()
+                );
+                assert!((fl.0.distance(fl.1) - flank).abs() < 1e-9, "{name}");
+            }
+            assert!((steepest(&sk) - draft).abs() < 1e-9, "{name}");
+        } else {
+            // No straight flank: the crown meets the shoulders (or the binder) at
+            // atan2(radius + shoulder - height, w) from the vertical, less steep than
+            // the draft.
+            assert!(f.is_empty(), "{name}: {:?}", kinds(&sk));
+            let slope = (r + s - h).atan2(w);
+            assert!(slope >= draft, "{name}");
+            assert!(
+                (steepest(&sk) - slope).abs() < 1e-3,
+                "{name}: steepest {} deg, expected {} deg",
+                steepest(&sk).to_degrees(),
+                slope.to_degrees()
+            );
+        }
+        assert!(flats(&sk).is_empty(), "{name}");
+    }
+}
+
+#[test]
+fn round_defaults_and_figures() {
+    // The defaults make a low bead: 6 mm < 11 mm * (1 - sin 15 deg) = 8.153 mm.
+    let sk = sketch("b.round()");
+    assert_eq!(kinds(&sk), ["arc", "arc", "arc"]);
+    let w = 96f64.sqrt();
+    assert!((w - 9.797959).abs() < 1e-6);
+    assert!(close(sk.curve.end_point().x, w));
+    assert!(close(length("b.round_half_width()"), w));
+    // The documented example with a flank: a 0.84 mm flank.
+    let sk = sketch("b.round(radius: 4 mm)");
+    assert_eq!(kinds(&sk), ["arc", "line", "arc", "line", "arc"]);
+    let f = flanks(&sk)[0];
+    assert!((f.0.distance(f.1) - 0.8404).abs() < 1e-4);
+    // Named and positional arguments mean the same.
+    let a = sketch("b.round(7 mm, 5 mm, 2 mm, 12 deg)");
+    let b = sketch("b.round(draft: 12 deg, shoulder: 2 mm, radius: 5 mm, height: 7 mm)");
+    assert_eq!(a.curve, b.curve);
+}
+
+#[test]
+fn square_beads_and_lock_steps() {
+    // (function, height, width, corner, shoulder, draft deg, explicit?)
+    let cases = [
+        ("square", 6.0, 14.0, 3.0, 3.0, 10.0, false),
+        ("square", 10.0, 20.0, 4.0, 5.0, 0.0, true),
+        ("square", 6.0, 14.0, 0.0, 0.0, 10.0, true),
+        ("square", 5.0, 8.0, 2.0, 1.0, 20.0, true),
+        ("square", 6.0, 14.0, 3.0, 0.0, 30.0, true),
+        ("lock_step", 4.0, 20.0, 2.0, 2.0, 5.0, false),
+        ("lock_step", 6.0, 30.0, 3.0, 3.0, 5.0, true),
+        ("lock_step", 4.0, 20.0, 1.5, 2.5, 2.0, true),
+    ];
+    for (f, h, width, corner, shoulder, d, explicit) in cases {
+        let call = if explicit {
+            format!(
+                "b.{f}(height: {h} mm, width: {width} mm, corner: {corner} mm, shoulder: {shoulder} mm, draft: {d} deg)"
+            )
+        } else {
+            format!("b.{f}()")
+        };
+        let name = call.clone();
+        let sk = sketch(&call);
+        let draft = deg(d);
+        let w = square_w(h, width, shoulder, draft);
+        check_common(&name, &sk, w, h);
+        let companion = call.replace(&format!("b.{f}("), &format!("b.{f}_half_width("));
+        assert!(close(length(&companion), w), "{name}: {companion}");
+        // Two flanks at the draft, aimed at the virtual top corners (+-width / 2, h)
+        // and the virtual feet (+-(width / 2 + h tan(draft)), 0).
+        let fl = flanks(&sk);
+        assert_eq!(fl.len(), 2, "{name}: {:?}", kinds(&sk));
+        for (i, (a, b)) in fl.iter().enumerate() {
+            assert!(
+                (draft_of((*a, *b)) - draft).abs() < 1e-9,
+                "{name}: flank at {} deg",
+                draft_of((*a, *b)).to_degrees()
+            );
+            let dir = (*b - *a) / (b.y - a.y);
+            let at_top = *a + dir * (h - a.y);
+            let at_binder = *a - dir * a.y;
+            let side = if i == 0 { -1.0 } else { 1.0 };
+            assert!(close(at_top.x, side * width / 2.0), "{name}: {at_top}");
+            assert!(
+                close(at_binder.x, side * (width / 2.0 + h * draft.tan())),
+                "{name}: {at_binder}"
+            );
+        }
+        // The flat top: between the corner radii, at the height.
+        let tops = flats(&sk);
+        assert_eq!(tops.len(), 1, "{name}");
+        let (a, b) = tops[0];
+        assert!((a.y - h).abs() < 1e-12 && (b.y - h).abs() < 1e-12, "{name}");
+        assert!(
+            (b.x - a.x - (width - 2.0 * takes(corner, draft))).abs() < 1e-9,
+            "{name}: top flat {}",
+            b.x - a.x
+        );
+        let allowed: Vec<f64> = [corner, shoulder]
+            .into_iter()
+            .filter(|&r| r > 0.0)
+            .collect();
+        check_radii(&name, &sk, &allowed, &allowed);
+        assert!((steepest(&sk) - draft).abs() < 1e-9, "{name}");
+    }
+    // The defaults as documented.
+    assert_eq!(
+        kinds(&sketch("b.square()")),
+        ["arc", "line", "fillet", "line", "fillet", "line", "arc"]
+    );
+    assert!((length("b.square_half_width()") - 10.575261).abs() < 1e-6);
+    assert!((length("b.lock_step_half_width()") - 12.182617).abs() < 1e-6);
+    // A lock step is a square bead with 5 deg flanks and its own defaults.
+    assert_eq!(
+        sketch("b.lock_step()").curve,
+        sketch("b.square(height: 4 mm, width: 20 mm, corner: 2 mm, shoulder: 2 mm, draft: 5 deg)")
+            .curve
+    );
+}
+
+#[test]
+fn double_beads() {
+    // (height, radius, gap, shoulder, draft deg); None: the defaults.
+    let cases = [
+        (None, "defaults: low beads, a flat valley"),
+        (
+            Some((5.0, 6.0, 0.0, 2.0, 15.0)),
+            "low beads meeting in one shoulder radius",
+        ),
+        (
+            Some((5.0, 3.0, 10.0, 2.0, 15.0)),
+            "beads with flanks, a flat valley",
+        ),
+        (
+            Some((5.0, 3.0, 0.0, 2.0, 15.0)),
+            "beads with flanks, no flat",
+        ),
+        (
+            Some((5.0, 3.0, 0.0, 0.0, 15.0)),
+            "sharp shoulders: a V valley",
+        ),
+        (Some((5.0, 3.0, 10.0, 0.0, 15.0)), "sharp shoulders, a flat"),
+        (
+            Some((5.0, 6.0, 0.0, 0.0, 15.0)),
+            "low beads, sharp shoulders",
+        ),
+        (
+            Some((5.0, 6.0, 4.0, 0.0, 15.0)),
+            "low beads, sharp shoulders, a flat",
+        ),
+        (Some((10.0, 4.0, 6.0, 2.0, 0.0)), "vertical flanks"),
+    ];
+    for (params, what) in cases {
+        let (h, r, gap, s, d) = params.unwrap_or((5.0, 6.0, 10.0, 2.0, 15.0));
+        let call = match params {
+            None => "b.double()".to_string(),
+            Some(_) => format!(
+                "b.double(height: {h} mm, radius: {r} mm, gap: {gap} mm, shoulder: {s} mm, draft: {d} deg)"
+            ),
+        };
+        let name = format!("{call} ({what})");
+        let sk = sketch(&call);
+        let draft = deg(d);
+        let w1 = round_w(h, r, s, draft);
+        let offset = w1 + gap / 2.0;
+        let w = 2.0 * w1 + gap / 2.0;
+        check_common(&name, &sk, w, h);
+        for (fname, value) in [("double_half_width", w), ("double_offset", offset)] {
+            let companion = call.replace("b.double(", &format!("b.{fname}("));
+            assert!(close(length(&companion), value), "{name}: {companion}");
+        }
+        // The crests at s = -offset and offset, and nowhere else at the height.
+        let pts = samples(&sk, 40_000);
+        for c in [-offset, offset] {
+            assert!(
+                pts.iter().any(|p| p.distance(DVec2::new(c, h)) < 2e-3),
+                "{name}: no crest at {c}"
+            );
+        }
+        assert!(
+            pts.iter()
+                .filter(|p| p.y > h - 1e-3)
+                .all(|p| (p.x.abs() - offset).abs() < 0.5),
+            "{name}"
+        );
+        // The valley reaches the binder: a flat from -gap / 2 to gap / 2, or (no gap)
+        // the point (0, 0).
+        let valley = flats(&sk);
+        if gap > 0.0 {
+            assert_eq!(valley.len(), 1, "{name}: {:?}", kinds(&sk));
+            let (a, b) = valley[0];
+            assert!(a.y.abs() < 1e-12 && b.y.abs() < 1e-12, "{name}");
+            assert!(
+                close(a.x, -gap / 2.0) && close(b.x, gap / 2.0),
+                "{name}: {a} {b}"
+            );
+        } else {
+            assert!(valley.is_empty(), "{name}: {:?}", kinds(&sk));
+            assert!(
+                sk.curve.point_at(sk.curve.domain().1 / 2.0).length() < 1e-9,
+                "{name}: the valley is not at (0, 0)"
+            );
+        }
+        // Every radius is the crown's or the shoulder's; flanks at the draft.
+        let allowed: Vec<f64> = [r, s].into_iter().filter(|&x| x > 0.0).collect();
+        check_radii(&name, &sk, &allowed, &allowed);
+        let fl = flanks(&sk);
+        let flank = round_flank(h, r, s, draft);
+        if flank > 1e-6 {
+            assert_eq!(fl.len(), 4, "{name}: {:?}", kinds(&sk));
+            for f in &fl {
+                assert!((draft_of(*f) - draft).abs() < 1e-9, "{name}");
+                assert!((f.0.distance(f.1) - flank).abs() < 1e-9, "{name}");
+            }
+        } else {
+            assert!(fl.is_empty(), "{name}: {:?}", kinds(&sk));
+        }
+        // Each half is the round bead, moved.
+        let single = sketch(&format!(
+            "b.round(height: {h} mm, radius: {r} mm, shoulder: {s} mm, draft: {d} deg)"
+        ));
+        for p in samples(&single, 500) {
+            let moved = p - DVec2::new(offset, 0.0);
+            assert!(
+                pts.iter().any(|q| q.distance(moved) < 0.05),
+                "{name}: {moved} of the left bead is missing"
+            );
+        }
+    }
+}
+
+#[test]
+fn a_negative_gap_folds_back() {
+    let sk = sketch("b.double(gap: -2 mm)");
+    let w = 2.0 * round_w(5.0, 6.0, 2.0, deg(15.0)) - 1.0;
+    assert!(close(sk.curve.end_point().x, w));
+    assert!(samples(&sk, 4000)
+        .windows(2)
+        .any(|p| p[1].x < p[0].x - 1e-6));
+}
+
+#[test]
+fn a_square_bead_too_low_for_its_radii_is_reported() {
+    // (3 + 3) * (1 - sin 10 deg) = 4.96 mm of flank height needed.
+    let m = messages("let p = b.square(height: 4 mm)");
+    assert!(
+        m.iter()
+            .any(|m| m.contains("die::sketch") && m.contains("does not fit")),
+        "{m:?}"
+    );
+    // A top too narrow for its corners.
+    let m = messages("let p = b.square(width: 4 mm)");
+    assert!(m.iter().any(|m| m.contains("does not fit")), "{m:?}");
+}
