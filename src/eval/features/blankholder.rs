@@ -32,8 +32,8 @@ use crate::syntax::Span;
 use super::super::builtins::{as_point2, as_point3, type_error};
 use super::super::value::{Data, Feature, Record, Value};
 use super::{
-    angle, check_record, deg, feature_error, feature_value, items, length, mm, number, ratio,
-    record, record_value, show, show_value, Block,
+    angle, check_record, feature_error, feature_value, items, join_figures, length, number, record,
+    show, show_value, Block,
 };
 
 const KIND: &str = "blankholder";
@@ -905,33 +905,13 @@ fn output(block: &Block, binder: bh::Blankholder) -> Value {
             )
         })
         .collect();
-    let (mut gap, mut normal, mut net, mut spread) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
-    let mut joins = Vec::new();
-    for j in &binder.joins {
-        let q = &j.quality;
-        gap = gap.max(q.gap).max(q.net_gap);
-        normal = normal.max(q.normal_angle);
-        net = net.max(q.net_angle);
-        spread = spread.max(q.ratio_spread);
-        joins.push((
-            format!("{} > {}", j.before, j.after),
-            record_value(
-                vec![
-                    ("gap".into(), mm(q.gap.max(q.net_gap), span)),
-                    ("normal_angle".into(), deg(q.normal_angle, span)),
-                    ("net_angle".into(), deg(q.net_angle, span)),
-                    ("ratio_spread".into(), ratio(q.ratio_spread, span)),
-                ],
-                span,
-            ),
-        ));
-    }
-    let mut quality = vec![
-        ("gap".to_string(), mm(gap, span)),
-        ("normal_angle".to_string(), deg(normal, span)),
-        ("net_angle".to_string(), deg(net, span)),
-        ("ratio_spread".to_string(), ratio(spread, span)),
-    ];
+    let (mut quality, joins) = join_figures(
+        binder
+            .joins
+            .iter()
+            .map(|j| (j.before.as_str(), j.after.as_str(), &j.quality)),
+        span,
+    );
     quality.extend(joins);
     feature_value(
         KIND,

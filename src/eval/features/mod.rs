@@ -352,3 +352,43 @@ fn feature_value(
         span,
     )
 }
+
+/// Named values, in order: the fields of a record being built.
+type Fields = Vec<(String, Value)>;
+
+/// The join figures of a feature made of patches: the worst `gap`, `normal_angle`,
+/// `net_angle` and `ratio_spread` over all joins, then one record per join named
+/// `before > after`, for the `quality` record.
+fn join_figures<'j>(
+    joins: impl IntoIterator<Item = (&'j str, &'j str, &'j crate::die::continuity::JoinQuality)>,
+    span: Span,
+) -> (Fields, Fields) {
+    let (mut gap, mut normal, mut net, mut spread) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+    let mut per_join = Vec::new();
+    for (a, b, q) in joins {
+        let join_gap = q.gap.max(q.net_gap);
+        gap = gap.max(join_gap);
+        normal = normal.max(q.normal_angle);
+        net = net.max(q.net_angle);
+        spread = spread.max(q.ratio_spread);
+        per_join.push((
+            format!("{a} > {b}"),
+            record_value(
+                vec![
+                    ("gap".into(), mm(join_gap, span)),
+                    ("normal_angle".into(), deg(q.normal_angle, span)),
+                    ("net_angle".into(), deg(q.net_angle, span)),
+                    ("ratio_spread".into(), ratio(q.ratio_spread, span)),
+                ],
+                span,
+            ),
+        ));
+    }
+    let worst = vec![
+        ("gap".to_string(), mm(gap, span)),
+        ("normal_angle".to_string(), deg(normal, span)),
+        ("net_angle".to_string(), deg(net, span)),
+        ("ratio_spread".to_string(), ratio(spread, span)),
+    ];
+    (worst, per_join)
+}

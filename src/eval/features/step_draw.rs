@@ -32,9 +32,7 @@ use crate::syntax::Span;
 use super::super::builtins::{as_point2, type_error};
 use super::super::sketch::{Sketch, View};
 use super::super::value::{Data, Feature, Value};
-use super::{
-    check_record, deg, feature_error, feature_value, mm, ratio, record, record_value, show, Block,
-};
+use super::{check_record, feature_error, feature_value, join_figures, mm, record, show, Block};
 
 const KIND: &str = "step_draw";
 
@@ -922,26 +920,10 @@ fn output(block: &Block, sd_result: sd::StepDraw) -> Value {
         ));
     }
     let q = &sd_result.quality;
-    let (mut normal, mut net, mut spread, mut gap) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
-    let mut joins = Vec::new();
-    for (a, b, j) in &q.joins {
-        normal = normal.max(j.normal_angle);
-        net = net.max(j.net_angle);
-        spread = spread.max(j.ratio_spread);
-        gap = gap.max(j.gap).max(j.net_gap);
-        joins.push((
-            format!("{a} > {b}"),
-            record_value(
-                vec![
-                    ("gap".into(), mm(j.gap.max(j.net_gap), span)),
-                    ("normal_angle".into(), deg(j.normal_angle, span)),
-                    ("net_angle".into(), deg(j.net_angle, span)),
-                    ("ratio_spread".into(), ratio(j.ratio_spread, span)),
-                ],
-                span,
-            ),
-        ));
-    }
+    let (worst, joins) = join_figures(
+        q.joins.iter().map(|(a, b, j)| (a.as_str(), b.as_str(), j)),
+        span,
+    );
     let mut quality = vec![
         ("product_gap".to_string(), mm(q.product_gap, span)),
         (
@@ -950,11 +932,8 @@ fn output(block: &Block, sd_result: sd::StepDraw) -> Value {
         ),
         ("section_fit".to_string(), mm(q.section_fit, span)),
         ("end_snap".to_string(), mm(q.end_snap, span)),
-        ("gap".to_string(), mm(gap, span)),
-        ("normal_angle".to_string(), deg(normal, span)),
-        ("net_angle".to_string(), deg(net, span)),
-        ("ratio_spread".to_string(), ratio(spread, span)),
     ];
+    quality.extend(worst);
     quality.extend(joins);
     feature_value(
         KIND,
