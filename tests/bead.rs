@@ -175,3 +175,55 @@ bead bad {{
         assert!(d.message.contains(words), "{}", d.message);
     }
 }
+
+/// The line bead reaches forming simulation through the glTF: the bead's node carries
+/// its points (press mm), spacing and force in `extras.line_bead`.
+#[test]
+fn line_beads_are_in_the_gltf_extras() {
+    use dieface::export::{build_scene, encode, Format};
+    use dieface::geom::tessellate::Tolerance;
+    let extra = format!(
+        "{PROFILE}
+bead front_bead {{
+    binder = binder
+    line = sketch(top) {{ from (-420, -575); line to (420, -585) }}
+    profile = bead_profile
+    line_spacing = 20 mm
+    force = 250
+}}
+"
+    );
+    let (engine, out) = fender_with(&extra);
+    assert!(out.diagnostics.is_empty());
+    let scene = build_scene(
+        &out,
+        &engine.sources,
+        &Tolerance::new(0.05).expect("tolerance"),
+    )
+    .expect("the scene builds");
+    let glb = encode(&scene, Format::Glb);
+    let len = u32::from_le_bytes(glb[12..16].try_into().expect("4 bytes")) as usize;
+    let json: serde_json::Value = serde_json::from_slice(&glb[20..20 + len]).expect("JSON chunk");
+    let node = json["nodes"]
+        .as_array()
+        .expect("nodes")
+        .iter()
+        .find(|n| n["name"] == "front_bead")
+        .expect("the bead is a node");
+    let lb = &node["extras"]["line_bead"];
+    assert_eq!(lb["force_n_per_mm"], 250.0);
+    assert_eq!(lb["spacing_mm"], 20.0);
+    let points = lb["points_mm"].as_array().expect("points");
+    let Data::Record(r) = &value(&out, "front_bead").data else {
+        panic!("a record")
+    };
+    let Some(Feature::Bead(bead)) = &r.feature else {
+        panic!("a bead")
+    };
+    assert_eq!(points.len(), bead.line_points.len());
+    assert!(points.len() >= 840 / 20, "about one point every 20 mm");
+    for (p, q) in points.iter().zip(&bead.line_points) {
+        let x = p[0].as_f64().expect("a number");
+        assert!((x - q.x).abs() < 1e-9);
+    }
+}

@@ -446,6 +446,7 @@ fn empty_geometry_writes_no_accessor() {
         line: 1,
         children: Vec::new(),
         geometry,
+        line_bead: None,
     };
     let scene = Scene {
         nodes: vec![
@@ -531,6 +532,7 @@ fn large_meshes_use_u32_indices_small_ones_u16() {
                 line: 1,
                 children: Vec::new(),
                 geometry: vec![triangles(n)],
+                line_bead: None,
             }],
             tolerance_mm: 0.01,
             source_name: "hand.die".into(),

@@ -16,7 +16,8 @@
 //! `f32` unit `VEC3`, indices `u16` when every index fits below the primitive-restart
 //! value 65535 and `u32` otherwise. Triangles are mode 4, curves mode 3 (`LINE_STRIP`).
 //! One material per declaration kind present, double-sided (die faces are open sheets).
-//! Every node has `extras` { name, kind, line, tolerance_mm, source }.
+//! Every node has `extras` { name, kind, line, tolerance_mm, source }; a draw bead's node
+//! also has `line_bead` { points_mm (press coordinates, Z up), spacing_mm, force_n_per_mm }.
 
 use glam::DVec3;
 use serde_json::{json, Map, Value};
@@ -147,16 +148,25 @@ impl Document {
         if !children.is_empty() {
             obj.insert("children".into(), json!(children));
         }
-        obj.insert(
-            "extras".into(),
-            json!({
-                "name": node.name,
-                "kind": node.kind,
-                "line": node.line,
-                "tolerance_mm": self.tolerance_mm,
-                "source": self.source,
-            }),
-        );
+        let mut extras = json!({
+            "name": node.name,
+            "kind": node.kind,
+            "line": node.line,
+            "tolerance_mm": self.tolerance_mm,
+            "source": self.source,
+        });
+        if let (Some(lb), Value::Object(map)) = (&node.line_bead, &mut extras) {
+            let points: Vec<[f64; 3]> = lb.points.iter().map(|p| [p.x, p.y, p.z]).collect();
+            map.insert(
+                "line_bead".into(),
+                json!({
+                    "points_mm": points,
+                    "spacing_mm": lb.spacing,
+                    "force_n_per_mm": lb.force,
+                }),
+            );
+        }
+        obj.insert("extras".into(), extras);
         self.nodes[index] = Value::Object(obj);
         index
     }

@@ -24,7 +24,7 @@ pub mod scene;
 
 use std::path::Path;
 
-pub use scene::{build_scene, Geometry, Node, Scene};
+pub use scene::{build_scene, Geometry, LineBead, Node, Scene};
 
 /// Output formats by file extension.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -32,7 +32,8 @@ use std::sync::Arc;
 use glam::DVec3;
 
 use crate::diag::{Diagnostic, Sources};
-use crate::eval::value::{Data, Value};
+use crate::die::bead::Bead;
+use crate::eval::value::{Data, Feature, Record, Value};
 use crate::eval::Outcome;
 use crate::geom::mesh::Mesh;
 use crate::geom::tessellate::{tessellate_curve, tessellate_surface, Tolerance};
@@ -63,6 +64,21 @@ pub struct Node {
     pub children: Vec<Node>,
     /// The node's own primitives (none for a pure group).
     pub geometry: Vec<Geometry>,
+    /// For a draw bead, its line bead for forming simulation (written to glTF extras).
+    pub line_bead: Option<LineBead>,
+}
+
+/// A line bead: the bead's centre line on the binder as points every `spacing`, with
+/// the restraining force a forming simulation applies along it (LS-DYNA
+/// `*CONTACT_DRAWBEAD`-style).
+#[derive(Debug, Clone, PartialEq)]
+pub struct LineBead {
+    /// Points in press coordinates (mm).
+    pub points: Vec<DVec3>,
+    /// Distance between the points along the line (mm).
+    pub spacing: f64,
+    /// Restraining force per unit length (N/mm), if the script gives one.
+    pub force: Option<f64>,
 }
 
 /// A primitive, in press coordinates (millimetres).
@@ -245,6 +261,7 @@ impl Ctx<'_> {
             line: self.line_of(value.span),
             children: Vec::new(),
             geometry: Vec::new(),
+            line_bead: None,
         };
         if let (Some(cache), Some(id)) = (self.cache, identity(&value.data)) {
             if let Some(entry) = cache.borrow_mut().get_mut(&id) {
@@ -284,6 +301,9 @@ impl Ctx<'_> {
                 }
             }
             Data::Record(r) => {
+                if let Some(Feature::Bead(b)) = &r.feature {
+                    node.line_bead = Some(line_bead(b, r));
+                }
                 for (field, v) in &r.fields {
                     if r.feature.as_ref().is_some_and(|f| !f.exports_field(field)) {
                         continue;
@@ -370,5 +390,28 @@ fn mesh_triangles(m: &Mesh) -> Geometry {
         positions: tri.positions().to_vec(),
         normals,
         indices,
+    }
+}
+
+/// The line bead of a bead feature's record: its points, and the spacing and force the
+/// record's `line_bead` field holds.
+fn line_bead(bead: &Bead, r: &Record) -> LineBead {
+    let number = |name: &str| -> Option<f64> {
+        let Some(Value {
+            data: Data::Record(lb),
+            ..
+        }) = r.get("line_bead")
+        else {
+            return None;
+        };
+        match lb.get(name).map(|v| &v.data) {
+            Some(Data::Number(q)) => Some(q.value),
+            _ => None,
+        }
+    };
+    LineBead {
+        points: bead.line_points.clone(),
+        spacing: number("spacing").unwrap_or(0.0),
+        force: number("force"),
     }
 }
