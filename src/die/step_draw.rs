@@ -1260,15 +1260,43 @@ fn reverse_across(s: &NurbsSurface) -> NurbsSurface {
 }
 
 /// Largest distance from the iso-curve `v = v_edge` of `s` to a polyline, sampled.
+///
+/// Consecutive samples have nearby feet, so each search looks at a window of segments
+/// around the previous foot first, and scans the whole polyline only when the best in
+/// the window sits at its edge (the foot may lie beyond it) or is more than 0.1 mm off.
 fn edge_to_polyline(s: &NurbsSurface, v_edge: f64, line: &[DVec3]) -> f64 {
+    const WINDOW: usize = 64;
+    let segments = line.len().saturating_sub(1);
+    if segments == 0 {
+        return f64::INFINITY;
+    }
+    let nearest = |p: DVec3, range: std::ops::Range<usize>| -> (usize, f64) {
+        range
+            .map(|k| (k, distance_to_segment(p, line[k], line[k + 1])))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .unwrap_or((0, f64::INFINITY))
+    };
     let (u0, u1) = s.domain_u();
     let mut worst: f64 = 0.0;
+    let mut last: Option<usize> = None;
     for i in 0..=QUALITY_SAMPLES {
         let p = s.point_at(u0 + (u1 - u0) * i as f64 / QUALITY_SAMPLES as f64, v_edge);
-        let d = line
-            .windows(2)
-            .map(|w| distance_to_segment(p, w[0], w[1]))
-            .fold(f64::INFINITY, f64::min);
+        let (k, d) = match last {
+            Some(k) => {
+                let (lo, hi) = (k.saturating_sub(WINDOW), (k + WINDOW + 1).min(segments));
+                let (best, d) = nearest(p, lo..hi);
+                // At either end of the window (the polyline's own ends included: a
+                // closed line's foot may wrap round) or far off: look everywhere.
+                let at_edge = best == lo || best + 1 == hi;
+                if at_edge || d > 0.1 {
+                    nearest(p, 0..segments)
+                } else {
+                    (best, d)
+                }
+            }
+            None => nearest(p, 0..segments),
+        };
+        last = Some(k);
         worst = worst.max(d);
     }
     worst
