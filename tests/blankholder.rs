@@ -6,10 +6,11 @@
 #[path = "common/square.rs"]
 mod square;
 
+#[path = "common/fender.rs"]
+mod fender_example;
 #[path = "common/joins.rs"]
 mod joins;
 use std::f64::consts::FRAC_PI_2;
-use std::path::Path;
 use std::sync::Arc;
 
 use dieface::die::blankholder::{
@@ -22,11 +23,12 @@ use dieface::die::punch_opening::{
     SideView,
 };
 use dieface::eval::value::Feature;
-use dieface::eval::{Data, Engine, Value};
+use dieface::eval::{Data, Value};
 use dieface::geom::arc::circular_arc;
 use dieface::geom::inversion::closest_point_on_curve;
 use dieface::geom::tessellate::{tessellate_curve, Tolerance};
 use dieface::geom::{Curve3, GeomError, NurbsSurface};
+use fender_example::fender_values;
 use glam::{DVec2, DVec3};
 use joins::*;
 use square::*;
@@ -220,22 +222,7 @@ fn check_stations(
 // ---------------------------------------------------------------------------------
 
 fn fender() -> (Arc<PunchOpening>, Arc<Blankholder>, Vec<(String, Value)>) {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
-    let mut engine = Engine::new(Some(root.clone()));
-    let outcome = engine
-        .evaluate_path(&root.join("fender/fender.die"))
-        .expect("readable example");
-    let rendered: Vec<String> = outcome
-        .diagnostics
-        .iter()
-        .map(|d| engine.sources.render(d, false))
-        .collect();
-    assert!(rendered.is_empty(), "{}", rendered.join("\n"));
-    let values: Vec<(String, Value)> = outcome
-        .decls
-        .iter()
-        .filter_map(|d| d.value.clone().map(|v| (d.name.clone(), v)))
-        .collect();
+    let values = fender_values();
     let feature = |name: &str| -> Feature {
         let (_, v) = values
             .iter()

@@ -9,8 +9,9 @@
 #[path = "common/square.rs"]
 mod square;
 
+#[path = "common/fender.rs"]
+mod fender_example;
 use std::f64::consts::{FRAC_PI_2, PI};
-use std::path::Path;
 use std::sync::Arc;
 
 use dieface::die::punch_opening::{
@@ -19,9 +20,10 @@ use dieface::die::punch_opening::{
 };
 use dieface::eval::sketch::View;
 use dieface::eval::value::Feature;
-use dieface::eval::{Data, Engine, Value};
+use dieface::eval::{Data, Value};
 use dieface::geom::arc::{circular_arc, Circle};
 use dieface::geom::{Curve2, Curve3};
+use fender_example::fender_values;
 use glam::{DVec2, DVec3};
 use square::*;
 
@@ -264,22 +266,7 @@ impl Fender {
 }
 
 fn fender() -> Fender {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
-    let mut engine = Engine::new(Some(root.clone()));
-    let outcome = engine
-        .evaluate_path(&root.join("fender/fender.die"))
-        .expect("readable example");
-    let rendered: Vec<String> = outcome
-        .diagnostics
-        .iter()
-        .map(|d| engine.sources.render(d, false))
-        .collect();
-    assert!(rendered.is_empty(), "{}", rendered.join("\n"));
-    let values: Vec<(String, Value)> = outcome
-        .decls
-        .iter()
-        .filter_map(|d| d.value.clone().map(|v| (d.name.clone(), v)))
-        .collect();
+    let values = fender_values();
     let opening = values
         .iter()
         .find_map(|(name, v)| match &v.data {

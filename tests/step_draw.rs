@@ -8,19 +8,21 @@
 //! Every figure is measured here from the built surfaces and the guides, independently
 //! of the figures the kernel stores (which are cross-checked, not trusted).
 
+#[path = "common/fender.rs"]
+mod fender_example;
 #[path = "common/joins.rs"]
 mod joins;
-use std::path::Path;
 use std::sync::Arc;
 
 use dieface::die::continuity::measure_join;
 use dieface::die::punch_opening::PunchOpening;
 use dieface::die::step_draw::{self as sd, Guides, Options, Patch, Problem, SectionSpec, StepDraw};
 use dieface::eval::value::Feature;
-use dieface::eval::{Data, Engine, Value};
+use dieface::eval::{Data, Value};
 use dieface::geom::interpolate::{interpolate, Interpolation};
 use dieface::geom::inversion::{closest_point_on_curve, project_to_curve_near};
 use dieface::geom::{Curve2, Curve3, Direction, NurbsCurve, NurbsSurface};
+use fender_example::fender_values;
 use glam::{DVec2, DVec3};
 use joins::*;
 
@@ -349,22 +351,7 @@ fn check(label: &str, guides: &Guides, built: &StepDraw) -> Figures {
 // ---------------------------------------------------------------------------------
 
 fn fender() -> (Arc<StepDraw>, Curve3, Arc<PunchOpening>) {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
-    let mut engine = Engine::new(Some(root.clone()));
-    let outcome = engine
-        .evaluate_path(&root.join("fender/fender.die"))
-        .expect("readable example");
-    let rendered: Vec<String> = outcome
-        .diagnostics
-        .iter()
-        .map(|d| engine.sources.render(d, false))
-        .collect();
-    assert!(rendered.is_empty(), "{}", rendered.join("\n"));
-    let values: Vec<(String, Value)> = outcome
-        .decls
-        .iter()
-        .filter_map(|d| d.value.clone().map(|v| (d.name.clone(), v)))
-        .collect();
+    let values = fender_values();
     let value = |name: &str| -> &Value {
         &values
             .iter()
