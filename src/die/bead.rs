@@ -17,6 +17,7 @@
 
 use glam::{DVec2, DVec3};
 
+use super::punch_opening::inside_outline;
 use crate::geom::construct::{loft, Loft};
 use crate::geom::interpolate::{interpolate, interpolate_at, Interpolation};
 use crate::geom::{Curve2, Curve3, GeomError, NurbsSurface};
@@ -199,18 +200,7 @@ impl<'a> Binder<'a> {
 
     /// Whether `p` lies inside the binder's inner edge (the punch opening).
     pub fn in_opening(&self, p: DVec2) -> bool {
-        let poly = self.inner;
-        let mut inside = false;
-        for k in 0..poly.len() {
-            let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
-            if (a.y > p.y) != (b.y > p.y) {
-                let x = a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x);
-                if p.x < x {
-                    inside = !inside;
-                }
-            }
-        }
-        inside
+        inside_outline(self.inner, p)
     }
 }
 

@@ -30,7 +30,7 @@
 use glam::{DVec2, DVec3};
 
 use super::continuity::{measure_join, JoinQuality};
-use super::punch_opening::{PieceKind, PunchOpening};
+use super::punch_opening::{inside_outline, PieceKind, PunchOpening};
 use crate::geom::construct::ruled;
 use crate::geom::interpolate::{interpolate_at, Interpolation};
 use crate::geom::tessellate::{tessellate_curve, Tolerance};
@@ -198,6 +198,7 @@ const FOLD_SAMPLES: usize = 400;
 /// Builds the blankholder around `opening` (module documentation).
 pub fn build(opening: &PunchOpening, spec: &[PieceSpec]) -> Result<Blankholder, Error> {
     let n = opening.pieces.len();
+    let outline = opening.top_outline();
     if spec.len() != n {
         return Err(fail(0, Problem::Mismatch));
     }
@@ -279,7 +280,7 @@ pub fn build(opening: &PunchOpening, spec: &[PieceSpec]) -> Result<Blankholder, 
             &Interpolation::cubic_with_tangents(start, end),
         )
         .map_err(at(k))?;
-        check_outside(opening, &outer, k)?;
+        check_outside(&outline, &outer, k)?;
         outers[k] = Some(outer);
     }
 
@@ -307,7 +308,7 @@ pub fn build(opening: &PunchOpening, spec: &[PieceSpec]) -> Result<Blankholder, 
             opening.delta,
         )
         .map_err(at(k))?;
-        check_outside(opening, &g1, k)?;
+        check_outside(&outline, &g1, k)?;
         outers[k] = Some(g1);
     }
 
@@ -338,7 +339,7 @@ pub fn build(opening: &PunchOpening, spec: &[PieceSpec]) -> Result<Blankholder, 
     Ok(Blankholder {
         patches,
         joins,
-        inner_outline: opening.top_outline(),
+        inner_outline: outline,
     })
 }
 
@@ -481,12 +482,12 @@ pub fn outer_corner(
     interpolate_at(&moved, &params, &Interpolation::cubic_with_tangents(d0, d1))
 }
 
-fn check_outside(opening: &PunchOpening, outer: &Curve3, k: usize) -> Result<(), Error> {
+fn check_outside(outline: &[DVec2], outer: &Curve3, k: usize) -> Result<(), Error> {
     let (t0, t1) = outer.domain();
     // The ends sit on the opening's normal lines; interior samples must lie outside.
     for i in 1..CROSSING_SAMPLES {
         let p = outer.point_at(t0 + (t1 - t0) * i as f64 / CROSSING_SAMPLES as f64);
-        if opening.contains_in_top_view(p.truncate()) {
+        if inside_outline(outline, p.truncate()) {
             return Err(fail(k, Problem::CrossesOpening { at: p }));
         }
     }

@@ -216,24 +216,6 @@ impl PunchOpening {
         }
     }
 
-    /// Whether the top-view point `p` lies inside the opening's top-view outline
-    /// (sampled at the tolerance `delta`, even-odd rule).
-    pub fn contains_in_top_view(&self, p: DVec2) -> bool {
-        let outline = self.top_outline();
-        let mut inside = false;
-        for k in 0..outline.len() {
-            let a = outline[k];
-            let b = outline[(k + 1) % outline.len()];
-            if (a.y > p.y) != (b.y > p.y) {
-                let x = a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x);
-                if p.x < x {
-                    inside = !inside;
-                }
-            }
-        }
-        inside
-    }
-
     /// The top-view outline as a closed polygon (first point not repeated).
     pub fn top_outline(&self) -> Vec<DVec2> {
         let mut out = Vec::new();
@@ -246,6 +228,24 @@ impl PunchOpening {
         }
         out
     }
+}
+
+/// Whether the top-view point `p` lies inside the closed polygon `outline` (even-odd
+/// rule; the first point is not repeated): the test of what lies inside a punch
+/// opening's [`PunchOpening::top_outline`].
+pub fn inside_outline(outline: &[DVec2], p: DVec2) -> bool {
+    let mut inside = false;
+    for k in 0..outline.len() {
+        let a = outline[k];
+        let b = outline[(k + 1) % outline.len()];
+        if (a.y > p.y) != (b.y > p.y) {
+            let x = a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x);
+            if p.x < x {
+                inside = !inside;
+            }
+        }
+    }
+    inside
 }
 
 /// What went wrong, and at which piece.
