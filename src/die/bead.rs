@@ -1,41 +1,87 @@
 //! Draw beads on the blankholder (primer section 5; paper 001 section 5, Fig. 13).
 //!
-//! The designer draws the bead's centre line in the top view and picks a cross-section
-//! profile (height above the binder across the bead). [`build`]:
+//! The designer draws the bead's centre line, or its two boundaries, in the top view
+//! and gives its cross-section at key sections. [`build`] makes the paper's curve net
+//! and skins it:
 //!
-//! 1. projects the centre line along the blank-holding direction (press Z) onto the
-//!    binder, across side and corner patches: a 3-D curve on the binder;
-//! 2. places key sections every `spacing` along it: each runs across the bead in the
-//!    vertical plane normal to the centre line's top-view tangent, its points dropped
-//!    onto the binder and raised by the profile's height (scaled down to zero over the
-//!    `taper` length at both ends), so the bead's feet lie on the binder;
-//! 3. skins the sections into the bead surface ([`loft`]);
-//! 4. resamples the centre line every `line_spacing` for the line bead of forming
-//!    simulation (a polyline with a restraining force).
+//! 1. **Boundaries** (step 1): the top-view course is projected along the
+//!    blank-holding direction (press Z) onto the binder, across side and corner
+//!    patches. With a centre line the feet lie at the profile's own half widths; with
+//!    two boundaries each section's profile is stretched across to them.
+//! 2. **Key sections** (step 2): at designer positions along the bead, each with its
+//!    own profile (height above the binder across the bead). Between key sections the
+//!    profile changes smoothly (a smoothstep blend of corresponding points), and its
+//!    height runs out to zero over the `taper` length at both ends.
+//! 3. **Rules** (step 3): where the designer gives rule points (positions across each
+//!    key section that belong together, such as the crests of a round and a double
+//!    bead), corresponding points are matched piece by piece between them, so the rule
+//!    curves run through the same feature of every section; without rules the whole
+//!    profile is matched by arc length.
+//! 4. **Skinning** (step 4): sections every `spacing` (more where the skin would
+//!    leave the binder) are placed in vertical planes across the bead, dropped onto the
+//!    binder, raised by the profile, and skinned by [`loft`]; every section, foot line
+//!    and rule is an iso-curve of the surface.
 //!
-//! Heights are measured along press Z, the direction the binder closes in.
+//! The centre line resampled every `line_spacing` is the *line bead* of forming
+//! simulation (a polyline with a restraining force). Heights are measured along press
+//! Z, the direction the binder closes in.
 
 use glam::{DVec2, DVec3};
 
 use super::punch_opening::inside_outline;
 use crate::geom::construct::{loft, Loft};
+use crate::geom::curve::ArcLengths;
 use crate::geom::interpolate::{interpolate, interpolate_at, Interpolation};
-use crate::geom::{Curve2, Curve3, GeomError, NurbsSurface};
+use crate::geom::inversion::project_to_curve_near;
+use crate::geom::{Curve2, Curve3, Direction, GeomError, NurbsSurface};
+
+/// Where the bead runs in the top view.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Course {
+    /// The centre line: the profile keeps its own width around it.
+    Centre(Curve2),
+    /// The two boundary lines (the feet): each section's profile is stretched across
+    /// from one to the other, so the bead may widen and narrow.
+    Boundaries(Curve2, Curve2),
+}
+
+/// A position along the bead's centre line in the top view.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Along {
+    /// A fraction (0 to 1) of the centre line's length.
+    Fraction(f64),
+    /// A length (mm) from the start of the centre line.
+    Length(f64),
+}
+
+/// The bead's cross-section at one designer position.
+#[derive(Debug, Clone, PartialEq)]
+pub struct KeySection {
+    /// Position along the bead.
+    pub at: Along,
+    /// The cross-section: (s across the bead, height above the binder), from foot to
+    /// foot, both at height 0; s increases to the left of the direction of travel.
+    pub profile: Curve2,
+    /// Rule points: positions s across this profile that correspond, in order, to the
+    /// rule points of the other key sections.
+    pub rules: Vec<f64>,
+}
 
 /// The designer's input for one bead.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BeadSpec {
-    /// The centre line in the top view.
-    pub centre: Curve2,
-    /// The cross-section: (s across the bead, height above the binder), from the left
-    /// foot to the right foot, both at height 0.
-    pub profile: Curve2,
+    /// The course in the top view.
+    pub course: Course,
+    /// Key sections, at least one, in order along the bead.
+    pub sections: Vec<KeySection>,
     /// Length (mm) over which the height runs out to zero at both ends; 0 for none.
     pub taper: f64,
-    /// Distance (mm) between key sections along the bead.
+    /// Distance (mm) between sections along the bead.
     pub spacing: f64,
     /// Distance (mm) between the line bead's points.
     pub line_spacing: f64,
+    /// The tallest bead (mm) the binder allows.
+    pub max_height: f64,
 }
 
 /// Quality figures of a bead.
@@ -43,13 +89,17 @@ pub struct BeadSpec {
 pub struct BeadQuality {
     /// Largest distance (mm, along Z) between the bead's feet and the binder, sampled.
     pub foot_gap: f64,
-    /// Largest distance (mm, along Z) between a key section's points and the binder plus
+    /// Largest distance (mm, along Z) between a section's points and the binder plus
     /// the profile height they should have.
     pub section_error: f64,
-    /// Number of key sections.
+    /// Number of sections skinned.
     pub sections: usize,
     /// Length (mm) of the centre line on the binder.
     pub length: f64,
+    /// The tallest point (mm) of the bead above the binder.
+    pub height: f64,
+    /// Narrowest and widest distance (mm, top view) between the feet.
+    pub width: (f64, f64),
 }
 
 /// A built bead.
@@ -61,8 +111,10 @@ pub struct Bead {
     pub centre: Curve3,
     /// The line bead: the centre line resampled every `line_spacing`.
     pub line_points: Vec<DVec3>,
-    /// The key sections in 3-D.
+    /// The key sections in 3-D, in the order given.
     pub sections: Vec<Curve3>,
+    /// The rule curves (iso-curves through the rule points), in order across.
+    pub rules: Vec<Curve3>,
     /// Quality figures.
     pub quality: BeadQuality,
 }
@@ -70,7 +122,7 @@ pub struct Bead {
 /// The problems [`build`] reports.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Problem {
-    /// The centre line (or the bead's width around it) leaves the binder in the top view.
+    /// The course (or the bead's width around it) leaves the binder in the top view.
     LeavesBinder {
         /// The top-view point with no binder under it.
         at: DVec2,
@@ -80,8 +132,58 @@ pub enum Problem {
         /// The top-view point inside the opening.
         at: DVec2,
     },
-    /// The profile does not start and end at height 0.
-    ProfileFeet,
+    /// A key section's profile does not start and end at height 0.
+    ProfileFeet {
+        /// The key section.
+        section: usize,
+    },
+    /// A key section's profile runs backwards across the bead: the bead would overhang
+    /// (an undercut in the press direction).
+    ProfileFolds {
+        /// The key section.
+        section: usize,
+        /// Where across the profile it turns back (mm).
+        s: f64,
+    },
+    /// A key section is taller than the binder allows.
+    TooTall {
+        /// The key section.
+        section: usize,
+        /// Its height (mm).
+        height: f64,
+        /// The binder's limit (mm).
+        limit: f64,
+    },
+    /// Key sections with different numbers of rule points.
+    RuleCount {
+        /// The key section that differs from the first.
+        section: usize,
+        /// The first key section's count.
+        expected: usize,
+        /// This section's count.
+        given: usize,
+    },
+    /// A rule point outside its profile's feet, or out of order.
+    RuleOutside {
+        /// The key section.
+        section: usize,
+        /// The rule point (mm across).
+        s: f64,
+        /// The profile's feet (mm across).
+        feet: (f64, f64),
+    },
+    /// Key section positions outside the bead, or not in order along it.
+    SectionOrder {
+        /// The first key section out of place.
+        section: usize,
+    },
+    /// A section line across the bead does not meet a boundary.
+    MissesBoundary {
+        /// Which boundary (0 or 1).
+        boundary: usize,
+        /// The centre-line point of that section.
+        at: DVec2,
+    },
     /// A spacing or taper that is not a positive (or, for taper, non-negative) length.
     BadLength(&'static str),
     /// The kernel failed.
@@ -101,9 +203,42 @@ impl std::fmt::Display for Problem {
                 "the bead crosses into the punch opening near ({:.1}, {:.1})",
                 at.x, at.y
             ),
-            Problem::ProfileFeet => write!(
+            Problem::ProfileFeet { section } => write!(
                 f,
-                "a bead profile starts and ends on the binder, at height 0"
+                "the profile of key section {section} does not start and end at height 0"
+            ),
+            Problem::ProfileFolds { section, s } => write!(
+                f,
+                "the profile of key section {section} runs backwards at s = {s:.2} mm"
+            ),
+            Problem::TooTall {
+                section,
+                height,
+                limit,
+            } => write!(
+                f,
+                "key section {section} is {height:.2} mm tall; the binder allows {limit:.2} mm"
+            ),
+            Problem::RuleCount {
+                section,
+                expected,
+                given,
+            } => write!(
+                f,
+                "key section {section} has {given} rule points, the first has {expected}"
+            ),
+            Problem::RuleOutside { section, s, feet } => write!(
+                f,
+                "rule point {s:.2} mm of key section {section} is not inside its feet ({:.2}, {:.2}) in order",
+                feet.0, feet.1
+            ),
+            Problem::SectionOrder { section } => {
+                write!(f, "key section {section} is out of order along the bead")
+            }
+            Problem::MissesBoundary { boundary, at } => write!(
+                f,
+                "the section across ({:.1}, {:.1}) does not meet boundary {boundary}",
+                at.x, at.y
             ),
             Problem::BadLength(what) => write!(f, "the {what} must be a positive length"),
             Problem::Kernel(e) => write!(f, "{e}"),
@@ -117,8 +252,8 @@ impl From<GeomError> for Problem {
     }
 }
 
-/// Points per key section.
-const SECTION_POINTS: usize = 41;
+/// Intervals across a section (points per section minus one).
+const SECTION_INTERVALS: usize = 48;
 
 /// The foot gap (mm) above which a section is added between two others.
 const FOOT_TOLERANCE: f64 = 0.0005;
@@ -128,6 +263,12 @@ const MAX_REFINEMENTS: usize = 6;
 
 /// Samples along each foot for the foot-gap figure.
 pub const FOOT_SAMPLES: usize = 400;
+
+/// Samples of a profile for its fold and rule checks.
+const PROFILE_SAMPLES: usize = 512;
+
+/// Samples of a boundary line for finding where a section crosses it.
+const BOUNDARY_SAMPLES: usize = 512;
 
 /// A patch sample `(u, v, top-view point)`, a start for Newton.
 type GridSample = (f64, f64, DVec2);
@@ -202,6 +343,14 @@ impl<'a> Binder<'a> {
     pub fn in_opening(&self, p: DVec2) -> bool {
         inside_outline(self.inner, p)
     }
+
+    /// The binder point under `p`, or why there is none.
+    fn base(&self, p: DVec2) -> Result<DVec3, Problem> {
+        if self.in_opening(p) {
+            return Err(Problem::CrossesOpening { at: p });
+        }
+        self.point_over(p).ok_or(Problem::LeavesBinder { at: p })
+    }
 }
 
 /// Newton on `S(u, v).xy = p` from `(u, v)`, inside the domain; the point if it
@@ -246,103 +395,72 @@ fn solve_xy(s: &NurbsSurface, p: DVec2, mut u: f64, mut v: f64) -> Option<(DVec3
 
 /// Builds a bead on `binder` (module documentation).
 pub fn build(binder: &Binder, spec: &BeadSpec) -> Result<Bead, Problem> {
-    for (what, value, strict) in [
-        ("section spacing", spec.spacing, true),
-        ("line-bead spacing", spec.line_spacing, true),
-        ("taper length", spec.taper, false),
-    ] {
-        let ok = value.is_finite() && if strict { value > 0.0 } else { value >= 0.0 };
-        if !ok {
-            return Err(Problem::BadLength(what));
-        }
-    }
-    let (a, b) = (spec.profile.start_point(), spec.profile.end_point());
-    let scale = spec.profile.control_scale().max(1.0);
-    if a.y.abs() > 1e-9 * scale || b.y.abs() > 1e-9 * scale {
-        return Err(Problem::ProfileFeet);
-    }
+    check_lengths(spec)?;
+    let course = CourseMap::new(&spec.course)?;
+    let ats = key_positions(spec, course.length)?;
+    let profiles = matched_profiles(spec, &ats)?;
 
-    // Step 1: the centre line on the binder, sampled about every 2 mm.
-    let centre2 = &spec.centre;
-    let length2 = centre2.length();
+    // Step 1: the centre line on the binder, sampled about every 2 mm; the course must
+    // stay over the binder and outside the opening.
+    let length2 = course.length;
     let samples = ((length2 / 2.0).ceil() as usize).clamp(8, 4000);
     let mut centre_points = Vec::with_capacity(samples + 1);
     for i in 0..=samples {
-        let t = parameter_at_fraction(centre2, i as f64 / samples as f64, length2)?;
-        let p = centre2.point_at(t);
-        if binder.in_opening(p) {
-            return Err(Problem::CrossesOpening { at: p });
-        }
-        let q = binder
-            .point_over(p)
-            .ok_or(Problem::LeavesBinder { at: p })?;
-        centre_points.push(q);
+        let (c, _) = course.frame(i as f64 / samples as f64)?;
+        centre_points.push(binder.base(c)?);
     }
     let centre = interpolate(&centre_points, &Interpolation::default())?;
 
-    // Step 2: key sections, every `spacing`, then more where the skinned feet leave
-    // the binder by more than FOOT_TOLERANCE between two sections.
-    let profile_params: Vec<f64> = (0..SECTION_POINTS)
-        .map(|i| i as f64 / (SECTION_POINTS - 1) as f64)
-        .collect();
-    let profile_length = spec.profile.length();
-    let mut profile_points = Vec::with_capacity(SECTION_POINTS);
-    for &f in &profile_params {
-        profile_points.push(spec.profile.point_at(parameter_at_fraction(
-            &spec.profile,
-            f,
-            profile_length,
-        )?));
-    }
-    let section_at = |along: f64| -> Result<Curve3, Problem> {
-        let t = parameter_at_fraction(centre2, along, length2)?;
-        let [c, d] = centre2.derivatives::<2>(t);
-        let across = d.normalize_or_zero().perp();
-        if across == DVec2::ZERO {
-            return Err(Problem::Kernel(GeomError::ZeroVector {
-                what: "bead centre-line tangent",
-            }));
-        }
+    // Steps 2-3: a section at any fraction along the bead, from the matched profiles.
+    let section_at = |along: f64| -> Result<(Curve3, f64), Problem> {
+        let (c, across) = course.frame(along)?;
         let height_factor = taper_factor(along * length2, length2, spec.taper);
-        let mut points = Vec::with_capacity(SECTION_POINTS);
-        for q in &profile_points {
-            let p = c + across * q.x;
-            if binder.in_opening(p) {
-                return Err(Problem::CrossesOpening { at: p });
-            }
-            let base = binder
-                .point_over(p)
-                .ok_or(Problem::LeavesBinder { at: p })?;
+        let shape = profiles.blend(along);
+        let (s0, s1) = (shape[0].x, shape[shape.len() - 1].x);
+        let stretch = course.feet(c, across)?;
+        let mut points = Vec::with_capacity(shape.len());
+        for q in &shape {
+            let offset = match stretch {
+                None => q.x,
+                Some((low, high)) => low + (q.x - s0) / (s1 - s0) * (high - low),
+            };
+            let base = binder.base(c + across * offset)?;
             points.push(base + DVec3::Z * (q.y * height_factor));
         }
-        Ok(interpolate_at(
-            &points,
-            &profile_params,
-            &Interpolation::default(),
-        )?)
+        let width = points[0]
+            .truncate()
+            .distance(points[points.len() - 1].truncate());
+        let curve = interpolate_at(&points, &profiles.params, &Interpolation::default())?;
+        Ok((curve, width))
     };
+
+    // Step 4: sections every `spacing` and at every key section, then more where the
+    // skinned feet leave the binder by more than FOOT_TOLERANCE between two sections.
     let count = ((length2 / spec.spacing).ceil() as usize).max(2);
     let mut stations: Vec<f64> = (0..=count).map(|k| k as f64 / count as f64).collect();
-    let mut sections = stations
-        .iter()
-        .map(|&a| section_at(a))
-        .collect::<Result<Vec<_>, _>>()?;
+    for &at in &ats {
+        let i = stations.partition_point(|&x| x < at);
+        let near = |j: usize| stations.get(j).is_some_and(|&x| (x - at).abs() < 1e-9);
+        let present = near(i) || (i > 0 && near(i - 1));
+        if !present {
+            stations.insert(i, at);
+        }
+    }
+    let mut sections = Vec::with_capacity(stations.len());
+    let (mut narrow, mut wide) = (f64::INFINITY, 0.0f64);
+    for &a in &stations {
+        let (s, w) = section_at(a)?;
+        narrow = narrow.min(w);
+        wide = wide.max(w);
+        sections.push(s);
+    }
     let mut surface = loft(&sections, &Loft::default())?;
     for _ in 0..MAX_REFINEMENTS {
-        // The foot gap halfway between neighbouring sections, in the loft's v.
         let vs = section_parameters(&surface, sections.len());
         let mut inserted = Vec::new();
         for k in 0..sections.len() - 1 {
             let v = 0.5 * (vs[k] + vs[k + 1]);
-            let mut worst: f64 = 0.0;
-            for u in [surface.domain_u().0, surface.domain_u().1] {
-                let p = surface.point_at(u, v);
-                let base = binder
-                    .point_over(p.truncate())
-                    .ok_or(Problem::LeavesBinder { at: p.truncate() })?;
-                worst = worst.max((p.z - base.z).abs());
-            }
-            if worst > FOOT_TOLERANCE {
+            if foot_gap_at(binder, &surface, v)? > FOOT_TOLERANCE {
                 inserted.push(0.5 * (stations[k] + stations[k + 1]));
             }
         }
@@ -351,76 +469,551 @@ pub fn build(binder: &Binder, spec: &BeadSpec) -> Result<Bead, Problem> {
         }
         for a in inserted {
             let i = stations.partition_point(|&x| x < a);
+            let (s, w) = section_at(a)?;
+            narrow = narrow.min(w);
+            wide = wide.max(w);
             stations.insert(i, a);
-            sections.insert(i, section_at(a)?);
+            sections.insert(i, s);
         }
         surface = loft(&sections, &Loft::default())?;
     }
 
-    // Quality: the feet on the binder, and the sections at their heights.
-    let (mut foot_gap, mut section_error) = (0.0f64, 0.0f64);
-    let (u0, u1) = surface.domain_u();
+    // Quality: the feet on the binder, and every section at the height it should have.
     let (v0, v1) = surface.domain_v();
-    for u in [u0, u1] {
-        for i in 0..=FOOT_SAMPLES {
-            let v = v0 + (v1 - v0) * i as f64 / FOOT_SAMPLES as f64;
-            let p = surface.point_at(u, v);
-            let base = binder
-                .point_over(p.truncate())
-                .ok_or(Problem::LeavesBinder { at: p.truncate() })?;
-            foot_gap = foot_gap.max((p.z - base.z).abs());
+    let mut foot_gap = 0.0f64;
+    for i in 0..=FOOT_SAMPLES {
+        let v = v0 + (v1 - v0) * i as f64 / FOOT_SAMPLES as f64;
+        foot_gap = foot_gap.max(foot_gap_at(binder, &surface, v)?);
+    }
+    let mut height = 0.0f64;
+    for s in &sections {
+        for &u in &profiles.params {
+            let p = s.point_at(u);
+            height = height.max(p.z - binder.base(p.truncate())?.z);
         }
     }
-    let checks = 4 * SECTION_POINTS;
-    let exact_profile = (0..=checks)
-        .map(|i| {
-            let f = i as f64 / checks as f64;
-            parameter_at_fraction(&spec.profile, f, profile_length)
-                .map(|t| spec.profile.point_at(t))
+    let key_sections = ats
+        .iter()
+        .map(|&at| {
+            let i = stations.partition_point(|&x| x < at - 1e-9);
+            sections[i.min(sections.len() - 1)].clone()
         })
-        .collect::<Result<Vec<_>, _>>()?;
-    for (s, &along) in sections.iter().zip(&stations) {
-        let height_factor = taper_factor(along * length2, length2, spec.taper);
-        for (i, exact) in exact_profile.iter().enumerate() {
-            let p = s.point_at(i as f64 / checks as f64);
-            let base = binder
-                .point_over(p.truncate())
-                .ok_or(Problem::LeavesBinder { at: p.truncate() })?;
-            section_error = section_error.max((p.z - base.z - exact.y * height_factor).abs());
+        .collect::<Vec<Curve3>>();
+    // Section conformance: the key sections, and every CONFORMANCE_STRIDE-th skinned
+    // section whose exact profile is known (between two key sections with the same
+    // profile).
+    let mut section_error = 0.0f64;
+    for (i, (section, &along)) in sections.iter().zip(&stations).enumerate() {
+        let k = ats
+            .partition_point(|&a| a < along - 1e-9)
+            .min(ats.len() - 1);
+        let at_key = (ats[k] - along).abs() <= 1e-9;
+        if !at_key && i % CONFORMANCE_STRIDE != 0 {
+            continue;
+        }
+        let key = if at_key || k == 0 {
+            Some(&spec.sections[k])
+        } else {
+            let (a, b) = (&spec.sections[k - 1], &spec.sections[k]);
+            (a.profile == b.profile && a.rules == b.rules).then_some(a)
+        };
+        if let Some(key) = key {
+            let error = conformance(binder, &course, spec.taper, key, along, section)?;
+            section_error = section_error.max(error);
         }
     }
-    let count = sections.len() - 1;
+    let rules = profiles
+        .rule_params
+        .iter()
+        .map(|&u| surface.iso_curve(Direction::U, u))
+        .collect();
 
-    // Step 4: the line bead.
-    let length3 = centre.length();
+    // The line bead.
+    let centre_table = ArcLengths::new(&centre);
+    let length3 = centre_table.total();
     let n = ((length3 / spec.line_spacing).ceil() as usize).max(1);
     let mut line_points = Vec::with_capacity(n + 1);
     for i in 0..=n {
-        let t = parameter_at_fraction(&centre, i as f64 / n as f64, length3)?;
+        let t = centre_table.parameter_at_fraction(i as f64 / n as f64)?;
         line_points.push(centre.point_at(t));
     }
     Ok(Bead {
         surface,
         centre,
         line_points,
-        sections,
+        sections: key_sections,
+        rules,
         quality: BeadQuality {
             foot_gap,
             section_error,
-            sections: count + 1,
+            sections: sections.len(),
             length: length3,
+            height,
+            width: (narrow, wide),
         },
     })
 }
 
-/// The loft parameter `v` of each section: where the loft's iso-curve equals the section
-/// (the loft interpolates its sections at chord-length-averaged parameters, which it
-/// does not return, so they are recovered from its knot vector's Greville abscissae as
-/// a good enough midpoint estimate for the foot check).
+/// Samples across a section for its conformance figure: four between every two
+/// interpolated points.
+const CONFORMANCE_SAMPLES: usize = 4 * SECTION_INTERVALS;
+
+/// Every how many skinned sections one is measured for conformance (besides the key
+/// sections): the sections are built alike, so a sample of them tells.
+const CONFORMANCE_STRIDE: usize = 5;
+
+/// How closely a skinned section follows its designer profile: the largest
+/// distance, in the section plane, between the section's points (across offset, height
+/// above the binder) and the profile (scaled by the taper, stretched to the
+/// boundaries), sampled between the interpolated points as well as at them.
+fn conformance(
+    binder: &Binder,
+    course: &CourseMap,
+    taper: f64,
+    key: &KeySection,
+    at: f64,
+    section: &Curve3,
+) -> Result<f64, Problem> {
+    let (c, across) = course.frame(at)?;
+    let factor = taper_factor(at * course.length, course.length, taper);
+    let (s0, s1) = (key.profile.start_point().x, key.profile.end_point().x);
+    let stretch = course.feet(c, across)?;
+    let exact = key.profile.map_points(|q| DVec2::new(q.x, q.y * factor));
+    let (t0, t1) = section.domain();
+    let mut worst = 0.0f64;
+    let mut guess = exact.domain().0;
+    for i in 0..=CONFORMANCE_SAMPLES {
+        let p = section.point_at(t0 + (t1 - t0) * i as f64 / CONFORMANCE_SAMPLES as f64);
+        let offset = (p.truncate() - c).dot(across);
+        let s = match stretch {
+            None => offset,
+            Some((low, high)) => s0 + (offset - low) / (high - low) * (s1 - s0),
+        };
+        let h = p.z - binder.base(p.truncate())?.z;
+        let hit = project_to_curve_near(&exact, DVec2::new(s, h), guess)?;
+        guess = hit.t;
+        worst = worst.max(hit.distance);
+    }
+    Ok(worst)
+}
+
+/// The key sections' positions as fractions of the centre line's length (`length`
+/// mm), checked to lie on the bead in increasing order.
+fn key_positions(spec: &BeadSpec, length: f64) -> Result<Vec<f64>, Problem> {
+    if spec.sections.is_empty() {
+        return Err(Problem::SectionOrder { section: 0 });
+    }
+    let mut ats = Vec::with_capacity(spec.sections.len());
+    for (k, key) in spec.sections.iter().enumerate() {
+        let f = match key.at {
+            Along::Fraction(f) => f,
+            Along::Length(l) => l / length,
+        };
+        let after_previous = ats.last().is_none_or(|&prev| f > prev);
+        if !(f.is_finite() && (0.0..=1.0).contains(&f) && after_previous) {
+            return Err(Problem::SectionOrder { section: k });
+        }
+        ats.push(f);
+    }
+    Ok(ats)
+}
+
+/// Refuses spacings and tapers that are not lengths the bead can use.
+fn check_lengths(spec: &BeadSpec) -> Result<(), Problem> {
+    for (what, value, strict) in [
+        ("section spacing", spec.spacing, true),
+        ("line-bead spacing", spec.line_spacing, true),
+        ("taper length", spec.taper, false),
+        ("height limit", spec.max_height, true),
+    ] {
+        let ok = value.is_finite() && if strict { value > 0.0 } else { value >= 0.0 };
+        if !ok {
+            return Err(Problem::BadLength(what));
+        }
+    }
+    Ok(())
+}
+
+/// The largest distance along Z between the binder and the surface's two feet at `v`.
+fn foot_gap_at(binder: &Binder, surface: &NurbsSurface, v: f64) -> Result<f64, Problem> {
+    let (u0, u1) = surface.domain_u();
+    let mut worst = 0.0f64;
+    for u in [u0, u1] {
+        let p = surface.point_at(u, v);
+        let base = binder.base(p.truncate())?;
+        worst = worst.max((p.z - base.z).abs());
+    }
+    Ok(worst)
+}
+
+/// The key sections' profiles resampled at corresponding points: the same number of
+/// points in every piece between rule points, spaced by arc length within a piece.
+struct MatchedProfiles {
+    /// Key positions along the bead (fractions).
+    at: Vec<f64>,
+    /// Each key section's points, (s, height).
+    points: Vec<Vec<DVec2>>,
+    /// The shared interpolation parameters across a section (0 to 1).
+    params: Vec<f64>,
+    /// The parameters of the rule points.
+    rule_params: Vec<f64>,
+}
+
+impl MatchedProfiles {
+    /// The profile at fraction `along`: the neighbouring key sections' points blended
+    /// with a smoothstep, so the shape stops changing at each key section.
+    fn blend(&self, along: f64) -> Vec<DVec2> {
+        let k = self.at.partition_point(|&a| a <= along);
+        if k == 0 {
+            return self.points[0].clone();
+        }
+        if k == self.at.len() {
+            return self.points[k - 1].clone();
+        }
+        let x = (along - self.at[k - 1]) / (self.at[k] - self.at[k - 1]);
+        let w = x * x * (3.0 - 2.0 * x);
+        self.points[k - 1]
+            .iter()
+            .zip(&self.points[k])
+            .map(|(a, b)| a.lerp(*b, w))
+            .collect()
+    }
+}
+
+/// Checks every key section's profile (feet at 0, not folding back, not too tall,
+/// rules inside and in order) and resamples them at corresponding points.
+fn matched_profiles(spec: &BeadSpec, ats: &[f64]) -> Result<MatchedProfiles, Problem> {
+    let rule_count = spec.sections[0].rules.len();
+    let mut pieces_per_section = Vec::with_capacity(spec.sections.len());
+    for (k, key) in spec.sections.iter().enumerate() {
+        let profile = &key.profile;
+        let (a, b) = (profile.start_point(), profile.end_point());
+        let scale = profile.control_scale().max(1.0);
+        if a.y.abs() > 1e-9 * scale || b.y.abs() > 1e-9 * scale {
+            return Err(Problem::ProfileFeet { section: k });
+        }
+        let (t0, t1) = profile.domain();
+        let samples: Vec<(f64, DVec2)> = (0..=PROFILE_SAMPLES)
+            .map(|i| {
+                let t = t0 + (t1 - t0) * i as f64 / PROFILE_SAMPLES as f64;
+                (t, profile.point_at(t))
+            })
+            .collect();
+        let backwards = 1e-9 * scale;
+        if b.x <= a.x {
+            return Err(Problem::ProfileFolds { section: k, s: a.x });
+        }
+        if let Some(w) = samples.windows(2).find(|w| w[1].1.x < w[0].1.x - backwards) {
+            return Err(Problem::ProfileFolds {
+                section: k,
+                s: w[0].1.x,
+            });
+        }
+        let tallest = samples.iter().map(|(_, p)| p.y).fold(0.0, f64::max);
+        if tallest > spec.max_height {
+            return Err(Problem::TooTall {
+                section: k,
+                height: tallest,
+                limit: spec.max_height,
+            });
+        }
+        if key.rules.len() != rule_count {
+            return Err(Problem::RuleCount {
+                section: k,
+                expected: rule_count,
+                given: key.rules.len(),
+            });
+        }
+        // Piece boundaries: the feet and the rule points, strictly increasing in s.
+        let feet = (a.x, b.x);
+        let mut cuts = vec![t0];
+        let mut last_s = a.x;
+        for &s in &key.rules {
+            if !(s > last_s && s < b.x) {
+                return Err(Problem::RuleOutside {
+                    section: k,
+                    s,
+                    feet,
+                });
+            }
+            cuts.push(parameter_at_s(profile, &samples, s));
+            last_s = s;
+        }
+        cuts.push(t1);
+        pieces_per_section.push(cuts);
+    }
+
+    // Intervals per piece: in proportion to the longest the piece is on any section
+    // (as a fraction of that section's length), at least two each.
+    let tables: Vec<ArcLengths<DVec2>> = spec
+        .sections
+        .iter()
+        .map(|k| ArcLengths::new(&k.profile))
+        .collect();
+    let pieces = rule_count + 1;
+    let mut share = vec![0.0f64; pieces];
+    let mut piece_lengths = Vec::with_capacity(spec.sections.len());
+    for (table, cuts) in tables.iter().zip(&pieces_per_section) {
+        let lengths: Vec<f64> = cuts.iter().map(|&t| table.length_at(t)).collect();
+        for j in 0..pieces {
+            share[j] = share[j].max((lengths[j + 1] - lengths[j]) / table.total());
+        }
+        piece_lengths.push(lengths);
+    }
+    let total_share: f64 = share.iter().sum();
+    let counts: Vec<usize> = share
+        .iter()
+        .map(|s| ((s / total_share * SECTION_INTERVALS as f64).round() as usize).max(2))
+        .collect();
+
+    let mut points = Vec::with_capacity(spec.sections.len());
+    for ((key, table), lengths) in spec.sections.iter().zip(&tables).zip(&piece_lengths) {
+        let mut section = Vec::new();
+        for j in 0..pieces {
+            let first = if j == 0 { 0 } else { 1 };
+            for i in first..=counts[j] {
+                let l = lengths[j] + (lengths[j + 1] - lengths[j]) * i as f64 / counts[j] as f64;
+                section.push(key.profile.point_at(table.parameter_at(l)?));
+            }
+        }
+        points.push(section);
+    }
+
+    // Shared parameters: the chord-length fractions, averaged over the key sections.
+    let n = points[0].len();
+    let mut params = vec![0.0; n];
+    for section in &points {
+        let mut acc = vec![0.0; n];
+        for i in 1..n {
+            acc[i] = acc[i - 1] + section[i].distance(section[i - 1]).max(1e-12);
+        }
+        for i in 0..n {
+            params[i] += acc[i] / acc[n - 1] / points.len() as f64;
+        }
+    }
+    params[0] = 0.0;
+    params[n - 1] = 1.0;
+    let mut rule_params = Vec::with_capacity(rule_count);
+    let mut index = 0;
+    for &c in counts.iter().take(rule_count) {
+        index += c;
+        rule_params.push(params[index]);
+    }
+    Ok(MatchedProfiles {
+        at: ats.to_vec(),
+        points,
+        params,
+        rule_params,
+    })
+}
+
+/// The parameter where a profile that never runs backwards reaches `s` across, from its
+/// samples and bisection between them.
+fn parameter_at_s(profile: &Curve2, samples: &[(f64, DVec2)], s: f64) -> f64 {
+    let i = samples
+        .windows(2)
+        .position(|w| w[0].1.x <= s && s <= w[1].1.x)
+        .unwrap_or(samples.len() - 2);
+    let (mut lo, mut hi) = (samples[i].0, samples[i + 1].0);
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if profile.point_at(mid).x < s {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
+/// The course in the top view, ready for sections: the centre line by arc length, and
+/// the boundaries (if any) sampled for crossings.
+struct CourseMap<'c> {
+    centre: Curve2,
+    table_length: Vec<(f64, f64)>,
+    length: f64,
+    boundaries: Option<[BoundarySamples<'c>; 2]>,
+}
+
+/// A boundary line with samples to find crossings from.
+struct BoundarySamples<'c> {
+    curve: &'c Curve2,
+    samples: Vec<(f64, DVec2)>,
+}
+
+impl<'c> CourseMap<'c> {
+    fn new(course: &'c Course) -> Result<Self, Problem> {
+        let (centre, boundaries) = match course {
+            Course::Centre(c) => (c.clone(), None),
+            Course::Boundaries(a, b) => {
+                let samples = [BoundarySamples::new(a), BoundarySamples::new(b)];
+                (mid_line(a, b, &samples)?, Some(samples))
+            }
+        };
+        let table = ArcLengths::new(&centre);
+        let length = table.total();
+        // Fractions 0..1 of the length to parameters, tabulated once (every section
+        // and every centre-line sample asks).
+        let n = 1024;
+        let mut table_length = Vec::with_capacity(n + 1);
+        for i in 0..=n {
+            let f = i as f64 / n as f64;
+            table_length.push((f, table.parameter_at_fraction(f)?));
+        }
+        Ok(Self {
+            centre,
+            table_length,
+            length,
+            boundaries,
+        })
+    }
+
+    /// The centre point and the unit direction across (to the left) at fraction `f`.
+    fn frame(&self, f: f64) -> Result<(DVec2, DVec2), Problem> {
+        let t = self.parameter(f)?;
+        let [c, d] = self.centre.derivatives::<2>(t);
+        let across = d.normalize_or_zero().perp();
+        if across == DVec2::ZERO {
+            return Err(Problem::Kernel(GeomError::ZeroVector {
+                what: "bead centre-line tangent",
+            }));
+        }
+        Ok((c, across))
+    }
+
+    /// The parameter at fraction `f` of the length: the tabulated neighbours, then
+    /// Newton on the exact arc length.
+    fn parameter(&self, f: f64) -> Result<f64, Problem> {
+        let f = f.clamp(0.0, 1.0);
+        let n = self.table_length.len() - 1;
+        let i = ((f * n as f64).floor() as usize).min(n - 1);
+        let (fa, ta) = self.table_length[i];
+        let (fb, tb) = self.table_length[i + 1];
+        if f == fa {
+            return Ok(ta);
+        }
+        if f == fb {
+            return Ok(tb);
+        }
+        // Newton from the linear guess, on length(ta, t) = (f - fa) * length.
+        let want = (f - fa) * self.length;
+        let mut t = ta + (tb - ta) * (f - fa) / (fb - fa);
+        for _ in 0..20 {
+            let err = self.centre.length_between(ta, t) - want;
+            if err.abs() <= 1e-12 * self.length.max(1.0) {
+                break;
+            }
+            let speed = self.centre.derivative_at(t).length();
+            if speed <= 0.0 {
+                break;
+            }
+            t = (t - err / speed).clamp(ta, tb);
+        }
+        Ok(t)
+    }
+
+    /// Where the section through `c`, running `across`, meets the two
+    /// boundaries, as offsets along `across` (low, high); `None` for a centre line.
+    fn feet(&self, c: DVec2, across: DVec2) -> Result<Option<(f64, f64)>, Problem> {
+        let Some(bounds) = &self.boundaries else {
+            return Ok(None);
+        };
+        let mut offsets = [0.0; 2];
+        for (k, b) in bounds.iter().enumerate() {
+            let hit = b
+                .crossing(c, across)
+                .ok_or(Problem::MissesBoundary { boundary: k, at: c })?;
+            offsets[k] = (hit - c).dot(across);
+        }
+        Ok(Some((
+            offsets[0].min(offsets[1]),
+            offsets[0].max(offsets[1]),
+        )))
+    }
+}
+
+impl<'c> BoundarySamples<'c> {
+    fn new(curve: &'c Curve2) -> Self {
+        let (t0, t1) = curve.domain();
+        let samples = (0..=BOUNDARY_SAMPLES)
+            .map(|i| {
+                let t = t0 + (t1 - t0) * i as f64 / BOUNDARY_SAMPLES as f64;
+                (t, curve.point_at(t))
+            })
+            .collect();
+        Self { curve, samples }
+    }
+
+    /// The point of the boundary on the line through `c` along `across` nearest `c`.
+    fn crossing(&self, c: DVec2, across: DVec2) -> Option<DVec2> {
+        let along = across.perp();
+        let g = |p: DVec2| (p - c).dot(along);
+        let mut best: Option<(f64, DVec2)> = None;
+        for w in self.samples.windows(2) {
+            let (ga, gb) = (g(w[0].1), g(w[1].1));
+            if ga == 0.0 || ga.signum() != gb.signum() {
+                let (mut lo, mut hi, mut glo) = (w[0].0, w[1].0, ga);
+                for _ in 0..60 {
+                    let mid = 0.5 * (lo + hi);
+                    let gm = g(self.curve.point_at(mid));
+                    if gm == 0.0 || gm.signum() == glo.signum() {
+                        lo = mid;
+                        glo = gm;
+                    } else {
+                        hi = mid;
+                    }
+                }
+                let p = self.curve.point_at(0.5 * (lo + hi));
+                let d = p.distance(c);
+                if best.is_none_or(|(bd, _)| d < bd) {
+                    best = Some((d, p));
+                }
+            }
+        }
+        best.map(|(_, p)| p)
+    }
+}
+
+/// The line halfway between two boundaries: midpoints of points at equal arc-length
+/// fractions, then corrected once to the midpoints of the crossings of the lines
+/// normal to that first guess.
+fn mid_line(a: &Curve2, b: &Curve2, samples: &[BoundarySamples; 2]) -> Result<Curve2, Problem> {
+    let (ta, tb) = (ArcLengths::new(a), ArcLengths::new(b));
+    let n = ((ta.total().max(tb.total()) / 4.0).ceil() as usize).clamp(16, 2000);
+    let mut guess = Vec::with_capacity(n + 1);
+    for i in 0..=n {
+        let f = i as f64 / n as f64;
+        let (pa, pb) = (
+            a.point_at(ta.parameter_at_fraction(f)?),
+            b.point_at(tb.parameter_at_fraction(f)?),
+        );
+        guess.push(0.5 * (pa + pb));
+    }
+    let first = interpolate(&guess, &Interpolation::default())?;
+    let mut corrected = Vec::with_capacity(n + 1);
+    for (i, &g) in guess.iter().enumerate() {
+        let t = first.domain().0 + (first.domain().1 - first.domain().0) * i as f64 / n as f64;
+        let t = crate::geom::inversion::closest_point_on_curve(&first, g)
+            .map(|h| h.t)
+            .unwrap_or(t);
+        let across = first.derivative_at(t).normalize_or_zero().perp();
+        let hits = (
+            samples[0].crossing(g, across),
+            samples[1].crossing(g, across),
+        );
+        corrected.push(match hits {
+            (Some(p), Some(q)) if i > 0 && i < n => 0.5 * (p + q),
+            _ => g,
+        });
+    }
+    Ok(interpolate(&corrected, &Interpolation::default())?)
+}
+
+/// The loft parameter `v` of each section: the loft interpolates its sections at
+/// parameters it does not return; for averaged knots they are close to the knots'
+/// running averages (Greville abscissae), good enough for the midpoint foot check.
 fn section_parameters(surface: &NurbsSurface, n: usize) -> Vec<f64> {
     let (v0, v1) = surface.domain_v();
-    // Sections sit at the loft's interpolation parameters; for averaged knots those are
-    // close to the knots' running averages. Sample the midpoints between them.
     let knots = surface.knots_v().as_slice();
     let p = surface.degree_v();
     let m = knots.len() - p - 1;
@@ -443,20 +1036,4 @@ fn taper_factor(s: f64, length: f64, taper: f64) -> f64 {
     }
     let x = (s.min(length - s) / taper).clamp(0.0, 1.0);
     x * x * (3.0 - 2.0 * x)
-}
-
-/// The parameter at fraction `f` of a curve's length.
-fn parameter_at_fraction<P: crate::geom::Point>(
-    c: &crate::geom::NurbsCurve<P>,
-    f: f64,
-    length: f64,
-) -> Result<f64, GeomError> {
-    let (t0, t1) = c.domain();
-    if f <= 0.0 {
-        Ok(t0)
-    } else if f >= 1.0 {
-        Ok(t1)
-    } else {
-        c.parameter_at_length(f * length)
-    }
 }

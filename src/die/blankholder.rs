@@ -109,7 +109,15 @@ pub struct Blankholder {
     /// The punch opening's top-view outline (a closed polygon): the binder's inner edge,
     /// which features on the binder (beads) must stay outside.
     pub inner_outline: Vec<DVec2>,
+    /// The tallest draw bead (mm) the binder takes: the depth of the bead groove its
+    /// lower ring can carry. Beads taller than this are refused.
+    pub max_bead_height: f64,
 }
+
+/// The default [`Blankholder::max_bead_height`] (mm): draw beads on sheet steel run
+/// 4-12 mm high; a bead much taller than that is a mistake, or a special die whose
+/// designer raises the limit.
+pub const DEFAULT_MAX_BEAD_HEIGHT: f64 = 15.0;
 
 /// What went wrong, and at which piece of the opening.
 #[derive(Debug, Clone, PartialEq)]
@@ -340,6 +348,7 @@ pub fn build(opening: &PunchOpening, spec: &[PieceSpec]) -> Result<Blankholder, 
         patches,
         joins,
         inner_outline: outline,
+        max_bead_height: DEFAULT_MAX_BEAD_HEIGHT,
     })
 }
 

@@ -210,8 +210,9 @@ fn feature_summary(r: &Record) -> String {
         Some(Feature::Bead(b)) => {
             let (lo, hi) = bounds(sampled_surface(&b.surface));
             format!(
-                "draw bead, {} mm long, {} key sections, {} line-bead points, bounds {}",
+                "draw bead, {} mm long, {} key sections ({} skinned), {} line-bead points, bounds {}",
                 round(b.quality.length),
+                b.sections.len(),
                 b.quality.sections,
                 b.line_points.len(),
                 bbox(lo, hi)

@@ -291,35 +291,10 @@ impl<P: Point> NurbsCurve<P> {
         if s >= total {
             return Ok(t1);
         }
-        // Bracket [lo, hi] with lengths at the bracket ends; Newton inside it.
-        let (mut lo, mut hi) = (t0, t1);
-        let mut t = t0 + (t1 - t0) * s / total;
+        let guess = t0 + (t1 - t0) * s / total;
         let tol = 1e-12 * total.max(1.0);
-        for _ in 0..100 {
-            let f = self.length_between(t0, t) - s;
-            if f.abs() <= tol {
-                return Ok(t);
-            }
-            if f > 0.0 {
-                hi = t;
-            } else {
-                lo = t;
-            }
-            let speed = self.derivative_at(t).length();
-            let newton = t - f / speed;
-            t = if speed > 0.0 && newton > lo && newton < hi {
-                newton
-            } else {
-                0.5 * (lo + hi)
-            };
-            if hi - lo <= 1e-15 * (t1 - t0) {
-                return Ok(t);
-            }
-        }
-        Err(GeomError::NoConvergence {
-            what: "parameter at arc length",
-            iterations: 100,
-            residual: (self.length_between(t0, t) - s).abs(),
+        invert_length(self, (t0, t1), guess, tol, |t| {
+            self.length_between(t0, t) - s
         })
     }
 
@@ -572,6 +547,47 @@ const GAUSS_W: [f64; 5] = [
     0.066_671_344_308_688_1,
 ];
 
+/// The root of `excess(t)` (arc length to `t` minus the length asked for, increasing
+/// in `t`) inside `bracket`: Newton from `guess` on the curve's speed, bisection when a
+/// step would leave the shrinking bracket.
+fn invert_length<P: Point>(
+    c: &NurbsCurve<P>,
+    bracket: (f64, f64),
+    guess: f64,
+    tol: f64,
+    excess: impl Fn(f64) -> f64,
+) -> Result<f64> {
+    let (mut lo, mut hi) = bracket;
+    let width = bracket.1 - bracket.0;
+    let mut t = guess;
+    for _ in 0..100 {
+        let f = excess(t);
+        if f.abs() <= tol {
+            return Ok(t);
+        }
+        if f > 0.0 {
+            hi = t;
+        } else {
+            lo = t;
+        }
+        let speed = c.derivative_at(t).length();
+        let newton = t - f / speed;
+        t = if speed > 0.0 && newton > lo && newton < hi {
+            newton
+        } else {
+            0.5 * (lo + hi)
+        };
+        if hi - lo <= 1e-15 * width {
+            return Ok(t);
+        }
+    }
+    Err(GeomError::NoConvergence {
+        what: "parameter at arc length",
+        iterations: 100,
+        residual: excess(t).abs(),
+    })
+}
+
 fn gauss_length<P: Point>(c: &NurbsCurve<P>, a: f64, b: f64) -> f64 {
     let half = 0.5 * (b - a);
     let mid = 0.5 * (a + b);
@@ -594,5 +610,95 @@ fn adaptive_length<P: Point>(c: &NurbsCurve<P>, a: f64, b: f64, depth: usize) ->
         halves
     } else {
         adaptive_length(c, a, m, depth + 1) + adaptive_length(c, m, b, depth + 1)
+    }
+}
+
+/// A curve's arc length tabulated once, for many arc-length queries on the same curve
+/// (resampling a line bead, placing sections at fractions of a centre line).
+///
+/// [`NurbsCurve::parameter_at_length`] integrates from the start for every query; the
+/// table integrates each of `PIECES_PER_SPAN` pieces of every knot span once with
+/// Gauss-Legendre quadrature, then answers a query by Newton inside one piece.
+#[derive(Debug, Clone)]
+pub struct ArcLengths<'a, P> {
+    curve: &'a NurbsCurve<P>,
+    /// Piece boundaries in parameter, increasing.
+    ts: Vec<f64>,
+    /// Arc length from the start to each piece boundary.
+    lengths: Vec<f64>,
+}
+
+/// Pieces per knot span of [`ArcLengths`]: short enough that the adaptive quadrature
+/// of a query inside one piece rarely needs to subdivide.
+const PIECES_PER_SPAN: usize = 8;
+
+impl<'a, P: Point> ArcLengths<'a, P> {
+    /// Tabulates the arc length of `curve`.
+    pub fn new(curve: &'a NurbsCurve<P>) -> Self {
+        let breaks = curve.span_breaks();
+        let mut ts = vec![breaks[0]];
+        let mut lengths = vec![0.0];
+        for w in breaks.windows(2) {
+            for k in 1..=PIECES_PER_SPAN {
+                let t = w[0] + (w[1] - w[0]) * k as f64 / PIECES_PER_SPAN as f64;
+                let last = *ts.last().expect("ts starts with one boundary");
+                let acc = *lengths.last().expect("lengths starts with 0");
+                lengths.push(acc + adaptive_length(curve, last, t, 0));
+                ts.push(t);
+            }
+        }
+        Self { curve, ts, lengths }
+    }
+
+    /// The whole length.
+    pub fn total(&self) -> f64 {
+        *self.lengths.last().expect("lengths is never empty")
+    }
+
+    /// The parameter at arc length `s` from the start, clamped to the domain.
+    pub fn parameter_at(&self, s: f64) -> Result<f64> {
+        if !s.is_finite() {
+            return Err(GeomError::NotFinite { what: "arc length" });
+        }
+        let last = self.ts.len() - 1;
+        if s <= 0.0 {
+            return Ok(self.ts[0]);
+        }
+        if s >= self.total() {
+            return Ok(self.ts[last]);
+        }
+        // The piece [ts[i], ts[i + 1]] holding s; Newton inside it, bisection as guard.
+        let i = (self.lengths.partition_point(|&l| l <= s) - 1).min(last - 1);
+        let (a, rest) = (self.ts[i], s - self.lengths[i]);
+        let (lo, hi) = (a, self.ts[i + 1]);
+        let piece = self.lengths[i + 1] - self.lengths[i];
+        let t = if piece > 0.0 {
+            a + (hi - lo) * rest / piece
+        } else {
+            a
+        };
+        let tol = 1e-12 * self.total().max(1.0);
+        let curve = self.curve;
+        invert_length(curve, (lo, hi), t, tol, |t| {
+            adaptive_length(curve, a, t, 0) - rest
+        })
+    }
+
+    /// The arc length from the start to parameter `t` (clamped to the domain).
+    pub fn length_at(&self, t: f64) -> f64 {
+        let last = self.ts.len() - 1;
+        if t <= self.ts[0] {
+            return 0.0;
+        }
+        if t >= self.ts[last] {
+            return self.total();
+        }
+        let i = (self.ts.partition_point(|&x| x <= t) - 1).min(last - 1);
+        self.lengths[i] + adaptive_length(self.curve, self.ts[i], t, 0)
+    }
+
+    /// The parameter at fraction `f` (0 to 1) of the length.
+    pub fn parameter_at_fraction(&self, f: f64) -> Result<f64> {
+        self.parameter_at(f * self.total())
     }
 }

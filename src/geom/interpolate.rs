@@ -9,7 +9,7 @@
 //! `GeomAPI_Interpolate` does). End tangents are derivatives with respect to the curve
 //! parameter, whose domain is [0, 1] unless parameters are given.
 
-use nalgebra::DMatrix;
+use super::banded::BandMatrix;
 
 use super::curve::NurbsCurve;
 use super::error::{GeomError, Result};
@@ -196,54 +196,64 @@ pub fn interpolate_at<P: Point>(
     let kv = KnotVector::new(knots.clone(), p, count)?;
 
     // Collocation rows: point 0, [start tangent], points 1..n-1, [end tangent], point n.
-    let mut a = DMatrix::<f64>::zeros(count, count);
-    let mut rhs = DMatrix::<f64>::zeros(count, P::DIM);
+    // Each row holds p + 1 basis values: the system is banded, solved as such.
+    let mut entries: Vec<(usize, usize, f64)> = Vec::with_capacity(count * (p + 1));
+    let mut rhs = vec![0.0; count * P::DIM];
     let mut row = 0;
-    let put_row = |a: &mut DMatrix<f64>,
-                   rhs: &mut DMatrix<f64>,
-                   row: usize,
-                   t: f64,
-                   order: usize,
-                   value: P| {
+    let mut put_row = |row: usize, t: f64, order: usize, value: P| {
         let span = kv.span(p, t);
         let mut basis = [[0.0; super::MAX_DEGREE + 1]; MAX_DERIVATIVE + 1];
         kv.basis_derivatives(span, p, t, order, &mut basis);
-        for r in 0..=p {
-            a[(row, span - p + r)] = basis[order][r];
+        for (r, &b) in basis[order].iter().take(p + 1).enumerate() {
+            entries.push((row, span - p + r, b));
         }
         for d in 0..P::DIM {
-            rhs[(row, d)] = value.coord(d);
+            rhs[row * P::DIM + d] = value.coord(d);
         }
     };
     for k in 0..=n {
         if k == n {
             if let Some(tan) = opts.end_tangent {
-                put_row(&mut a, &mut rhs, row, params[n], 1, tan);
+                put_row(row, params[n], 1, tan);
                 row += 1;
             }
         }
-        put_row(&mut a, &mut rhs, row, params[k], 0, points[k]);
+        put_row(row, params[k], 0, points[k]);
         row += 1;
         if k == 0 {
             if let Some(tan) = opts.start_tangent {
-                put_row(&mut a, &mut rhs, row, params[0], 1, tan);
+                put_row(row, params[0], 1, tan);
                 row += 1;
             }
         }
     }
-    let solution = a.lu().solve(&rhs).ok_or(GeomError::Singular {
+    let lower = entries
+        .iter()
+        .map(|&(i, j, _)| i.saturating_sub(j))
+        .max()
+        .unwrap_or(0);
+    let upper = entries
+        .iter()
+        .map(|&(i, j, _)| j.saturating_sub(i))
+        .max()
+        .unwrap_or(0);
+    let mut matrix = BandMatrix::zeros(count, lower, upper);
+    for (i, j, value) in entries {
+        let inside = matrix.set(i, j, value);
+        debug_assert!(inside, "the bandwidths were measured from these entries");
+    }
+    let singular = GeomError::Singular {
         what: "the interpolation system has no unique solution for these parameters",
-    })?;
+    };
+    matrix.solve(&mut rhs, P::DIM).ok_or(singular.clone())?;
     let mut control = Vec::with_capacity(count);
     for i in 0..count {
         let mut q = P::ZERO;
         for d in 0..P::DIM {
-            q = q + P::axis(d) * solution[(i, d)];
+            q = q + P::axis(d) * rhs[i * P::DIM + d];
         }
         if !q.is_finite() {
-            return Err(GeomError::Singular {
-                what: "the interpolation system has no unique solution for these parameters",
-            });
+            return Err(singular);
         }
         control.push(q);
     }

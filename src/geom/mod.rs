@@ -27,6 +27,7 @@
 //! ```
 
 pub mod arc;
+pub mod banded;
 pub mod compat;
 pub mod construct;
 pub mod curve;

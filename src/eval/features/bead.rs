@@ -4,26 +4,51 @@
 //! import "std/beads" as beads
 //! bead wheel_arch {
 //!     binder = binder                  // the blankholder it sits on
-//!     line = sketch(top) { ... }       // centre line in the top view
+//!     line = sketch(top) { ... }       // centre line in the top view, or
+//!     // boundaries = [inner, outer]   // its two feet lines (the bead stretches across)
 //!     profile = beads.round(height: 6 mm)   // cross-section, feet at height 0
+//!     rules = [0 mm]                   // optional rule points across `profile`
+//!     section high {                   // optional key sections at designer positions
+//!         at = 50 %                    // a fraction, or a length along the centre line
+//!         profile = beads.round(height: 8 mm)
+//!         rules = [0 mm]               // as many rule points as every other section
+//!     }
 //!     taper = 30 mm                    // run-out length at both ends (default 0)
-//!     spacing = 10 mm                  // key sections along the bead (default 10 mm)
+//!     spacing = 10 mm                  // sections along the bead (default 10 mm)
 //!     line_spacing = 15 mm             // line-bead points (default 15 mm)
 //!     force = 250                      // restraining force of the line bead, N/mm
 //! }
 //! ```
+//!
+//! `profile` is the bead's section at both ends (and everywhere, without `section`
+//! blocks); each `section` sets the profile at its position, and between positions the
+//! profile changes smoothly.
 
 use std::sync::Arc;
 
 use crate::diag::Diagnostic;
-use crate::die::bead::{self as bd, BeadSpec, Binder, Problem};
+use crate::die::bead::{self as bd, Along, BeadSpec, Binder, Course, KeySection, Problem};
+use crate::geom::Curve2;
 use crate::syntax::Span;
 
-use super::super::builtins::{as_number, type_error};
+use super::super::builtins::{as_length, as_number, type_error};
+use super::super::sketch::View;
 use super::super::value::{Data, Feature, Quantity, Value};
-use super::{count, feature_error, feature_value, mm, Block};
+use super::{check_record, count, feature_error, feature_value, items, mm, record, show, Block};
 
 const KIND: &str = "bead";
+
+/// Where each key section came from, for diagnostics.
+struct KeySource {
+    /// `section NAME`, or `None` for the bead's own `profile` at an end.
+    name: Option<String>,
+    /// The `at` value (or the block head for the ends).
+    at: Span,
+    /// The profile value.
+    profile: Span,
+    /// The rules value (or the profile's span when there are none).
+    rules: Span,
+}
 
 /// Builds the bead of `block`.
 pub fn build(block: &Block) -> Result<Value, Diagnostic> {
@@ -31,14 +56,17 @@ pub fn build(block: &Block) -> Result<Value, Diagnostic> {
         &[
             "binder",
             "line",
+            "boundaries",
             "profile",
+            "rules",
             "taper",
             "spacing",
             "line_spacing",
             "force",
         ],
-        &[],
+        &["section"],
     )?;
+    let units = block.units;
     let binder_field = block.get("binder").ok_or_else(|| {
         block.missing(
             "binder",
@@ -48,96 +76,334 @@ pub fn build(block: &Block) -> Result<Value, Diagnostic> {
     let binder = match &binder_field.value.data {
         Data::Record(r) => match &r.feature {
             Some(Feature::Blankholder(b)) => b.clone(),
-            _ => {
-                return Err(type_error(
-                    &binder_field.value,
-                    "`binder` of a bead",
-                    "a blankholder",
-                ))
-            }
+            _ => return Err(not_a_binder(&binder_field.value)),
         },
-        _ => {
-            return Err(type_error(
-                &binder_field.value,
-                "`binder` of a bead",
-                "a blankholder",
-            ))
+        _ => return Err(not_a_binder(&binder_field.value)),
+    };
+    let (course, course_span) = course(block)?;
+
+    // Key sections: the bead's own profile at the ends, the `section` blocks between.
+    let mut keys: Vec<KeySection> = Vec::new();
+    let mut sources: Vec<KeySource> = Vec::new();
+    let own = match block.get("profile") {
+        Some(f) => {
+            let profile = profile_curve(&f.value, "`profile` of a bead")?;
+            let (rules, rules_span) = match block.get("rules") {
+                Some(r) => (rule_points(&r.value, units)?, r.value.span),
+                None => (Vec::new(), f.value.span),
+            };
+            Some((profile, rules, f.value.span, rules_span))
+        }
+        None => {
+            if let Some(r) = block.get("rules") {
+                return Err(feature_error(
+                    KIND,
+                    "`rules` of a bead belong to its `profile`, which is missing",
+                    r.value.span,
+                    "rule points of no profile",
+                    "give `profile = ...` beside `rules`, or put the rules in each `section`",
+                ));
+            }
+            None
         }
     };
-    let line_field = block.get("line").ok_or_else(|| {
-        block.missing("line", "draw the bead's centre line in the top view: `line = sketch(top) { from ...; line to ... }`")
-    })?;
-    let centre = match &line_field.value.data {
-        Data::Sketch(s) if s.view == super::super::sketch::View::Top => s.curve.clone(),
-        Data::Curve2(c) => (**c).clone(),
-        _ => {
-            return Err(type_error(
-                &line_field.value,
-                "`line` of a bead",
-                "a top-view sketch of the centre line",
-            ));
-        }
+    let mut middle = Vec::new();
+    for (name, field) in block.named("section") {
+        let what = format!("`section {name}`");
+        let r = record(
+            &field.value,
+            &what,
+            "a block such as `section high { at = 50 %; profile = beads.round(height: 8 mm) }`",
+        )?;
+        check_record(r, field.value.span, &what, &["at", "profile", "rules"])?;
+        let at_value = r.get("at").ok_or_else(|| {
+            field.missing(&what, "at", "place the key section along the bead: `at = 50 %` (of the centre line's length) or `at = 300 mm` (from its start)")
+        })?;
+        let at = along(at_value, units, &what)?;
+        let profile_value = r.get("profile").ok_or_else(|| {
+            field.missing(
+                &what,
+                "profile",
+                "give the section's cross-section: `profile = beads.round(height: 8 mm)`",
+            )
+        })?;
+        let profile = profile_curve(profile_value, &format!("`profile` of {what}"))?;
+        let (rules, rules_span) = match r.get("rules") {
+            Some(v) => (rule_points(v, units)?, v.span),
+            None => (Vec::new(), profile_value.span),
+        };
+        middle.push((
+            KeySection { at, profile, rules },
+            KeySource {
+                name: Some(name.to_string()),
+                at: at_value.span,
+                profile: profile_value.span,
+                rules: rules_span,
+            },
+        ));
+    }
+    if own.is_none() && middle.is_empty() {
+        return Err(block.missing(
+            "profile",
+            "give the cross-section: `profile = beads.round(height: 6 mm)` (import \"std/beads\" as beads)",
+        ));
+    }
+    let starts_at_zero = middle
+        .first()
+        .is_some_and(|(k, _)| matches!(k.at, Along::Fraction(f) | Along::Length(f) if f == 0.0));
+    let ends_at_one = middle
+        .last()
+        .is_some_and(|(k, _)| k.at == Along::Fraction(1.0));
+    let end_key = |at: f64| {
+        own.as_ref().map(|(profile, rules, span, rules_span)| {
+            (
+                KeySection {
+                    at: Along::Fraction(at),
+                    profile: profile.clone(),
+                    rules: rules.clone(),
+                },
+                KeySource {
+                    name: None,
+                    at: block.head(),
+                    profile: *span,
+                    rules: *rules_span,
+                },
+            )
+        })
     };
-    let profile_field = block.get("profile").ok_or_else(|| {
-        block.missing("profile", "give the cross-section: `profile = beads.round(height: 6 mm)` (import \"std/beads\" as beads)")
-    })?;
-    let profile = match &profile_field.value.data {
-        Data::Sketch(s) => s.curve.clone(),
-        Data::Curve2(c) => (**c).clone(),
-        _ => {
-            return Err(type_error(
-                &profile_field.value,
-                "`profile` of a bead",
-                "a bead cross-section sketch such as `beads.round(height: 6 mm)`",
-            ));
-        }
-    };
+    let first = if starts_at_zero { None } else { end_key(0.0) };
+    let last = if ends_at_one { None } else { end_key(1.0) };
+    for (k, s) in first.into_iter().chain(middle).chain(last) {
+        keys.push(k);
+        sources.push(s);
+    }
+
     let taper = block.length_or("taper", 0.0)?;
     let spacing = block.length_or("spacing", 10.0)?;
     let line_spacing = block.length_or("line_spacing", 15.0)?;
     let force = match block.get("force") {
-        Some(f) => Some((
-            as_number(&f.value, "`force` of a bead (N/mm)")?,
-            f.value.span,
-        )),
+        Some(f) => Some(as_number(&f.value, "`force` of a bead (N/mm)")?),
         None => None,
     };
     let patches: Vec<_> = binder.patches.iter().map(|p| &p.surface).collect();
     let map = Binder::new(patches, &binder.inner_outline);
     let spec = BeadSpec {
-        centre,
-        profile,
+        course,
+        sections: keys,
         taper,
         spacing,
         line_spacing,
+        max_height: binder.max_bead_height,
     };
     let bead = bd::build(&map, &spec)
-        .map_err(|p| problem_diag(block, &p, line_field.value.span, profile_field.value.span))?;
-    Ok(output(block, bead, line_spacing, force.map(|f| f.0)))
+        .map_err(|p| problem_diag(block, &p, course_span, &sources, binder_field.value.span))?;
+    Ok(output(block, bead, line_spacing, force))
 }
 
-fn problem_diag(block: &Block, p: &Problem, line: Span, profile: Span) -> Diagnostic {
+/// The course of the bead: `line` (the centre line) or `boundaries` (its two feet
+/// lines), exactly one of them, in the top view.
+fn course(block: &Block) -> Result<(Course, Span), Diagnostic> {
+    match (block.get("line"), block.get("boundaries")) {
+        (Some(l), Some(b)) => Err(feature_error(
+            KIND,
+            format!(
+                "the bead `{}` has both a centre `line` and `boundaries`",
+                block.name
+            ),
+            b.value.span,
+            "these boundaries",
+            "give one: the centre line (the profile keeps its width) or the two boundaries (the profile stretches between them)",
+        )
+        .with_label(l.value.span, "and this centre line")),
+        (Some(l), None) => Ok((
+            Course::Centre(top_curve(&l.value, "`line` of a bead")?),
+            l.value.span,
+        )),
+        (None, Some(b)) => {
+            let lines = items(&b.value);
+            if lines.len() != 2 {
+                return Err(feature_error(
+                    KIND,
+                    format!(
+                        "`boundaries` of a bead are two top-view lines, not {}",
+                        lines.len()
+                    ),
+                    b.value.span,
+                    "here",
+                    "give the bead's two feet lines: `boundaries = [inner_foot, outer_foot]`",
+                ));
+            }
+            let what = "`boundaries` of a bead";
+            Ok((
+                Course::Boundaries(top_curve(&lines[0], what)?, top_curve(&lines[1], what)?),
+                b.value.span,
+            ))
+        }
+        (None, None) => Err(block.missing(
+            "line",
+            "draw the bead's centre line in the top view: `line = sketch(top) { from ...; line to ... }`, or its two feet lines as `boundaries = [a, b]`",
+        )),
+    }
+}
+
+/// A top-view curve: a `sketch(top)` or a 2-D curve.
+fn top_curve(v: &Value, what: &str) -> Result<Curve2, Diagnostic> {
+    match &v.data {
+        Data::Sketch(s) if s.view == View::Top => Ok(s.curve.clone()),
+        Data::Sketch(s) => Err(Diagnostic::new(
+            "die::bead",
+            format!("{what} is drawn in the {} view", s.view.name()),
+            v.span,
+            "not the top view",
+        )
+        .with_help("a bead's course is drawn in the top view: `sketch(top) { ... }`; dieface projects it onto the binder along the press direction")),
+        Data::Curve2(c) => Ok((**c).clone()),
+        _ => Err(type_error(v, what, "a top-view sketch")),
+    }
+}
+
+/// A bead cross-section: a sketch or 2-D curve of (s across, height).
+fn profile_curve(v: &Value, what: &str) -> Result<Curve2, Diagnostic> {
+    match &v.data {
+        Data::Sketch(s) => Ok(s.curve.clone()),
+        Data::Curve2(c) => Ok((**c).clone()),
+        _ => Err(type_error(
+            v,
+            what,
+            "a bead cross-section sketch such as `beads.round(height: 6 mm)`",
+        )),
+    }
+}
+
+/// Rule points: a list of lengths across the profile.
+fn rule_points(v: &Value, units: super::super::units::Units) -> Result<Vec<f64>, Diagnostic> {
+    items(v)
+        .iter()
+        .map(|x| as_length(x, units, "a rule point (mm across the profile)"))
+        .collect()
+}
+
+/// A position along the bead: a ratio (`40 %`) or a length (`300 mm`).
+fn along(v: &Value, units: super::super::units::Units, what: &str) -> Result<Along, Diagnostic> {
+    match &v.data {
+        Data::Number(q) if q.dim.is_none() && !q.bare => Ok(Along::Fraction(q.value)),
+        _ => as_length(v, units, &format!("`at` of {what}"))
+            .map(Along::Length)
+            .map_err(|d| {
+                d.with_help("place the key section with a fraction of the bead's length, `at = 40 %`, or a length from its start, `at = 300 mm`")
+            }),
+    }
+}
+
+fn not_a_binder(v: &Value) -> Diagnostic {
+    type_error(v, "`binder` of a bead", "a blankholder")
+}
+
+/// The name a designer reads for key section `k`.
+fn section_name(s: &KeySource, k: usize, count: usize) -> String {
+    match &s.name {
+        Some(n) => format!("section `{n}`"),
+        None if k == 0 => "the bead's `profile` (at its start)".to_string(),
+        None if k + 1 == count => "the bead's `profile` (at its end)".to_string(),
+        None => "the bead's `profile`".to_string(),
+    }
+}
+
+fn problem_diag(
+    block: &Block,
+    p: &Problem,
+    course: Span,
+    sources: &[KeySource],
+    binder: Span,
+) -> Diagnostic {
+    let source = |k: usize| &sources[k.min(sources.len() - 1)];
+    let name = |k: usize| section_name(source(k), k, sources.len());
     match p {
         Problem::LeavesBinder { at } => feature_error(
             KIND,
             format!("the bead `{}` leaves the binder near ({:.1}, {:.1})", block.name, at.x, at.y),
-            line,
-            "this centre line",
+            course,
+            "this course",
             "keep the centre line, and the bead's width around it, over the blankholder in the top view",
         ),
         Problem::CrossesOpening { at } => feature_error(
             KIND,
             format!("the bead `{}` crosses the punch opening near ({:.1}, {:.1})", block.name, at.x, at.y),
-            line,
-            "this centre line",
+            course,
+            "this course",
             "a bead runs on the binder, outside the punch opening: move the centre line outwards or narrow the profile",
         ),
-        Problem::ProfileFeet => feature_error(
+        Problem::ProfileFeet { section } => feature_error(
             KIND,
-            "a bead profile must start and end on the binder, at height 0",
-            profile,
+            format!("the cross-section of {} must start and end on the binder, at height 0", name(*section)),
+            source(*section).profile,
             "this profile",
             "draw the cross-section from (-w, 0) over the crest to (w, 0), or use `std/beads`",
+        ),
+        Problem::ProfileFolds { section, s } => feature_error(
+            KIND,
+            format!("the cross-section of {} runs backwards across the bead at s = {} mm", name(*section), show(*s)),
+            source(*section).profile,
+            "this profile",
+            "a bead's cross-section must run one way across the bead (from one foot to the other): a wall that leans back would be an undercut the press cannot form",
+        ),
+        Problem::TooTall { section, height, limit } => feature_error(
+            KIND,
+            format!(
+                "{} is {} mm tall, but the binder allows beads up to {} mm",
+                name(*section),
+                show(*height),
+                show(*limit)
+            ),
+            source(*section).profile,
+            "this cross-section",
+            format!("lower the bead, or, for a special die, raise the blankholder's `max_bead_height` (now {} mm)", show(*limit)),
+        )
+        .with_label(binder, "on this binder"),
+        Problem::RuleCount { section, expected, given } => feature_error(
+            KIND,
+            format!(
+                "{} has {given} rule points, but {} has {expected}",
+                name(*section),
+                name(0)
+            ),
+            source(*section).rules,
+            format!("{given} rule points"),
+            "rules tie the same feature of every key section together (a crest, a step): give each key section the same number, in the same order across",
+        )
+        .with_label(source(0).rules, format!("{expected} here")),
+        Problem::RuleOutside { section, s, feet } => feature_error(
+            KIND,
+            format!(
+                "the rule point {} mm of {} is not between its feet ({} mm, {} mm) in order",
+                show(*s),
+                name(*section),
+                show(feet.0),
+                show(feet.1)
+            ),
+            source(*section).rules,
+            "these rule points",
+            "rule points are positions across the profile, strictly between its feet and increasing",
+        ),
+        Problem::SectionOrder { section } => feature_error(
+            KIND,
+            format!("{} is not on the bead after the one before it", name(*section)),
+            source(*section).at,
+            "this position",
+            "key sections go in order along the centre line, from 0 % to 100 % of its length",
+        ),
+        Problem::MissesBoundary { boundary, at } => feature_error(
+            KIND,
+            format!(
+                "the section across the bead `{}` near ({:.1}, {:.1}) does not meet boundary {}",
+                block.name,
+                at.x,
+                at.y,
+                boundary + 1
+            ),
+            course,
+            "these boundaries",
+            "the two boundaries must run side by side over the whole bead: draw them the same length, from the same end",
         ),
         Problem::BadLength(what) => feature_error(
             KIND,
@@ -149,14 +415,15 @@ fn problem_diag(block: &Block, p: &Problem, line: Span, profile: Span) -> Diagno
         Problem::Kernel(e) => feature_error(
             KIND,
             format!("the bead `{}` cannot be built: {e}", block.name),
-            line,
+            course,
             "this bead",
             "check the centre line for a doubling back and the profile for degenerate input",
         ),
     }
 }
 
-/// The feature record: `surface`, `centre` (on the binder), `line_bead`, `quality`.
+/// The feature record: `surface`, `centre` (on the binder), `sections` (the key
+/// sections), `rules`, `line_bead`, `quality`.
 fn output(block: &Block, bead: bd::Bead, spacing: f64, force: Option<f64>) -> Value {
     let span = block.span;
     let points: Vec<Value> = bead
@@ -177,6 +444,13 @@ fn output(block: &Block, bead: bd::Bead, spacing: f64, force: Option<f64>) -> Va
             Value::new(Data::Number(Quantity::bare(f)), span),
         ));
     }
+    let curves = |cs: &[crate::geom::Curve3]| {
+        let list: Vec<Value> = cs
+            .iter()
+            .map(|c| Value::new(Data::Curve3(Arc::new(c.clone())), span))
+            .collect();
+        Value::new(Data::List(Arc::new(list)), span)
+    };
     let fields = vec![
         (
             "surface".to_string(),
@@ -186,6 +460,8 @@ fn output(block: &Block, bead: bd::Bead, spacing: f64, force: Option<f64>) -> Va
             "centre".to_string(),
             Value::new(Data::Curve3(Arc::new(bead.centre.clone())), span),
         ),
+        ("sections".to_string(), curves(&bead.sections)),
+        ("rules".to_string(), curves(&bead.rules)),
         (
             "line_bead".to_string(),
             super::record_value(line_bead, span),
@@ -195,6 +471,9 @@ fn output(block: &Block, bead: bd::Bead, spacing: f64, force: Option<f64>) -> Va
     let quality = vec![
         ("foot_gap".to_string(), mm(q.foot_gap, span)),
         ("section_error".to_string(), mm(q.section_error, span)),
+        ("height".to_string(), mm(q.height, span)),
+        ("width_min".to_string(), mm(q.width.0, span)),
+        ("width_max".to_string(), mm(q.width.1, span)),
         ("sections".to_string(), count(q.sections, span)),
         ("length".to_string(), mm(q.length, span)),
     ];

@@ -95,7 +95,7 @@ enum Blame {
 /// Builds the blankholder of `block`.
 pub fn build(block: &Block) -> Result<Value, Diagnostic> {
     block.check_fields(
-        &["opening", "width", "angle", "corners"],
+        &["opening", "width", "angle", "corners", "max_bead_height"],
         &["side", "corner"],
     )?;
     let units = block.units;
@@ -267,8 +267,24 @@ pub fn build(block: &Block) -> Result<Value, Diagnostic> {
             }
         }
     }
-    let binder =
+    let mut binder =
         bh::build(&opening, &spec).map_err(|e| build_error(block, &opening, &spec, &blame, e))?;
+    if let Some(f) = block.get("max_bead_height") {
+        let limit = length(&f.value, units, "`max_bead_height`")?;
+        if !(limit.is_finite() && limit > 0.0) {
+            return Err(feature_error(
+                KIND,
+                format!(
+                    "the binder's `max_bead_height` must be positive, but it is {} mm",
+                    show(limit)
+                ),
+                f.value.span,
+                "not a positive height",
+                "the tallest draw bead the binder takes, e.g. `20 mm` (the default is 15 mm)",
+            ));
+        }
+        binder.max_bead_height = limit;
+    }
     Ok(output(block, binder))
 }
 

@@ -43,6 +43,19 @@ impl Field {
         let len = self.words.last().map_or(0, String::len);
         Span::new(self.name_span.file, end.saturating_sub(len).max(start), end)
     }
+
+    /// The diagnostic for a nested block (`section front { ... }`, here `what`) that
+    /// lacks the field `key`, pointing at the block's name.
+    pub fn missing(&self, what: &str, key: &str, help: impl Into<String>) -> Diagnostic {
+        let name = self.words.last().map_or("", String::as_str);
+        Diagnostic::new(
+            "die::missing_field",
+            format!("{what} needs the field `{key}`"),
+            self.name_word(),
+            format!("`{name}` has no `{key}`"),
+        )
+        .with_help(help)
+    }
 }
 
 /// A feature block, evaluated.

@@ -123,23 +123,11 @@ pub fn build(block: &Block) -> Result<Value, Diagnostic> {
         )?;
         check_record(r, field.value.span, &what, &["at", "profile"])?;
         let at_value = r.get("at").ok_or_else(|| {
-            Diagnostic::new(
-                "die::missing_field",
-                format!("{what} needs the field `at`"),
-                field.name_word(),
-                format!("`{name}` has no `at`"),
-            )
-            .with_help("place the section with two top-view points, `at = ((x1, y1), (x2, y2))`: the first inside the product outline, the second beyond the punch opening; the vertical plane through them is the section")
+            field.missing(&what, "at", "place the section with two top-view points, `at = ((x1, y1), (x2, y2))`: the first inside the product outline, the second beyond the punch opening; the vertical plane through them is the section")
         })?;
         let (a, b) = two_points(at_value, units, &what)?;
         let profile_value = r.get("profile").ok_or_else(|| {
-            Diagnostic::new(
-                "die::missing_field",
-                format!("{what} needs the field `profile`"),
-                field.name_word(),
-                format!("`{name}` has no `profile`"),
-            )
-            .with_help(format!(
+            field.missing(&what, "profile", format!(
                 "give the profile from the product outline to the punch opening: a profile function such as `profile = add.wall` (it is handed both points), or a sketch in the section plane, `sketch(section({}, {})) {{ ... }}`",
                 p2(a),
                 p2(b)
