@@ -496,3 +496,79 @@ punch_opening opening {
         "{m:?}"
     );
 }
+
+#[test]
+fn bad_parameters_are_refused_at_the_designers_call() {
+    // (call, message)
+    let cases = [
+        (
+            "ad.wall((0, 0), (90, -60), punch_radius: -10 mm)",
+            "addendum.wall: `punch_radius` must be 0 mm or more, but it is -10 mm",
+        ),
+        (
+            "ad.wall((0, 0), (90, -60), draft: 95 deg)",
+            "addendum.wall: `draft`, the walls' angle from the vertical, must be at least 0 deg and less than 90 deg, but it is 95 deg",
+        ),
+        (
+            "ad.wall((0, 0), (90, -60), run: 4 deg)",
+            "addendum.wall: `run` must be a length (mm, cm, m or in) such as `10 mm`, but it is 4 deg",
+        ),
+        (
+            "ad.wall((0, 0), (90, -60), run: 0 mm, punch_radius: 0 mm)",
+            "addendum.wall: `run` and `punch_radius` are both 0 mm, so the profile's first line would have no length",
+        ),
+        (
+            "ad.step((0, 0), (140, -80), -30 mm, 20 mm)",
+            "addendum.step: `step_depth` must be a positive length, but it is -30 mm",
+        ),
+        (
+            "ad.step((0, 0), (140, -80), 30 mm, -20 mm)",
+            "addendum.step: `step_width` must be 0 mm or more, but it is -20 mm",
+        ),
+        (
+            "ad.step((0, 0), (140, -80), 30 mm, 20 mm, step_radius: -6 mm)",
+            "addendum.step: `step_radius` must be 0 mm or more, but it is -6 mm",
+        ),
+        (
+            "ad.step((0, 0), (140, -80), 80 mm, 20 mm)",
+            "addendum.step: `step_depth` must be less than the height from the product edge to the punch opening, 80 mm, so that the second wall has some height left, but it is 80 mm",
+        ),
+        (
+            "ad.flat_binder((0, 0), (120, -50), flat: -40 mm)",
+            "addendum.flat_binder: `flat` must be 0 mm or more, but it is -40 mm",
+        ),
+        (
+            "ad.flat_binder((0, 0), (120, -50), flat: 0 mm, die_radius: 0 mm)",
+            "addendum.flat_binder: `flat` and `die_radius` are both 0 mm, so the profile's last line would have no length",
+        ),
+    ];
+    for (call, message) in cases {
+        let text = format!("import \"std/addendum\" as ad\nunits mm deg\nlet p = {call}\n");
+        let mut engine = Engine::new(None);
+        let out = engine.evaluate("addendum_test.die", &text, None);
+        assert_eq!(out.diagnostics.len(), 1, "{call}: {:?}", out.diagnostics);
+        let d = &out.diagnostics[0];
+        assert_eq!(d.code, "die::bad_argument", "{call}");
+        assert_eq!(d.message, message, "{call}");
+        // At the module's `fail(...)`, with the designer's call in the chain.
+        let primary = engine.sources.slice(d.primary.span);
+        assert!(primary.starts_with("fail("), "{call}: {primary}");
+        let function = call.trim_start_matches("ad.").split('(').next().unwrap();
+        let chain: Vec<(&str, &str)> = d
+            .secondary
+            .iter()
+            .map(|l| (l.message.as_str(), engine.sources.slice(l.span)))
+            .collect();
+        assert_eq!(
+            chain,
+            [(format!("in this call of `{function}`").as_str(), call)],
+            "{call}"
+        );
+    }
+    // Bare numbers for the parameters without a default are still lengths, and at one
+    // height a wall needs no run or radius.
+    let bare = one("ad.step((0, 0), (140, -80), 30, 20, draft: 10)");
+    let units = one("ad.step((0, 0), (140, -80), 30 mm, 20 mm, draft: 10 deg)");
+    assert_eq!(bare.curve, units.curve);
+    one("ad.wall((0, 10), (50, 10), run: 0 mm, punch_radius: 0 mm)");
+}

@@ -579,26 +579,198 @@ fn double_beads() {
     }
 }
 
-#[test]
-fn a_negative_gap_folds_back() {
-    let sk = sketch("b.double(gap: -2 mm)");
-    let w = 2.0 * round_w(5.0, 6.0, 2.0, deg(15.0)) - 1.0;
-    assert!(close(sk.curve.end_point().x, w));
-    assert!(samples(&sk, 4000)
-        .windows(2)
-        .any(|p| p[1].x < p[0].x - 1e-6));
+/// The one diagnostic of `lets`: (code, message, where its primary label is, the
+/// secondary labels' messages and the text they point at).
+fn refusal(lets: &str) -> (String, String, String, Vec<(String, String)>) {
+    let text = format!("import \"std/beads\" as b\nunits mm deg\n{lets}\n");
+    let mut engine = Engine::new(None);
+    let out = engine.evaluate("beads_test.die", &text, None);
+    assert_eq!(out.diagnostics.len(), 1, "{:?}", out.diagnostics);
+    let d = &out.diagnostics[0];
+    let file = |span: dieface::syntax::Span| engine.sources.get(span.file).unwrap().name.clone();
+    let labels = d
+        .secondary
+        .iter()
+        .map(|l| (l.message.clone(), engine.sources.slice(l.span).to_string()))
+        .collect();
+    (
+        d.code.to_string(),
+        d.message.clone(),
+        format!(
+            "{}: {}",
+            file(d.primary.span),
+            engine.sources.slice(d.primary.span)
+        ),
+        labels,
+    )
 }
 
 #[test]
-fn a_square_bead_too_low_for_its_radii_is_reported() {
-    // (3 + 3) * (1 - sin 10 deg) = 4.96 mm of flank height needed.
-    let m = messages("let p = b.square(height: 4 mm)");
-    assert!(
-        m.iter()
-            .any(|m| m.contains("die::sketch") && m.contains("does not fit")),
-        "{m:?}"
+fn bad_parameters_are_refused_at_the_designers_call() {
+    // (call, message)
+    let cases = [
+        (
+            "b.round(height: -6 mm)",
+            "beads.round: `height` must be a positive length, but it is -6 mm",
+        ),
+        (
+            "b.round(height: 0 mm)",
+            "beads.round: `height` must be a positive length, but it is 0 mm",
+        ),
+        (
+            "b.round(height: 6 deg)",
+            "beads.round: `height` must be a length (mm, cm, m or in) such as `6 mm`, but it is 6 deg",
+        ),
+        (
+            "b.round(draft: 90 deg)",
+            "beads.round: `draft`, the flanks' angle from the vertical, must be at least 0 deg and less than 90 deg, but it is 90 deg",
+        ),
+        (
+            "b.round(draft: -1 deg)",
+            "beads.round: `draft`, the flanks' angle from the vertical, must be at least 0 deg and less than 90 deg, but it is -1 deg",
+        ),
+        (
+            "b.round(draft: 5 mm)",
+            "beads.round: `draft` must be an angle (deg or rad) such as `15 deg`, but it is 5 mm",
+        ),
+        (
+            "b.round(shoulder: -3 mm)",
+            "beads.round: `shoulder` must be 0 mm or more, but it is -3 mm",
+        ),
+        (
+            "b.round(radius: 0 mm)",
+            "beads.round: `radius` must be a positive length, but it is 0 mm",
+        ),
+        (
+            "b.round_half_width(radius: -2 mm)",
+            "beads.round_half_width: `radius` must be a positive length, but it is -2 mm",
+        ),
+        (
+            "b.double(gap: -30 mm)",
+            "beads.double: `gap` must be 0 mm or more, but it is -30 mm",
+        ),
+        (
+            "b.double_half_width(height: 50 %)",
+            "beads.double_half_width: `height` must be a length (mm, cm, m or in) such as `6 mm`, but it is 0.5",
+        ),
+        (
+            "b.square(corner: -1 mm)",
+            "beads.square: `corner` must be 0 mm or more, but it is -1 mm",
+        ),
+        (
+            "b.square_half_width(width: 0 mm)",
+            "beads.square_half_width: `width` must be a positive length, but it is 0 mm",
+        ),
+        (
+            "b.lock_step(shoulder: -2 mm)",
+            "beads.lock_step: `shoulder` must be 0 mm or more, but it is -2 mm",
+        ),
+        (
+            "b.lock_step_half_width(draft: 90 deg)",
+            "beads.lock_step_half_width: `draft`, the flanks' angle from the vertical, must be at least 0 deg and less than 90 deg, but it is 90 deg",
+        ),
+    ];
+    for (call, message) in cases {
+        let (code, m, primary, labels) = refusal(&format!("let p = {call}"));
+        assert_eq!(code, "die::bad_argument", "{call}");
+        assert_eq!(m, message, "{call}");
+        // The primary label is the library's `fail(...)`; the call chain ends at the
+        // designer's own call.
+        assert!(primary.starts_with("std/beads: fail("), "{call}: {primary}");
+        let function = call.trim_start_matches("b.").split('(').next().unwrap();
+        assert_eq!(
+            labels,
+            [(format!("in this call of `{function}`"), call.to_string())],
+            "{call}"
+        );
+    }
+    // The edges that can be drawn are accepted: sharp shoulders and corners, touching
+    // beads, vertical flanks.
+    for call in [
+        "b.round(shoulder: 0 mm)",
+        "b.round(draft: 0 deg, height: 20 mm)",
+        "b.double(gap: 0 mm)",
+        "b.square(corner: 0 mm, shoulder: 0 mm)",
+        "b.lock_step(draft: 0 deg)",
+    ] {
+        sketch(call);
+    }
+}
+
+#[test]
+fn a_negative_gap_is_refused() {
+    assert_eq!(
+        messages("let p = b.double(gap: -2 mm)"),
+        ["die::bad_argument: beads.double: `gap` must be 0 mm or more, but it is -2 mm"]
     );
-    // A top too narrow for its corners.
-    let m = messages("let p = b.square(width: 4 mm)");
-    assert!(m.iter().any(|m| m.contains("does not fit")), "{m:?}");
+}
+
+#[test]
+fn a_square_bead_whose_radii_do_not_fit_is_refused() {
+    // (3 + 3) * (1 - sin 10 deg) = 4.958111 mm of flank height needed.
+    let (code, m, _, _) = refusal("let p = b.square(height: 4 mm)");
+    assert_eq!(code, "die::bad_argument");
+    assert_eq!(
+        m,
+        "beads.square: the `height` of 4 mm leaves no room on the flanks for the `corner` and \
+         `shoulder` radii (3 mm and 3 mm): at a draft of 10 deg it must be at least 4.958111 mm \
+         ((corner + shoulder) * (1 - sin(draft)))"
+    );
+    assert!((6.0 * (1.0 - deg(10.0).sin()) - 4.958111).abs() < 1e-6);
+    // A top too narrow for its corners: 2 * 3 mm * tan(40 deg) = 5.034598 mm.
+    let (_, m, _, _) = refusal("let p = b.square(width: 4 mm, corner: 3 mm)");
+    assert_eq!(
+        m,
+        "beads.square: the top `width` of 4 mm cannot hold its two `corner` radii of 3 mm: at a \
+         draft of 10 deg it must be at least 5.034598 mm (2 * corner * tan(45 deg - draft / 2))"
+    );
+    assert!((2.0 * takes(3.0, deg(10.0)) - 5.034598).abs() < 1e-6);
+    // A lock step is refused under its own name.
+    let (_, m, _, labels) = refusal("let p = b.lock_step(width: 3 mm)");
+    assert!(
+        m.starts_with("beads.lock_step: the top `width` of 3 mm"),
+        "{m}"
+    );
+    assert_eq!(labels.len(), 1, "{labels:?}");
+}
+
+#[test]
+fn a_bare_number_takes_the_callers_default_unit() {
+    // In a millimetre file `b.round(6)` is `b.round(6 mm)`, and a bare draft is in degrees.
+    assert_eq!(sketch("b.round(6)").curve, sketch("b.round(6 mm)").curve);
+    assert_eq!(
+        sketch("b.round(7, 5, 2, 12)").curve,
+        sketch("b.round(7 mm, 5 mm, 2 mm, 12 deg)").curve
+    );
+    assert_eq!(
+        length("b.double_half_width(gap: 4)"),
+        length("b.double_half_width(gap: 4 mm)")
+    );
+    // In a centimetre / radian file the same numbers are centimetres and radians.
+    let text = "import \"std/beads\" as b\nunits cm rad\n\
+                let p = b.round(0.6)\nlet q = b.round(6 mm)\n\
+                let w = b.round_half_width(0.6, draft: 0.3)\n\
+                let v = b.round_half_width(6 mm, draft: 0.3 rad)\n";
+    let mut engine = Engine::new(None);
+    let out = engine.evaluate("beads_cm.die", text, None);
+    assert!(out.diagnostics.is_empty(), "{:?}", out.diagnostics);
+    let value = |name: &str| {
+        out.decls
+            .iter()
+            .find(|d| d.name == name)
+            .and_then(|d| d.value.as_ref())
+            .map(|v| v.data.clone())
+            .unwrap()
+    };
+    match (value("p"), value("q")) {
+        (Data::Sketch(p), Data::Sketch(q)) => assert_eq!(p.curve, q.curve),
+        other => panic!("not sketches: {other:?}"),
+    }
+    match (value("w"), value("v")) {
+        (Data::Number(w), Data::Number(v)) => {
+            assert_eq!(w, v);
+            assert!(close(w.value, round_w(6.0, 8.0, 3.0, 0.3)));
+        }
+        other => panic!("not numbers: {other:?}"),
+    }
 }

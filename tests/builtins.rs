@@ -1240,3 +1240,112 @@ fn project_errors() {
     let e = call("project", vec![inside, mm(3.0)]).unwrap_err();
     assert_eq!(e.code, "die::type_mismatch");
 }
+
+// ---- checks ---------------------------------------------------------------------------
+
+#[test]
+fn fail_and_the_dimension_tests() {
+    // `fail` stops with its message and help at the call.
+    let e = call(
+        "fail",
+        vec![text("f: `x` must be positive, but it is -1 mm")],
+    )
+    .unwrap_err();
+    assert_eq!(e.code, "die::bad_argument");
+    assert_eq!(e.message, "f: `x` must be positive, but it is -1 mm");
+    assert_eq!(e.primary.span, CALL);
+    assert!(e.help.is_some());
+    let e = call("fail", vec![text("no"), text("give 3 mm")]).unwrap_err();
+    assert_eq!(e.help.as_deref(), Some("give 3 mm"));
+    assert_eq!(
+        call("fail", vec![mm(3.0)]).unwrap_err().code,
+        "die::type_mismatch"
+    );
+    // A bare number can be used as a length or an angle; a ratio as neither.
+    let test = |name: &str, v: Value| match call(name, vec![v]).unwrap() {
+        Data::Bool(b) => b,
+        other => panic!("{name}: {other:?}"),
+    };
+    assert!(test("is_length", mm(-6.0)));
+    assert!(test("is_length", bare(6.0)));
+    assert!(!test("is_length", deg(6.0)));
+    assert!(!test("is_length", ratio(0.5)));
+    assert!(!test("is_length", text("6 mm")));
+    assert!(test("is_angle", deg(95.0)));
+    assert!(test("is_angle", bare(6.0)));
+    assert!(!test("is_angle", mm(6.0)));
+    // `str` writes values as messages show them.
+    let show = |v: Value| match call("str", vec![v]).unwrap() {
+        Data::Str(s) => s.to_string(),
+        other => panic!("{other:?}"),
+    };
+    assert_eq!(show(mm(-6.0)), "-6 mm");
+    assert_eq!(show(deg(95.0)), "95 deg");
+    assert_eq!(show(bare(6.0)), "6");
+    assert_eq!(show(p2(1.0, 2.5)), "(1 mm, 2.5 mm)");
+    assert_eq!(show(list(vec![bare(1.0), text("a")])), "[1, a]");
+    assert_eq!(show(Value::new(Data::Bool(true), CALL)), "true");
+}
+
+/// The values of a script's declarations, by name; panics on any diagnostic.
+fn evaluate(text: &str) -> Vec<(String, Data)> {
+    let mut engine = dieface::eval::Engine::new(None);
+    let out = engine.evaluate("script.die", text, None);
+    let rendered: Vec<String> = out
+        .diagnostics
+        .iter()
+        .map(|d| engine.sources.render(d, false))
+        .collect();
+    assert!(rendered.is_empty(), "{}", rendered.join("\n"));
+    out.decls
+        .iter()
+        .map(|d| {
+            (
+                d.name.clone(),
+                d.value.as_ref().expect("a value").data.clone(),
+            )
+        })
+        .collect()
+}
+
+#[test]
+fn a_bare_argument_takes_the_unit_of_its_parameters_default() {
+    // A user function whose parameters default to lengths, dividing by a length: called
+    // with bare numbers, they are millimetres (the calling file's unit).
+    let values = evaluate(
+        "fn wrap_z(x = 0 mm, y = 0 mm) = -60 mm * (1 - (x / 650 mm) * (x / 650 mm)) + y / 10\n\
+         fn tilt(a = 0 deg) = 100 mm * tan(a)\n\
+         fn plain(x) = x * 2\n\
+         let bare = wrap_z(-600, -395)\n\
+         let lengths = wrap_z(-600 mm, -395 mm)\n\
+         let angle = tilt(30)\n\
+         let kept = plain(3)\n\
+         let added = 5 mm + 10\n",
+    );
+    let q = |name: &str| match &values.iter().find(|(n, _)| n == name).unwrap().1 {
+        Data::Number(q) => *q,
+        other => panic!("{name}: {other:?}"),
+    };
+    let expected = -60.0 * (1.0 - (600.0f64 / 650.0).powi(2)) - 39.5;
+    assert_eq!(q("bare"), q("lengths"));
+    assert_eq!(q("bare").dim, Dim::LENGTH);
+    assert!((q("bare").value - expected).abs() < 1e-9);
+    assert!((q("angle").value - 100.0 * (PI / 6.0).tan()).abs() < 1e-9);
+    // Without a default the number stays bare; next to a length it takes the unit.
+    assert_eq!(q("kept"), Quantity::bare(6.0));
+    assert_eq!(q("added"), Quantity::length(15.0));
+    // In a centimetre file they are centimetres (a module's functions, `tests/beads.rs`,
+    // take the unit of the file that calls them).
+    let values = evaluate(
+        "units cm\n\
+         fn wrap_z(x = 0 mm) = -60 mm * (1 - (x / 650 mm) * (x / 650 mm))\n\
+         let bare = wrap_z(-60)\n\
+         let added = 5 mm + 10\n",
+    );
+    let q = |name: &str| match &values.iter().find(|(n, _)| n == name).unwrap().1 {
+        Data::Number(q) => *q,
+        other => panic!("{name}: {other:?}"),
+    };
+    assert!((q("bare").value - (-60.0 * (1.0 - (600.0f64 / 650.0).powi(2)))).abs() < 1e-9);
+    assert_eq!(q("added"), Quantity::length(105.0));
+}

@@ -16,7 +16,7 @@ use super::engine::Globals;
 use super::ops;
 use super::sketch::{self, Command, View};
 use super::units::{self, Units};
-use super::value::{Closure, Data, Quantity, Record, Value};
+use super::value::{Closure, Data, Dim, Quantity, Record, Value};
 
 /// Deepest chain of nested function calls before evaluation stops with an error.
 pub const MAX_CALL_DEPTH: usize = 200;
@@ -508,6 +508,13 @@ impl<'w> Ctx<'w> {
                 let mut locals = c.captured.clone();
                 for (p, slot) in c.params.iter().zip(slots) {
                     let v = match (slot, &p.default) {
+                        // A bare number given for a parameter whose default is a length
+                        // or an angle takes the calling file's default unit, as it would
+                        // where a builtin needs a length or an angle.
+                        (Some(v), Some(d)) if is_bare(&v) => match inner.eval(d, &locals) {
+                            Ok(default) => with_default_unit(v, &default, self.units()),
+                            Err(_) => v,
+                        },
                         (Some(v), _) => v,
                         (None, Some(d)) => inner.eval(d, &locals)?,
                         (None, None) => {
@@ -545,6 +552,25 @@ impl<'w> Ctx<'w> {
             .with_help("only functions can be called: `name(args)`; for arithmetic write the operator, e.g. `radius * 2`")),
         }
     }
+}
+
+/// Whether `v` is a bare number: written without a unit, or computed only from such.
+fn is_bare(v: &Value) -> bool {
+    matches!(&v.data, Data::Number(q) if q.bare && q.dim.is_none())
+}
+
+/// The bare number `v` in `units`' length or angle unit when `default` is a length or
+/// an angle; otherwise `v` unchanged.
+fn with_default_unit(v: Value, default: &Value, units: Units) -> Value {
+    let (Data::Number(q), Data::Number(d)) = (&v.data, &default.data) else {
+        return v;
+    };
+    let q = match d.dim {
+        Dim::LENGTH => Quantity::length(q.value * units.length),
+        Dim::ANGLE => Quantity::angle(q.value * units.angle),
+        _ => return v,
+    };
+    Value::new(Data::Number(q), v.span)
 }
 
 /// `name(a, b = ...)` for help texts.

@@ -7,6 +7,7 @@
 //! arguments to kernel types, reporting wrong types and units at the argument's span.
 
 mod args;
+mod checks;
 mod curves;
 mod io;
 mod math;
@@ -88,9 +89,10 @@ impl Builtin {
 }
 
 /// Every builtin module's table.
-fn tables() -> [&'static [Builtin]; 7] {
+fn tables() -> [&'static [Builtin]; 8] {
     [
         math::BUILTINS,
+        checks::BUILTINS,
         vectors::BUILTINS,
         curves::BUILTINS,
         surfaces::BUILTINS,
