@@ -1,91 +1,92 @@
-//! Draw beads on the fender's blankholder (issue 7, in progress): the feet lie on the
-//! binder, measured independently of the kernel's own height field; a bead that
-//! leaves the binder or crosses the punch opening is refused at its centre line.
+//! Draw beads (issue 7).
+//!
+//! On the fender example: the feet lie on the binder, measured independently of the
+//! kernel's own height field (vertical lines intersected with every binder patch); the
+//! tapered ends run out to zero; the taller key section stands at its height; the rule
+//! curve runs along the crest; the line bead reaches the glTF.
+//!
+//! On a flat binder, where every figure can be checked by hand: the skin follows the
+//! profile everywhere (not only at its sections); a bead between two boundaries has its
+//! feet on them; key sections blend, and the taper runs out, by the documented `ease`
+//! (the quintic smootherstep).
 
-use std::path::{Path, PathBuf};
+#[path = "common/fender.rs"]
+mod fender;
 
+use std::path::Path;
+
+use dieface::die::bead::Bead;
+use dieface::die::blankholder::Blankholder;
 use dieface::eval::value::Feature;
 use dieface::eval::{Data, Engine, Outcome, Value};
 use dieface::geom::intersect::intersect_line_surface_all;
-use glam::DVec3;
+use dieface::geom::inversion::closest_point_on_curve;
+use dieface::geom::{Curve2, Direction};
+use glam::{DVec2, DVec3};
 
-fn dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/fender")
-}
-
-/// The fender example with `extra` appended, evaluated.
-fn fender_with(extra: &str) -> (Engine, Outcome) {
-    let text = std::fs::read_to_string(dir().join("fender.die")).expect("the example");
-    let mut engine = Engine::new(Some(dir()));
-    let out = engine.evaluate("fender.die", &format!("{text}\n{extra}"), Some(dir()));
-    (engine, out)
-}
-
-fn value<'a>(out: &'a Outcome, name: &str) -> &'a Value {
-    out.decls
+fn find<'a>(values: &'a [(String, Value)], name: &str) -> &'a Value {
+    &values
         .iter()
-        .find(|d| d.name == name)
-        .and_then(|d| d.value.as_ref())
+        .find(|(n, _)| n == name)
         .unwrap_or_else(|| panic!("`{name}` has a value"))
+        .1
 }
 
-const PROFILE: &str = "
-let bead_profile = sketch(profile) {
-    from (-14, 0)
-    line to (-6, 6)
-    fillet 3
-    line to (6, 6)
-    fillet 3
-    line to (14, 0)
+fn bead_of(v: &Value) -> &Bead {
+    match &v.data {
+        Data::Record(r) => match &r.feature {
+            Some(Feature::Bead(b)) => b,
+            _ => panic!("not a bead"),
+        },
+        _ => panic!("not a record"),
+    }
 }
-";
 
-/// A straight bead along the front side and one following the rear-front corner: both
-/// feet lie on the binder within 0.001 mm, measured by intersecting vertical lines with
-/// every binder patch.
-#[test]
-fn bead_feet_lie_on_the_binder() {
-    let extra = format!(
-        "{PROFILE}
-bead front_bead {{
-    binder = binder
-    line = sketch(top) {{ from (-420, -575); line to (420, -585) }}
-    profile = bead_profile
-    taper = 40 mm
-    force = 250
-}}
-bead corner_bead {{
-    binder = binder
-    line = sketch(top) {{
-        from (-775, 150)
-        line to (-775, -560)
-        fillet 110
-        line to (-300, -580)
-    }}
-    profile = bead_profile
-}}
-"
-    );
-    let (engine, out) = fender_with(&extra);
-    let problems: Vec<String> = out
-        .diagnostics
+fn binder_of(v: &Value) -> &Blankholder {
+    match &v.data {
+        Data::Record(r) => match &r.feature {
+            Some(Feature::Blankholder(b)) => b,
+            _ => panic!("not a blankholder"),
+        },
+        _ => panic!("not a record"),
+    }
+}
+
+/// The binder height under `p` by intersecting the vertical line with every patch (the
+/// nearest hit in z), independent of the bead's Newton height field.
+fn binder_z(binder: &Blankholder, p: DVec3) -> f64 {
+    binder
+        .patches
         .iter()
-        .map(|d| engine.sources.render(d, false))
-        .collect();
-    assert!(problems.is_empty(), "{}", problems.join("\n"));
-    let Data::Record(binder) = &value(&out, "binder").data else {
-        panic!("the binder is a record")
-    };
-    let Some(Feature::Blankholder(binder)) = &binder.feature else {
-        panic!("a blankholder")
-    };
-    for name in ["front_bead", "corner_bead"] {
-        let Data::Record(r) = &value(&out, name).data else {
-            panic!("a bead is a record")
-        };
-        let Some(Feature::Bead(bead)) = &r.feature else {
-            panic!("a bead")
-        };
+        .flat_map(|patch| {
+            intersect_line_surface_all(p, DVec3::Z, &patch.surface)
+                .expect("a vertical line")
+                .into_iter()
+                .map(|h| h.point.z)
+        })
+        .min_by(|a, b| (a - p.z).abs().total_cmp(&(b - p.z).abs()))
+        .unwrap_or_else(|| panic!("no binder under ({:.1}, {:.1})", p.x, p.y))
+}
+
+/// The largest height of the skin above the binder across the bead at `v`.
+fn crest(binder: &Blankholder, bead: &Bead, v: f64) -> f64 {
+    let (u0, u1) = bead.surface.domain_u();
+    (0..=200)
+        .map(|i| {
+            let p = bead.surface.point_at(u0 + (u1 - u0) * i as f64 / 200.0, v);
+            p.z - binder_z(binder, p)
+        })
+        .fold(f64::MIN, f64::max)
+}
+
+/// Both feet of both fender beads lie on the binder within 0.001 mm (500 samples per
+/// foot), and the line bead steps at most 15 mm.
+#[test]
+fn fender_bead_feet_lie_on_the_binder() {
+    let values = fender::fender_values();
+    let binder = binder_of(find(&values, "binder"));
+    for name in ["wheel_arch", "rear_corner"] {
+        let bead = bead_of(find(&values, name));
         let s = &bead.surface;
         let (u0, u1) = s.domain_u();
         let (v0, v1) = s.domain_v();
@@ -93,107 +94,92 @@ bead corner_bead {{
         for u in [u0, u1] {
             for i in 0..=500 {
                 let p = s.point_at(u, v0 + (v1 - v0) * i as f64 / 500.0);
-                let below: Vec<f64> = binder
-                    .patches
-                    .iter()
-                    .flat_map(|patch| {
-                        intersect_line_surface_all(p, DVec3::Z, &patch.surface)
-                            .expect("a vertical line")
-                            .into_iter()
-                            .map(|h| h.point.z)
-                    })
-                    .collect();
-                let gap = below
-                    .iter()
-                    .map(|z| (p.z - z).abs())
-                    .fold(f64::INFINITY, f64::min);
-                assert!(
-                    gap.is_finite(),
-                    "{name}: a foot point has no binder under it"
-                );
-                worst = worst.max(gap);
+                worst = worst.max((p.z - binder_z(binder, p)).abs());
             }
         }
         eprintln!(
-            "{name}: foot gap {worst:.2e} mm, kernel's {:.2e} mm",
-            bead.quality.foot_gap
+            "{name}: foot gap {worst:.2e} mm (kernel's figure {:.2e} mm), section error {:.2e} mm",
+            bead.quality.foot_gap, bead.quality.section_error
         );
         assert!(worst <= 0.001, "{name}: foot gap {worst} mm");
-        // The line bead: points every 15 mm along the centre line, on the binder.
-        let pts = &bead.line_points;
-        let steps: Vec<f64> = pts.windows(2).map(|w| w[0].distance(w[1])).collect();
+        assert!(bead.quality.foot_gap <= 0.001);
+        assert!(bead.quality.section_error <= 0.01);
+        let steps: Vec<f64> = bead
+            .line_points
+            .windows(2)
+            .map(|w| w[0].distance(w[1]))
+            .collect();
         let longest = steps.iter().cloned().fold(0.0, f64::max);
         assert!(
             longest <= 15.0 + 1e-6,
             "{name}: a line-bead step of {longest} mm"
         );
     }
-    let Data::Record(r) = &value(&out, "front_bead").data else {
-        panic!("a record")
-    };
-    let Some(line_bead) = r.get("line_bead") else {
-        panic!("the line bead is a field")
-    };
-    let Data::Record(lb) = &line_bead.data else {
-        panic!("a record")
-    };
-    assert!(
-        lb.get("force").is_some(),
-        "the restraining force rides along"
-    );
 }
 
-/// A centre line that leaves the binder, and one that crosses the punch opening, are
-/// refused with the line as the culprit.
+/// The fender's corner bead: zero height at both tapered ends, 8 mm at its `corner`
+/// key section, between 6 and 8 mm on the way there; its rule curve (`rules = [0 mm]`)
+/// is the crest, straight above the centre line.
 #[test]
-fn beads_off_the_binder_are_refused() {
-    for (line, words) in [
-        (
-            "sketch(top) { from (-420, -575); line to (420, -900) }",
-            "leaves the binder",
-        ),
-        (
-            "sketch(top) { from (-420, -575); line to (0, -300) }",
-            "crosses the punch opening",
-        ),
-    ] {
-        let extra = format!(
-            "{PROFILE}
-bead bad {{
-    binder = binder
-    line = {line}
-    profile = bead_profile
-}}
-"
+fn fender_corner_bead_tapers_rises_and_keeps_its_crest_rule() {
+    let values = fender::fender_values();
+    let binder = binder_of(find(&values, "binder"));
+    let bead = bead_of(find(&values, "rear_corner"));
+    let (v0, v1) = bead.surface.domain_v();
+    for v in [v0, v1] {
+        let h = crest(binder, bead, v);
+        assert!(h.abs() < 1e-6, "a tapered end stands {h} mm high");
+    }
+    // The key sections are iso-curves of the skin: find the `corner` one by its height.
+    let corner = &bead.sections[1];
+    let (t0, t1) = corner.domain();
+    let tallest = (0..=400)
+        .map(|i| {
+            let p = corner.point_at(t0 + (t1 - t0) * i as f64 / 400.0);
+            p.z - binder_z(binder, p)
+        })
+        .fold(f64::MIN, f64::max);
+    assert!(
+        (tallest - 8.0).abs() < 1e-3,
+        "the corner section stands {tallest} mm"
+    );
+    // Past the taper (30 mm of 1,244 mm) and before the corner: between the two heights.
+    let v = v0 + 0.1 * (v1 - v0);
+    let h = crest(binder, bead, v);
+    assert!((6.0..8.0).contains(&h), "on the way to the corner: {h} mm");
+
+    assert_eq!(bead.rules.len(), 1);
+    let rule = &bead.rules[0];
+    let (r0, r1) = rule.domain();
+    let centre_top: Curve2 = bead.centre.map_points(|p| p.truncate());
+    for i in 0..=100 {
+        let v = r0 + (r1 - r0) * i as f64 / 100.0;
+        let p = rule.point_at(v);
+        let off = closest_point_on_curve(&centre_top, p.truncate())
+            .expect("a closest point")
+            .distance;
+        assert!(off < 1e-3, "the crest rule is {off} mm off the centre line");
+        let above = p.z - binder_z(binder, p);
+        let top = crest(binder, bead, v);
+        assert!(
+            (above - top).abs() < 2e-3,
+            "the rule is {above} mm high where the crest is {top} mm"
         );
-        let (_, out) = fender_with(&extra);
-        let d = out
-            .diagnostics
-            .iter()
-            .find(|d| d.code == "die::bead")
-            .unwrap_or_else(|| panic!("a bead diagnostic for {line}"));
-        assert!(d.message.contains(words), "{}", d.message);
     }
 }
 
 /// The line bead reaches forming simulation through the glTF: the bead's node carries
-/// its points (press mm), spacing and force in `extras.line_bead`.
+/// its points (press mm), spacing and force in `extras.line_bead`; every key section is
+/// a node of its own.
 #[test]
-fn line_beads_are_in_the_gltf_extras() {
+fn line_beads_and_key_sections_are_in_the_gltf() {
     use dieface::export::{build_scene, encode, Format};
     use dieface::geom::tessellate::Tolerance;
-    let extra = format!(
-        "{PROFILE}
-bead front_bead {{
-    binder = binder
-    line = sketch(top) {{ from (-420, -575); line to (420, -585) }}
-    profile = bead_profile
-    line_spacing = 20 mm
-    force = 250
-}}
-"
-    );
-    let (engine, out) = fender_with(&extra);
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
+    let mut engine = Engine::new(Some(root.clone()));
+    let out = engine
+        .evaluate_path(&root.join("fender/fender.die"))
+        .expect("readable");
     assert!(out.diagnostics.is_empty());
     let scene = build_scene(
         &out,
@@ -204,26 +190,254 @@ bead front_bead {{
     let glb = encode(&scene, Format::Glb);
     let len = u32::from_le_bytes(glb[12..16].try_into().expect("4 bytes")) as usize;
     let json: serde_json::Value = serde_json::from_slice(&glb[20..20 + len]).expect("JSON chunk");
-    let node = json["nodes"]
-        .as_array()
-        .expect("nodes")
+    let nodes = json["nodes"].as_array().expect("nodes");
+    let names: Vec<&str> = nodes.iter().filter_map(|n| n["name"].as_str()).collect();
+    for expected in [
+        "wheel_arch/surface",
+        "rear_corner/surface",
+        "rear_corner/section-start",
+        "rear_corner/section-corner",
+        "rear_corner/section-end",
+        "rear_corner/rules/0",
+    ] {
+        assert!(names.contains(&expected), "no node {expected}: {names:?}");
+    }
+    let node = nodes
         .iter()
-        .find(|n| n["name"] == "front_bead")
+        .find(|n| n["name"] == "wheel_arch")
         .expect("the bead is a node");
     let lb = &node["extras"]["line_bead"];
     assert_eq!(lb["force_n_per_mm"], 250.0);
-    assert_eq!(lb["spacing_mm"], 20.0);
+    assert_eq!(lb["spacing_mm"], 15.0);
     let points = lb["points_mm"].as_array().expect("points");
-    let Data::Record(r) = &value(&out, "front_bead").data else {
-        panic!("a record")
-    };
-    let Some(Feature::Bead(bead)) = &r.feature else {
-        panic!("a bead")
-    };
+    let values = fender::clean_values(&engine, &out);
+    let bead = bead_of(find(&values, "wheel_arch"));
     assert_eq!(points.len(), bead.line_points.len());
-    assert!(points.len() >= 840 / 20, "about one point every 20 mm");
+    assert!(points.len() >= 700 / 15, "about one point every 15 mm");
     for (p, q) in points.iter().zip(&bead.line_points) {
         let x = p[0].as_f64().expect("a number");
         assert!((x - q.x).abs() < 1e-9);
     }
+}
+
+/// A square opening with a flat binder at z = -60 (with `binder_extra` fields) and
+/// `beads`, evaluated.
+fn flat_with(beads: &str, binder_extra: &str) -> (Engine, Outcome) {
+    let text = format!(
+        "import \"std/beads\" as beads
+units mm deg
+let top_view = sketch(top) {{
+    from (-200, -200)
+    fillet 50
+    line to (200, -200)
+    fillet 50
+    line to (200, 200)
+    fillet 50
+    line to (-200, 200)
+    fillet 50
+    close
+}}
+let flat_x = sketch(side_xz) {{ from (-260, -60); line to (260, -60) }}
+let flat_y = sketch(side_yz) {{ from (-260, -60); line to (260, -60) }}
+punch_opening opening {{
+    top = top_view
+    side bottom = flat_x
+    side right = flat_y
+    side top = flat_x
+    side left = flat_y
+}}
+blankholder binder {{
+    opening = opening
+    width = 150 mm
+    {binder_extra}
+}}
+{beads}
+"
+    );
+    let mut engine = Engine::new(None);
+    let out = engine.evaluate("flat.die", &text, None);
+    (engine, out)
+}
+
+/// [`flat_with`] a blankholder of default settings.
+fn flat(beads: &str) -> (Engine, Outcome) {
+    flat_with(beads, "")
+}
+
+fn values_of(engine: &Engine, out: &Outcome) -> Vec<(String, Value)> {
+    fender::clean_values(engine, out)
+}
+
+fn profile_of(v: &Value) -> Curve2 {
+    match &v.data {
+        Data::Sketch(s) => s.curve.clone(),
+        _ => panic!("not a sketch"),
+    }
+}
+
+/// On a flat binder a straight bead is its profile swept along the line: every point of
+/// the skin (not only the sections) lies within 0.005 mm of the profile, measured in
+/// the plane across the bead.
+#[test]
+fn flat_straight_bead_is_its_profile_everywhere() {
+    let (engine, out) = flat(
+        "let p = beads.round(height: 6 mm, radius: 6 mm)
+bead b { binder = binder; line = sketch(top) { from (-100, -260); line to (100, -260) }; profile = p }",
+    );
+    let values = values_of(&engine, &out);
+    let bead = bead_of(find(&values, "b"));
+    let profile = profile_of(find(&values, "p"));
+    let s = &bead.surface;
+    let ((u0, u1), (v0, v1)) = (s.domain_u(), s.domain_v());
+    let mut worst: f64 = 0.0;
+    for i in 0..=150 {
+        for j in 0..=40 {
+            let p = s.point_at(
+                u0 + (u1 - u0) * i as f64 / 150.0,
+                v0 + (v1 - v0) * j as f64 / 40.0,
+            );
+            // Travel +x: s runs to the left, +y.
+            let q = DVec2::new(p.y + 260.0, p.z + 60.0);
+            worst = worst.max(
+                closest_point_on_curve(&profile, q)
+                    .expect("closest")
+                    .distance,
+            );
+        }
+    }
+    eprintln!("flat straight bead: skin to profile {worst:.2e} mm");
+    assert!(worst <= 0.005, "the skin leaves the profile by {worst} mm");
+    assert!(bead.quality.section_error <= 0.005);
+    assert!(bead.quality.foot_gap <= 1e-9);
+}
+
+/// A bead between two boundaries that open from 20 to 28 mm apart: its feet run along
+/// the boundaries, the profile stretches to the width, and the height stays.
+#[test]
+fn flat_bead_between_boundaries_stretches_to_them() {
+    let (engine, out) = flat(
+        "let p = beads.round(height: 5 mm, radius: 5 mm)
+let inner = sketch(top) { from (-100, -250); line to (100, -246) }
+let outer = sketch(top) { from (-100, -270); line to (100, -274) }
+bead b { binder = binder; boundaries = [inner, outer]; profile = p }",
+    );
+    let values = values_of(&engine, &out);
+    let bead = bead_of(find(&values, "b"));
+    let s = &bead.surface;
+    let ((u0, u1), (v0, v1)) = (s.domain_u(), s.domain_v());
+    // The boundary lines: y = -250 + 0.02 (x + 100) and y = -270 - 0.02 (x + 100).
+    let lines = [(-250.0, 0.02), (-270.0, -0.02)];
+    let mut worst: f64 = 0.0;
+    for u in [u0, u1] {
+        for j in 0..=200 {
+            let p = s.point_at(u, v0 + (v1 - v0) * j as f64 / 200.0);
+            let off = lines
+                .iter()
+                .map(|(y0, k)| (p.y - (y0 + k * (p.x + 100.0))).abs() / (1.0 + k * k).sqrt())
+                .fold(f64::INFINITY, f64::min);
+            worst = worst.max(off);
+            assert!((p.z + 60.0).abs() < 1e-9, "a foot off the flat binder");
+        }
+    }
+    assert!(worst < 1e-6, "a foot lies {worst} mm off its boundary");
+    let (narrow, wide) = (bead.quality.width.0, bead.quality.width.1);
+    assert!(
+        (narrow - 20.0).abs() < 1e-6 && (wide - 28.0).abs() < 1e-6,
+        "{narrow}..{wide}"
+    );
+    assert!((bead.quality.height - 5.0).abs() < 1e-6);
+    assert!((bead.centre.point_at(bead.centre.domain().0).y + 260.0).abs() < 1e-6);
+}
+
+/// Key sections blend by the documented `ease`: 6 mm at the ends, 9 mm at 50 %, and
+/// 6 + 3 w(x) in between, w the quintic smootherstep of the fraction between them;
+/// the rule at the crest carries that height.
+#[test]
+fn flat_key_sections_blend_by_ease() {
+    let (engine, out) = flat(
+        "bead b {
+    binder = binder
+    line = sketch(top) { from (-100, -260); line to (100, -260) }
+    profile = beads.round(height: 6 mm, radius: 6 mm)
+    rules = [0 mm]
+    section high { at = 50 %; profile = beads.round(height: 9 mm, radius: 6 mm); rules = [0 mm] }
+}",
+    );
+    let values = values_of(&engine, &out);
+    let bead = bead_of(find(&values, "b"));
+    let rule = &bead.rules[0];
+    let (r0, r1) = rule.domain();
+    let mut worst: f64 = 0.0;
+    for i in 0..=200 {
+        let p = rule.point_at(r0 + (r1 - r0) * i as f64 / 200.0);
+        let f = (p.x + 100.0) / 200.0;
+        let x = if f <= 0.5 { f / 0.5 } else { (1.0 - f) / 0.5 };
+        let w = x * x * x * (10.0 - 15.0 * x + 6.0 * x * x);
+        let expected = 6.0 + 3.0 * w;
+        worst = worst.max((p.z + 60.0 - expected).abs());
+        assert!(
+            (p.y + 260.0).abs() < 1e-6,
+            "the crest rule leaves the centre line"
+        );
+    }
+    eprintln!("key-section blend: crest off the blend by {worst:.2e} mm");
+    assert!(worst < 0.01, "the crest is {worst} mm off the blend");
+}
+
+/// The taper runs the height out by the documented `ease` over `taper` at both ends:
+/// 6 w(d / 20) at distance d from an end.
+#[test]
+fn flat_taper_runs_out_by_ease() {
+    let (engine, out) = flat(
+        "bead b {
+    binder = binder
+    line = sketch(top) { from (-100, -260); line to (100, -260) }
+    profile = beads.round(height: 6 mm, radius: 6 mm)
+    rules = [0 mm]
+    taper = 20 mm
+}",
+    );
+    let values = values_of(&engine, &out);
+    let bead = bead_of(find(&values, "b"));
+    let rule = &bead.rules[0];
+    let (r0, r1) = rule.domain();
+    let mut worst: f64 = 0.0;
+    for i in 0..=400 {
+        let p = rule.point_at(r0 + (r1 - r0) * i as f64 / 400.0);
+        let d = (p.x + 100.0).min(100.0 - p.x);
+        let x = (d / 20.0).clamp(0.0, 1.0);
+        let expected = 6.0 * x * x * x * (10.0 - 15.0 * x + 6.0 * x * x);
+        worst = worst.max((p.z + 60.0 - expected).abs());
+    }
+    eprintln!("taper: crest off the run-out by {worst:.2e} mm");
+    assert!(worst < 0.005, "the tapered crest is {worst} mm off");
+    let iso = bead
+        .surface
+        .iso_curve(Direction::V, bead.surface.domain_v().0);
+    assert!(iso.point_at(0.5).z + 60.0 < 1e-9, "the end section is flat");
+}
+
+/// A bead taller than the binder allows is refused at its profile, and allowed once the
+/// blankholder's `max_bead_height` is raised.
+#[test]
+fn bead_taller_than_the_binder_allows_is_refused() {
+    let bead = "bead b {
+    binder = binder
+    line = sketch(top) { from (-100, -260); line to (100, -260) }
+    profile = beads.round(height: 18 mm, radius: 8 mm)
+}";
+    let (_, out) = flat(bead);
+    let d = out
+        .diagnostics
+        .iter()
+        .find(|d| d.code == "die::bead")
+        .expect("a bead diagnostic");
+    assert!(
+        d.message.contains("18 mm tall") && d.message.contains("15 mm"),
+        "{}",
+        d.message
+    );
+    let (engine, out) = flat_with(bead, "max_bead_height = 20 mm");
+    let values = values_of(&engine, &out);
+    assert!((bead_of(find(&values, "b")).quality.height - 18.0).abs() < 1e-6);
 }

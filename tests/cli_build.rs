@@ -351,7 +351,7 @@ fn an_override_is_part_of_its_params_memo_key() {
 #[test]
 fn inspect_of_every_example_is_a_snapshot() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    for name in ["fender", "door", "sections"] {
+    for name in ["fender", "door_outer", "door", "sections"] {
         let dir = root.join("examples").join(name);
         let (code, stdout, stderr) = dieface(&dir, &["inspect", &format!("{name}.die")]);
         assert_eq!(code, Some(0), "{name}: {stderr}");

@@ -64,8 +64,8 @@ fn every_example_passes_the_khronos_validator() {
         files.push(build(&script, Format::Gltf));
     }
     assert!(
-        files.len() >= 6,
-        "expected the three examples, found {files:?}"
+        files.len() >= 8,
+        "expected the four examples, found {files:?}"
     );
     let output = Command::new("node")
         .arg(root().join("tests").join("validate.mjs"))

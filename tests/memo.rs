@@ -100,8 +100,8 @@ fn editing_the_fender_example_reevaluates_only_the_dependents() {
     assert_eq!(engine.evaluation_count(), after_cold + 5);
 
     // Redrawing one side's binder wrap rebuilds that sketch, the punch opening, the
-    // blankholder around it and the step draw that reaches it, and leaves the product
-    // alone.
+    // blankholder around it, the step draw that reaches it and the beads on the
+    // blankholder, and leaves the product alone.
     let rewrapped = edited.replace("(0, -78)", "(0, -76)");
     assert_ne!(
         rewrapped, edited,
@@ -111,7 +111,17 @@ fn editing_the_fender_example_reevaluates_only_the_dependents() {
     assert!(warm.diagnostics.is_empty());
     let mut ran = engine.last_evaluated().to_vec();
     ran.sort();
-    assert_eq!(ran, ["addendum", "binder", "opening", "wrap_front"]);
+    assert_eq!(
+        ran,
+        [
+            "addendum",
+            "binder",
+            "opening",
+            "rear_corner",
+            "wheel_arch",
+            "wrap_front"
+        ]
+    );
 }
 
 fn dir_again() -> std::path::PathBuf {

@@ -10,7 +10,7 @@
 //!    two boundaries each section's profile is stretched across to them.
 //! 2. **Key sections** (step 2): at designer positions along the bead, each with its
 //!    own profile (height above the binder across the bead). Between key sections the
-//!    profile changes smoothly (a smoothstep blend of corresponding points), and its
+//!    profile changes smoothly (an [`ease`] blend of corresponding points), and its
 //!    height runs out to zero over the `taper` length at both ends.
 //! 3. **Rules** (step 3): where the designer gives rule points (positions across each
 //!    key section that belong together, such as the crests of a round and a double
@@ -126,11 +126,44 @@ pub enum Problem {
     LeavesBinder {
         /// The top-view point with no binder under it.
         at: DVec2,
+        /// How far (mm) across from the centre line that point is: 0 for the centre
+        /// line itself, otherwise the bead's width reaches over; `None` for a point of
+        /// the skinned surface.
+        offset: Option<f64>,
     },
     /// The bead crosses into the punch opening.
     CrossesOpening {
         /// The top-view point inside the opening.
         at: DVec2,
+        /// How far (mm) across from the centre line that point is (as for
+        /// `LeavesBinder`).
+        offset: Option<f64>,
+    },
+    /// The centre line turns tighter than the bead is wide: the bead's inner side would
+    /// fold over itself.
+    TooTight {
+        /// The centre-line point where it turns tightest.
+        at: DVec2,
+        /// The centre line's turning radius there (mm); 0 at a sharp corner.
+        radius: f64,
+        /// How far (mm) the bead reaches to the inside of the turn.
+        reach: f64,
+    },
+    /// A key section's profile dips below the binder, or never rises above it.
+    BelowBinder {
+        /// The key section.
+        section: usize,
+        /// Where across the profile (mm).
+        s: f64,
+    },
+    /// A closed centre line (a ring) with a taper: a ring has no ends to run out.
+    ClosedTaper,
+    /// So many sections or line-bead points that the build would not finish.
+    TooFine {
+        /// Which spacing.
+        what: &'static str,
+        /// How many it would take.
+        count: usize,
     },
     /// A key section's profile does not start and end at height 0.
     ProfileFeet {
@@ -184,6 +217,13 @@ pub enum Problem {
         /// The centre-line point of that section.
         at: DVec2,
     },
+    /// A taper longer than half the bead: the bead would never reach its height.
+    TaperTooLong {
+        /// The taper length (mm).
+        taper: f64,
+        /// The centre line's top-view length (mm).
+        length: f64,
+    },
     /// A spacing or taper that is not a positive (or, for taper, non-negative) length.
     BadLength(&'static str),
     /// The kernel failed.
@@ -193,16 +233,29 @@ pub enum Problem {
 impl std::fmt::Display for Problem {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            Problem::LeavesBinder { at } => write!(
+            Problem::LeavesBinder { at, .. } => write!(
                 f,
                 "the bead leaves the binder near ({:.1}, {:.1})",
                 at.x, at.y
             ),
-            Problem::CrossesOpening { at } => write!(
+            Problem::CrossesOpening { at, .. } => write!(
                 f,
                 "the bead crosses into the punch opening near ({:.1}, {:.1})",
                 at.x, at.y
             ),
+            Problem::TooTight { at, radius, reach } => write!(
+                f,
+                "the centre line turns with a radius of {radius:.1} mm near ({:.1}, {:.1}), tighter than the bead's {reach:.1} mm to the inside",
+                at.x, at.y
+            ),
+            Problem::BelowBinder { section, s } => write!(
+                f,
+                "the profile of key section {section} is not above the binder at s = {s:.2} mm"
+            ),
+            Problem::ClosedTaper => write!(f, "a closed bead has no ends to taper"),
+            Problem::TooFine { what, count } => {
+                write!(f, "the {what} would take {count} sections or points")
+            }
             Problem::ProfileFeet { section } => write!(
                 f,
                 "the profile of key section {section} does not start and end at height 0"
@@ -240,6 +293,10 @@ impl std::fmt::Display for Problem {
                 "the section across ({:.1}, {:.1}) does not meet boundary {boundary}",
                 at.x, at.y
             ),
+            Problem::TaperTooLong { taper, length } => write!(
+                f,
+                "a taper of {taper:.1} mm at both ends is more than half the bead's {length:.1} mm"
+            ),
             Problem::BadLength(what) => write!(f, "the {what} must be a positive length"),
             Problem::Kernel(e) => write!(f, "{e}"),
         }
@@ -260,6 +317,16 @@ const FOOT_TOLERANCE: f64 = 0.0005;
 
 /// Rounds of section insertion.
 const MAX_REFINEMENTS: usize = 6;
+
+/// The most sections a bead may take (a 4 m bead at 2 mm).
+const MAX_SECTIONS: usize = 2000;
+
+/// The most line-bead points a bead may take.
+const MAX_LINE_POINTS: usize = 100_000;
+
+/// A direction jump (degrees) at a knot of the centre line that counts as a sharp
+/// corner.
+const KINK_DEGREES: f64 = 0.5;
 
 /// Samples along each foot for the foot-gap figure.
 pub const FOOT_SAMPLES: usize = 400;
@@ -344,12 +411,14 @@ impl<'a> Binder<'a> {
         inside_outline(self.inner, p)
     }
 
-    /// The binder point under `p`, or why there is none.
-    fn base(&self, p: DVec2) -> Result<DVec3, Problem> {
+    /// The binder point under `p`, `offset` mm across from the centre line, or why
+    /// there is none.
+    fn base(&self, p: DVec2, offset: Option<f64>) -> Result<DVec3, Problem> {
         if self.in_opening(p) {
-            return Err(Problem::CrossesOpening { at: p });
+            return Err(Problem::CrossesOpening { at: p, offset });
         }
-        self.point_over(p).ok_or(Problem::LeavesBinder { at: p })
+        self.point_over(p)
+            .ok_or(Problem::LeavesBinder { at: p, offset })
     }
 }
 
@@ -397,8 +466,42 @@ fn solve_xy(s: &NurbsSurface, p: DVec2, mut u: f64, mut v: f64) -> Option<(DVec3
 pub fn build(binder: &Binder, spec: &BeadSpec) -> Result<Bead, Problem> {
     check_lengths(spec)?;
     let course = CourseMap::new(&spec.course)?;
+    if course.closed() && spec.taper > 0.0 {
+        return Err(Problem::ClosedTaper);
+    }
+    for (what, spacing, most) in [
+        ("section spacing", spec.spacing, MAX_SECTIONS),
+        ("line-bead spacing", spec.line_spacing, MAX_LINE_POINTS),
+    ] {
+        let count = course.length / spacing;
+        if count > most as f64 {
+            return Err(Problem::TooFine {
+                what,
+                count: count.min(usize::MAX as f64) as usize,
+            });
+        }
+    }
+    if 2.0 * spec.taper > course.length {
+        return Err(Problem::TaperTooLong {
+            taper: spec.taper,
+            length: course.length,
+        });
+    }
     let ats = key_positions(spec, course.length)?;
     let profiles = matched_profiles(spec, &ats)?;
+    if let Some(at) = course.kink() {
+        let reach = profiles
+            .points
+            .iter()
+            .flatten()
+            .map(|q| q.x.abs())
+            .fold(0.0, f64::max);
+        return Err(Problem::TooTight {
+            at,
+            radius: 0.0,
+            reach,
+        });
+    }
 
     // Step 1: the centre line on the binder, sampled about every 2 mm; the course must
     // stay over the binder and outside the opening.
@@ -407,13 +510,13 @@ pub fn build(binder: &Binder, spec: &BeadSpec) -> Result<Bead, Problem> {
     let mut centre_points = Vec::with_capacity(samples + 1);
     for i in 0..=samples {
         let (c, _) = course.frame(i as f64 / samples as f64)?;
-        centre_points.push(binder.base(c)?);
+        centre_points.push(binder.base(c, Some(0.0))?);
     }
     let centre = interpolate(&centre_points, &Interpolation::default())?;
 
     // Steps 2-3: a section at any fraction along the bead, from the matched profiles.
     let section_at = |along: f64| -> Result<(Curve3, f64), Problem> {
-        let (c, across) = course.frame(along)?;
+        let (c, across, turn) = course.frame_and_turn(along)?;
         let height_factor = taper_factor(along * length2, length2, spec.taper);
         let shape = profiles.blend(along);
         let (s0, s1) = (shape[0].x, shape[shape.len() - 1].x);
@@ -424,7 +527,15 @@ pub fn build(binder: &Binder, spec: &BeadSpec) -> Result<Bead, Problem> {
                 None => q.x,
                 Some((low, high)) => low + (q.x - s0) / (s1 - s0) * (high - low),
             };
-            let base = binder.base(c + across * offset)?;
+            // An offset line folds where it reaches the turn's centre: offset * turn = 1.
+            if offset * turn >= 1.0 {
+                return Err(Problem::TooTight {
+                    at: c,
+                    radius: 1.0 / turn.abs(),
+                    reach: offset.abs(),
+                });
+            }
+            let base = binder.base(c + across * offset, Some(offset))?;
             points.push(base + DVec3::Z * (q.y * height_factor));
         }
         let width = points[0]
@@ -436,8 +547,7 @@ pub fn build(binder: &Binder, spec: &BeadSpec) -> Result<Bead, Problem> {
 
     // Step 4: sections every `spacing` and at every key section, then more where the
     // skinned feet leave the binder by more than FOOT_TOLERANCE between two sections.
-    let count = ((length2 / spec.spacing).ceil() as usize).max(2);
-    let mut stations: Vec<f64> = (0..=count).map(|k| k as f64 / count as f64).collect();
+    let mut stations = station_fractions(length2, spec.spacing, spec.taper);
     for &at in &ats {
         let i = stations.partition_point(|&x| x < at);
         let near = |j: usize| stations.get(j).is_some_and(|&x| (x - at).abs() < 1e-9);
@@ -489,7 +599,7 @@ pub fn build(binder: &Binder, spec: &BeadSpec) -> Result<Bead, Problem> {
     for s in &sections {
         for &u in &profiles.params {
             let p = s.point_at(u);
-            height = height.max(p.z - binder.base(p.truncate())?.z);
+            height = height.max(p.z - binder.base(p.truncate(), None)?.z);
         }
     }
     let key_sections = ats
@@ -589,7 +699,7 @@ fn conformance(
             None => offset,
             Some((low, high)) => s0 + (offset - low) / (high - low) * (s1 - s0),
         };
-        let h = p.z - binder.base(p.truncate())?.z;
+        let h = p.z - binder.base(p.truncate(), None)?.z;
         let hit = project_to_curve_near(&exact, DVec2::new(s, h), guess)?;
         guess = hit.t;
         worst = worst.max(hit.distance);
@@ -618,6 +728,41 @@ fn key_positions(spec: &BeadSpec, length: f64) -> Result<Vec<f64>, Problem> {
     Ok(ats)
 }
 
+/// Sections along the bead as fractions of its length: every `spacing`, and in the
+/// tapered ends (and one `spacing` beyond) every `taper / TAPER_SECTIONS` when that is
+/// closer, so the run-out is resolved, not smoothed over by the skinning.
+fn station_fractions(length: f64, spacing: f64, taper: f64) -> Vec<f64> {
+    let mut stations = Vec::new();
+    let mut push_run = |from: f64, to: f64, step: f64| {
+        let n = (((to - from) / step).ceil() as usize).max(1);
+        for k in 0..n {
+            stations.push((from + (to - from) * k as f64 / n as f64) / length);
+        }
+    };
+    // The fine sections run one `spacing` past the taper, where the run-out's
+    // curvature ends, so the skinning does not overshoot there.
+    let fine_zone = (taper + spacing).min(0.5 * length);
+    if taper > 0.0 && taper / (TAPER_SECTIONS as f64) < spacing {
+        let fine = taper / TAPER_SECTIONS as f64;
+        push_run(0.0, fine_zone, fine);
+        if length - fine_zone > fine_zone {
+            push_run(fine_zone, length - fine_zone, spacing);
+        }
+        push_run(length - fine_zone, length, fine);
+    } else {
+        push_run(0.0, length, spacing);
+    }
+    stations.push(1.0);
+    stations.dedup_by(|a, b| (*a - *b).abs() < 1e-12);
+    if stations.len() < 3 {
+        stations = vec![0.0, 0.5, 1.0];
+    }
+    stations
+}
+
+/// Sections across each tapered end.
+const TAPER_SECTIONS: usize = 16;
+
 /// Refuses spacings and tapers that are not lengths the bead can use.
 fn check_lengths(spec: &BeadSpec) -> Result<(), Problem> {
     for (what, value, strict) in [
@@ -640,7 +785,7 @@ fn foot_gap_at(binder: &Binder, surface: &NurbsSurface, v: f64) -> Result<f64, P
     let mut worst = 0.0f64;
     for u in [u0, u1] {
         let p = surface.point_at(u, v);
-        let base = binder.base(p.truncate())?;
+        let base = binder.base(p.truncate(), None)?;
         worst = worst.max((p.z - base.z).abs());
     }
     Ok(worst)
@@ -661,7 +806,7 @@ struct MatchedProfiles {
 
 impl MatchedProfiles {
     /// The profile at fraction `along`: the neighbouring key sections' points blended
-    /// with a smoothstep, so the shape stops changing at each key section.
+    /// by [`ease`], so the shape stops changing at each key section.
     fn blend(&self, along: f64) -> Vec<DVec2> {
         let k = self.at.partition_point(|&a| a <= along);
         if k == 0 {
@@ -671,7 +816,7 @@ impl MatchedProfiles {
             return self.points[k - 1].clone();
         }
         let x = (along - self.at[k - 1]) / (self.at[k] - self.at[k - 1]);
-        let w = x * x * (3.0 - 2.0 * x);
+        let w = ease(x);
         self.points[k - 1]
             .iter()
             .zip(&self.points[k])
@@ -709,7 +854,24 @@ fn matched_profiles(spec: &BeadSpec, ats: &[f64]) -> Result<MatchedProfiles, Pro
                 s: w[0].1.x,
             });
         }
+        let lowest = samples
+            .iter()
+            .map(|&(_, p)| p)
+            .min_by(|p, q| p.y.total_cmp(&q.y))
+            .expect("PROFILE_SAMPLES + 1 samples");
+        if lowest.y < -1e-9 * scale {
+            return Err(Problem::BelowBinder {
+                section: k,
+                s: lowest.x,
+            });
+        }
         let tallest = samples.iter().map(|(_, p)| p.y).fold(0.0, f64::max);
+        if tallest <= 1e-9 * scale {
+            return Err(Problem::BelowBinder {
+                section: k,
+                s: 0.5 * (a.x + b.x),
+            });
+        }
         if tallest > spec.max_height {
             return Err(Problem::TooTall {
                 section: k,
@@ -870,15 +1032,47 @@ impl<'c> CourseMap<'c> {
 
     /// The centre point and the unit direction across (to the left) at fraction `f`.
     fn frame(&self, f: f64) -> Result<(DVec2, DVec2), Problem> {
+        let (c, across, _) = self.frame_and_turn(f)?;
+        Ok((c, across))
+    }
+
+    /// [`CourseMap::frame`] and the centre line's signed curvature there (1/mm,
+    /// positive turning left).
+    fn frame_and_turn(&self, f: f64) -> Result<(DVec2, DVec2, f64), Problem> {
         let t = self.parameter(f)?;
-        let [c, d] = self.centre.derivatives::<2>(t);
+        let [c, d, dd] = self.centre.derivatives::<3>(t);
         let across = d.normalize_or_zero().perp();
         if across == DVec2::ZERO {
             return Err(Problem::Kernel(GeomError::ZeroVector {
                 what: "bead centre-line tangent",
             }));
         }
-        Ok((c, across))
+        let speed = d.length();
+        Ok((c, across, d.perp_dot(dd) / (speed * speed * speed)))
+    }
+
+    /// Whether the centre line is a closed ring.
+    fn closed(&self) -> bool {
+        let (t0, t1) = self.centre.domain();
+        let (a, b) = (self.centre.point_at(t0), self.centre.point_at(t1));
+        a.distance(b) <= 1e-6 * (1.0 + self.length)
+    }
+
+    /// The first sharp corner of the centre line (a knot where its direction jumps by
+    /// more than `KINK_DEGREES`), if any.
+    fn kink(&self) -> Option<DVec2> {
+        let (t0, t1) = self.centre.domain();
+        let eps = 1e-9 * (t1 - t0);
+        self.centre
+            .span_breaks()
+            .into_iter()
+            .filter(|&k| k > t0 + eps && k < t1 - eps)
+            .find(|&k| {
+                let before = self.centre.derivative_at(k - eps);
+                let after = self.centre.derivative_at(k + eps);
+                before.angle_to(after).abs().to_degrees() > KINK_DEGREES
+            })
+            .map(|k| self.centre.point_at(k))
     }
 
     /// The parameter at fraction `f` of the length: the tabulated neighbours, then
@@ -945,32 +1139,53 @@ impl<'c> BoundarySamples<'c> {
     }
 
     /// The point of the boundary on the line through `c` along `across` nearest `c`.
+    /// A boundary that stops a little short of the line (by at most half the distance
+    /// from `c`, or 1 mm) is extended along its end tangent, so boundaries drawn with
+    /// slightly different ends still bound the end sections.
     fn crossing(&self, c: DVec2, across: DVec2) -> Option<DVec2> {
         let along = across.perp();
         let g = |p: DVec2| (p - c).dot(along);
-        let mut best: Option<(f64, DVec2)> = None;
+        let zero = 1e-9 * (1.0 + c.length());
+        let mut hits: Vec<DVec2> = Vec::new();
+        let mut consider = |p: DVec2| hits.push(p);
         for w in self.samples.windows(2) {
-            let (ga, gb) = (g(w[0].1), g(w[1].1));
-            if ga == 0.0 || ga.signum() != gb.signum() {
-                let (mut lo, mut hi, mut glo) = (w[0].0, w[1].0, ga);
+            let ((ta, pa), (tb, pb)) = (w[0], w[1]);
+            let (ga, gb) = (g(pa), g(pb));
+            if ga.abs() <= zero {
+                consider(pa);
+            } else if gb.abs() <= zero {
+                consider(pb);
+            } else if (ga < 0.0) != (gb < 0.0) {
+                let (mut lo, mut hi) = (ta, tb);
                 for _ in 0..60 {
                     let mid = 0.5 * (lo + hi);
-                    let gm = g(self.curve.point_at(mid));
-                    if gm == 0.0 || gm.signum() == glo.signum() {
+                    if (g(self.curve.point_at(mid)) < 0.0) == (ga < 0.0) {
                         lo = mid;
-                        glo = gm;
                     } else {
                         hi = mid;
                     }
                 }
-                let p = self.curve.point_at(0.5 * (lo + hi));
-                let d = p.distance(c);
-                if best.is_none_or(|(bd, _)| d < bd) {
-                    best = Some((d, p));
+                consider(self.curve.point_at(0.5 * (lo + hi)));
+            }
+        }
+        if hits.is_empty() {
+            let (t0, t1) = self.curve.domain();
+            for (t, outward) in [(t0, -1.0), (t1, 1.0)] {
+                let p = self.curve.point_at(t);
+                let tangent = self.curve.derivative_at(t).normalize_or_zero();
+                let rate = tangent.dot(along);
+                if rate.abs() < 1e-12 {
+                    continue;
+                }
+                let reach = -g(p) / rate;
+                let q = p + tangent * reach;
+                if reach * outward >= 0.0 && reach.abs() <= (0.5 * q.distance(c)).max(1.0) {
+                    hits.push(q);
                 }
             }
         }
-        best.map(|(_, p)| p)
+        hits.into_iter()
+            .min_by(|a, b| a.distance(c).total_cmp(&b.distance(c)))
     }
 }
 
@@ -1028,12 +1243,17 @@ fn section_parameters(surface: &NurbsSurface, n: usize) -> Vec<f64> {
     }
 }
 
-/// 1 along the bead, running smoothly (a cubic smoothstep) to 0 over `taper` at both
-/// ends.
+/// 1 along the bead, running out to 0 over `taper` at both ends by [`ease`].
 fn taper_factor(s: f64, length: f64, taper: f64) -> f64 {
     if taper <= 0.0 {
         return 1.0;
     }
-    let x = (s.min(length - s) / taper).clamp(0.0, 1.0);
-    x * x * (3.0 - 2.0 * x)
+    ease((s.min(length - s) / taper).clamp(0.0, 1.0))
+}
+
+/// The quintic "smootherstep" `x^3 (10 - 15 x + 6 x^2)` on [0, 1]: 0 to 1 with zero
+/// slope and zero curvature at both ends, so a taper or a blend meets the constant
+/// part of the bead without a kink in curvature the skinning would overshoot on.
+pub fn ease(x: f64) -> f64 {
+    x * x * x * (10.0 + x * (6.0 * x - 15.0))
 }

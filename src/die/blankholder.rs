@@ -18,7 +18,8 @@
 //! 2. eq. 4 gives the end tangents: with `g0'(0) = lambda0 C_a'(1)` (the opening is G1),
 //!    the outer corner needs `g1'(0) = lambda0 Q_a'(1)`, and likewise at its end;
 //! 3. `g1` interpolates the moved curve, sampled at `g0`'s step-rule parameters, with
-//!    those tangents;
+//!    those tangents: the classic C2 cubic spline, knots at the parameters (see
+//!    [`outer_corner`] for why not averaged knots);
 //! 4. the corner patch rules between `g0` and `g1`.
 //!
 //! Two sides that meet without a corner share their boundary ruling; their outer curves
@@ -32,7 +33,7 @@ use glam::{DVec2, DVec3};
 use super::continuity::{measure_join, JoinQuality};
 use super::punch_opening::{inside_outline, PieceKind, PunchOpening};
 use crate::geom::construct::ruled;
-use crate::geom::interpolate::{interpolate_at, Interpolation};
+use crate::geom::interpolate::{interpolate_at, Interpolation, KnotPlacement};
 use crate::geom::tessellate::{tessellate_curve, Tolerance};
 use crate::geom::{Curve3, GeomError, NurbsSurface};
 
@@ -437,6 +438,21 @@ fn outer_points_of(
 
 /// Steps 1-3 of a corner: `g0` moved onto `a`, `b`, made taut, re-interpolated with the
 /// eq. 4 end derivatives `d0`, `d1`.
+///
+/// The interpolant's knots lie at the sample parameters, one span per step. The eq. 4
+/// derivatives generally differ from the moved curve's own: the similarity scales `g0`
+/// (at a convex corner the outer edge is longer, by `(r + w) / r` on a fillet of radius
+/// `r` with a binder `w` wide), while the straight sides' outer edges run as fast as
+/// the sides, so `g1` leaves its ends slower than the moved curve and must speed up
+/// within its end spans. The step rule's last step is what remains of `g0`, however
+/// short. With averaged knots (P&T eq. 9.22) that sliver shares the last knot span with
+/// the step before it: the end point, the sample a sliver before it and the end
+/// derivative then all bind one cubic piece, which takes up the change of speed with a
+/// huge second derivative and swings the curve back on itself (its control polygon runs
+/// backwards), so the patch folded on ordinary corners in narrow bands of radius, width
+/// and corner tangent. With knots at the parameters the sliver is a span of its own
+/// whose speed stays between the neighbouring samples' and the end derivative's, and
+/// the spline is otherwise the same.
 pub fn outer_corner(
     g0: &Curve3,
     a: DVec3,
@@ -488,7 +504,13 @@ pub fn outer_corner(
     let last = moved.len() - 1;
     moved[0] = a;
     moved[last] = b;
-    interpolate_at(&moved, &params, &Interpolation::cubic_with_tangents(d0, d1))
+    // Knots at the parameters, not averaged: a short last step must not share a knot
+    // span with the step before it (see above).
+    let opts = Interpolation {
+        knots: KnotPlacement::AtParameters,
+        ..Interpolation::cubic_with_tangents(d0, d1)
+    };
+    interpolate_at(&moved, &params, &opts)
 }
 
 fn check_outside(outline: &[DVec2], outer: &Curve3, k: usize) -> Result<(), Error> {

@@ -118,7 +118,9 @@ pub struct Quality {
     pub opening_deviation: f64,
     /// Largest distance (mm) between a key profile and its cubic approximation.
     pub section_fit: f64,
-    /// Largest distance (mm) by which a drawn profile's end was moved onto its guide.
+    /// Largest distance (mm) a section end was moved: a drawn profile's end onto its
+    /// guide (within the tolerance), or a section's product end along the outline onto
+    /// a knot less than `SNAP_FRACTION` of a span away (which avoids sliver spans).
     pub end_snap: f64,
     /// Every join between neighbouring patches.
     pub joins: Vec<(String, String, JoinQuality)>,

@@ -209,12 +209,28 @@ fn feature_summary(r: &Record) -> String {
         }
         Some(Feature::Bead(b)) => {
             let (lo, hi) = bounds(sampled_surface(&b.surface));
+            let line_bead = match r.get("line_bead").map(|v| &v.data) {
+                Some(Data::Record(lb)) => {
+                    let number = |k: &str| match lb.get(k).map(|v| &v.data) {
+                        Some(Data::Number(q)) => Some(q.value),
+                        _ => None,
+                    };
+                    let spacing = number("spacing")
+                        .map_or(String::new(), |s| format!(" every {} mm", round(s)));
+                    let force = number("force").map_or(", no force".to_string(), |f| {
+                        format!(" at {} N/mm", round(f))
+                    });
+                    format!("{spacing}{force}")
+                }
+                _ => String::new(),
+            };
             format!(
-                "draw bead, {} mm long, {} key sections ({} skinned), {} line-bead points, bounds {}",
+                "draw bead, {} mm long, {} key sections ({} skinned), {} line-bead points{}, bounds {}",
                 round(b.quality.length),
                 b.sections.len(),
                 b.quality.sections,
                 b.line_points.len(),
+                line_bead,
                 bbox(lo, hi)
             )
         }

@@ -1,10 +1,11 @@
-//! The fender example evaluated through the language, shared by the feature tests.
+//! The fender example evaluated through the language, shared by the feature tests, and
+//! the check that an evaluation came out clean.
 
 #![allow(dead_code)] // each test file uses its own subset
 
 use std::path::Path;
 
-use dieface::eval::{Engine, Value};
+use dieface::eval::{Engine, Outcome, Value};
 
 /// Every declaration of `examples/fender/fender.die` with its value, in source order;
 /// the example must evaluate without a diagnostic.
@@ -14,6 +15,12 @@ pub fn fender_values() -> Vec<(String, Value)> {
     let outcome = engine
         .evaluate_path(&root.join("fender/fender.die"))
         .expect("readable example");
+    clean_values(&engine, &outcome)
+}
+
+/// Every declaration of an evaluation with its value, in source order; panics with the
+/// rendered diagnostics if there are any.
+pub fn clean_values(engine: &Engine, outcome: &Outcome) -> Vec<(String, Value)> {
     let rendered: Vec<String> = outcome
         .diagnostics
         .iter()

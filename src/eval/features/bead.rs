@@ -31,7 +31,7 @@ use crate::die::bead::{self as bd, Along, BeadSpec, Binder, Course, KeySection, 
 use crate::geom::Curve2;
 use crate::syntax::Span;
 
-use super::super::builtins::{as_length, as_number, type_error};
+use super::super::builtins::{as_length, type_error};
 use super::super::sketch::View;
 use super::super::value::{Data, Feature, Quantity, Value};
 use super::{check_record, count, feature_error, feature_value, items, mm, record, show, Block};
@@ -182,7 +182,7 @@ pub fn build(block: &Block) -> Result<Value, Diagnostic> {
     let spacing = block.length_or("spacing", 10.0)?;
     let line_spacing = block.length_or("line_spacing", 15.0)?;
     let force = match block.get("force") {
-        Some(f) => Some(as_number(&f.value, "`force` of a bead (N/mm)")?),
+        Some(f) => Some(force_of(&f.value)?),
         None => None,
     };
     let patches: Vec<_> = binder.patches.iter().map(|p| &p.surface).collect();
@@ -197,7 +197,16 @@ pub fn build(block: &Block) -> Result<Value, Diagnostic> {
     };
     let bead = bd::build(&map, &spec)
         .map_err(|p| problem_diag(block, &p, course_span, &sources, binder_field.value.span))?;
-    Ok(output(block, bead, line_spacing, force))
+    let names: Vec<String> = sources
+        .iter()
+        .enumerate()
+        .map(|(k, s)| match &s.name {
+            Some(n) => n.clone(),
+            None if k == 0 => "start".to_string(),
+            None => "end".to_string(),
+        })
+        .collect();
+    Ok(output(block, bead, &names, line_spacing, force))
 }
 
 /// The course of the bead: `line` (the centre line) or `boundaries` (its two feet
@@ -265,7 +274,14 @@ fn top_curve(v: &Value, what: &str) -> Result<Curve2, Diagnostic> {
 /// A bead cross-section: a sketch or 2-D curve of (s across, height).
 fn profile_curve(v: &Value, what: &str) -> Result<Curve2, Diagnostic> {
     match &v.data {
-        Data::Sketch(s) => Ok(s.curve.clone()),
+        Data::Sketch(s) if s.view == View::Profile => Ok(s.curve.clone()),
+        Data::Sketch(s) => Err(Diagnostic::new(
+            "die::bead",
+            format!("{what} is drawn in the {} view", s.view.name()),
+            v.span,
+            "not a cross-section",
+        )
+        .with_help("draw a bead's cross-section in `sketch(profile) { ... }`: s across the bead, height above the binder; or use `std/beads`")),
         Data::Curve2(c) => Ok((**c).clone()),
         _ => Err(type_error(
             v,
@@ -295,17 +311,49 @@ fn along(v: &Value, units: super::super::units::Units, what: &str) -> Result<Alo
     }
 }
 
+/// The line bead's restraining force: a bare positive number, in N/mm.
+fn force_of(v: &Value) -> Result<f64, Diagnostic> {
+    let what = "`force` of a bead (N/mm)";
+    let help =
+        "the restraining force per length of bead, in N/mm, as a plain number: `force = 250`";
+    match &v.data {
+        Data::Number(q) if q.dim.is_none() && q.bare => {
+            if q.value.is_finite() && q.value > 0.0 {
+                Ok(q.value)
+            } else {
+                Err(feature_error(
+                    KIND,
+                    format!("the {what} must be positive, but it is {}", show(q.value)),
+                    v.span,
+                    "not a positive force",
+                    help,
+                ))
+            }
+        }
+        Data::Number(q) if q.dim.is_none() => Err(feature_error(
+            KIND,
+            format!("the {what} is a force per length, not a ratio"),
+            v.span,
+            "a ratio",
+            help,
+        )),
+        _ => Err(type_error(v, what, "a plain number of N/mm such as `250`").with_help(help)),
+    }
+}
+
 fn not_a_binder(v: &Value) -> Diagnostic {
     type_error(v, "`binder` of a bead", "a blankholder")
 }
 
-/// The name a designer reads for key section `k`.
-fn section_name(s: &KeySource, k: usize, count: usize) -> String {
-    match &s.name {
+/// The name a designer reads for key section `k` of `sources`: a `section NAME`, or
+/// the bead's own `profile` (at its start or end when there are sections between).
+fn section_name(sources: &[KeySource], k: usize) -> String {
+    let only_profile = sources.iter().all(|s| s.name.is_none());
+    match &sources[k].name {
         Some(n) => format!("section `{n}`"),
-        None if k == 0 => "the bead's `profile` (at its start)".to_string(),
-        None if k + 1 == count => "the bead's `profile` (at its end)".to_string(),
-        None => "the bead's `profile`".to_string(),
+        None if only_profile => "the bead's `profile`".to_string(),
+        None if k == 0 => "the bead's `profile` at its start".to_string(),
+        None => "the bead's `profile` at its end".to_string(),
     }
 }
 
@@ -316,23 +364,114 @@ fn problem_diag(
     sources: &[KeySource],
     binder: Span,
 ) -> Diagnostic {
+    let taper_span = block.get("taper").map_or(block.head(), |f| f.value.span);
+    let course_label = if block.get("boundaries").is_some() {
+        "these boundaries"
+    } else {
+        "this centre line"
+    };
     let source = |k: usize| &sources[k.min(sources.len() - 1)];
-    let name = |k: usize| section_name(source(k), k, sources.len());
+    let name = |k: usize| section_name(sources, k.min(sources.len() - 1));
     match p {
-        Problem::LeavesBinder { at } => feature_error(
+        Problem::LeavesBinder { at, offset } => {
+            let (message, help) = match offset {
+                Some(o) if o.abs() > 1e-9 => (
+                    format!(
+                        "the bead `{}` is too wide here: its side, {} mm from the centre line, leaves the binder near ({:.1}, {:.1})",
+                        block.name,
+                        show(o.abs()),
+                        at.x,
+                        at.y
+                    ),
+                    "move the centre line away from the binder's outer edge, or narrow the profile",
+                ),
+                _ => (
+                    format!(
+                        "the bead `{}` leaves the binder near ({:.1}, {:.1})",
+                        block.name, at.x, at.y
+                    ),
+                    "keep the centre line, and the bead's width around it, over the blankholder in the top view",
+                ),
+            };
+            feature_error(KIND, message, course, course_label, help)
+        }
+        Problem::CrossesOpening { at, offset } => {
+            let (message, help) = match offset {
+                Some(o) if o.abs() > 1e-9 => (
+                    format!(
+                        "the bead `{}` is too wide here: its side, {} mm from the centre line, reaches into the punch opening near ({:.1}, {:.1})",
+                        block.name,
+                        show(o.abs()),
+                        at.x,
+                        at.y
+                    ),
+                    "move the centre line out from the opening by at least the bead's half width, or narrow the profile",
+                ),
+                _ => (
+                    format!(
+                        "the bead `{}` runs inside the punch opening near ({:.1}, {:.1})",
+                        block.name, at.x, at.y
+                    ),
+                    "a bead runs on the binder, outside the punch opening: draw the centre line outside the opening's top view",
+                ),
+            };
+            feature_error(KIND, message, course, course_label, help)
+        }
+        Problem::TooTight { at, radius, reach } => {
+            let turn = if *radius == 0.0 {
+                "has a sharp corner".to_string()
+            } else {
+                format!("turns with a radius of {} mm", show(*radius))
+            };
+            feature_error(
+                KIND,
+                format!(
+                    "the centre line of the bead `{}` {turn} near ({:.1}, {:.1}), but the bead reaches {} mm to the inside of the turn: it would fold over itself",
+                    block.name,
+                    at.x,
+                    at.y,
+                    show(*reach)
+                ),
+                course,
+                course_label,
+                format!(
+                    "round the turn with a `fillet` larger than {} mm (the bead's reach), or narrow the profile",
+                    show(*reach)
+                ),
+            )
+        }
+        Problem::BelowBinder { section, s } => feature_error(
             KIND,
-            format!("the bead `{}` leaves the binder near ({:.1}, {:.1})", block.name, at.x, at.y),
-            course,
-            "this course",
-            "keep the centre line, and the bead's width around it, over the blankholder in the top view",
+            format!(
+                "the cross-section of {} is not above the binder at s = {} mm",
+                name(*section),
+                show(*s)
+            ),
+            source(*section).profile,
+            "this profile",
+            "a draw bead is a ridge standing on the binder: its heights are 0 at the feet and positive between (the groove in the other binder half is made from it)",
         ),
-        Problem::CrossesOpening { at } => feature_error(
+        Problem::ClosedTaper => feature_error(
             KIND,
-            format!("the bead `{}` crosses the punch opening near ({:.1}, {:.1})", block.name, at.x, at.y),
-            course,
-            "this course",
-            "a bead runs on the binder, outside the punch opening: move the centre line outwards or narrow the profile",
-        ),
+            format!("the bead `{}` is a closed ring, which has no ends to taper", block.name),
+            taper_span,
+            "this taper",
+            "remove `taper` for a ring bead, or draw an open centre line",
+        )
+        .with_label(course, "a closed centre line"),
+        Problem::TooFine { what, count } => {
+            let field = if *what == "section spacing" { "spacing" } else { "line_spacing" };
+            let span = block.get(field).map_or(block.head(), |f| f.value.span);
+            feature_error(
+                KIND,
+                format!(
+                    "the bead's {what} is so fine that it would take {count} sections or points"
+                ),
+                span,
+                "too fine",
+                "sections every 5-10 mm follow any bead profile within 0.01 mm; line beads every 10-20 mm are what forming simulation uses",
+            )
+        }
         Problem::ProfileFeet { section } => feature_error(
             KIND,
             format!("the cross-section of {} must start and end on the binder, at height 0", name(*section)),
@@ -405,13 +544,49 @@ fn problem_diag(
             "these boundaries",
             "the two boundaries must run side by side over the whole bead: draw them the same length, from the same end",
         ),
-        Problem::BadLength(what) => feature_error(
+        Problem::TaperTooLong { taper, length } => feature_error(
             KIND,
-            format!("the bead's {what} must be a positive length"),
-            block.span,
-            "in this bead",
-            "sections every 10 mm and line-bead points every 15 mm are common",
-        ),
+            format!(
+                "the bead `{}` tapers over {} mm at both ends, more than half its {} mm",
+                block.name,
+                show(*taper),
+                show(*length)
+            ),
+            taper_span,
+            "this taper",
+            format!(
+                "the bead would never reach its full height: keep `taper` below {} mm, half the centre line",
+                show(length / 2.0)
+            ),
+        )
+        .with_label(course, "this centre line"),
+        Problem::BadLength(what) => {
+            let field = match *what {
+                "section spacing" => Some("spacing"),
+                "line-bead spacing" => Some("line_spacing"),
+                "taper length" => Some("taper"),
+                _ => None,
+            };
+            let span = field
+                .and_then(|f| block.get(f))
+                .map_or(block.head(), |f| f.value.span);
+            let help = match field {
+                Some("taper") => "the taper is the length over which the bead's height runs out at each end: `0 mm` for none, 20-50 mm is common",
+                _ => "sections every 10 mm and line-bead points every 15 mm are common",
+            };
+            let must = if field == Some("taper") {
+                "a length of 0 mm or more"
+            } else {
+                "a positive length"
+            };
+            feature_error(
+                KIND,
+                format!("the bead's {what} must be {must}"),
+                span,
+                "not a usable length",
+                help,
+            )
+        }
         Problem::Kernel(e) => feature_error(
             KIND,
             format!("the bead `{}` cannot be built: {e}", block.name),
@@ -422,9 +597,16 @@ fn problem_diag(
     }
 }
 
-/// The feature record: `surface`, `centre` (on the binder), `sections` (the key
-/// sections), `rules`, `line_bead`, `quality`.
-fn output(block: &Block, bead: bd::Bead, spacing: f64, force: Option<f64>) -> Value {
+/// The feature record: `surface`, `centre` (on the binder), one `section NAME` per key
+/// section (`start` and `end` for the bead's own profile at its ends), `rules`,
+/// `line_bead`, `quality`.
+fn output(
+    block: &Block,
+    bead: bd::Bead,
+    names: &[String],
+    spacing: f64,
+    force: Option<f64>,
+) -> Value {
     let span = block.span;
     let points: Vec<Value> = bead
         .line_points
@@ -444,14 +626,9 @@ fn output(block: &Block, bead: bd::Bead, spacing: f64, force: Option<f64>) -> Va
             Value::new(Data::Number(Quantity::bare(f)), span),
         ));
     }
-    let curves = |cs: &[crate::geom::Curve3]| {
-        let list: Vec<Value> = cs
-            .iter()
-            .map(|c| Value::new(Data::Curve3(Arc::new(c.clone())), span))
-            .collect();
-        Value::new(Data::List(Arc::new(list)), span)
-    };
-    let fields = vec![
+    let curve = |c: &crate::geom::Curve3| Value::new(Data::Curve3(Arc::new(c.clone())), span);
+    let rules: Vec<Value> = bead.rules.iter().map(curve).collect();
+    let mut fields = vec![
         (
             "surface".to_string(),
             Value::new(Data::Surface(Arc::new(bead.surface.clone())), span),
@@ -460,13 +637,18 @@ fn output(block: &Block, bead: bd::Bead, spacing: f64, force: Option<f64>) -> Va
             "centre".to_string(),
             Value::new(Data::Curve3(Arc::new(bead.centre.clone())), span),
         ),
-        ("sections".to_string(), curves(&bead.sections)),
-        ("rules".to_string(), curves(&bead.rules)),
+        (
+            "rules".to_string(),
+            Value::new(Data::List(Arc::new(rules)), span),
+        ),
         (
             "line_bead".to_string(),
             super::record_value(line_bead, span),
         ),
     ];
+    for (name, section) in names.iter().zip(&bead.sections) {
+        fields.push((format!("section {name}"), curve(section)));
+    }
     let q = bead.quality;
     let quality = vec![
         ("foot_gap".to_string(), mm(q.foot_gap, span)),
