@@ -18,6 +18,9 @@ use super::sketch::{self, Command, View};
 use super::units::{self, Units};
 use super::value::{Closure, Data, Dim, Quantity, Record, Value};
 
+/// The views a sketch is drawn in, by the names the language gives them.
+const VIEW_NAMES: [&str; 5] = ["top", "side_xz", "side_yz", "section", "profile"];
+
 /// Deepest chain of nested function calls before evaluation stops with an error.
 pub const MAX_CALL_DEPTH: usize = 200;
 
@@ -196,6 +199,19 @@ impl<'w> Ctx<'w> {
             ExprKind::Sketch { view, commands } => {
                 let v = self.eval(view, locals)?;
                 let Data::View(view) = v.data else {
+                    if let ExprKind::Name(name) = &view.kind {
+                        if VIEW_NAMES.contains(&name.as_str()) {
+                            return Err(Diagnostic::new(
+                                "die::type_mismatch",
+                                format!("`{name}` here is a name of this file, which hides the view `{name}`"),
+                                view.span,
+                                format!("this `{name}` is {}", v.type_name()),
+                            )
+                            .with_help(format!(
+                                "rename the declaration, function or variable called `{name}` (for example `opening_{name}`): view names are ordinary names, and a file's own names come first"
+                            )));
+                        }
+                    }
                     return Err(type_error(
                         &v,
                         "the view of a sketch",

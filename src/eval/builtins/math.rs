@@ -245,7 +245,7 @@ fn function<'c>(call: &'c Call, name: &str) -> Result<&'c Value, Diagnostic> {
         _ => Err(type_error(
             f,
             &what(call, name),
-            "a function such as `x => x * 2`",
+            "a function such as `fn(x) => x * 2`",
         )),
     }
 }

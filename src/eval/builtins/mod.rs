@@ -284,7 +284,7 @@ impl Call<'_> {
             span,
             label,
         )
-        .with_help(kernel_help(&err))
+        .with_help(kernel_help(self.builtin.name, &err))
     }
 
     fn what(&self, name: &str) -> String {
@@ -292,8 +292,17 @@ impl Call<'_> {
     }
 }
 
-/// Advice for each kind of kernel failure.
-fn kernel_help(err: &GeomError) -> String {
+/// Advice for each kind of kernel failure in the builtin `builtin`.
+fn kernel_help(builtin: &str, err: &GeomError) -> String {
+    match (builtin, err) {
+        ("join", GeomError::CornersDoNotMeet { corner, .. }) => {
+            return format!("consecutive curves must meet end to end: move the start of curve {corner} (counting from 0) onto the end of the one before it")
+        }
+        ("loft", GeomError::TooFewPoints { needed, .. }) => {
+            return format!("a loft skins at least {needed} sections: give a list of {needed} or more curves")
+        }
+        _ => {}
+    }
     match err {
         GeomError::CoincidentPoints { first, second } => {
             format!("points {first} and {second} of the list (counting from 0) are the same point; remove one or move it")
