@@ -98,6 +98,48 @@ pub enum GeomError {
     /// (x from, x to) so the short end can be found.
     #[error("the side view covers x in [{}, {}] but the top view spans [{}, {}]: the side view must cover the whole top view", side.0, side.1, top.0, top.1)]
     ViewsDoNotOverlap { top: (f64, f64), side: (f64, f64) },
+
+    /// A curve whose direction jumps at one point (a knot, or the seam of a closed
+    /// curve) by more than an operation allows: `turn` in radians, `at` the point and
+    /// `parameter` where it lies. The offset of a corner is not one smooth curve.
+    #[error("the curve has a sharp corner at ({:.4}, {:.4}): its direction turns by {:.4} deg there", at.0, at.1, turn.to_degrees())]
+    SharpCorner {
+        at: (f64, f64),
+        turn: f64,
+        parameter: f64,
+    },
+
+    /// An offset distance at or beyond the radius of curvature on the inside of a
+    /// turn: the offset would fold back on itself there. `radius` is the smallest
+    /// radius on that side, at `at` (`parameter`).
+    #[error("an offset of {distance} mm folds where the curve turns with radius {radius:.4} mm at ({:.4}, {:.4})", at.0, at.1)]
+    OffsetFolds {
+        distance: f64,
+        radius: f64,
+        at: (f64, f64),
+        parameter: f64,
+    },
+
+    /// An offset that comes closer to another part of the curve than the distance
+    /// asked (the curve is narrower than twice the distance there): `gap` is how close
+    /// the offset point `at` comes.
+    #[error("the offset comes within {gap:.4} mm of another part of the curve near ({:.4}, {:.4})", at.0, at.1)]
+    OffsetOverlaps { at: (f64, f64), gap: f64 },
+
+    /// An offset that would need more sample points than allowed to stay within its
+    /// tolerance.
+    #[error("the offset needs {needed} points or more to stay within tolerance (at most {limit})")]
+    TooManyPoints { needed: usize, limit: usize },
+
+    /// Two points that project to the same place on a curve, so the stretch between
+    /// them is empty.
+    #[error("both points project to the same place on the curve, ({:.4}, {:.4})", at.0, at.1)]
+    SameProjection { at: (f64, f64), parameter: f64 },
+
+    /// On an open curve, the end of a stretch lies before its start along the curve's
+    /// direction (parameters given).
+    #[error("the end of the stretch (parameter {to}) comes before its start (parameter {from}) along the open curve")]
+    StretchBackwards { from: f64, to: f64 },
 }
 
 /// The kernel's result type.

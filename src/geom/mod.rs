@@ -38,6 +38,7 @@ pub mod inversion;
 pub mod join;
 pub mod knots;
 pub mod mesh;
+pub mod offset;
 pub mod ops;
 pub mod point;
 pub mod surface;

@@ -1,5 +1,6 @@
 //! Curve builtins: NURBS from control points, interpolation, exact arcs and circles,
-//! lines, and reversing, splitting and joining curves.
+//! lines, reversing, splitting and joining curves, and offsets and stretches of 2-D
+//! curves.
 //!
 //! 2-D input (points `(x, y)`) makes 2-D curves, 3-D input 3-D curves. Where a curve
 //! is taken as input, a sketch counts as the 3-D curve it is placed at through its view,
@@ -8,6 +9,10 @@
 //!
 //! `line` and `arc` are sketch keywords, so the builtins are `line_between` and
 //! `arc2` (with `arc3` its 3-D sibling).
+//!
+//! `offset` and `between` work in a plane: they take a 2-D curve or a sketch (its
+//! profile in its own view's plane, as the bead's `line` reads it) and return a 2-D
+//! curve, so `offset(between(punch_profile, a, b), -90 mm)` can be a bead's `line`.
 
 use std::sync::Arc;
 
@@ -17,13 +22,16 @@ use crate::diag::Diagnostic;
 use crate::geom::arc::{arc_through_points, circle as circle_curve, circular_arc};
 use crate::geom::interpolate::{interpolate as interp, Interpolation, Parametrization};
 use crate::geom::join::join_curves;
+use crate::geom::offset::{curve_between, is_closed, offset_curve2};
 use crate::geom::{Curve2, Curve3, GeomError, KnotVector, NurbsCurve, Point};
 
+use super::super::sketch::Sketch;
+use super::super::units::round;
 use super::super::value::{Data, Value};
 use super::args::{
-    any_curve, bad_argument, direction3, fraction, is_2d, list, opt_count, what, AnyCurve,
+    any_curve, bad_argument, direction3, fraction, is_2d, list, opt_count, span_of, what, AnyCurve,
 };
-use super::{as_number, opt, req, Builtin, Call};
+use super::{as_number, opt, req, type_error, Builtin, Call};
 
 /// The curve builtins.
 pub static BUILTINS: &[Builtin] = &[
@@ -62,6 +70,18 @@ pub static BUILTINS: &[Builtin] = &[
     Builtin { name: "reverse", params: &[req("curve")], doc: "the same curve run backwards", run: reverse },
     Builtin { name: "split", params: &[req("curve"), req("t")], doc: "[first, second]: the curve cut at fraction t of its parameter range", run: split },
     Builtin { name: "join", params: &[req("curves")], doc: "one curve from a list of curves that each start where the previous ends", run: join },
+    Builtin {
+        name: "offset",
+        params: &[req("curve"), req("distance")],
+        doc: "the 2-D curve at `distance` to the left of a 2-D curve's or sketch's direction (negative: to the right), within 0.001 mm",
+        run: offset,
+    },
+    Builtin {
+        name: "between",
+        params: &[req("curve"), req("from"), req("to")],
+        doc: "the stretch of a 2-D curve or sketch from the point nearest `from` to the point nearest `to`, along its direction (over the seam of a closed curve)",
+        run: between,
+    },
 ];
 
 /// The argument a kernel failure of a curve construction points at.
@@ -441,4 +461,229 @@ fn join(call: &Call) -> Result<Data, Diagnostic> {
         })
         .collect();
     Ok(Data::Curve3(Arc::new(join_curves(&cs).map_err(fail)?)))
+}
+
+// ---- offset and between ---------------------------------------------------------------
+
+/// How far (mm) every point of an offset may be from the asked distance.
+const OFFSET_TOLERANCE: f64 = 0.001;
+
+/// A point in words, `(x, y)` rounded for messages.
+fn place(p: (f64, f64)) -> String {
+    format!("({}, {})", round(p.0), round(p.1))
+}
+
+/// A 2-D curve argument: a 2-D curve, or a sketch's profile in its view's plane (with
+/// the sketch, for pointing at its segments).
+fn flat_curve<'c>(
+    call: &'c Call,
+    name: &str,
+) -> Result<(Arc<Curve2>, Option<&'c Sketch>), Diagnostic> {
+    let v = call.required(name)?;
+    match &v.data {
+        Data::Curve2(c) => Ok((c.clone(), None)),
+        Data::Sketch(s) => Ok((Arc::new(s.curve.clone()), Some(s.as_ref()))),
+        Data::Curve3(_) => Err(type_error(v, &what(call, name), "a 2-D curve or a sketch")
+            .with_help(format!(
+                "`{}` works in a view's plane: pass the sketch itself or a 2-D curve (`reverse`, `split` and `join` of a sketch give 3-D curves, so call `{}` first and reverse or split its result)",
+                call.builtin.name, call.builtin.name
+            ))),
+        _ => Err(type_error(v, &what(call, name), "a 2-D curve or a sketch")),
+    }
+}
+
+/// The segment of `sketch` whose parameter range holds `t` (the one starting there
+/// at a joint).
+fn segment_at(sketch: &Sketch, t: f64) -> Option<usize> {
+    let n = sketch.segments.len();
+    (0..n).find(|&k| {
+        let (a, b) = sketch.segments[k].range;
+        t >= a && (t < b || (k + 1 == n && t <= b))
+    })
+}
+
+/// The segments of `sketch` on either side of the corner at `t`: the one arriving and
+/// the one leaving (the last and the first at the seam).
+fn segments_at_corner(sketch: &Sketch, t: f64) -> Option<(usize, usize)> {
+    let n = sketch.segments.len();
+    if n == 0 {
+        return None;
+    }
+    let leaving = (0..n).find(|&k| (sketch.segments[k].range.0 - t).abs() <= 1e-12)?;
+    let arriving = if leaving == 0 { n - 1 } else { leaving - 1 };
+    Some((arriving, leaving))
+}
+
+/// A point in words to 0.1 mm, for places found by a search (`about (597.7, -365)`).
+fn near(p: (f64, f64)) -> String {
+    let r = |v: f64| round((v * 10.0).round() / 10.0);
+    format!("({}, {})", r(p.0), r(p.1))
+}
+
+/// "to the left" or "to the right" of the curve's direction, and for a closed curve
+/// which side of the outline that is ("(inside this counter-clockwise outline)").
+fn side_words(curve: &Curve2, distance: f64) -> String {
+    let side = if distance < 0.0 { "right" } else { "left" };
+    if !is_closed(curve) {
+        return format!("to the {side}");
+    }
+    let (t0, t1) = curve.domain();
+    let pts: Vec<DVec2> = (0..=400)
+        .map(|k| curve.point_at(t0 + (t1 - t0) * f64::from(k) / 400.0))
+        .collect();
+    let area: f64 = pts.windows(2).map(|w| w[0].perp_dot(w[1])).sum();
+    let ccw = area > 0.0;
+    let inside = ccw == (distance > 0.0);
+    format!(
+        "to the {side} ({} this {} outline)",
+        if inside { "inside" } else { "outside" },
+        if ccw {
+            "counter-clockwise"
+        } else {
+            "clockwise"
+        }
+    )
+}
+
+fn offset(call: &Call) -> Result<Data, Diagnostic> {
+    let (curve, sketch) = flat_curve(call, "curve")?;
+    let distance = call.length("distance")?;
+    let reach = round(distance.abs());
+    let c = offset_curve2(&curve, distance, OFFSET_TOLERANCE).map_err(|e| match e {
+        GeomError::SharpCorner {
+            at,
+            turn,
+            parameter,
+        } => {
+            let mut d = bad_argument(
+                call,
+                "curve",
+                format!(
+                    "the curve has a sharp corner at {} (its direction turns by {} deg there): the offset of a corner is not one curve",
+                    place(at),
+                    round(turn.to_degrees())
+                ),
+                format!(
+                    "round the corner with a `fillet` (`offset` takes turns of up to 0.5 deg): outside the turn a fillet of radius r becomes an arc of radius r + {reach} mm, on the inside of the turn the fillet must be larger than {reach} mm; or offset the pieces on either side of the corner separately (`between`)"
+                ),
+            );
+            if let Some((s, (a, b))) =
+                sketch.and_then(|s| Some((s, segments_at_corner(s, parameter)?)))
+            {
+                d = d
+                    .with_label(
+                        s.segments[a].span,
+                        format!("this `{}` ends in the corner", s.segments[a].kind),
+                    )
+                    .with_label(
+                        s.segments[b].span,
+                        format!("this `{}` leaves it in another direction", s.segments[b].kind),
+                    );
+            }
+            d
+        }
+        GeomError::OffsetFolds {
+            radius,
+            at,
+            parameter,
+            ..
+        } => {
+            let mut d = bad_argument(
+                call,
+                "distance",
+                format!(
+                    "an offset of {reach} mm {} folds over itself: near {} the curve turns that way with a radius of {} mm, no more than the distance",
+                    side_words(&curve, distance),
+                    near(at),
+                    round(radius)
+                ),
+                format!(
+                    "on the inside of a turn the offset's radius is the turn's radius less the distance, so the distance must stay below {} mm there; use a smaller distance, or draw that turn with a larger radius (a `fillet` above {reach} mm)",
+                    round(radius)
+                ),
+            );
+            if let Some((s, k)) = sketch.and_then(|s| Some((s, segment_at(s, parameter)?))) {
+                d = d.with_label(
+                    s.segments[k].span,
+                    format!(
+                        "this `{}` turns with radius {} mm",
+                        s.segments[k].kind,
+                        round(radius)
+                    ),
+                );
+            }
+            d
+        }
+        GeomError::OffsetOverlaps { at, gap } => bad_argument(
+            call,
+            "distance",
+            format!(
+                "an offset of {reach} mm {} runs into another part of the curve: near {} it comes within {} mm of it",
+                side_words(&curve, distance),
+                near(at),
+                round(gap)
+            ),
+            "the curve is narrower than twice the distance there; use a smaller distance, or offset only the stretch you need (`between`)",
+        )
+        .with_label(span_of(call, "curve"), "this curve"),
+        GeomError::TooManyPoints { limit, .. } => bad_argument(
+            call,
+            "curve",
+            format!(
+                "offsetting this curve by {} mm needs more than {limit} points to stay within {OFFSET_TOLERANCE} mm",
+                round(distance)
+            ),
+            "offset a shorter stretch of the curve (`between`), or use a smaller distance",
+        ),
+        GeomError::NoConvergence {
+            what: "offset fit",
+            residual,
+            ..
+        } => bad_argument(
+            call,
+            "curve",
+            format!(
+                "the offset by {} mm could not be fitted within {OFFSET_TOLERANCE} mm (it stays {} mm off)",
+                round(distance),
+                round(residual)
+            ),
+            "the curve turns too tightly or unevenly for one smooth offset; offset a shorter stretch (`between`), smooth the curve, or use a smaller distance",
+        ),
+        other => call.kernel_error(other, Some("curve")),
+    })?;
+    Ok(Data::Curve2(Arc::new(c)))
+}
+
+fn between(call: &Call) -> Result<Data, Diagnostic> {
+    let (curve, _) = flat_curve(call, "curve")?;
+    let from = call.point2("from")?;
+    let to = call.point2("to")?;
+    let c = curve_between(&curve, from, to).map_err(|e| match e {
+        GeomError::SameProjection { at, .. } => bad_argument(
+            call,
+            "to",
+            format!(
+                "`from` and `to` both project to {} on the curve, so the stretch between them is empty",
+                place(at)
+            ),
+            "each point is moved to its nearest point on the curve: give `to` near where the stretch should end, away from `from` along the curve",
+        )
+        .with_label(span_of(call, "from"), format!("`from` projects to {}", place(at))),
+        GeomError::StretchBackwards { from: tf, to: tt } => {
+            let (pf, pt) = (curve.point_at(tf), curve.point_at(tt));
+            bad_argument(
+                call,
+                "to",
+                format!(
+                    "on this open curve `to` (nearest point {}) comes before `from` (nearest point {}): `between` follows the curve's direction",
+                    place((pt.x, pt.y)),
+                    place((pf.x, pf.y))
+                ),
+                "swap `from` and `to`, and `reverse` the result if the stretch must run the other way: `reverse(between(curve, to, from))`",
+            )
+            .with_label(span_of(call, "from"), format!("`from` projects to {}", place((pf.x, pf.y))))
+        }
+        other => call.kernel_error(other, Some("curve")),
+    })?;
+    Ok(Data::Curve2(Arc::new(c)))
 }
