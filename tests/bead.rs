@@ -349,6 +349,37 @@ bead b { binder = binder; boundaries = [inner, outer]; profile = p }",
     assert!((bead.centre.point_at(bead.centre.domain().0).y + 260.0).abs() < 1e-6);
 }
 
+/// Boundaries drawn from opposite ends bound the same bead as boundaries drawn the same
+/// way; boundaries that cross are refused where they cross.
+#[test]
+fn flat_boundaries_in_either_direction_and_crossing() {
+    let bead = |outer: &str| {
+        format!(
+            "let inner = sketch(top) {{ from (-100, -250); line to (100, -246) }}
+let outer = {outer}
+bead b {{ binder = binder; boundaries = [inner, outer]; profile = beads.round(height: 5 mm, radius: 5 mm) }}"
+        )
+    };
+    let forward = bead("sketch(top) { from (-100, -270); line to (100, -274) }");
+    let backward = bead("sketch(top) { from (100, -274); line to (-100, -270) }");
+    let (e1, o1) = flat(&forward);
+    let (e2, o2) = flat(&backward);
+    let (v1, v2) = (values_of(&e1, &o1), values_of(&e2, &o2));
+    let (b1, b2) = (bead_of(find(&v1, "b")), bead_of(find(&v2, "b")));
+    assert_eq!(b1.quality.width, b2.quality.width);
+    let (p, q) = (b1.surface.point_at(0.3, 0.6), b2.surface.point_at(0.3, 0.6));
+    assert!(p.distance(q) < 1e-9, "{p} vs {q}");
+
+    let crossing = bead("sketch(top) { from (-100, -240); line to (100, -274) }");
+    let (_, out) = flat(&crossing);
+    let d = out
+        .diagnostics
+        .iter()
+        .find(|d| d.code == "die::bead")
+        .expect("a bead diagnostic");
+    assert!(d.message.contains("cross"), "{}", d.message);
+}
+
 /// Key sections blend by the documented `ease`: 6 mm at the ends, 9 mm at 50 %, and
 /// 6 + 3 w(x) in between, w the quintic smootherstep of the fraction between them;
 /// the rule at the crest carries that height.

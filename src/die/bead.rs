@@ -210,6 +210,11 @@ pub enum Problem {
         /// The first key section out of place.
         section: usize,
     },
+    /// The two boundaries cross, or come closer than `MIN_WIDTH`.
+    BoundariesCross {
+        /// The centre-line point where they do.
+        at: DVec2,
+    },
     /// A section line across the bead does not meet a boundary.
     MissesBoundary {
         /// Which boundary (0 or 1).
@@ -288,6 +293,11 @@ impl std::fmt::Display for Problem {
             Problem::SectionOrder { section } => {
                 write!(f, "key section {section} is out of order along the bead")
             }
+            Problem::BoundariesCross { at } => write!(
+                f,
+                "the boundaries cross or touch near ({:.1}, {:.1})",
+                at.x, at.y
+            ),
             Problem::MissesBoundary { boundary, at } => write!(
                 f,
                 "the section across ({:.1}, {:.1}) does not meet boundary {boundary}",
@@ -323,6 +333,9 @@ const MAX_SECTIONS: usize = 2000;
 
 /// The most line-bead points a bead may take.
 const MAX_LINE_POINTS: usize = 100_000;
+
+/// Distance (mm) between the centre-line samples of the turning check.
+const TURN_SAMPLE_STEP: f64 = 0.5;
 
 /// A direction jump (degrees) at a knot of the centre line that counts as a sharp
 /// corner.
@@ -489,6 +502,9 @@ pub fn build(binder: &Binder, spec: &BeadSpec) -> Result<Bead, Problem> {
     }
     let ats = key_positions(spec, course.length)?;
     let profiles = matched_profiles(spec, &ats)?;
+    if let Some(problem) = course.too_tight(&profiles) {
+        return Err(problem);
+    }
     if let Some(at) = course.kink() {
         let reach = profiles
             .points
@@ -990,26 +1006,43 @@ fn parameter_at_s(profile: &Curve2, samples: &[(f64, DVec2)], s: f64) -> f64 {
 
 /// The course in the top view, ready for sections: the centre line by arc length, and
 /// the boundaries (if any) sampled for crossings.
-struct CourseMap<'c> {
+struct CourseMap {
     centre: Curve2,
     table_length: Vec<(f64, f64)>,
     length: f64,
-    boundaries: Option<[BoundarySamples<'c>; 2]>,
+    boundaries: Option<[BoundarySamples; 2]>,
+    /// Whether the first boundary lies to the left of the centre line (it must stay
+    /// there: boundaries that swap sides cross).
+    first_left: bool,
 }
 
 /// A boundary line with samples to find crossings from.
-struct BoundarySamples<'c> {
-    curve: &'c Curve2,
+struct BoundarySamples {
+    curve: Curve2,
     samples: Vec<(f64, DVec2)>,
 }
 
-impl<'c> CourseMap<'c> {
-    fn new(course: &'c Course) -> Result<Self, Problem> {
+/// The narrowest bead (mm, between its boundaries) that is not a mistake.
+const MIN_WIDTH: f64 = 1.0;
+
+impl CourseMap {
+    fn new(course: &Course) -> Result<Self, Problem> {
         let (centre, boundaries) = match course {
             Course::Centre(c) => (c.clone(), None),
             Course::Boundaries(a, b) => {
-                let samples = [BoundarySamples::new(a), BoundarySamples::new(b)];
-                (mid_line(a, b, &samples)?, Some(samples))
+                // Boundaries drawn from opposite ends still bound one bead: run the
+                // second the way the first runs.
+                let (a0, a1) = (a.start_point(), a.end_point());
+                let b = if b.start_point().distance(a1) + b.end_point().distance(a0)
+                    < b.start_point().distance(a0) + b.end_point().distance(a1)
+                {
+                    b.reversed()
+                } else {
+                    b.clone()
+                };
+                let samples = [BoundarySamples::new(a.clone()), BoundarySamples::new(b)];
+                let mid = mid_line(&samples[0].curve, &samples[1].curve, &samples)?;
+                (mid, Some(samples))
             }
         };
         let table = ArcLengths::new(&centre);
@@ -1022,12 +1055,29 @@ impl<'c> CourseMap<'c> {
             let f = i as f64 / n as f64;
             table_length.push((f, table.parameter_at_fraction(f)?));
         }
-        Ok(Self {
+        let mut map = Self {
             centre,
             table_length,
             length,
             boundaries,
-        })
+            first_left: true,
+        };
+        // Which side the first boundary is on, read where the bead is widest of five
+        // places along it (boundaries that cross are caught at the sections).
+        if let Some(bounds) = &map.boundaries {
+            let mut widest = 0.0f64;
+            for f in [0.0, 0.25, 0.5, 0.75, 1.0] {
+                let (c, across) = map.frame(f)?;
+                let side = |b: &BoundarySamples| b.crossing(c, across).map(|p| (p - c).dot(across));
+                if let (Some(a), Some(b)) = (side(&bounds[0]), side(&bounds[1])) {
+                    if (a - b).abs() > widest {
+                        widest = (a - b).abs();
+                        map.first_left = a > b;
+                    }
+                }
+            }
+        }
+        Ok(map)
     }
 
     /// The centre point and the unit direction across (to the left) at fraction `f`.
@@ -1049,6 +1099,28 @@ impl<'c> CourseMap<'c> {
         }
         let speed = d.length();
         Ok((c, across, d.perp_dot(dd) / (speed * speed * speed)))
+    }
+
+    /// For a centre-line course: the first place where the centre line turns tighter
+    /// than the bead reaches to the inside of the turn, sampled every
+    /// `TURN_SAMPLE_STEP` mm (so a small fillet between two sections is not missed).
+    fn too_tight(&self, profiles: &MatchedProfiles) -> Option<Problem> {
+        if self.boundaries.is_some() {
+            return None;
+        }
+        let all = || profiles.points.iter().flatten();
+        let left = all().map(|q| q.x).fold(0.0, f64::max);
+        let right = all().map(|q| -q.x).fold(0.0, f64::max);
+        let n = ((self.length / TURN_SAMPLE_STEP).ceil() as usize).clamp(64, 100_000);
+        (0..=n).find_map(|i| {
+            let (c, _, turn) = self.frame_and_turn(i as f64 / n as f64).ok()?;
+            let reach = if turn > 0.0 { left } else { right };
+            (reach * turn.abs() >= 1.0).then(|| Problem::TooTight {
+                at: c,
+                radius: 1.0 / turn.abs(),
+                reach,
+            })
+        })
     }
 
     /// Whether the centre line is a closed ring.
@@ -1119,15 +1191,20 @@ impl<'c> CourseMap<'c> {
                 .ok_or(Problem::MissesBoundary { boundary: k, at: c })?;
             offsets[k] = (hit - c).dot(across);
         }
-        Ok(Some((
-            offsets[0].min(offsets[1]),
-            offsets[0].max(offsets[1]),
-        )))
+        let (left, right) = if self.first_left {
+            (offsets[0], offsets[1])
+        } else {
+            (offsets[1], offsets[0])
+        };
+        if left - right < MIN_WIDTH {
+            return Err(Problem::BoundariesCross { at: c });
+        }
+        Ok(Some((right, left)))
     }
 }
 
-impl<'c> BoundarySamples<'c> {
-    fn new(curve: &'c Curve2) -> Self {
+impl BoundarySamples {
+    fn new(curve: Curve2) -> Self {
         let (t0, t1) = curve.domain();
         let samples = (0..=BOUNDARY_SAMPLES)
             .map(|i| {

@@ -465,7 +465,8 @@ fn problem_diag(
             feature_error(
                 KIND,
                 format!(
-                    "the bead's {what} is so fine that it would take {count} sections or points"
+                    "the bead's {what} is so fine that it would take {} sections or points",
+                    if *count > 1_000_000_000 { "more than a billion".to_string() } else { count.to_string() }
                 ),
                 span,
                 "too fine",
@@ -530,6 +531,16 @@ fn problem_diag(
             source(*section).at,
             "this position",
             "key sections go in order along the centre line, from 0 % to 100 % of its length",
+        ),
+        Problem::BoundariesCross { at } => feature_error(
+            KIND,
+            format!(
+                "the boundaries of the bead `{}` cross or run closer than 1 mm near ({:.1}, {:.1})",
+                block.name, at.x, at.y
+            ),
+            course,
+            "these boundaries",
+            "the two boundaries are the bead's feet: draw them side by side, apart over the whole bead",
         ),
         Problem::MissesBoundary { boundary, at } => feature_error(
             KIND,
