@@ -380,6 +380,44 @@ bead b {{ binder = binder; boundaries = [inner, outer]; profile = beads.round(he
     assert!(d.message.contains("cross"), "{}", d.message);
 }
 
+/// A ring bead all round the binder (a closed centre line, here the opening's top view
+/// offset 60 mm outwards) closes on itself C1: at the seam the skin's two ends meet
+/// with the same point and the same normal.
+#[test]
+fn flat_ring_bead_closes_smoothly() {
+    let (engine, out) = flat(
+        "bead ring { binder = binder; line = offset(top_view, -60 mm); profile = beads.round(height: 6 mm, radius: 6 mm) }",
+    );
+    let values = values_of(&engine, &out);
+    let bead = bead_of(find(&values, "ring"));
+    let s = &bead.surface;
+    let ((u0, u1), (v0, v1)) = (s.domain_u(), s.domain_v());
+    let (mut gap, mut angle): (f64, f64) = (0.0, 0.0);
+    for i in 0..=100 {
+        let u = u0 + (u1 - u0) * i as f64 / 100.0;
+        gap = gap.max(s.point_at(u, v0).distance(s.point_at(u, v1)));
+        let (a, b) = (s.normal(u, v0), s.normal(u, v1));
+        if let (Ok(a), Ok(b)) = (a, b) {
+            angle = angle.max(a.angle_between(b).to_degrees());
+        }
+        let (da, db) = (
+            s.derivatives::<2>(u, v0)[0][1],
+            s.derivatives::<2>(u, v1)[0][1],
+        );
+        assert!(
+            da.distance(db) <= 1e-6 * da.length().max(1.0),
+            "the v-derivative jumps at the seam: {da} vs {db}"
+        );
+    }
+    eprintln!("ring seam: gap {gap:.1e} mm, normals {angle:.1e} deg");
+    assert!(gap < 1e-6, "the ring does not close: {gap} mm");
+    assert!(
+        angle < 0.05,
+        "the ring is not smooth at its seam: {angle} deg"
+    );
+    assert!(bead.quality.foot_gap <= 0.001);
+}
+
 /// Key sections blend by the documented `ease`: 6 mm at the ends, 9 mm at 50 %, and
 /// 6 + 3 w(x) in between, w the quintic smootherstep of the fraction between them;
 /// the rule at the crest carries that height.

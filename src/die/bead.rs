@@ -29,7 +29,7 @@
 use glam::{DVec2, DVec3};
 
 use super::punch_opening::inside_outline;
-use crate::geom::construct::{loft, Loft};
+use crate::geom::construct::{loft, section_parameters, Loft};
 use crate::geom::curve::ArcLengths;
 use crate::geom::interpolate::{interpolate, interpolate_at, Interpolation};
 use crate::geom::inversion::project_to_curve_near;
@@ -580,9 +580,10 @@ pub fn build(binder: &Binder, spec: &BeadSpec) -> Result<Bead, Problem> {
         wide = wide.max(w);
         sections.push(s);
     }
-    let mut surface = loft(&sections, &Loft::default())?;
+    let ring = course.closed();
+    let mut surface = skin(&sections, ring)?;
     for _ in 0..MAX_REFINEMENTS {
-        let vs = section_parameters(&surface, sections.len());
+        let vs = section_parameters(&sections, Loft::default().parametrization)?;
         let mut inserted = Vec::new();
         for k in 0..sections.len() - 1 {
             let v = 0.5 * (vs[k] + vs[k + 1]);
@@ -601,7 +602,7 @@ pub fn build(binder: &Binder, spec: &BeadSpec) -> Result<Bead, Problem> {
             stations.insert(i, a);
             sections.insert(i, s);
         }
-        surface = loft(&sections, &Loft::default())?;
+        surface = skin(&sections, ring)?;
     }
 
     // Quality: the feet on the binder, and every section at the height it should have.
@@ -1301,23 +1302,38 @@ fn mid_line(a: &Curve2, b: &Curve2, samples: &[BoundarySamples; 2]) -> Result<Cu
     Ok(interpolate(&corrected, &Interpolation::default())?)
 }
 
-/// The loft parameter `v` of each section: the loft interpolates its sections at
-/// parameters it does not return; for averaged knots they are close to the knots'
-/// running averages (Greville abscissae), good enough for the midpoint foot check.
-fn section_parameters(surface: &NurbsSurface, n: usize) -> Vec<f64> {
-    let (v0, v1) = surface.domain_v();
-    let knots = surface.knots_v().as_slice();
-    let p = surface.degree_v();
-    let m = knots.len() - p - 1;
-    if m == n {
-        (0..n)
-            .map(|i| knots[i + 1..=i + p].iter().sum::<f64>() / p as f64)
-            .collect()
-    } else {
-        (0..n)
-            .map(|i| v0 + (v1 - v0) * i as f64 / (n - 1) as f64)
-            .collect()
+/// The bead surface through `sections` (all on one knot vector, non-rational). An open
+/// bead is lofted with free ends; a ring (`closed`, its first and last sections the
+/// same) gets the same cross-boundary derivative at both ends, the three-point
+/// derivative across the seam at the loft's own section parameters, so the skin is C1
+/// all round.
+fn skin(sections: &[Curve3], closed: bool) -> Result<NurbsSurface, Problem> {
+    let n = sections.len();
+    if !closed || n < 4 {
+        return Ok(loft(sections, &Loft::default())?);
     }
+    let params = section_parameters(sections, Loft::default().parametrization)?;
+    let (before, after) = (1.0 - params[n - 2], params[1]);
+    let (previous, seam, next) = (&sections[n - 2], &sections[0], &sections[1]);
+    let derivative: Vec<DVec3> = seam
+        .control_points()
+        .iter()
+        .zip(previous.control_points())
+        .zip(next.control_points())
+        .map(|((&f0, &fm), &fp)| {
+            (fp - f0) * (before / (after * (before + after)))
+                + (f0 - fm) * (after / (before * (before + after)))
+        })
+        .collect();
+    let tangent = Curve3::new(seam.degree(), seam.knots().as_slice().to_vec(), derivative)?;
+    Ok(loft(
+        sections,
+        &Loft {
+            start_tangent: Some(tangent.clone()),
+            end_tangent: Some(tangent),
+            ..Loft::default()
+        },
+    )?)
 }
 
 /// 1 along the bead, running out to 0 over `taper` at both ends by [`ease`].

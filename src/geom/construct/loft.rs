@@ -119,8 +119,10 @@ pub fn loft(sections: &[Curve3], opts: &Loft) -> Result<NurbsSurface> {
 }
 
 /// Section parameters on [0, 1]: for every control-point column the chord-length (or
-/// centripetal) parameters, averaged over the columns (P&T eq. 10.8).
-fn section_parameters(secs: &[Curve3], method: Parametrization) -> Result<Vec<f64>> {
+/// centripetal) parameters, averaged over the columns (P&T eq. 10.8). [`loft`]
+/// interpolates compatible sections at exactly these `v`; callers that build the
+/// cross-boundary tangents or check between sections use them too.
+pub fn section_parameters(secs: &[Curve3], method: Parametrization) -> Result<Vec<f64>> {
     let k = secs.len();
     if method == Parametrization::Uniform {
         return Ok((0..k).map(|j| j as f64 / (k - 1) as f64).collect());

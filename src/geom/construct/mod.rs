@@ -16,6 +16,6 @@ mod ruled;
 
 pub use coons::{coons, coons_triangle};
 pub use ferguson::{ferguson, HermiteCorners};
-pub use loft::{loft, Loft};
+pub use loft::{loft, section_parameters, Loft};
 pub use revolve::revolve;
 pub use ruled::ruled;
