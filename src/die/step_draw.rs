@@ -118,12 +118,25 @@ pub struct Quality {
     pub opening_deviation: f64,
     /// Largest distance (mm) between a key profile and its cubic approximation.
     pub section_fit: f64,
-    /// Largest distance (mm) a section end was moved: a drawn profile's end onto its
-    /// guide (within the tolerance), or a section's product end along the outline onto
-    /// a knot less than `SNAP_FRACTION` of a span away (which avoids sliver spans).
+    /// Largest distance (mm) a drawn profile's end was moved onto its guide (within the
+    /// tolerance).
     pub end_snap: f64,
+    /// Largest distance (mm) a key section's product end slid along the outline onto a
+    /// knot less than `SNAP_FRACTION` of a span away (which avoids sliver spans).
+    pub knot_move: f64,
+    /// Both moves for each key section, by name, in order.
+    pub per_section: Vec<(String, SectionMoves)>,
     /// Every join between neighbouring patches.
     pub joins: Vec<(String, String, JoinQuality)>,
+}
+
+/// How far one key section's ends were moved (mm): see [`Quality`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SectionMoves {
+    /// The profile's ends onto the guides.
+    pub end_snap: f64,
+    /// The product end along the outline onto a knot.
+    pub knot_move: f64,
 }
 
 /// The built step draw.
@@ -320,20 +333,19 @@ pub fn build(guides: &Guides, sections: &[SectionSpec], opts: &Options) -> Resul
     // Step 1: ends, orientation, folds, placement.
     let mut ends = Vec::with_capacity(sections.len());
     let mut placed = Vec::with_capacity(sections.len());
-    let mut end_snap: f64 = 0.0;
+    let mut per_section = Vec::with_capacity(sections.len());
     let product_knots: Vec<f64> = product.knots().distinct().iter().map(|&(k, _)| k).collect();
     for (k, s) in sections.iter().enumerate() {
         let mut e = section_ends(guides, s.a, s.b).map_err(|p| fail(k, p))?;
         // A cut just beside a knot of the outline would leave a sliver span (a kink in
         // every row there): the section's product end moves along the outline onto the
-        // knot instead, a fraction of a span away; the move counts in `end_snap`.
+        // knot instead, a fraction of a span away; the move counts in `knot_move`.
         let snapped = snap_to_knot(&product_knots, e.product_t);
+        let mut knot_move = 0.0;
         if snapped != e.product_t {
-            end_snap = end_snap.max(
-                product
-                    .point_at(snapped)
-                    .distance(product.point_at(e.product_t)),
-            );
+            knot_move = product
+                .point_at(snapped)
+                .distance(product.point_at(e.product_t));
             e.product_t = snapped;
         }
         let (p0, p1) = (s.profile.start_point(), s.profile.end_point());
@@ -359,7 +371,13 @@ pub fn build(guides: &Guides, sections: &[SectionSpec], opts: &Options) -> Resul
                 },
             ));
         }
-        end_snap = end_snap.max(gap);
+        per_section.push((
+            s.name.clone(),
+            SectionMoves {
+                end_snap: gap,
+                knot_move,
+            },
+        ));
         check_no_fold(&profile, e).map_err(|p| fail(k, p))?;
         let d = (s.b - s.a).normalize_or_zero();
         let place = |p: DVec2| (s.a + d * p.x).extend(p.y);
@@ -493,7 +511,15 @@ pub fn build(guides: &Guides, sections: &[SectionSpec], opts: &Options) -> Resul
             product_gap,
             opening_deviation,
             section_fit,
-            end_snap,
+            end_snap: per_section
+                .iter()
+                .map(|(_, m)| m.end_snap)
+                .fold(0.0, f64::max),
+            knot_move: per_section
+                .iter()
+                .map(|(_, m)| m.knot_move)
+                .fold(0.0, f64::max),
+            per_section,
             joins,
         },
     })

@@ -920,8 +920,21 @@ fn output(block: &Block, sd_result: sd::StepDraw) -> Value {
         ),
         ("section_fit".to_string(), mm(q.section_fit, span)),
         ("end_snap".to_string(), mm(q.end_snap, span)),
+        ("knot_move".to_string(), mm(q.knot_move, span)),
     ];
     quality.extend(worst);
+    for (name, m) in &q.per_section {
+        quality.push((
+            format!("section {name}"),
+            super::record_value(
+                vec![
+                    ("end_snap".to_string(), mm(m.end_snap, span)),
+                    ("knot_move".to_string(), mm(m.knot_move, span)),
+                ],
+                span,
+            ),
+        ));
+    }
     quality.extend(joins);
     feature_value(
         KIND,
