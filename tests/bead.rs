@@ -510,3 +510,20 @@ fn bead_taller_than_the_binder_allows_is_refused() {
     let values = values_of(&engine, &out);
     assert!((bead_of(find(&values, "b")).quality.height - 18.0).abs() < 1e-6);
 }
+
+/// The skin faces up like the binder under it: its normal at the crest of every bead of
+/// the fender points along +Z (viewers shade the front face, and offsets for the
+/// sheet's thickness go the right way).
+#[test]
+fn fender_bead_skins_face_up() {
+    let values = fender::fender_values();
+    for name in ["wheel_arch", "rear_corner"] {
+        let s = &bead_of(find(&values, name)).surface;
+        let ((u0, u1), (v0, v1)) = (s.domain_u(), s.domain_v());
+        for j in 1..10 {
+            let v = v0 + (v1 - v0) * j as f64 / 10.0;
+            let n = s.normal(0.5 * (u0 + u1), v).expect("a regular crest");
+            assert!(n.z > 0.9, "{name}: the crest normal is {n}");
+        }
+    }
+}

@@ -105,7 +105,8 @@ pub struct BeadQuality {
 /// A built bead.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Bead {
-    /// The bead surface: u across the bead (feet at u = 0 and 1), v along it.
+    /// The bead surface: u across the bead from its left foot (u = 0) to its right
+    /// foot (u = 1), v along it, so its normal points up, away from the binder.
     pub surface: NurbsSurface,
     /// The centre line on the binder.
     pub centre: Curve3,
@@ -605,6 +606,10 @@ pub fn build(binder: &Binder, spec: &BeadSpec) -> Result<Bead, Problem> {
         surface = skin(&sections, ring)?;
     }
 
+    // The sections run across from the right foot to the left, so S_u x S_v points
+    // down; the skin is turned round in u to face up like the binder under it.
+    let surface = surface.reversed(Direction::U);
+
     // Quality: the feet on the binder, and every section at the height it should have.
     let (v0, v1) = surface.domain_v();
     let mut foot_gap = 0.0f64;
@@ -652,7 +657,7 @@ pub fn build(binder: &Binder, spec: &BeadSpec) -> Result<Bead, Problem> {
     let rules = profiles
         .rule_params
         .iter()
-        .map(|&u| surface.iso_curve(Direction::U, u))
+        .map(|&u| surface.iso_curve(Direction::U, 1.0 - u))
         .collect();
 
     // The line bead.

@@ -121,6 +121,44 @@ impl NurbsSurface {
         }
     }
 
+    /// The same surface with `dir` run backwards: `reversed(U)(a + b - u, v) = S(u, v)`
+    /// on the u domain `[a, b]` (likewise for v). Reversing one direction turns the
+    /// normal `S_u x S_v` around.
+    pub fn reversed(&self, dir: Direction) -> Self {
+        let mirror = |k: &KnotVector| {
+            let ks = k.as_slice();
+            let (a, b) = (ks[0], ks[ks.len() - 1]);
+            ks.iter().rev().map(|&x| a + b - x).collect::<Vec<f64>>()
+        };
+        let (cu, cv) = (self.count_u, self.count_v);
+        let source = |i: usize, j: usize| match dir {
+            Direction::U => (cu - 1 - i) * cv + j,
+            Direction::V => i * cv + (cv - 1 - j),
+        };
+        let mut points = Vec::with_capacity(self.points.len());
+        let mut weights = self.weights.as_ref().map(|w| Vec::with_capacity(w.len()));
+        for i in 0..cu {
+            for j in 0..cv {
+                let k = source(i, j);
+                points.push(self.points[k]);
+                if let (Some(out), Some(w)) = (weights.as_mut(), self.weights.as_ref()) {
+                    out.push(w[k]);
+                }
+            }
+        }
+        let (knots_u, knots_v) = match dir {
+            Direction::U => (mirror(&self.knots_u), self.knots_v.as_slice().to_vec()),
+            Direction::V => (self.knots_u.as_slice().to_vec(), mirror(&self.knots_v)),
+        };
+        Self::from_parts(
+            (self.degree_u, self.degree_v),
+            (knots_u, knots_v),
+            (cu, cv),
+            points,
+            weights,
+        )
+    }
+
     /// Degree in u.
     pub fn degree_u(&self) -> usize {
         self.degree_u
