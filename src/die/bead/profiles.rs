@@ -1,0 +1,209 @@
+//! Key-section profiles resampled at corresponding points: the same number of points
+//! in every piece between rule points, so sections blend point by point and each rule
+//! is one parameter across every section.
+
+use glam::DVec2;
+
+use super::{ease, BeadSpec, Problem, SECTION_INTERVALS};
+use crate::geom::curve::ArcLengths;
+use crate::geom::Curve2;
+
+/// Samples of a profile for its fold and rule checks.
+const PROFILE_SAMPLES: usize = 512;
+
+/// The key sections' profiles resampled at corresponding points: the same number of
+/// points in every piece between rule points, spaced by arc length within a piece.
+pub(super) struct MatchedProfiles {
+    /// Key positions along the bead (fractions).
+    at: Vec<f64>,
+    /// Each key section's points, (s, height).
+    pub(super) points: Vec<Vec<DVec2>>,
+    /// The shared interpolation parameters across a section (0 to 1).
+    pub(super) params: Vec<f64>,
+    /// The parameters of the rule points.
+    pub(super) rule_params: Vec<f64>,
+}
+
+impl MatchedProfiles {
+    /// The profile at fraction `along`: the neighbouring key sections' points blended
+    /// by [`ease`], so the shape stops changing at each key section.
+    pub(super) fn blend(&self, along: f64) -> Vec<DVec2> {
+        let k = self.at.partition_point(|&a| a <= along);
+        if k == 0 {
+            return self.points[0].clone();
+        }
+        if k == self.at.len() {
+            return self.points[k - 1].clone();
+        }
+        let x = (along - self.at[k - 1]) / (self.at[k] - self.at[k - 1]);
+        let w = ease(x);
+        self.points[k - 1]
+            .iter()
+            .zip(&self.points[k])
+            .map(|(a, b)| a.lerp(*b, w))
+            .collect()
+    }
+}
+
+/// Checks every key section's profile (feet at 0, not folding back, not too tall,
+/// rules inside and in order) and resamples them at corresponding points.
+pub(super) fn matched_profiles(spec: &BeadSpec, ats: &[f64]) -> Result<MatchedProfiles, Problem> {
+    let rule_count = spec.sections[0].rules.len();
+    let mut pieces_per_section = Vec::with_capacity(spec.sections.len());
+    for (k, key) in spec.sections.iter().enumerate() {
+        let profile = &key.profile;
+        let (a, b) = (profile.start_point(), profile.end_point());
+        let scale = profile.control_scale().max(1.0);
+        if a.y.abs() > 1e-9 * scale || b.y.abs() > 1e-9 * scale {
+            return Err(Problem::ProfileFeet { section: k });
+        }
+        let (t0, t1) = profile.domain();
+        let samples: Vec<(f64, DVec2)> = (0..=PROFILE_SAMPLES)
+            .map(|i| {
+                let t = t0 + (t1 - t0) * i as f64 / PROFILE_SAMPLES as f64;
+                (t, profile.point_at(t))
+            })
+            .collect();
+        let backwards = 1e-9 * scale;
+        if b.x <= a.x {
+            return Err(Problem::ProfileFolds { section: k, s: a.x });
+        }
+        if let Some(w) = samples.windows(2).find(|w| w[1].1.x < w[0].1.x - backwards) {
+            return Err(Problem::ProfileFolds {
+                section: k,
+                s: w[0].1.x,
+            });
+        }
+        let lowest = samples
+            .iter()
+            .map(|&(_, p)| p)
+            .min_by(|p, q| p.y.total_cmp(&q.y))
+            .expect("PROFILE_SAMPLES + 1 samples");
+        if lowest.y < -1e-9 * scale {
+            return Err(Problem::BelowBinder {
+                section: k,
+                s: lowest.x,
+            });
+        }
+        let tallest = samples.iter().map(|(_, p)| p.y).fold(0.0, f64::max);
+        if tallest <= 1e-9 * scale {
+            return Err(Problem::BelowBinder {
+                section: k,
+                s: 0.5 * (a.x + b.x),
+            });
+        }
+        if tallest > spec.max_height {
+            return Err(Problem::TooTall {
+                section: k,
+                height: tallest,
+                limit: spec.max_height,
+            });
+        }
+        if key.rules.len() != rule_count {
+            return Err(Problem::RuleCount {
+                section: k,
+                expected: rule_count,
+                given: key.rules.len(),
+            });
+        }
+        // Piece boundaries: the feet and the rule points, strictly increasing in s.
+        let feet = (a.x, b.x);
+        let mut cuts = vec![t0];
+        let mut last_s = a.x;
+        for &s in &key.rules {
+            if !(s > last_s && s < b.x) {
+                return Err(Problem::RuleOutside {
+                    section: k,
+                    s,
+                    feet,
+                });
+            }
+            cuts.push(parameter_at_s(profile, &samples, s));
+            last_s = s;
+        }
+        cuts.push(t1);
+        pieces_per_section.push(cuts);
+    }
+
+    // Intervals per piece: in proportion to the longest the piece is on any section
+    // (as a fraction of that section's length), at least two each.
+    let tables: Vec<ArcLengths<DVec2>> = spec
+        .sections
+        .iter()
+        .map(|k| ArcLengths::new(&k.profile))
+        .collect();
+    let pieces = rule_count + 1;
+    let mut share = vec![0.0f64; pieces];
+    let mut piece_lengths = Vec::with_capacity(spec.sections.len());
+    for (table, cuts) in tables.iter().zip(&pieces_per_section) {
+        let lengths: Vec<f64> = cuts.iter().map(|&t| table.length_at(t)).collect();
+        for j in 0..pieces {
+            share[j] = share[j].max((lengths[j + 1] - lengths[j]) / table.total());
+        }
+        piece_lengths.push(lengths);
+    }
+    let total_share: f64 = share.iter().sum();
+    let counts: Vec<usize> = share
+        .iter()
+        .map(|s| ((s / total_share * SECTION_INTERVALS as f64).round() as usize).max(2))
+        .collect();
+
+    let mut points = Vec::with_capacity(spec.sections.len());
+    for ((key, table), lengths) in spec.sections.iter().zip(&tables).zip(&piece_lengths) {
+        let mut section = Vec::new();
+        for j in 0..pieces {
+            let first = if j == 0 { 0 } else { 1 };
+            for i in first..=counts[j] {
+                let l = lengths[j] + (lengths[j + 1] - lengths[j]) * i as f64 / counts[j] as f64;
+                section.push(key.profile.point_at(table.parameter_at(l)?));
+            }
+        }
+        points.push(section);
+    }
+
+    // Shared parameters: the chord-length fractions, averaged over the key sections.
+    let n = points[0].len();
+    let mut params = vec![0.0; n];
+    for section in &points {
+        let mut acc = vec![0.0; n];
+        for i in 1..n {
+            acc[i] = acc[i - 1] + section[i].distance(section[i - 1]).max(1e-12);
+        }
+        for i in 0..n {
+            params[i] += acc[i] / acc[n - 1] / points.len() as f64;
+        }
+    }
+    params[0] = 0.0;
+    params[n - 1] = 1.0;
+    let mut rule_params = Vec::with_capacity(rule_count);
+    let mut index = 0;
+    for &c in counts.iter().take(rule_count) {
+        index += c;
+        rule_params.push(params[index]);
+    }
+    Ok(MatchedProfiles {
+        at: ats.to_vec(),
+        points,
+        params,
+        rule_params,
+    })
+}
+
+/// The parameter where a profile that never runs backwards reaches `s` across, from its
+/// samples and bisection between them.
+fn parameter_at_s(profile: &Curve2, samples: &[(f64, DVec2)], s: f64) -> f64 {
+    let i = samples
+        .windows(2)
+        .position(|w| w[0].1.x <= s && s <= w[1].1.x)
+        .unwrap_or(samples.len() - 2);
+    let (mut lo, mut hi) = (samples[i].0, samples[i + 1].0);
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if profile.point_at(mid).x < s {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
