@@ -620,8 +620,10 @@ fn adaptive_length<P: Point>(c: &NurbsCurve<P>, a: f64, b: f64, depth: usize) ->
 /// table integrates each of `PIECES_PER_SPAN` pieces of every knot span once with
 /// Gauss-Legendre quadrature, then answers a query by Newton inside one piece.
 #[derive(Debug, Clone)]
-pub struct ArcLengths<'a, P> {
-    curve: &'a NurbsCurve<P>,
+pub struct ArcLengths<'a, P: Point> {
+    /// The curve, borrowed, or owned by a table that outlives its maker
+    /// ([`ArcLengths::owning`]).
+    curve: std::borrow::Cow<'a, NurbsCurve<P>>,
     /// Piece boundaries in parameter, increasing.
     ts: Vec<f64>,
     /// Arc length from the start to each piece boundary.
@@ -635,6 +637,20 @@ const PIECES_PER_SPAN: usize = 8;
 impl<'a, P: Point> ArcLengths<'a, P> {
     /// Tabulates the arc length of `curve`.
     pub fn new(curve: &'a NurbsCurve<P>) -> Self {
+        Self::tabulate(std::borrow::Cow::Borrowed(curve))
+    }
+
+    /// Tabulates the arc length of `curve`, keeping the curve in the table.
+    pub fn owning(curve: NurbsCurve<P>) -> ArcLengths<'static, P> {
+        ArcLengths::tabulate(std::borrow::Cow::Owned(curve))
+    }
+
+    /// The curve the table measures.
+    pub fn curve(&self) -> &NurbsCurve<P> {
+        &self.curve
+    }
+
+    fn tabulate(curve: std::borrow::Cow<'a, NurbsCurve<P>>) -> Self {
         let breaks = curve.span_breaks();
         let mut ts = vec![breaks[0]];
         let mut lengths = vec![0.0];
@@ -643,7 +659,7 @@ impl<'a, P: Point> ArcLengths<'a, P> {
                 let t = w[0] + (w[1] - w[0]) * k as f64 / PIECES_PER_SPAN as f64;
                 let last = *ts.last().expect("ts starts with one boundary");
                 let acc = *lengths.last().expect("lengths starts with 0");
-                lengths.push(acc + adaptive_length(curve, last, t, 0));
+                lengths.push(acc + adaptive_length(&curve, last, t, 0));
                 ts.push(t);
             }
         }
@@ -678,7 +694,7 @@ impl<'a, P: Point> ArcLengths<'a, P> {
             a
         };
         let tol = 1e-12 * self.total().max(1.0);
-        let curve = self.curve;
+        let curve: &NurbsCurve<P> = &self.curve;
         invert_length(curve, (lo, hi), t, tol, |t| {
             adaptive_length(curve, a, t, 0) - rest
         })
@@ -694,7 +710,7 @@ impl<'a, P: Point> ArcLengths<'a, P> {
             return self.total();
         }
         let i = (self.ts.partition_point(|&x| x <= t) - 1).min(last - 1);
-        self.lengths[i] + adaptive_length(self.curve, self.ts[i], t, 0)
+        self.lengths[i] + adaptive_length(&self.curve, self.ts[i], t, 0)
     }
 
     /// The parameter at fraction `f` (0 to 1) of the length.

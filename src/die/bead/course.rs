@@ -23,8 +23,9 @@ const BOUNDARY_SAMPLES: usize = 512;
 /// The course in the top view, ready for sections: the centre line by arc length, and
 /// the boundaries (if any) sampled for crossings.
 pub(super) struct CourseMap {
-    centre: Curve2,
-    table_length: Vec<(f64, f64)>,
+    /// The centre line with its arc length tabulated (every section and every
+    /// centre-line sample asks for a fraction of it).
+    centre: ArcLengths<'static, DVec2>,
     /// The centre line's top-view length (mm).
     pub(super) length: f64,
     boundaries: Option<[BoundarySamples; 2]>,
@@ -62,19 +63,10 @@ impl CourseMap {
                 (mid, Some(samples))
             }
         };
-        let table = ArcLengths::new(&centre);
-        let length = table.total();
-        // Fractions 0..1 of the length to parameters, tabulated once (every section
-        // and every centre-line sample asks).
-        let n = 1024;
-        let mut table_length = Vec::with_capacity(n + 1);
-        for i in 0..=n {
-            let f = i as f64 / n as f64;
-            table_length.push((f, table.parameter_at_fraction(f)?));
-        }
+        let centre = ArcLengths::owning(centre);
+        let length = centre.total();
         let mut map = Self {
             centre,
-            table_length,
             length,
             boundaries,
             first_left: true,
@@ -107,7 +99,7 @@ impl CourseMap {
     /// positive turning left).
     pub(super) fn frame_and_turn(&self, f: f64) -> Result<(DVec2, DVec2, f64), Problem> {
         let t = self.parameter(f)?;
-        let [c, d, dd] = self.centre.derivatives::<3>(t);
+        let [c, d, dd] = self.line().derivatives::<3>(t);
         let across = d.normalize_or_zero().perp();
         if across == DVec2::ZERO {
             return Err(Problem::Kernel(GeomError::ZeroVector {
@@ -142,57 +134,36 @@ impl CourseMap {
 
     /// Whether the centre line is a closed ring.
     pub(super) fn closed(&self) -> bool {
-        let (t0, t1) = self.centre.domain();
-        let (a, b) = (self.centre.point_at(t0), self.centre.point_at(t1));
+        let (t0, t1) = self.line().domain();
+        let (a, b) = (self.line().point_at(t0), self.line().point_at(t1));
         a.distance(b) <= 1e-6 * (1.0 + self.length)
     }
 
     /// The first sharp corner of the centre line (a knot where its direction jumps by
     /// more than `KINK_DEGREES`), if any.
     pub(super) fn kink(&self) -> Option<DVec2> {
-        let (t0, t1) = self.centre.domain();
+        let (t0, t1) = self.line().domain();
         let eps = 1e-9 * (t1 - t0);
-        self.centre
+        self.line()
             .span_breaks()
             .into_iter()
             .filter(|&k| k > t0 + eps && k < t1 - eps)
             .find(|&k| {
-                let before = self.centre.derivative_at(k - eps);
-                let after = self.centre.derivative_at(k + eps);
+                let before = self.line().derivative_at(k - eps);
+                let after = self.line().derivative_at(k + eps);
                 before.angle_to(after).abs().to_degrees() > KINK_DEGREES
             })
-            .map(|k| self.centre.point_at(k))
+            .map(|k| self.line().point_at(k))
     }
 
-    /// The parameter at fraction `f` of the length: the tabulated neighbours, then
-    /// Newton on the exact arc length.
+    /// The parameter at fraction `f` (clamped to 0..1) of the length.
     pub(super) fn parameter(&self, f: f64) -> Result<f64, Problem> {
-        let f = f.clamp(0.0, 1.0);
-        let n = self.table_length.len() - 1;
-        let i = ((f * n as f64).floor() as usize).min(n - 1);
-        let (fa, ta) = self.table_length[i];
-        let (fb, tb) = self.table_length[i + 1];
-        if f == fa {
-            return Ok(ta);
-        }
-        if f == fb {
-            return Ok(tb);
-        }
-        // Newton from the linear guess, on length(ta, t) = (f - fa) * length.
-        let want = (f - fa) * self.length;
-        let mut t = ta + (tb - ta) * (f - fa) / (fb - fa);
-        for _ in 0..20 {
-            let err = self.centre.length_between(ta, t) - want;
-            if err.abs() <= 1e-12 * self.length.max(1.0) {
-                break;
-            }
-            let speed = self.centre.derivative_at(t).length();
-            if speed <= 0.0 {
-                break;
-            }
-            t = (t - err / speed).clamp(ta, tb);
-        }
-        Ok(t)
+        Ok(self.centre.parameter_at_fraction(f.clamp(0.0, 1.0))?)
+    }
+
+    /// The centre line in the top view.
+    fn line(&self) -> &Curve2 {
+        self.centre.curve()
     }
 
     /// Where the section through `c`, running `across`, meets the two
