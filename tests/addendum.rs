@@ -7,23 +7,22 @@ use dieface::eval::sketch::{Sketch, View};
 use dieface::eval::{Data, Engine};
 use glam::{DVec2, DVec3};
 
+#[path = "common/profiles.rs"]
+mod profiles_common;
+#[path = "common/script.rs"]
+mod script;
+
+use profiles_common::{draft_of, flats, kinds, samples, walls};
+
 /// Evaluates `lets` (one `let name = ...` per line) after importing the module, and
 /// returns every declaration's sketch; panics on any diagnostic.
 fn profiles(lets: &str) -> Vec<(String, Arc<Sketch>)> {
     let text = format!("import \"std/addendum\" as ad\nunits mm deg\n{lets}\n");
-    let mut engine = Engine::new(None);
-    let out = engine.evaluate("addendum_test.die", &text, None);
-    let rendered: Vec<String> = out
-        .diagnostics
-        .iter()
-        .map(|d| engine.sources.render(d, false))
-        .collect();
-    assert!(rendered.is_empty(), "{}", rendered.join("\n"));
-    out.decls
-        .iter()
-        .map(|d| match d.value.as_ref().map(|v| &v.data) {
-            Some(Data::Sketch(s)) => (d.name.clone(), s.clone()),
-            other => panic!("`{}` is not a sketch: {other:?}", d.name),
+    script::evaluate_clean("addendum_test.die", &text)
+        .into_iter()
+        .map(|(name, data)| match data {
+            Data::Sketch(s) => (name, s),
+            other => panic!("`{name}` is not a sketch: {other:?}"),
         })
         .collect()
 }
@@ -45,54 +44,6 @@ fn messages(text: &str) -> Vec<String> {
 
 fn p(s: f64, z: f64) -> DVec2 {
     DVec2::new(s, z)
-}
-
-/// `n + 1` points evenly spaced in the parameter of the sketch's curve.
-fn samples(sk: &Sketch, n: usize) -> Vec<DVec2> {
-    let (t0, t1) = sk.curve.domain();
-    (0..=n)
-        .map(|k| sk.curve.point_at(t0 + (t1 - t0) * k as f64 / n as f64))
-        .collect()
-}
-
-/// The kinds of the drawn segments.
-fn kinds(sk: &Sketch) -> Vec<&'static str> {
-    sk.segments.iter().map(|g| g.kind).collect()
-}
-
-/// Start and end point of segment `k`.
-fn ends(sk: &Sketch, k: usize) -> (DVec2, DVec2) {
-    let (a, b) = sk.segments[k].range;
-    (sk.curve.point_at(a), sk.curve.point_at(b))
-}
-
-/// The straight segments: (start, end) of each `line`.
-fn lines(sk: &Sketch) -> Vec<(DVec2, DVec2)> {
-    (0..sk.segments.len())
-        .filter(|&k| sk.segments[k].kind == "line")
-        .map(|k| ends(sk, k))
-        .collect()
-}
-
-/// Lines that are not horizontal: the walls.
-fn walls(sk: &Sketch) -> Vec<(DVec2, DVec2)> {
-    lines(sk)
-        .into_iter()
-        .filter(|(a, b)| (b.y - a.y).abs() > 1e-9)
-        .collect()
-}
-
-/// Horizontal lines: runs, flats and steps.
-fn flats(sk: &Sketch) -> Vec<(DVec2, DVec2)> {
-    lines(sk)
-        .into_iter()
-        .filter(|(a, b)| (b.y - a.y).abs() <= 1e-9)
-        .collect()
-}
-
-/// The angle of a wall from the vertical.
-fn draft_of((a, b): (DVec2, DVec2)) -> f64 {
-    (b.x - a.x).abs().atan2((b.y - a.y).abs())
 }
 
 /// The radius of a fillet or arc segment from its curvature at the middle and ends.

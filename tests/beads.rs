@@ -10,25 +10,18 @@ use dieface::eval::sketch::{Sketch, View};
 use dieface::eval::{Data, Engine};
 use glam::DVec2;
 
+#[path = "common/profiles.rs"]
+mod profiles_common;
+#[path = "common/script.rs"]
+mod script;
+
+use profiles_common::{draft_of, flats, kinds, samples, walls as flanks};
+
 /// Evaluates `lets` (one `let name = ...` per line) after importing the module, and
 /// returns every declaration's value; panics on any diagnostic.
 fn evaluate(lets: &str) -> Vec<(String, Data)> {
     let text = format!("import \"std/beads\" as b\nunits mm deg\n{lets}\n");
-    let mut engine = Engine::new(None);
-    let out = engine.evaluate("beads_test.die", &text, None);
-    let rendered: Vec<String> = out
-        .diagnostics
-        .iter()
-        .map(|d| engine.sources.render(d, false))
-        .collect();
-    assert!(rendered.is_empty(), "{}", rendered.join("\n"));
-    out.decls
-        .iter()
-        .map(|d| {
-            let v = d.value.as_ref().expect("a value");
-            (d.name.clone(), v.data.clone())
-        })
-        .collect()
+    script::evaluate_clean("beads_test.die", &text)
 }
 
 /// The sketch `expr` evaluates to.
@@ -57,53 +50,6 @@ fn messages(lets: &str) -> Vec<String> {
         .iter()
         .map(|d| format!("{}: {}", d.code, d.message))
         .collect()
-}
-
-/// `n + 1` points evenly spaced in the parameter of the sketch's curve, plus every
-/// segment's ends.
-fn samples(sk: &Sketch, n: usize) -> Vec<DVec2> {
-    let (t0, t1) = sk.curve.domain();
-    (0..=n)
-        .map(|k| sk.curve.point_at(t0 + (t1 - t0) * k as f64 / n as f64))
-        .collect()
-}
-
-fn kinds(sk: &Sketch) -> Vec<&'static str> {
-    sk.segments.iter().map(|g| g.kind).collect()
-}
-
-fn ends(sk: &Sketch, k: usize) -> (DVec2, DVec2) {
-    let (a, b) = sk.segments[k].range;
-    (sk.curve.point_at(a), sk.curve.point_at(b))
-}
-
-/// The straight segments: (start, end) of each `line`.
-fn lines(sk: &Sketch) -> Vec<(DVec2, DVec2)> {
-    (0..sk.segments.len())
-        .filter(|&k| sk.segments[k].kind == "line")
-        .map(|k| ends(sk, k))
-        .collect()
-}
-
-/// Lines that are not horizontal: the flanks.
-fn flanks(sk: &Sketch) -> Vec<(DVec2, DVec2)> {
-    lines(sk)
-        .into_iter()
-        .filter(|(a, b)| (b.y - a.y).abs() > 1e-9)
-        .collect()
-}
-
-/// Horizontal lines: flat tops and valleys.
-fn flats(sk: &Sketch) -> Vec<(DVec2, DVec2)> {
-    lines(sk)
-        .into_iter()
-        .filter(|(a, b)| (b.y - a.y).abs() <= 1e-9)
-        .collect()
-}
-
-/// The angle of a flank from the vertical.
-fn draft_of((a, b): (DVec2, DVec2)) -> f64 {
-    (b.x - a.x).abs().atan2((b.y - a.y).abs())
 }
 
 /// The radii of the arcs and fillets, in drawing order, each checked to be circular.

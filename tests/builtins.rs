@@ -14,6 +14,9 @@ use dieface::geom::{Curve3, NurbsSurface};
 use dieface::syntax::{FileId, Span};
 use glam::{DVec2, DVec3};
 
+#[path = "common/script.rs"]
+mod script;
+
 // ---- building arguments --------------------------------------------------------------
 
 fn at(i: usize) -> Span {
@@ -1289,23 +1292,7 @@ fn fail_and_the_dimension_tests() {
 
 /// The values of a script's declarations, by name; panics on any diagnostic.
 fn evaluate(text: &str) -> Vec<(String, Data)> {
-    let mut engine = dieface::eval::Engine::new(None);
-    let out = engine.evaluate("script.die", text, None);
-    let rendered: Vec<String> = out
-        .diagnostics
-        .iter()
-        .map(|d| engine.sources.render(d, false))
-        .collect();
-    assert!(rendered.is_empty(), "{}", rendered.join("\n"));
-    out.decls
-        .iter()
-        .map(|d| {
-            (
-                d.name.clone(),
-                d.value.as_ref().expect("a value").data.clone(),
-            )
-        })
-        .collect()
+    script::evaluate_clean("script.die", text)
 }
 
 #[test]

@@ -16,6 +16,9 @@ use dieface::geom::{Curve2, GeomError};
 use glam::DVec2;
 use proptest::prelude::*;
 
+#[path = "common/script.rs"]
+mod script;
+
 /// The tolerance the `offset` builtin asks of the kernel.
 const TOL: f64 = 0.001;
 
@@ -24,24 +27,7 @@ const TOL: f64 = 0.001;
 /// Evaluates a script (`units mm deg` first) and returns every declaration's value;
 /// panics on any diagnostic.
 fn evaluate(text: &str) -> Vec<(String, Data)> {
-    let text = format!("units mm deg\n{text}\n");
-    let mut engine = Engine::new(None);
-    let out = engine.evaluate("offset_test.die", &text, None);
-    let rendered: Vec<String> = out
-        .diagnostics
-        .iter()
-        .map(|d| engine.sources.render(d, false))
-        .collect();
-    assert!(rendered.is_empty(), "{}", rendered.join("\n"));
-    out.decls
-        .iter()
-        .map(|d| {
-            (
-                d.name.clone(),
-                d.value.as_ref().expect("a value").data.clone(),
-            )
-        })
-        .collect()
+    script::evaluate_clean("offset_test.die", &format!("units mm deg\n{text}\n"))
 }
 
 /// The diagnostics of a script, as `code: message`.

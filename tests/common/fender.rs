@@ -1,11 +1,15 @@
-//! The fender example evaluated through the language, shared by the feature tests, and
-//! the check that an evaluation came out clean.
+//! The fender example evaluated through the language, shared by the feature tests.
 
 #![allow(dead_code)] // each test file uses its own subset
 
 use std::path::Path;
 
-use dieface::eval::{Engine, Outcome, Value};
+use dieface::eval::{Engine, Value};
+
+#[path = "script.rs"]
+mod script;
+
+pub use script::clean_values;
 
 /// Every declaration of `examples/fender/fender.die` with its value, in source order;
 /// the example must evaluate without a diagnostic.
@@ -16,20 +20,4 @@ pub fn fender_values() -> Vec<(String, Value)> {
         .evaluate_path(&root.join("fender/fender.die"))
         .expect("readable example");
     clean_values(&engine, &outcome)
-}
-
-/// Every declaration of an evaluation with its value, in source order; panics with the
-/// rendered diagnostics if there are any.
-pub fn clean_values(engine: &Engine, outcome: &Outcome) -> Vec<(String, Value)> {
-    let rendered: Vec<String> = outcome
-        .diagnostics
-        .iter()
-        .map(|d| engine.sources.render(d, false))
-        .collect();
-    assert!(rendered.is_empty(), "{}", rendered.join("\n"));
-    outcome
-        .decls
-        .iter()
-        .filter_map(|d| d.value.clone().map(|v| (d.name.clone(), v)))
-        .collect()
 }

@@ -1,0 +1,33 @@
+//! Evaluating a script through the language in a test: the values of its declarations,
+//! or a panic that shows the rendered diagnostics.
+
+#![allow(dead_code)] // each test file uses its own subset
+
+use dieface::eval::{Data, Engine, Outcome, Value};
+
+/// Every declaration of an evaluation with its value, in source order; panics with the
+/// rendered diagnostics if there are any.
+pub fn clean_values(engine: &Engine, outcome: &Outcome) -> Vec<(String, Value)> {
+    let rendered: Vec<String> = outcome
+        .diagnostics
+        .iter()
+        .map(|d| engine.sources.render(d, false))
+        .collect();
+    assert!(rendered.is_empty(), "{}", rendered.join("\n"));
+    outcome
+        .decls
+        .iter()
+        .filter_map(|d| d.value.clone().map(|v| (d.name.clone(), v)))
+        .collect()
+}
+
+/// Evaluates `text` as the file `file` (no project folder) and returns every
+/// declaration's data, in source order; panics on any diagnostic.
+pub fn evaluate_clean(file: &str, text: &str) -> Vec<(String, Data)> {
+    let mut engine = Engine::new(None);
+    let outcome = engine.evaluate(file, text, None);
+    clean_values(&engine, &outcome)
+        .into_iter()
+        .map(|(name, value)| (name, value.data))
+        .collect()
+}
