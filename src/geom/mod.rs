@@ -30,6 +30,7 @@ pub mod arc;
 pub mod banded;
 pub mod compat;
 pub mod construct;
+pub mod curvature;
 pub mod curve;
 pub mod error;
 pub mod interpolate;
