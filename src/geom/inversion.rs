@@ -711,3 +711,27 @@ pub fn closest_point_on_surface(surface: &NurbsSurface, target: DVec3) -> Result
         }),
     }
 }
+
+/// The point of `surface` closest to `target` found by Newton's iteration from
+/// `(u, v)` alone: for marching along a curve that lies on the surface, where the last
+/// foot point is a good start. Falls back to [`closest_point_on_surface`] when the
+/// iteration does not converge.
+pub fn closest_point_on_surface_near(
+    surface: &NurbsSurface,
+    target: DVec3,
+    u: f64,
+    v: f64,
+) -> Result<SurfacePoint> {
+    if !target.is_finite() {
+        return Err(GeomError::NotFinite {
+            what: "target point",
+        });
+    }
+    let tol = Tolerances::new(surface.control_scale(), target.length());
+    let out = newton_surface(surface, target, u, v, tol);
+    if out.converged {
+        finite_distance(out.value, out.value.distance)
+    } else {
+        closest_point_on_surface(surface, target)
+    }
+}

@@ -60,7 +60,18 @@ struct SectionSource {
 
 /// Builds the step draw of `block`.
 pub fn build(block: &Block) -> Result<Value, Diagnostic> {
-    block.check_fields(&["product", "opening", "tolerance", "closed"], &["section"])?;
+    block.check_fields(
+        &[
+            "product",
+            "opening",
+            "binder",
+            "tolerance",
+            "closed",
+            "tangent_product",
+            "tangent_binder",
+        ],
+        &["section"],
+    )?;
     let units = block.units;
     let product_field = block.get("product").ok_or_else(|| {
         block.missing(
@@ -107,9 +118,17 @@ pub fn build(block: &Block) -> Result<Value, Diagnostic> {
     if product.degree() != 3 || product.is_rational() {
         return Err(not_cubic(&product, product_field.value.span));
     }
+    let binder = match block.get("binder") {
+        Some(f) => binder_patches(&f.value)?,
+        None => Vec::new(),
+    };
+    let tangent_product = flag(block, "tangent_product")?;
+    let tangent_binder = flag(block, "tangent_binder")?;
     let guides = sd::oriented(Guides {
         product,
         opening,
+        product_surface: None,
+        binder,
         closed,
     });
 
@@ -206,7 +225,12 @@ pub fn build(block: &Block) -> Result<Value, Diagnostic> {
             profile: s.curve.clone(),
         })
         .collect();
-    let result = sd::build(&guides, &specs, &Options { tolerance }).map_err(|e| {
+    let options = Options {
+        tolerance,
+        tangent_product,
+        tangent_binder,
+    };
+    let result = sd::build(&guides, &specs, &options).map_err(|e| {
         Context {
             block,
             guides: &guides,
@@ -216,6 +240,43 @@ pub fn build(block: &Block) -> Result<Value, Diagnostic> {
         .diagnose(e.section, &e.problem)
     })?;
     Ok(output(block, result))
+}
+
+/// The binder's patches from the `binder` field: the step draw meets them tangentially
+/// across the punch opening line.
+fn binder_patches(v: &Value) -> Result<Vec<crate::geom::NurbsSurface>, Diagnostic> {
+    match &v.data {
+        Data::Record(r) => match &r.feature {
+            Some(Feature::Blankholder(b)) => {
+                Ok(b.patches.iter().map(|p| p.surface.clone()).collect())
+            }
+            _ => Err(type_error(
+                v,
+                "`binder` of a step draw",
+                "a blankholder (the name of a `blankholder` declaration)",
+            )),
+        },
+        _ => Err(type_error(
+            v,
+            "`binder` of a step draw",
+            "a blankholder (the name of a `blankholder` declaration)",
+        )),
+    }
+}
+
+/// A true/false field that defaults to true.
+fn flag(block: &Block, name: &str) -> Result<bool, Diagnostic> {
+    match block.get(name) {
+        None => Ok(true),
+        Some(f) => match &f.value.data {
+            Data::Bool(b) => Ok(*b),
+            _ => Err(type_error(
+                &f.value,
+                &format!("`{name}` of a step draw"),
+                "true or false",
+            )),
+        },
+    }
 }
 
 /// The product outline of the `product` field: a 3-D curve (a drawing has no heights).
@@ -559,6 +620,16 @@ impl Context<'_, '_> {
                 .unwrap_or_else(|| self.folds_back(src, *at)),
             Problem::WrongOrder => self.wrong_order(k),
             Problem::ProductNotCubic => not_cubic(&self.guides.product, self.block.head()),
+            Problem::CannotReach { at } => feature_error(
+                KIND,
+                format!(
+                    "between section `{}` and the one before it, the section at ({:.2}, {:.2}, {:.2}) cannot reach the punch opening with the key sections' runs and corners",
+                    src.name, at.x, at.y, at.z
+                ),
+                src.profile,
+                "the profile carried here",
+                "the opening comes too close to the product there for the walls and radii of the neighbouring key sections: add a key section there with a profile that fits, or move the opening out",
+            ),
             Problem::Kernel(e) => self.grazing(src).unwrap_or_else(|| self.kernel(src, e)),
         }
     }

@@ -33,13 +33,23 @@
 
 use glam::{DVec2, DVec3};
 
+mod along;
+mod chain;
+mod fit;
+mod slopes;
+
+use along::Along;
+use chain::{align, Chain};
+use fit::SectionBasis;
+use slopes::{BinderSlope, ProductSlope};
+
 use super::continuity::{measure_join, JoinQuality};
 use crate::geom::interpolate::{interpolate_at, Interpolation, KnotPlacement};
 use crate::geom::intersect::{intersect_curve_plane, Plane};
 use crate::geom::inversion::{closest_point_on_curve, project_to_curve_near};
 use crate::geom::join::join_curves;
 use crate::geom::tessellate::{tessellate_curve, Tolerance};
-use crate::geom::{Curve2, Curve3, GeomError, NurbsSurface, Transform};
+use crate::geom::{Curve2, Curve3, GeomError, NurbsSurface};
 
 /// The two guides.
 #[derive(Debug, Clone, PartialEq)]
@@ -50,6 +60,12 @@ pub struct Guides {
     pub opening: Curve3,
     /// Whether the section sequence wraps around (both guides closed).
     pub closed: bool,
+    /// The product surface the outline lies on, when known: the step draw then leaves
+    /// it tangentially (its slope across the trim line starts every section).
+    pub product_surface: Option<NurbsSurface>,
+    /// The binder's patches, when known: the step draw then meets the binder
+    /// tangentially across the punch opening line.
+    pub binder: Vec<NurbsSurface>,
 }
 
 /// A key section as the designer gives it.
@@ -87,11 +103,22 @@ pub struct Options {
     /// onto them), and the accuracy asked of the profile approximation and of the
     /// opening-side guide.
     pub tolerance: f64,
+    /// Start every section along the product's slope (when the product surface is
+    /// known); `false` keeps each profile's drawn first direction (a deliberate crease
+    /// at the trim line).
+    pub tangent_product: bool,
+    /// End every section along the binder's slope (when the binder is known); `false`
+    /// keeps each profile's drawn last direction.
+    pub tangent_binder: bool,
 }
 
 impl Default for Options {
     fn default() -> Self {
-        Self { tolerance: 0.01 }
+        Self {
+            tolerance: 0.01,
+            tangent_product: true,
+            tangent_binder: true,
+        }
     }
 }
 
@@ -190,6 +217,12 @@ pub enum Problem {
     WrongOrder,
     /// The product outline is not a non-rational cubic.
     ProductNotCubic,
+    /// A section between key sections cannot reach the opening point with its runs
+    /// (every way of lengthening them would make one negative).
+    CannotReach {
+        /// The section's product point.
+        at: DVec3,
+    },
     /// The kernel failed.
     Kernel(GeomError),
 }
@@ -221,8 +254,19 @@ impl std::fmt::Display for Problem {
             Problem::ProductNotCubic => {
                 write!(f, "the product outline must be a non-rational cubic curve")
             }
+            Problem::CannotReach { at } => write!(
+                f,
+                "the section at ({:.2}, {:.2}, {:.2}) cannot reach the punch opening with its runs and corners",
+                at.x, at.y, at.z
+            ),
             Problem::Kernel(e) => write!(f, "{e}"),
         }
+    }
+}
+
+impl From<GeomError> for Problem {
+    fn from(e: GeomError) -> Self {
+        Problem::Kernel(e)
     }
 }
 
@@ -272,7 +316,7 @@ pub fn oriented(guides: Guides) -> Guides {
     Guides {
         product: ccw(&guides.product),
         opening: ccw(&guides.opening),
-        closed: guides.closed,
+        ..guides
     }
 }
 
@@ -332,7 +376,7 @@ pub fn build(guides: &Guides, sections: &[SectionSpec], opts: &Options) -> Resul
 
     // Step 1: ends, orientation, folds, placement.
     let mut ends = Vec::with_capacity(sections.len());
-    let mut placed = Vec::with_capacity(sections.len());
+    let mut key_chains = Vec::with_capacity(sections.len());
     let mut per_section = Vec::with_capacity(sections.len());
     let product_knots: Vec<f64> = product.knots().distinct().iter().map(|&(k, _)| k).collect();
     for (k, s) in sections.iter().enumerate() {
@@ -379,17 +423,28 @@ pub fn build(guides: &Guides, sections: &[SectionSpec], opts: &Options) -> Resul
             },
         ));
         check_no_fold(&profile, e).map_err(|p| fail(k, p))?;
-        let d = (s.b - s.a).normalize_or_zero();
-        let place = |p: DVec2| (s.a + d * p.x).extend(p.y);
-        let mut curve = profile.map_points(place);
-        // The ends exactly on the guides.
-        curve = snap_ends(
-            &curve,
-            guides.opening.point_at(e.opening_t),
-            product.point_at(e.product_t),
+        // The profile from the product to the opening, in (x, z): x = 0 at the
+        // product, growing towards the opening.
+        let sign = if e.opening.x >= e.product.x {
+            1.0
+        } else {
+            -1.0
+        };
+        let drawn = profile
+            .reversed()
+            .map_points(|p: DVec2| DVec2::new((p.x - e.product.x) * sign, p.y));
+        let c = obliquity(
+            (s.b - s.a).normalize_or_zero().extend(0.0),
+            (
+                guides.opening.derivative_at(e.opening_t),
+                product.derivative_at(e.product_t),
+            ),
         );
+        let mut chain = Chain::from_curve(&drawn);
+        chain.start = DVec2::new(0.0, e.product.y);
+        chain.obliquity = c;
         ends.push(e);
-        placed.push(curve);
+        key_chains.push(chain);
     }
 
     // Sections in order along both guides.
@@ -402,8 +457,59 @@ pub fn build(guides: &Guides, sections: &[SectionSpec], opts: &Options) -> Resul
         guides.closed,
     )?;
 
-    // Step 1 (continued): one knot vector for every section.
-    let (key, u_knots, section_fit) = fit_sections(&placed, tol).map_err(at(0))?;
+    // Step 1 (continued): one list of corners for all key sections, one knot vector
+    // for every section, and the key sections' runs and corners carried along the
+    // outline by their positions on it.
+    let aligned = align(&key_chains);
+    let basis = SectionBasis::new(&aligned).map_err(at(0))?;
+    let outline = ArcTable::new(product);
+    let origin = outline.fraction_at(ends[0].product_t) * outline.total;
+    let positions: Vec<f64> = ends
+        .iter()
+        .map(|e| {
+            let s = outline.fraction_at(e.product_t) * outline.total - origin;
+            if guides.closed {
+                s.rem_euclid(outline.total)
+            } else {
+                s
+            }
+        })
+        .collect();
+    let along = Along::new(
+        positions.clone(),
+        aligned,
+        guides.closed.then_some(outline.total),
+    );
+    let stations = Stations {
+        along: &along,
+        basis: &basis,
+        product: guides
+            .product_surface
+            .as_ref()
+            .filter(|_| opts.tangent_product)
+            .map(ProductSlope::new),
+        binder: (opts.tangent_binder && !guides.binder.is_empty())
+            .then(|| BinderSlope::new(&guides.binder)),
+    };
+    // The key sections themselves, as built, and how closely the cubics follow them.
+    let mut key_sections = Vec::with_capacity(sections.len());
+    let mut section_fit: f64 = 0.0;
+    for (k, e) in ends.iter().enumerate() {
+        let (a, b) = (
+            guides.opening.point_at(e.opening_t),
+            product.point_at(e.product_t),
+        );
+        let tangents = (
+            guides.opening.derivative_at(e.opening_t),
+            product.derivative_at(e.product_t),
+        );
+        let (curve, error) = stations
+            .section_with_error(positions[k], (a, b), tangents)
+            .map_err(|p| fail(k, p))?;
+        section_fit = section_fit.max(error);
+        key_sections.push((sections[k].name.clone(), curve));
+    }
+    let u_knots = key_sections[0].1.knots().as_slice().to_vec();
 
     // Step 2-3: patches, their guides and sections.
     let n = sections.len();
@@ -414,11 +520,11 @@ pub fn build(guides: &Guides, sections: &[SectionSpec], opts: &Options) -> Resul
         let subs = patch(
             guides,
             (&ends[k], &ends[next]),
-            (&key[k], &key[next]),
-            &u_knots,
+            positions[k],
+            &stations,
             tol,
         )
-        .map_err(at(next))?;
+        .map_err(|p| fail(next, p))?;
         let base = format!("{}_to_{}", sections[k].name, sections[next].name);
         let count = subs.len();
         for (i, mut s) in subs.into_iter().enumerate() {
@@ -499,11 +605,6 @@ pub fn build(guides: &Guides, sections: &[SectionSpec], opts: &Options) -> Resul
             measure_join(&a.surface, &b.surface, JOIN_SAMPLES),
         ));
     }
-    let key_sections = sections
-        .iter()
-        .zip(&placed)
-        .map(|(s, c)| (s.name.clone(), c.clone()))
-        .collect();
     Ok(StepDraw {
         patches,
         key_sections,
@@ -523,6 +624,97 @@ pub fn build(guides: &Guides, sections: &[SectionSpec], opts: &Options) -> Resul
             joins,
         },
     })
+}
+
+/// Builds the section at any position along the outline: the key sections' runs and
+/// corners carried there ([`Along`]), started along the product's slope and ended
+/// along the binder's where those are known, made to reach the opening point, and
+/// fitted on the shared knots ([`SectionBasis`]).
+struct Stations<'a> {
+    along: &'a Along,
+    basis: &'a SectionBasis,
+    product: Option<ProductSlope<'a>>,
+    binder: Option<BinderSlope<'a>>,
+}
+
+impl Stations<'_> {
+    /// The section at outline position `s` (mm from the first key section) from the
+    /// opening point `a` (u = 0) to the product point `b` (u = 1), where the guides'
+    /// tangents are `tangents` (opening, product).
+    fn section(
+        &self,
+        s: f64,
+        ends: (DVec3, DVec3),
+        tangents: (DVec3, DVec3),
+    ) -> Result<Curve3, Problem> {
+        Ok(self.section_with_error(s, ends, tangents)?.0)
+    }
+
+    /// [`Stations::section`] and its largest distance from the exact runs and corners.
+    ///
+    /// A section's plane is vertical through its two guide points, which in a corner of
+    /// the outline cuts the walls at a slant. A key section is built as drawn in its
+    /// plane; a section cut more slanted than its key sections (by the ratio of their
+    /// [`obliquity`]) is stretched across by that ratio, so the walls keep their true
+    /// radii and draft instead of turning tighter and steeper in the slanted cut.
+    fn section_with_error(
+        &self,
+        s: f64,
+        (a, b): (DVec3, DVec3),
+        tangents: (DVec3, DVec3),
+    ) -> Result<(Curve3, f64), Problem> {
+        let across = (a - b).truncate();
+        let length = across.length();
+        if length <= 1e-6 {
+            return Err(Problem::CannotReach { at: b });
+        }
+        let h = (across / length).extend(0.0);
+        let mut chain = self.along.at(s);
+        // How much more slanted this plane is than the key sections' (whose drawings
+        // are taken as they are).
+        let c = (obliquity(h, tangents) / chain.obliquity).clamp(0.5, 2.0);
+        let square = |angle: f64| angle.sin().atan2(angle.cos() * c);
+        chain.start = DVec2::new(0.0, b.z);
+        let last = chain.runs.len() - 1;
+        if let Some(slope) = self.product.as_ref().and_then(|p| p.at(b, h)) {
+            chain.runs[0].angle = square(slope);
+        }
+        if let Some(slope) = self.binder.as_ref().and_then(|p| p.at(a, h)) {
+            chain.runs[last].angle = square(slope);
+        }
+        let fixed: Vec<bool> = self
+            .basis
+            .runs_with_stretch()
+            .iter()
+            .map(|&own| !own)
+            .collect();
+        let chain = chain
+            .reach(DVec2::new(length * c, a.z), &fixed)
+            .ok_or(Problem::CannotReach { at: b })?;
+        let (fitted, error) = self.basis.fit(&chain)?;
+        // Square to the walls, then across the plane, then into press coordinates: an
+        // affine map, so it moves the control points.
+        let fitted = fitted.map_points(|p: DVec2| {
+            let x = p.x / c;
+            DVec3::new(b.x + h.x * x, b.y + h.y * x, p.y)
+        });
+        Ok((fitted.reversed(), error / c))
+    }
+}
+
+/// How square a section plane along `h` (horizontal, unit) cuts the walls: the cosine
+/// of its angle to the guides' normals in the top view (the mean of the opening's and
+/// the product outline's, from their tangents), at least 0.5.
+fn obliquity(h: DVec3, (opening, product): (DVec3, DVec3)) -> f64 {
+    let square = |t: DVec3| {
+        let t = t.truncate().normalize_or_zero();
+        if t == DVec2::ZERO {
+            1.0
+        } else {
+            h.truncate().perp_dot(t).abs()
+        }
+    };
+    (0.5 * (square(opening) + square(product))).clamp(0.5, 1.0)
 }
 
 /// A patch between two sections before its rows are interpolated.
@@ -595,40 +787,6 @@ fn snap_to_knot(knots: &[f64], t: f64) -> f64 {
     best
 }
 
-/// `curve` with its first and last control points moved to `a` and `b` (a non-rational
-/// or rational curve's ends are its end control points).
-fn snap_ends(curve: &Curve3, a: DVec3, b: DVec3) -> Curve3 {
-    let n = curve.control_points().len();
-    let start = curve.start_point();
-    let end = curve.end_point();
-    let points: Vec<DVec3> = curve
-        .control_points()
-        .iter()
-        .enumerate()
-        .map(|(i, &p)| {
-            if i == 0 {
-                p + (a - start)
-            } else if i + 1 == n {
-                p + (b - end)
-            } else {
-                p
-            }
-        })
-        .collect();
-    with_points(curve, points)
-}
-
-/// `curve` with new control points (same degree, knots and weights).
-fn with_points(curve: &Curve3, points: Vec<DVec3>) -> Curve3 {
-    let knots = curve.knots().as_slice().to_vec();
-    let rebuilt = match curve.weights() {
-        Some(w) => Curve3::new_rational(curve.degree(), knots, points, w.to_vec()),
-        None => Curve3::new(curve.degree(), knots, points),
-    };
-    // Same knots and as many points as a valid curve: rebuilding cannot fail.
-    rebuilt.unwrap_or_else(|_| curve.clone())
-}
-
 /// Sections' parameters must increase along the guide (cyclically for a closed one).
 fn check_order(ts: &[f64], closed: bool) -> Result<(), Error> {
     let mut wraps = 0;
@@ -646,51 +804,6 @@ fn check_order(ts: &[f64], closed: bool) -> Result<(), Error> {
         return Err(fail(k, Problem::WrongOrder));
     }
     Ok(())
-}
-
-/// Non-rational cubic approximations of the sections on one shared knot vector: each
-/// interpolates points at equal steps of its own curvature-weighted length (`ds (1 + c
-/// kappa)`, so fillets get more points), at the same parameters. The number of points
-/// doubles until every section is within `tol` of its profile.
-fn fit_sections(placed: &[Curve3], tol: f64) -> crate::geom::Result<(Vec<Curve3>, Vec<f64>, f64)> {
-    let tables: Vec<ArcTable> = placed.iter().map(ArcTable::weighted).collect();
-    let mut count = 33;
-    loop {
-        let params: Vec<f64> = (0..count).map(|i| i as f64 / (count - 1) as f64).collect();
-        let mut fitted = Vec::with_capacity(placed.len());
-        let mut worst: f64 = 0.0;
-        for (c, table) in placed.iter().zip(&tables) {
-            let points: Vec<DVec3> = params.iter().map(|&f| c.point_at(table.t_at(f))).collect();
-            let fit = interpolate_at(&points, &params, &Interpolation::default())?;
-            worst = worst.max(fit_error(&fit, c)?);
-            fitted.push(fit);
-        }
-        if worst <= tol || count >= MAX_SECTION_POINTS {
-            let knots = fitted[0].knots().as_slice().to_vec();
-            return Ok((fitted, knots, worst));
-        }
-        count = 2 * count - 1;
-    }
-}
-
-/// The most points a section approximation interpolates.
-const MAX_SECTION_POINTS: usize = 257;
-
-/// Curvature weight of [`fit_sections`] (mm per radian of turning).
-const TURN_WEIGHT: f64 = 10.0;
-
-/// Largest distance from the fit to the exact profile, sampled.
-fn fit_error(fit: &Curve3, exact: &Curve3) -> crate::geom::Result<f64> {
-    let mut worst: f64 = 0.0;
-    let mut guess = exact.domain().0;
-    let n = 8 * fit.control_points().len();
-    for i in 0..=n {
-        let p = fit.point_at(i as f64 / n as f64);
-        let hit = project_to_curve_near(exact, p, guess)?;
-        guess = hit.t;
-        worst = worst.max(hit.distance);
-    }
-    Ok(worst)
 }
 
 /// The piece of `curve` from `t0` to `t1`, wrapping over the seam of a closed curve when
@@ -730,14 +843,15 @@ fn piece(curve: &Curve3, t0: f64, t1: f64) -> crate::geom::Result<Curve3> {
     p.reparametrized(0.0, 1.0)
 }
 
-/// The sub-patches of the patch between two key sections.
+/// The sub-patches of the patch between two key sections; `start` is the left key
+/// section's position along the outline (for [`Stations::section`]).
 fn patch(
     guides: &Guides,
     ends: (&SectionEnds, &SectionEnds),
-    key: (&Curve3, &Curve3),
-    u_knots: &[f64],
+    start: f64,
+    stations: &Stations,
     tol: f64,
-) -> crate::geom::Result<Vec<SubPatch>> {
+) -> Result<Vec<SubPatch>, Problem> {
     let product = piece(&guides.product, ends.0.product_t, ends.1.product_t)?;
     let opening = piece(&guides.opening, ends.0.opening_t, ends.1.opening_t)?;
     let matching = Matching::new(&product, &opening);
@@ -745,20 +859,13 @@ fn patch(
     let knots = product.knots().distinct();
     let params: Vec<f64> = knots.iter().map(|&(k, _)| k).collect();
     // Each knot's point on the opening, by arc-length fraction.
-    let ends = (opening.start_point(), opening.end_point());
     let mut sections = Vec::with_capacity(params.len());
     for &v in &params {
         let t = matching.opening_t(v);
         let (a, b) = (opening.point_at(t), product.point_at(v));
-        sections.push(intermediate_section(
-            key,
-            (&opening, &product),
-            ends,
-            (t, v),
-            a,
-            b,
-            u_knots,
-        )?);
+        let s = start + matching.product.fraction_at(v) * matching.product.total;
+        let tangents = (opening.derivative_at(t), product.derivative_at(v));
+        sections.push(stations.section(s, (a, b), tangents)?);
     }
     // The opening guide on the product's knots: through the sections' opening ends.
     let opening_points: Vec<DVec3> = sections.iter().map(Curve3::start_point).collect();
@@ -894,34 +1001,6 @@ impl ArcTable {
         }
     }
 
-    /// Like [`ArcTable::new`] with each step weighted by `1 + TURN_WEIGHT kappa`.
-    fn weighted(c: &Curve3) -> Self {
-        let (t0, t1) = c.domain();
-        let n = 4000;
-        let ts: Vec<f64> = (0..=n)
-            .map(|i| t0 + (t1 - t0) * i as f64 / n as f64)
-            .collect();
-        let mut lengths = Vec::with_capacity(ts.len());
-        let mut acc = 0.0;
-        let mut last = c.point_at(ts[0]);
-        for (i, &t) in ts.iter().enumerate() {
-            let p = c.point_at(t);
-            if i > 0 {
-                let mid = 0.5 * (ts[i - 1] + t);
-                let kappa = c.curvature(mid);
-                let kappa = if kappa.is_finite() { kappa } else { 0.0 };
-                acc += p.distance(last) * (1.0 + TURN_WEIGHT * kappa);
-            }
-            lengths.push(acc);
-            last = p;
-        }
-        Self {
-            ts,
-            lengths,
-            total: acc,
-        }
-    }
-
     /// The fraction of the length up to parameter `t`.
     fn fraction_at(&self, t: f64) -> f64 {
         if self.total == 0.0 {
@@ -1005,110 +1084,6 @@ fn refine_for_opening(
     Ok(product)
 }
 
-/// The section at `v` of a patch (eq. 7-9), compatible with the key sections, from
-/// `a = G_U(v)` to `b = G_D(v)`.
-fn intermediate_section(
-    key: (&Curve3, &Curve3),
-    guides: (&Curve3, &Curve3),
-    opening_ends: (DVec3, DVec3),
-    (tu, v): (f64, f64),
-    a: DVec3,
-    b: DVec3,
-    u_knots: &[f64],
-) -> crate::geom::Result<Curve3> {
-    let (opening, product) = guides;
-    let f = v.clamp(0.0, 1.0);
-    let heading = |c: &Curve3, t: f64| -> f64 {
-        let d = c.derivative_at(t);
-        d.y.atan2(d.x)
-    };
-    let carry = |section: &Curve3, from: DVec3, from_heading: f64, to: DVec3, to_heading: f64| {
-        let turn = to_heading - from_heading;
-        let moved = Transform::translate(-from)?
-            .then(Transform::rotate_about_axis(DVec3::ZERO, DVec3::Z, turn)?)
-            .then(Transform::translate(to)?);
-        Ok::<Curve3, GeomError>(moved.apply_curve(section))
-    };
-    let land = |c: &Curve3, fixed_start: bool| -> crate::geom::Result<Curve3> {
-        // Scale (eq. 7) and rotate about the anchored end so the other end lands.
-        let (p0, p1) = (c.start_point(), c.end_point());
-        let chord = p1 - p0;
-        let target = b - a;
-        let scale = target.length() / chord.length();
-        let (pivot, to_pivot) = if fixed_start { (p0, a) } else { (p1, b) };
-        let t = Transform::translate(-pivot)?
-            .then(Transform::scale_about(DVec3::ZERO, scale)?)
-            .then(upright_rotation(chord, target)?)
-            .then(Transform::translate(to_pivot)?);
-        Ok(t.apply_curve(c))
-    };
-    let (left, right) = key;
-    // Anchored on the opening guide.
-    let h_left_u = heading(opening, 0.0);
-    let h_right_u = heading(opening, 1.0);
-    let h_here_u = heading(opening, tu);
-    let ul = land(&carry(left, opening_ends.0, h_left_u, a, h_here_u)?, true)?;
-    let ur = land(&carry(right, opening_ends.1, h_right_u, a, h_here_u)?, true)?;
-    let c_u = blend(&ul, &ur, f);
-    // Anchored on the product guide.
-    let h_left_d = heading(product, 0.0);
-    let h_right_d = heading(product, 1.0);
-    let h_here_d = heading(product, v);
-    let dl = land(
-        &carry(left, product.start_point(), h_left_d, b, h_here_d)?,
-        false,
-    )?;
-    let dr = land(
-        &carry(right, product.end_point(), h_right_d, b, h_here_d)?,
-        false,
-    )?;
-    let c_d = blend(&dl, &dr, f);
-    // Eq. 9 on the control points, with g the node of each.
-    let m = c_u.control_points().len();
-    let nodes = greville(u_knots, m);
-    let points: Vec<DVec3> = (0..m)
-        .map(|i| {
-            let g = nodes[i];
-            let h1 = 3.0 * g * g - 2.0 * g * g * g;
-            (1.0 - h1) * c_u.control_points()[i] + h1 * c_d.control_points()[i]
-        })
-        .collect();
-    let mut points = points;
-    points[0] = a;
-    points[m - 1] = b;
-    Curve3::new(3, u_knots.to_vec(), points)
-}
-
-/// The rotation about the origin taking the direction `from` onto `to` that keeps
-/// vertical planes vertical: a turn about Z onto `to`'s top-view heading, then the tilt
-/// within that vertical plane. (The shortest rotation, about `from x to`, leans a
-/// sloping section's plane sideways by up to its slope times the heading change, which
-/// eats the wall's draft and can turn it into an undercut.) Directions without a
-/// top-view heading take the shortest rotation.
-fn upright_rotation(from: DVec3, to: DVec3) -> crate::geom::Result<Transform> {
-    let (fh, th) = (from.truncate(), to.truncate());
-    let small = 1e-9 * from.length().max(to.length());
-    if fh.length() <= small || th.length() <= small {
-        return Transform::rotation_between(from, to);
-    }
-    // atan2, not `angle_to` (an arc cosine: 1e-8 rad of noise for parallel headings).
-    let turn = fh.perp_dot(th).atan2(fh.dot(th));
-    let about_z = Transform::rotate_about_axis(DVec3::ZERO, DVec3::Z, turn)?;
-    let turned = about_z.apply_vector(from);
-    Ok(about_z.then(Transform::rotation_between(turned, to)?))
-}
-
-/// `(1 - f) a + f b` on the control points (compatible curves).
-fn blend(a: &Curve3, b: &Curve3, f: f64) -> Curve3 {
-    let points = a
-        .control_points()
-        .iter()
-        .zip(b.control_points())
-        .map(|(&p, &q)| (1.0 - f) * p + f * q)
-        .collect();
-    with_points(a, points)
-}
-
 /// Greville abscissae (control nodes) of a cubic with `m` control points, on [0, 1].
 fn greville(knots: &[f64], m: usize) -> Vec<f64> {
     let (lo, hi) = (knots[0], knots[knots.len() - 1]);
@@ -1133,10 +1108,24 @@ fn boundary_derivatives(
     let q = &a.sections[na - 1];
     let p = &a.sections[na - 2];
     let r = &b.sections[1];
-    // Magnitudes at the two ends of the boundary for both patches.
+    // Magnitudes: per unit of product length, the opening's speed relative to the
+    // product's (the mean of both patches', so neither patch leads and the result is
+    // the same built either way round) blended across the section; then times each
+    // patch's own product speed, so the ratio between the two sides is the same for
+    // every row (eq. 4: C1 across the boundary).
     let ta = a.product.derivative_at(1.0).length();
     let ta_u = a.opening.derivative_at(1.0).length();
     let tb = b.product.derivative_at(0.0).length();
+    let tb_u = b.opening.derivative_at(0.0).length();
+    let ratio = if ta > 0.0 && tb > 0.0 {
+        0.5 * (ta_u / ta + tb_u / tb)
+    } else {
+        1.0
+    };
+    let speed = match which {
+        End::End => ta,
+        End::Start => tb,
+    };
     (0..m)
         .map(|i| {
             let dir = circle_tangent(
@@ -1145,12 +1134,7 @@ fn boundary_derivatives(
                 r.control_points()[i],
             );
             let xi = nodes[i];
-            let ma = (1.0 - xi) * ta_u + xi * ta;
-            let mag = match which {
-                End::End => ma,
-                End::Start => ma * tb / ta,
-            };
-            dir * mag
+            dir * (((1.0 - xi) * ratio + xi) * speed)
         })
         .collect()
 }

@@ -1,0 +1,444 @@
+//! Every step-draw section as a cubic on one knot vector whose knots sit at the
+//! profile's own features.
+//!
+//! All sections share the corner list of [`super::chain::align`], so one knot vector
+//! `U` serves them all: each run and each corner gets a fixed stretch of `U`, with a
+//! double knot where a run meets a corner (the curvature jumps there, from a straight
+//! run into a radius, and a double knot lets the cubic jump with it instead of
+//! overshooting) and four spans across each corner. Each section is then the least
+//! squares cubic through points spread evenly along each of its pieces, ends fixed on
+//! the guides. The matrix is the same for every section, so it is factored once.
+//!
+//! A corner that fades out (a step running out next to a plain wall) keeps an arc of
+//! some length ([`super::chain::Chain::arc_length`]), so its stretch of `U` never shrinks to
+//! nothing.
+
+// Loops over parallel arrays (runs, corners, knots) by index read clearer here than
+// zipped iterators.
+#![allow(clippy::needless_range_loop)]
+
+use glam::DVec2;
+use nalgebra::{DMatrix, DVector};
+
+use super::chain::{dir, Chain};
+use crate::geom::{GeomError, KnotVector};
+
+/// Spans across a corner.
+const CORNER_SPANS: usize = 4;
+
+/// Samples per span.
+const SAMPLES_PER_SPAN: usize = 4;
+
+/// The shared structure: which runs have a stretch of `U`, the stretches, the knot
+/// vector and the factored least-squares system.
+#[derive(Debug, Clone)]
+pub struct SectionBasis {
+    /// Per run: whether it has its own stretch (a run of no length in every key section
+    /// has none).
+    runs: Vec<bool>,
+    /// Corner count.
+    corners: usize,
+    /// The pieces in order, each with its stretch `[u0, u1]` and span count.
+    pieces: Vec<(Piece, f64, f64)>,
+    /// The knot vector.
+    knots: Vec<f64>,
+    /// Sample parameters and, for each, the piece and the fraction within it.
+    samples: Vec<(f64, usize, f64)>,
+    /// The basis matrix of the interior control points at the samples.
+    basis: DMatrix<f64>,
+    /// Basis values of the first and last control point at the samples.
+    ends: Vec<(f64, f64)>,
+    /// Cholesky factor of `A^T A`.
+    normal: nalgebra::Cholesky<f64, nalgebra::Dyn>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Piece {
+    Run(usize),
+    Corner(usize),
+}
+
+impl SectionBasis {
+    /// The structure for the aligned key chains (all with the same corner count).
+    pub fn new(chains: &[Chain]) -> crate::geom::Result<Self> {
+        let corners = chains.first().map_or(0, Chain::corners);
+        let runs: Vec<bool> = (0..=corners)
+            .map(|k| chains.iter().any(|c| c.runs[k].length > 1e-9))
+            .collect();
+        // Mean lengths give the stretches' widths, so the parameter is about even
+        // along a typical section.
+        let n = chains.len().max(1) as f64;
+        let total: f64 = chains
+            .iter()
+            .map(|c| {
+                c.runs.iter().map(|r| r.length).sum::<f64>()
+                    + (0..c.corners()).map(|k| c.arc_length(k)).sum::<f64>()
+            })
+            .sum::<f64>()
+            / n;
+        let floor = 0.02 * total.max(1e-9);
+        let mut pieces = Vec::new();
+        let mut widths = Vec::new();
+        for k in 0..=corners {
+            if runs[k] {
+                let w: f64 = chains.iter().map(|c| c.runs[k].length).sum::<f64>() / n;
+                pieces.push(Piece::Run(k));
+                widths.push(w.max(floor));
+            }
+            if k < corners {
+                let w: f64 = chains.iter().map(|c| c.arc_length(k)).sum::<f64>() / n;
+                pieces.push(Piece::Corner(k));
+                widths.push(w.max(floor));
+            }
+        }
+        let sum: f64 = widths.iter().sum();
+        let mut at = 0.0;
+        let mut placed = Vec::with_capacity(pieces.len());
+        for (p, w) in pieces.iter().zip(&widths) {
+            let u1 = if placed.len() + 1 == pieces.len() {
+                1.0
+            } else {
+                at + w / sum
+            };
+            placed.push((*p, at, u1));
+            at = u1;
+        }
+        // Knots: double between pieces, simple inside corners.
+        let mut knots = vec![0.0; 4];
+        for (i, &(p, u0, u1)) in placed.iter().enumerate() {
+            let spans = match p {
+                Piece::Run(_) => 1,
+                Piece::Corner(_) => CORNER_SPANS,
+            };
+            for s in 1..spans {
+                knots.push(u0 + (u1 - u0) * s as f64 / spans as f64);
+            }
+            if i + 1 < placed.len() {
+                knots.push(u1);
+                knots.push(u1);
+            }
+        }
+        knots.extend([1.0; 4]);
+        let m = knots.len() - 4;
+        let kv = KnotVector::new(knots.clone(), 3, m)?;
+        let mut samples = Vec::new();
+        for (i, &(p, u0, u1)) in placed.iter().enumerate() {
+            let spans = match p {
+                Piece::Run(_) => 1,
+                Piece::Corner(_) => CORNER_SPANS,
+            };
+            let count = spans * SAMPLES_PER_SPAN;
+            let first = if i == 0 { 0 } else { 1 };
+            for s in first..=count {
+                let f = s as f64 / count as f64;
+                samples.push((u0 + (u1 - u0) * f, i, f));
+            }
+        }
+        let inner = m - 2;
+        let mut basis = DMatrix::zeros(samples.len(), inner);
+        let mut ends = Vec::with_capacity(samples.len());
+        for (row, &(u, _, _)) in samples.iter().enumerate() {
+            let span = kv.span(3, u);
+            let b = kv.basis(span, 3, u);
+            let (mut first, mut last) = (0.0, 0.0);
+            for r in 0..4 {
+                let col = span - 3 + r;
+                if col == 0 {
+                    first = b[r];
+                } else if col == m - 1 {
+                    last = b[r];
+                } else {
+                    basis[(row, col - 1)] = b[r];
+                }
+            }
+            ends.push((first, last));
+        }
+        let ata = basis.transpose() * &basis;
+        let normal = ata.cholesky().ok_or(GeomError::Singular {
+            what: "step-draw section basis (too few samples for the knots)",
+        })?;
+        Ok(Self {
+            runs,
+            corners,
+            pieces: placed,
+            knots,
+            samples,
+            basis,
+            ends,
+            normal,
+        })
+    }
+
+    /// Which runs have their own stretch of `U` (the others keep length 0 in every
+    /// section).
+    pub fn runs_with_stretch(&self) -> &[bool] {
+        &self.runs
+    }
+
+    /// The section `chain` as a cubic in its plane's (x, z) on the shared knots, ends
+    /// exactly at the chain's, with its largest distance from the chain (sampled
+    /// halfway between the fitting points).
+    pub fn fit(&self, chain: &Chain) -> crate::geom::Result<(crate::geom::Curve2, f64)> {
+        debug_assert_eq!(chain.corners(), self.corners);
+        let geo = PieceGeometry::new(chain);
+        let pace = self.pace(&geo);
+        let points: Vec<DVec2> = self
+            .samples
+            .iter()
+            .map(|&(_, piece, f)| geo.point(self.pieces[piece].0, pace[piece].at(f)))
+            .collect();
+        let p0 = chain.start;
+        let p1 = chain.end();
+        let inner = self.basis.ncols();
+        let mut out = vec![p0; inner + 2];
+        for axis in 0..2 {
+            let rhs = DVector::from_iterator(
+                points.len(),
+                points
+                    .iter()
+                    .zip(&self.ends)
+                    .map(|(p, &(a, b))| p[axis] - a * p0[axis] - b * p1[axis]),
+            );
+            let x = self.normal.solve(&(self.basis.transpose() * rhs));
+            for i in 0..inner {
+                out[i + 1][axis] = x[i];
+            }
+        }
+        out[inner + 1] = p1;
+        let curve = crate::geom::Curve2::new(3, self.knots.clone(), out)?;
+        let mut worst: f64 = 0.0;
+        for w in self.samples.windows(2) {
+            let u = 0.5 * (w[0].0 + w[1].0);
+            worst = worst.max(geo.distance(curve.point_at(u)));
+        }
+        Ok((curve, worst))
+    }
+}
+
+/// How the points are spread along one piece: the fraction of its length reached at
+/// a fraction of its stretch of `U`, a cubic whose slopes at the ends match the speeds
+/// where the piece meets its neighbours.
+#[derive(Debug, Clone, Copy)]
+struct Pace {
+    start: f64,
+    end: f64,
+}
+
+impl Pace {
+    fn at(&self, t: f64) -> f64 {
+        let (t2, t3) = (t * t, t * t * t);
+        (t3 - 2.0 * t2 + t) * self.start + (-2.0 * t3 + 3.0 * t2) + (t3 - t2) * self.end
+    }
+}
+
+impl SectionBasis {
+    /// The pace of each piece of `geo`: both pieces that meet at a double knot ask for
+    /// the same parameter speed there (the cubic must keep one: it is C1 there), so
+    /// the fit follows the geometry instead of trading it for the pace.
+    fn pace(&self, geo: &PieceGeometry) -> Vec<Pace> {
+        let own: Vec<f64> = self
+            .pieces
+            .iter()
+            .map(|&(p, u0, u1)| geo.length(p) / (u1 - u0))
+            .collect();
+        let n = own.len();
+        // Where a run meets a corner the corner keeps its own speed (a cubic follows an
+        // arc closely only at an even pace) and the run, which is straight and follows
+        // any pace exactly, takes it up, within three times its own; two corners meet
+        // at the geometric mean of theirs.
+        let junction = |a: usize, b: usize| -> f64 {
+            match (self.pieces[a].0, self.pieces[b].0) {
+                (Piece::Run(_), Piece::Corner(_)) => own[b].clamp(own[a] / 3.0, 3.0 * own[a]),
+                (Piece::Corner(_), Piece::Run(_)) => own[a].clamp(own[b] / 3.0, 3.0 * own[b]),
+                _ => (own[a] * own[b]).sqrt(),
+            }
+        };
+        (0..n)
+            .map(|i| {
+                let (p, u0, u1) = self.pieces[i];
+                let length = geo.length(p);
+                if length <= 0.0 {
+                    return Pace {
+                        start: 1.0,
+                        end: 1.0,
+                    };
+                }
+                let left = if i > 0 { junction(i - 1, i) } else { own[i] };
+                let right = if i + 1 < n {
+                    junction(i, i + 1)
+                } else {
+                    own[i]
+                };
+                let scale = (u1 - u0) / length;
+                // Slopes up to 3 keep the fraction increasing (Fritsch and Carlson).
+                Pace {
+                    start: (left * scale).clamp(0.0, 3.0),
+                    end: (right * scale).clamp(0.0, 3.0),
+                }
+            })
+            .collect()
+    }
+}
+
+/// A chain's pieces with the collars of its gentle corners: where each run's own
+/// stretch starts and ends, and each corner's stretch (collar, arc, collar).
+struct PieceGeometry {
+    /// Per run: the straight part that is its own (after collars are taken).
+    runs: Vec<(DVec2, DVec2)>,
+    /// Per corner: collar start, arc start, arc end, collar end, centre, radius, turn.
+    corners: Vec<CornerPath>,
+}
+
+struct CornerPath {
+    from: DVec2,
+    arc_start: DVec2,
+    arc_end: DVec2,
+    to: DVec2,
+    centre: DVec2,
+    turn: f64,
+    /// The arc's length (a straight piece when the turn is nil).
+    arc: f64,
+}
+
+impl PieceGeometry {
+    fn new(chain: &Chain) -> Self {
+        let lay = chain.layout();
+        let k = chain.corners();
+        // No collars: a gentle corner is rounded wider instead ([`Chain::arc_length`]).
+        let want = vec![0.0; k];
+        // Each run gives at most 80 % of its length to the collars at its ends.
+        let mut before = vec![0.0; k]; // collar taken from run i (before corner i)
+        let mut after = vec![0.0; k]; // collar taken from run i + 1
+        for r in 0..=k {
+            let at_start = if r > 0 { want[r - 1] } else { 0.0 };
+            let at_end = if r < k { want[r] } else { 0.0 };
+            let room = 0.8 * chain.runs[r].length;
+            let scale = if at_start + at_end > room && at_start + at_end > 0.0 {
+                room / (at_start + at_end)
+            } else {
+                1.0
+            };
+            if r > 0 {
+                after[r - 1] = at_start * scale;
+            }
+            if r < k {
+                before[r] = at_end * scale;
+            }
+        }
+        let runs = (0..=k)
+            .map(|r| {
+                let (a, b) = lay.runs[r];
+                let d = dir(chain.runs[r].angle);
+                let a = if r > 0 { a + d * after[r - 1] } else { a };
+                let b = if r < k { b - d * before[r] } else { b };
+                (a, b)
+            })
+            .collect();
+        let corners = (0..k)
+            .map(|i| {
+                let (s, e, c) = lay.arcs[i];
+                let din = dir(chain.runs[i].angle);
+                let dout = dir(chain.runs[i + 1].angle);
+                CornerPath {
+                    from: s - din * before[i],
+                    arc_start: s,
+                    arc_end: e,
+                    to: e + dout * after[i],
+                    centre: c,
+                    turn: chain.turn(i),
+                    arc: chain.arc_length(i),
+                }
+            })
+            .collect();
+        Self { runs, corners }
+    }
+
+    /// The distance from `p` to the chain (its runs and arcs).
+    fn distance(&self, p: DVec2) -> f64 {
+        let seg = |a: DVec2, b: DVec2| {
+            let ab = b - a;
+            let t = if ab.length_squared() > 0.0 {
+                ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            p.distance(a + ab * t)
+        };
+        let mut best = f64::INFINITY;
+        for &(a, b) in &self.runs {
+            best = best.min(seg(a, b));
+        }
+        for c in &self.corners {
+            best = best.min(seg(c.from, c.arc_start)).min(seg(c.arc_end, c.to));
+            if c.turn.abs() <= 1e-12 {
+                best = best.min(seg(c.arc_start, c.arc_end));
+                continue;
+            }
+            let r = c.centre.distance(c.arc_start);
+            if r > 0.0 {
+                let (ra, rp) = (c.arc_start - c.centre, p - c.centre);
+                let a = ra.perp_dot(rp).atan2(ra.dot(rp));
+                let inside = if c.turn >= 0.0 {
+                    (0.0..=c.turn).contains(&a)
+                } else {
+                    (c.turn..=0.0).contains(&a)
+                };
+                if inside {
+                    best = best.min((rp.length() - r).abs());
+                } else {
+                    best = best.min(p.distance(c.arc_start)).min(p.distance(c.arc_end));
+                }
+            }
+        }
+        best
+    }
+
+    /// The length of a piece (a corner's with its collars).
+    fn length(&self, piece: Piece) -> f64 {
+        match piece {
+            Piece::Run(r) => self.runs[r].0.distance(self.runs[r].1),
+            Piece::Corner(i) => {
+                let c = &self.corners[i];
+                c.from.distance(c.arc_start) + c.arc + c.arc_end.distance(c.to)
+            }
+        }
+    }
+
+    /// The point at fraction `f` of a piece's length.
+    fn point(&self, piece: Piece, f: f64) -> DVec2 {
+        match piece {
+            Piece::Run(r) => {
+                let (a, b) = self.runs[r];
+                a + (b - a) * f
+            }
+            Piece::Corner(i) => {
+                let c = &self.corners[i];
+                let l0 = c.from.distance(c.arc_start);
+                let la = c.arc;
+                let l1 = c.arc_end.distance(c.to);
+                let total = l0 + la + l1;
+                if total <= 0.0 {
+                    return c.arc_start;
+                }
+                let s = f * total;
+                if s <= l0 {
+                    c.from + (c.arc_start - c.from) * if l0 > 0.0 { s / l0 } else { 0.0 }
+                } else if s <= l0 + la && la > 0.0 {
+                    if c.turn.abs() <= 1e-12 {
+                        return c.arc_start + (c.arc_end - c.arc_start) * ((s - l0) / la);
+                    }
+                    let a = (s - l0) / la * c.turn;
+                    let r0 = c.arc_start - c.centre;
+                    c.centre
+                        + DVec2::new(
+                            r0.x * a.cos() - r0.y * a.sin(),
+                            r0.x * a.sin() + r0.y * a.cos(),
+                        )
+                } else {
+                    let g = if l1 > 0.0 { (s - l0 - la) / l1 } else { 1.0 };
+                    c.arc_end + (c.to - c.arc_end) * g.clamp(0.0, 1.0)
+                }
+            }
+        }
+    }
+}
