@@ -8,9 +8,6 @@ use std::path::Path;
 use dieface::eval::value::Feature;
 use dieface::eval::{Data, Engine, Value};
 
-#[path = "script.rs"]
-mod script;
-
 /// Every declaration of `examples/<path>` with its value, in source order; the example
 /// must evaluate without a diagnostic.
 pub fn example_values(path: &str) -> Vec<(String, Value)> {
@@ -19,7 +16,17 @@ pub fn example_values(path: &str) -> Vec<(String, Value)> {
     let outcome = engine
         .evaluate_path(&root.join(path))
         .expect("readable example");
-    script::clean_values(&engine, &outcome)
+    let rendered: Vec<String> = outcome
+        .diagnostics
+        .iter()
+        .map(|d| engine.sources.render(d, false))
+        .collect();
+    assert!(rendered.is_empty(), "{}", rendered.join("\n"));
+    outcome
+        .decls
+        .iter()
+        .filter_map(|d| d.value.clone().map(|v| (d.name.clone(), v)))
+        .collect()
 }
 
 /// Every feature among `values`, with its declaration's name, in source order.
