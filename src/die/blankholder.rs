@@ -18,8 +18,12 @@
 //! 2. eq. 4 gives the end tangents: with `g0'(0) = lambda0 C_a'(1)` (the opening is G1),
 //!    the outer corner needs `g1'(0) = lambda0 Q_a'(1)`, and likewise at its end;
 //! 3. `g1` interpolates the moved curve, sampled at `g0`'s step-rule parameters, with
-//!    those tangents: the classic C2 cubic spline, knots at the parameters (see
-//!    [`outer_corner`] for why not averaged knots);
+//!    those tangents: the classic C2 cubic spline, knots at the parameters. Eq. 4 asks
+//!    for an end speed and slope that differ from the moved curve's (about a third of
+//!    its speed, three times its slope on ordinary corners); the difference is spread
+//!    over the whole corner by a smooth reparametrization and a height correction, so
+//!    the edge turns into its neighbours without a curvature spike (see
+//!    [`outer_corner`]);
 //! 4. the corner patch rules between `g0` and `g1`.
 //!
 //! Two sides that meet without a corner share their boundary ruling; their outer curves
@@ -439,20 +443,32 @@ fn outer_points_of(
 /// Steps 1-3 of a corner: `g0` moved onto `a`, `b`, made taut, re-interpolated with the
 /// eq. 4 end derivatives `d0`, `d1`.
 ///
-/// The interpolant's knots lie at the sample parameters, one span per step. The eq. 4
-/// derivatives generally differ from the moved curve's own: the similarity scales `g0`
-/// (at a convex corner the outer edge is longer, by `(r + w) / r` on a fillet of radius
-/// `r` with a binder `w` wide), while the straight sides' outer edges run as fast as
-/// the sides, so `g1` leaves its ends slower than the moved curve and must speed up
-/// within its end spans. The step rule's last step is what remains of `g0`, however
-/// short. With averaged knots (P&T eq. 9.22) that sliver shares the last knot span with
-/// the step before it: the end point, the sample a sliver before it and the end
-/// derivative then all bind one cubic piece, which takes up the change of speed with a
-/// huge second derivative and swings the curve back on itself (its control polygon runs
-/// backwards), so the patch folded on ordinary corners in narrow bands of radius, width
-/// and corner tangent. With knots at the parameters the sliver is a span of its own
-/// whose speed stays between the neighbouring samples' and the end derivative's, and
-/// the spline is otherwise the same.
+/// The eq. 4 derivatives generally differ from the moved curve's own, in speed and in
+/// slope: the similarity scales `g0` (at a convex corner the outer edge is longer, by
+/// `(r + w) / r` on a fillet of radius `r` with a binder `w` wide), while the sides'
+/// outer edges run about as fast as the sides, so eq. 4 asks for an end speed of about
+/// a third of the moved curve's on ordinary corners; and the heights, carried over
+/// per parameter onto a top view three times as long, climb at a third of the slope of
+/// the sides' outer edges. Interpolating the moved curve at `g0`'s parameters with
+/// those end derivatives forced the whole change into the last knot span: the edge met
+/// its neighbour's slope only in its last 2 mm, with radii of 2 to 5 mm there (a kink
+/// a die engineer sends back). Instead, both differences are spread over the corner
+/// ([`corner_reparametrization`]):
+///
+/// - the speed: the interpolant's parameter is `s = phi(t)`, a smooth increasing map of
+///   `g0`'s domain onto itself whose slope at each end is the ratio of the moved
+///   curve's speed to the eq. 4 speed, so the eq. 4 end derivative is the moved curve's
+///   own speed in `s` (the ruled patch pairs `g0(u)` with the outer point moved from
+///   `g0(phi^-1(u))`; its rulings lean a little near the ends);
+/// - the direction: what is left of `phi'(end) d - X'(end)` (the slope difference, and
+///   any top-view turn a designer's side tangent asks for) is added to the moved points
+///   as a cubic Hermite correction that vanishes at both ends, spread over the whole
+///   corner.
+///
+/// The interpolant's knots lie at the reparametrized sample parameters, one span per
+/// step: the step rule's last step is what remains of `g0`, however short, and with
+/// averaged knots (P&T eq. 9.22) that sliver shared a knot span with the step before it
+/// and swung the curve back on itself.
 pub fn outer_corner(
     g0: &Curve3,
     a: DVec3,
@@ -462,6 +478,34 @@ pub fn outer_corner(
     d1: DVec3,
     delta: f64,
 ) -> crate::geom::Result<Curve3> {
+    Ok(outer_corner_samples(g0, a, b, tautness, d0, d1, delta)?.curve)
+}
+
+/// The outer corner of [`outer_corner`] with the points it interpolates and their
+/// parameters on it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OuterCorner {
+    /// `g1`, on `g0`'s domain.
+    pub curve: Curve3,
+    /// `g0`'s step-rule sample parameters `t_i` (the interpolated points come from
+    /// `g0(t_i)`).
+    pub sample_params: Vec<f64>,
+    /// The moved, taut and slope-corrected points `Y_i` that `g1` passes through.
+    pub points: Vec<DVec3>,
+    /// Their parameters on `g1`, `s_i = phi(t_i)`.
+    pub params: Vec<f64>,
+}
+
+/// [`outer_corner`] with its samples, for checks.
+pub fn outer_corner_samples(
+    g0: &Curve3,
+    a: DVec3,
+    b: DVec3,
+    tautness: f64,
+    d0: DVec3,
+    d1: DVec3,
+    delta: f64,
+) -> crate::geom::Result<OuterCorner> {
     let (p0, p1) = (g0.start_point(), g0.end_point());
     let (from, to) = ((p1 - p0).truncate(), (b - a).truncate());
     if from.length() <= 1e-12 || to.length() <= 1e-12 {
@@ -469,48 +513,203 @@ pub fn outer_corner(
             what: "a blankholder corner whose ends coincide in the top view",
         });
     }
+    if d0.length() <= 0.0 || d1.length() <= 0.0 || !d0.is_finite() || !d1.is_finite() {
+        return Err(GeomError::ZeroVector {
+            what: "blankholder corner end derivative",
+        });
+    }
     // The top-view similarity as a complex factor: rotation and scale.
     let factor = DVec2::new(
         to.dot(from) / from.length_squared(),
         from.perp_dot(to) / from.length_squared(),
     );
+    let rotate = |d: DVec2| {
+        DVec2::new(
+            d.x * factor.x - d.y * factor.y,
+            d.x * factor.y + d.y * factor.x,
+        )
+    };
     let (za, zb) = (a.z - p0.z, b.z - p1.z);
     let samples = tessellate_curve(g0, &Tolerance::new(delta)?)?;
     let mut params = samples.params;
-    let mut points: Vec<DVec3> = samples.points;
     // A cubic with both end tangents needs at least two points; more keep the shape.
     if params.len() < 5 {
         params = (0..=4).map(|i| i as f64 / 4.0).collect();
-        points = params.iter().map(|&t| g0.point_at(t)).collect();
     }
     let (t0, t1) = (params[0], params[params.len() - 1]);
-    let moved: Vec<DVec3> = params
-        .iter()
-        .zip(&points)
-        .map(|(&t, &p)| {
-            let f = (t - t0) / (t1 - t0);
-            let d = (p - p0).truncate();
-            let xy = a.truncate()
-                + DVec2::new(
-                    d.x * factor.x - d.y * factor.y,
-                    d.x * factor.y + d.y * factor.x,
-                );
-            let z = p.z + (1.0 - f) * za + f * zb;
-            let straight = (1.0 - f) * a.z + f * b.z;
-            xy.extend((1.0 - tautness) * z + tautness * straight)
-        })
-        .collect();
-    let mut moved = moved;
-    let last = moved.len() - 1;
-    moved[0] = a;
-    moved[last] = b;
-    // Knots at the parameters, not averaged: a short last step must not share a knot
-    // span with the step before it (see above).
+    let span = t1 - t0;
+    // The moved curve X(t) and its derivative.
+    let moved = |t: f64| -> DVec3 {
+        let p = g0.point_at(t);
+        let f = (t - t0) / span;
+        let xy = a.truncate() + rotate((p - p0).truncate());
+        let z = p.z + (1.0 - f) * za + f * zb;
+        let straight = (1.0 - f) * a.z + f * b.z;
+        xy.extend((1.0 - tautness) * z + tautness * straight)
+    };
+    let moved_derivative = |t: f64| -> DVec3 {
+        let d = g0.derivative_at(t);
+        let z = d.z + (zb - za) / span;
+        let straight = (b.z - a.z) / span;
+        rotate(d.truncate()).extend((1.0 - tautness) * z + tautness * straight)
+    };
+    // The end slopes of phi: the moved curve's speed over the eq. 4 speed, taken along
+    // the eq. 4 direction (the factor that leaves the smallest correction).
+    let slope = |x: DVec3, d: DVec3| {
+        let along = x.dot(d) / d.length_squared();
+        if along > 1e-3 * x.length() / d.length() {
+            along
+        } else {
+            x.length() / d.length()
+        }
+    };
+    let (x0, x1) = (moved_derivative(t0), moved_derivative(t1));
+    let (r0, r1) = (slope(x0, d0), slope(x1, d1));
+    let phi = corner_reparametrization(r0, r1);
+    // The direction correction: a cubic Hermite in f that vanishes at both ends with
+    // derivatives (per unit t) e0, e1.
+    let (e0, e1) = (d0 * r0 - x0, d1 * r1 - x1);
+    let correction = |f: f64| {
+        let h10 = f * f * f - 2.0 * f * f + f;
+        let h11 = f * f * f - f * f;
+        (e0 * h10 + e1 * h11) * span
+    };
+    let last = params.len() - 1;
+    let mut points = Vec::with_capacity(params.len());
+    let mut s = Vec::with_capacity(params.len());
+    for (i, &t) in params.iter().enumerate() {
+        let f = (t - t0) / span;
+        let p = if i == 0 {
+            a
+        } else if i == last {
+            b
+        } else {
+            moved(t) + correction(f)
+        };
+        points.push(p);
+        s.push(if i == 0 {
+            t0
+        } else if i == last {
+            t1
+        } else {
+            t0 + span * phi.at(f)
+        });
+    }
     let opts = Interpolation {
         knots: KnotPlacement::AtParameters,
         ..Interpolation::cubic_with_tangents(d0, d1)
     };
-    interpolate_at(&moved, &params, &opts)
+    let curve = interpolate_at(&points, &s, &opts)?;
+    Ok(OuterCorner {
+        curve,
+        sample_params: params,
+        points,
+        params: s,
+    })
+}
+
+/// The reparametrization `phi` of an outer corner ([`outer_corner`]): an increasing map
+/// of [0, 1] onto itself with `phi'(0) = r0`, `phi'(1) = r1`, its slope
+/// `exp(E0(f) ln r0 + E1(f) ln r1 + W(f) c)` with `E0 = (1 - f)^2`, `E1 = f^2`,
+/// `W = 2 f (1 - f)`: the log-slope blends smoothly from each end's value into a middle
+/// value `c`, the one number that makes the slope's mean 1. The mean grows with `c`
+/// from 0 to infinity, so `c` exists for every pair of positive end slopes.
+#[derive(Debug, Clone, Copy)]
+pub struct Reparametrization {
+    ln_r0: f64,
+    ln_r1: f64,
+    c: f64,
+}
+
+/// Gauss-Legendre panels over [0, 1] for the integrals of [`Reparametrization`]: the
+/// slope is an exponential of a quadratic, smooth, and 64 panels of 5 points integrate
+/// it to rounding for end slopes up to 100.
+const PHI_PANELS: usize = 64;
+
+impl Reparametrization {
+    fn slope(&self, f: f64) -> f64 {
+        let (e0, e1) = ((1.0 - f) * (1.0 - f), f * f);
+        (e0 * self.ln_r0 + e1 * self.ln_r1 + (1.0 - e0 - e1) * self.c).exp()
+    }
+
+    /// `phi'(f)`.
+    pub fn derivative(&self, f: f64) -> f64 {
+        self.slope(f)
+    }
+
+    /// `phi(f)` for `f` in [0, 1].
+    pub fn at(&self, f: f64) -> f64 {
+        integrate(|x| self.slope(x), 0.0, f.clamp(0.0, 1.0))
+    }
+}
+
+/// The map `phi` with end slopes `r0`, `r1` (both > 0) ([`Reparametrization`]).
+pub fn corner_reparametrization(r0: f64, r1: f64) -> Reparametrization {
+    let mut phi = Reparametrization {
+        ln_r0: r0.ln(),
+        ln_r1: r1.ln(),
+        c: 0.0,
+    };
+    let mean = |phi: &Reparametrization| integrate(|x| phi.slope(x), 0.0, 1.0);
+    // Bracket c, then bisect: the mean is increasing in c.
+    let (mut lo, mut hi) = (-1.0, 1.0);
+    for _ in 0..200 {
+        phi.c = lo;
+        if mean(&phi) < 1.0 {
+            break;
+        }
+        lo *= 2.0;
+    }
+    for _ in 0..200 {
+        phi.c = hi;
+        if mean(&phi) > 1.0 {
+            break;
+        }
+        hi *= 2.0;
+    }
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        phi.c = mid;
+        if mean(&phi) < 1.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+        if hi - lo <= 1e-15 * (1.0 + mid.abs()) {
+            break;
+        }
+    }
+    phi.c = 0.5 * (lo + hi);
+    phi
+}
+
+/// Composite 5-point Gauss-Legendre over [a, b] with panels as [0, 1] is cut into
+/// ([`PHI_PANELS`]), the last panel cut at `b`.
+fn integrate(g: impl Fn(f64) -> f64, a: f64, b: f64) -> f64 {
+    const X: [f64; 5] = [
+        0.0,
+        -0.538_469_310_105_683,
+        0.538_469_310_105_683,
+        -0.906_179_845_938_664,
+        0.906_179_845_938_664,
+    ];
+    const W: [f64; 5] = [
+        0.568_888_888_888_889,
+        0.478_628_670_499_366,
+        0.478_628_670_499_366,
+        0.236_926_885_056_189,
+        0.236_926_885_056_189,
+    ];
+    let h = 1.0 / PHI_PANELS as f64;
+    let mut sum = 0.0;
+    let mut lo = a;
+    while lo < b {
+        let hi = (lo + h).min(b);
+        let (m, r) = (0.5 * (lo + hi), 0.5 * (hi - lo));
+        sum += r * X.iter().zip(W).map(|(x, w)| w * g(m + r * x)).sum::<f64>();
+        lo = hi;
+    }
+    sum
 }
 
 fn check_outside(outline: &[DVec2], outer: &Curve3, k: usize) -> Result<(), Error> {

@@ -29,6 +29,7 @@
 use glam::{DVec2, DVec3};
 
 use crate::geom::construct::{loft, section_parameters, Loft};
+use crate::geom::curvature::principal_curvatures;
 use crate::geom::curve::ArcLengths;
 use crate::geom::interpolate::{interpolate, interpolate_at, Interpolation};
 use crate::geom::inversion::project_to_curve_near;
@@ -107,6 +108,18 @@ pub struct BeadQuality {
     pub height: f64,
     /// Narrowest and widest distance (mm, top view) between the feet.
     pub width: (f64, f64),
+    /// The smallest radius of curvature (mm) of the skin over its full-height part
+    /// (outside the tapered ends), sampled [`RADIUS_SAMPLES_PER_SPAN`] times across
+    /// every knot span of every section and half-way between sections.
+    pub min_radius: f64,
+    /// Where [`Self::min_radius`] was found.
+    pub min_radius_at: DVec3,
+    /// The smallest radius (mm) within the tapered ends, where the height runs out;
+    /// [`Self::min_radius`] when the bead has no taper.
+    pub end_min_radius: f64,
+    /// The smallest radius (mm) drawn in the key sections' profiles (their arcs), the
+    /// figure the skin's radii answer to; infinite for profiles without a bend.
+    pub drawn_radius: f64,
 }
 
 /// A built bead.
@@ -523,6 +536,12 @@ pub fn build(binder: &Binder, spec: &BeadSpec) -> Result<Bead, Problem> {
             section_error = section_error.max(error);
         }
     }
+    let radii = skin_radii(&surface, &sections, &stations, spec.taper / length2)?;
+    let drawn_radius = spec
+        .sections
+        .iter()
+        .map(|k| drawn_radius(&k.profile))
+        .fold(f64::INFINITY, f64::min);
     let rules = profiles
         .rule_params
         .iter()
@@ -551,6 +570,10 @@ pub fn build(binder: &Binder, spec: &BeadSpec) -> Result<Bead, Problem> {
             length: length3,
             height,
             width: (narrow, wide),
+            min_radius: radii.full,
+            min_radius_at: radii.full_at,
+            end_min_radius: radii.ends,
+            drawn_radius,
         },
     })
 }
@@ -729,4 +752,96 @@ fn taper_factor(s: f64, length: f64, taper: f64) -> f64 {
 /// part of the bead without a kink in curvature the skinning would overshoot on.
 pub fn ease(x: f64) -> f64 {
     x * x * x * (10.0 + x * (6.0 * x - 15.0))
+}
+
+/// Samples across every knot span of the skin for its radius figures.
+pub const RADIUS_SAMPLES_PER_SPAN: usize = 4;
+
+/// Samples per key profile for its drawn radius.
+const DRAWN_RADIUS_SAMPLES: usize = 2048;
+
+/// The skin's smallest radii: over the full-height part (and where), and within the
+/// tapered ends.
+struct SkinRadii {
+    full: f64,
+    full_at: DVec3,
+    ends: f64,
+}
+
+/// The smallest radius of curvature of the skin `surface` (lofted through `sections`
+/// at the fractions `stations` along the bead), sampled at every section and half-way
+/// between neighbours, [`RADIUS_SAMPLES_PER_SPAN`] times across each knot span; split
+/// into the full-height part and the tapered ends (the first and last `taper`
+/// fraction of the bead).
+fn skin_radii(
+    surface: &NurbsSurface,
+    sections: &[Curve3],
+    stations: &[f64],
+    taper: f64,
+) -> Result<SkinRadii, Problem> {
+    let vs = section_parameters(sections, Loft::default().parametrization)?;
+    let mut along = Vec::with_capacity(2 * vs.len());
+    for k in 0..vs.len() {
+        along.push((vs[k], stations[k]));
+        if k + 1 < vs.len() {
+            along.push((
+                0.5 * (vs[k] + vs[k + 1]),
+                0.5 * (stations[k] + stations[k + 1]),
+            ));
+        }
+    }
+    let breaks: Vec<f64> = surface
+        .knots_u()
+        .distinct()
+        .iter()
+        .map(|&(t, _)| t)
+        .collect();
+    let mut us = Vec::with_capacity(breaks.len() * RADIUS_SAMPLES_PER_SPAN + 1);
+    for w in breaks.windows(2) {
+        for i in 0..RADIUS_SAMPLES_PER_SPAN {
+            us.push(w[0] + (w[1] - w[0]) * i as f64 / RADIUS_SAMPLES_PER_SPAN as f64);
+        }
+    }
+    us.extend(breaks.last());
+    let mut radii = SkinRadii {
+        full: f64::INFINITY,
+        full_at: surface.point_at(us[0], along[0].0),
+        ends: f64::INFINITY,
+    };
+    // The fraction a hair inside the taper still counts as the end.
+    let in_end = |f: f64| taper > 0.0 && (f < taper - 1e-9 || f > 1.0 - taper + 1e-9);
+    for &(v, f) in &along {
+        for &u in &us {
+            let Some(p) = principal_curvatures(surface, u, v) else {
+                continue;
+            };
+            let r = p.min_radius();
+            if in_end(f) {
+                radii.ends = radii.ends.min(r);
+            } else if r < radii.full {
+                radii.full = r;
+                radii.full_at = surface.point_at(u, v);
+            }
+        }
+    }
+    if taper <= 0.0 {
+        radii.ends = radii.full;
+    }
+    Ok(radii)
+}
+
+/// The smallest radius of curvature drawn in a key profile: the tightest of its arcs,
+/// sampled [`DRAWN_RADIUS_SAMPLES`] times and at every knot (infinite for a profile of
+/// straight lines).
+fn drawn_radius(profile: &Curve2) -> f64 {
+    let (t0, t1) = profile.domain();
+    let mut ts: Vec<f64> = (0..=DRAWN_RADIUS_SAMPLES)
+        .map(|i| t0 + (t1 - t0) * i as f64 / DRAWN_RADIUS_SAMPLES as f64)
+        .collect();
+    ts.extend(profile.span_breaks());
+    ts.iter()
+        .map(|&t| profile.curvature(t))
+        .filter(|k| k.is_finite())
+        .fold(0.0f64, f64::max)
+        .recip()
 }

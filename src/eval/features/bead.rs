@@ -669,6 +669,13 @@ fn output(
         ("width_max".to_string(), mm(q.width.1, span)),
         ("sections".to_string(), count(q.sections, span)),
         ("length".to_string(), mm(q.length, span)),
+        ("min_radius".to_string(), mm(q.min_radius, span)),
+        (
+            "min_radius_at".to_string(),
+            Value::point3(q.min_radius_at, span),
+        ),
+        ("end_min_radius".to_string(), mm(q.end_min_radius, span)),
+        ("drawn_radius".to_string(), mm(q.drawn_radius, span)),
     ];
     feature_value(KIND, span, fields, quality, Feature::Bead(Arc::new(bead)))
 }
