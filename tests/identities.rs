@@ -331,6 +331,120 @@ proptest! {
     }
 }
 
+/// Largest distance, at the same parameter, between two curves on one domain (sampled).
+fn parametric_distance(a: &Curve3, b: &Curve3) -> f64 {
+    samples(a.domain())
+        .map(|t| a.point_at(t).distance(b.point_at(t)))
+        .fold(0.0, f64::max)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(200))]
+
+    /// Knot removal (P&T A5.8) undoes knot insertion exactly: the same knots, the same
+    /// control points and weights.
+    #[test]
+    fn removing_inserted_knots_gives_back_the_curve(
+        c in curve3(), f in 0.01..0.99f64, times in 1..6usize,
+    ) {
+        let (a, b) = c.domain();
+        let t = a + (b - a) * f;
+        let more = c.insert_knot(t, times).unwrap();
+        let inserted = more.control_points().len() - c.control_points().len();
+        prop_assume!(inserted > 0);
+        // A tolerance well above rounding (rational curves measure it in homogeneous
+        // space, scaled down by w_min / (1 + |P|max), P&T eq. 5.30).
+        let (back, removed) = more.remove_knot(t, inserted, 1e-6).unwrap();
+        prop_assert_eq!(removed, inserted);
+        prop_assert_eq!(back.knots().as_slice(), c.knots().as_slice());
+        for (p, q) in back.control_points().iter().zip(c.control_points()) {
+            prop_assert!(p.distance(*q) <= 1e-9, "{p} against {q}");
+        }
+        for i in 0..c.control_points().len() {
+            prop_assert!((back.weight(i) - c.weight(i)).abs() <= 1e-9);
+        }
+    }
+
+    /// Removal within a tolerance never moves the curve by more than the tolerance, for
+    /// any knot of any curve (most removals are refused; those that go stay inside).
+    #[test]
+    fn knot_removal_stays_within_its_tolerance(
+        c in curve3(), pick in 0..20usize, times in 1..6usize, tol_exp in -4.0..1.5f64,
+    ) {
+        let (a, b) = c.domain();
+        let interior: Vec<f64> = c.span_breaks().into_iter().filter(|&k| k > a && k < b).collect();
+        prop_assume!(!interior.is_empty());
+        let t = interior[pick % interior.len()];
+        let tol = 10f64.powf(tol_exp);
+        let (d, removed) = c.remove_knot(t, times, tol).unwrap();
+        prop_assert!(removed <= times.min(c.knots().multiplicity(t)));
+        prop_assert_eq!(d.control_points().len(), c.control_points().len() - removed);
+        let moved = parametric_distance(&c, &d);
+        prop_assert!(moved <= tol * (1.0 + 1e-9) + 1e-12, "moved {moved:e} > {tol:e} ({removed} removed)");
+    }
+
+    /// A cubic that is C1 but not C2 at a knot (drawn as a double knot, then inserted to a
+    /// triple one) loses exactly the one copy its smoothness allows at a tight tolerance.
+    #[test]
+    fn knot_removal_stops_at_the_curves_continuity(
+        pts in prop::collection::vec(point3(), 6), f in 0.2..0.8f64,
+    ) {
+        let knots = vec![0.0, 0.0, 0.0, 0.0, f, f, 1.0, 1.0, 1.0, 1.0];
+        let c = Curve3::new(3, knots, pts).unwrap();
+        // Skip the (measure-zero) curves that happen to be C2 at f.
+        let jump = c.derivatives::<3>(f - 1e-9)[2].distance(c.derivatives::<3>(f)[2]);
+        prop_assume!(jump > 1e-3 * c.control_scale().max(1.0));
+        let triple = c.insert_knot(f, 1).unwrap();
+        prop_assert_eq!(triple.knots().multiplicity(f), 3);
+        let (d, removed) = triple.remove_knot(f, 3, 1e-9).unwrap();
+        prop_assert_eq!(removed, 1);
+        prop_assert_eq!(d.knots().multiplicity(f), 2);
+        prop_assert!(parametric_distance(&c, &d) <= 1e-9);
+    }
+}
+
+/// Only G1 at a knot (same tangent direction, different speeds on either side): no copy
+/// of the triple knot goes at a tight tolerance, since any removal would move the curve.
+#[test]
+fn knot_removal_keeps_a_knot_where_the_speed_jumps() {
+    let pts = vec![
+        DVec3::new(0.0, 0.0, 0.0),
+        DVec3::new(10.0, 20.0, 0.0),
+        DVec3::new(30.0, 20.0, 5.0),
+        DVec3::new(50.0, 20.0, 5.0),
+        // Along the same direction as the previous leg, three times as far.
+        DVec3::new(110.0, 20.0, 5.0),
+        DVec3::new(140.0, -10.0, 0.0),
+        DVec3::new(160.0, 0.0, 0.0),
+    ];
+    let knots = vec![0.0, 0.0, 0.0, 0.0, 0.5, 0.5, 0.5, 1.0, 1.0, 1.0, 1.0];
+    let c = Curve3::new(3, knots, pts).unwrap();
+    let (same, removed) = c.remove_knot(0.5, 3, 1e-6).unwrap();
+    assert_eq!(removed, 0);
+    assert_eq!(same, c);
+    // With a loose tolerance some copies go, and the curve stays inside it.
+    let (d, removed) = c.remove_knot(0.5, 3, 50.0).unwrap();
+    assert!(removed >= 1, "a 50 mm tolerance removes at least one copy");
+    assert!(parametric_distance(&c, &d) <= 50.0);
+}
+
+/// Asking to remove a value that is not a knot, or with a bad tolerance, is an error.
+#[test]
+fn knot_removal_refuses_what_is_not_a_knot() {
+    let c = Curve3::new(
+        3,
+        uniform(3, 6),
+        (0..6)
+            .map(|i| DVec3::new(i as f64, (i * i) as f64, 0.0))
+            .collect(),
+    )
+    .unwrap();
+    assert!(c.remove_knot(0.3, 1, 1e-6).is_err());
+    assert!(c.remove_knot(0.0, 1, 1e-6).is_err());
+    assert!(c.remove_knot(c.span_breaks()[1], 1, -1.0).is_err());
+    assert!(c.remove_knot(c.span_breaks()[1], 1, f64::NAN).is_err());
+}
+
 /// A clamped uniform knot vector on [0, 1].
 fn uniform(degree: usize, count: usize) -> Vec<f64> {
     dieface::geom::KnotVector::uniform(degree, count)
