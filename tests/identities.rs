@@ -7,7 +7,10 @@
 
 use dieface::geom::compat::make_compatible;
 use dieface::geom::construct::coons;
-use dieface::geom::interpolate::{interpolate, Interpolation, KnotPlacement, Parametrization};
+use dieface::geom::interpolate::{
+    closed_parameters, interpolate, interpolate_closed, Interpolation, KnotPlacement,
+    Parametrization,
+};
 use dieface::geom::{Curve2, Curve3, Direction, NurbsSurface};
 use glam::{DVec2, DVec3};
 use proptest::prelude::*;
@@ -443,6 +446,122 @@ fn knot_removal_refuses_what_is_not_a_knot() {
     assert!(c.remove_knot(0.0, 1, 1e-6).is_err());
     assert!(c.remove_knot(c.span_breaks()[1], 1, -1.0).is_err());
     assert!(c.remove_knot(c.span_breaks()[1], 1, f64::NAN).is_err());
+}
+
+/// A closed loop of points around the origin: angles and radii drawn at random, so
+/// neighbours are distinct and spacing is uneven (z varies too).
+fn point_loop() -> impl Strategy<Value = Vec<DVec3>> {
+    prop::collection::vec((0.2..1.0f64, 20.0..100.0f64, -10.0..10.0f64), 3..24).prop_map(|raw| {
+        let total: f64 = raw.iter().map(|r| r.0).sum();
+        let mut angle = 0.0f64;
+        raw.iter()
+            .map(|&(step, r, z)| {
+                let p = DVec3::new(r * angle.cos(), 0.6 * r * angle.sin(), z);
+                angle += std::f64::consts::TAU * step / total;
+                p
+            })
+            .collect()
+    })
+}
+
+/// `c` at `t` taken modulo its period (domain length 1).
+fn periodic_point(c: &Curve3, t: f64) -> DVec3 {
+    let (a, _) = c.domain();
+    c.point_at(a + (t - a).rem_euclid(1.0))
+}
+
+/// Checks the defining conditions of a closed interpolant and its independence of the
+/// starting point, for one loop and one parametrization.
+fn check_closed(points: &[DVec3], method: Parametrization) -> Result<(), TestCaseError> {
+    let n = points.len();
+    let c = interpolate_closed(points, method).unwrap();
+    let params = closed_parameters(points, method).unwrap();
+    let scale = c.control_scale().max(1.0);
+    prop_assert_eq!(c.domain(), (0.0, 1.0));
+    // Through every point.
+    for (q, &t) in points.iter().zip(&params) {
+        prop_assert!(
+            c.point_at(t).distance(*q) <= 1e-9,
+            "{q} missed by {:e}",
+            c.point_at(t).distance(*q)
+        );
+    }
+    // C2 at the seam: derivatives at the start (right side) equal those at the end (left).
+    let start = c.derivatives::<3>(0.0);
+    let end = c.derivatives::<3>(1.0);
+    prop_assert!(start[0].distance(end[0]) <= 1e-12 * scale);
+    for k in 1..3 {
+        let size = start[k].length().max(end[k].length()).max(1e-9);
+        prop_assert!(
+            start[k].distance(end[k]) <= 1e-9 * size,
+            "derivative {k}: {} against {}",
+            start[k],
+            end[k]
+        );
+    }
+    // Started at another point, the same curve with its parameter shifted.
+    for m in 1..n.min(6) {
+        let rotated: Vec<DVec3> = points[m..].iter().chain(&points[..m]).copied().collect();
+        let r = interpolate_closed(&rotated, method).unwrap();
+        for t in samples((0.0, 1.0)).step_by(7) {
+            let d = r.point_at(t).distance(periodic_point(&c, t + params[m]));
+            prop_assert!(d <= 1e-9, "start {m}: {d:e} at {t}");
+        }
+    }
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(100))]
+
+    /// The closed cubic passes through its points, is C2 at its seam, and does not
+    /// depend on which point of the loop comes first.
+    #[test]
+    fn closed_interpolation_is_periodic_and_start_independent(points in point_loop()) {
+        check_closed(&points, Parametrization::ChordLength)?;
+        check_closed(&points, Parametrization::Centripetal)?;
+        check_closed(&points, Parametrization::Uniform)?;
+    }
+
+    /// Joined to itself end to start, the closed cubic's seam is a triple knot of which
+    /// knot removal takes two copies at rounding level: C2 in the representation too.
+    #[test]
+    fn closed_interpolation_seam_knot_goes_by_removal(points in point_loop()) {
+        let c = interpolate_closed(&points, Parametrization::ChordLength).unwrap();
+        let k = c.knots().as_slice();
+        let mut knots: Vec<f64> = k[..k.len() - 1].to_vec();
+        knots.extend(k[4..].iter().map(|t| t + 1.0));
+        let mut net = c.control_points().to_vec();
+        net.extend_from_slice(&c.control_points()[1..]);
+        let twice = Curve3::new(3, knots, net).unwrap();
+        prop_assert_eq!(twice.knots().multiplicity(1.0), 3);
+        let (smooth, removed) = twice.remove_knot(1.0, 3, 1e-9).unwrap();
+        prop_assert_eq!(removed, 2);
+        prop_assert_eq!(smooth.knots().multiplicity(1.0), 1);
+    }
+}
+
+/// Too few points, or a point repeated (the last equal to the first included), are
+/// errors, not a curve.
+#[test]
+fn closed_interpolation_refuses_degenerate_loops() {
+    let sq = [DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 0.0), DVec3::Y];
+    assert!(interpolate_closed(&sq[..2], Parametrization::ChordLength).is_err());
+    let mut repeated = sq.to_vec();
+    repeated.push(sq[0]);
+    assert!(interpolate_closed(&repeated, Parametrization::ChordLength).is_err());
+    // A square of four points: the curve is symmetric, through the corners.
+    let c = interpolate_closed(&sq, Parametrization::ChordLength).unwrap();
+    for (q, t) in sq.iter().zip([0.0, 0.25, 0.5, 0.75]) {
+        assert!(c.point_at(t).distance(*q) <= 1e-12);
+    }
+    // Its quarter turn about the centre maps corner k to corner k + 1 and the curve
+    // onto itself, a quarter of the period on: C(t + 1/4) = R(C(t)).
+    let turn = |p: DVec3| DVec3::new(1.0 - p.y, p.x, p.z);
+    for t in [0.05, 0.125, 0.3, 0.6] {
+        let d = periodic_point(&c, t + 0.25).distance(turn(c.point_at(t)));
+        assert!(d <= 1e-12, "{d:e} at {t}");
+    }
 }
 
 /// A clamped uniform knot vector on [0, 1].
