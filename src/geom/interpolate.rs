@@ -7,7 +7,9 @@
 //! averaging the parameters (P&T eq. 9.8, 9.22) or, for the classic C2 cubic spline with
 //! both end tangents, at the parameters themselves (what OpenCascade's
 //! `GeomAPI_Interpolate` does). End tangents are derivatives with respect to the curve
-//! parameter, whose domain is [0, 1] unless parameters are given.
+//! parameter, whose domain is [0, 1] unless parameters are given. A closed loop of points
+//! gets the periodic C2 cubic instead ([`interpolate_closed`]): no end conditions, so the
+//! curve does not depend on which point of the loop comes first.
 
 use super::banded::BandMatrix;
 

@@ -256,7 +256,10 @@ fn revolve(call: &Call) -> Result<Data, Diagnostic> {
 // pieces get points too), every sample is moved along the direction onto the surface
 // (Newton continuing from the previous sample's (u, v); a global line-surface search
 // where that fails), and the hits are interpolated by one cubic B-spline (chord length,
-// averaged knots: simple interior knots, so the result is C2 between its samples). The
+// averaged knots: simple interior knots, so the result is C2 between its samples). A
+// closed curve is sampled segment by segment (between its C0 knots) and its hits get
+// the periodic cubic (`interpolate_closed`): neither the samples nor the fit then
+// depend on where the closed sketch starts, and the seam is C2 like the rest. The
 // fit is then checked at the middle of every sample interval against the true
 // projection there, and intervals that deviate get that point as a new sample, until
 // the fit holds everywhere.
@@ -285,9 +288,8 @@ const PROJECT_MAX_SAMPLES: usize = 4000;
 const PROJECT_CORNER: f64 = 0.5 * std::f64::consts::PI / 180.0;
 
 /// The input direction is nearly parallel to the surface (the projected tangent is
-/// ill-conditioned) where `|direction . normal|` is below this; there the seam tangent
-/// of a closed curve comes from the neighbouring samples, and an open curve's end is
-/// left free.
+/// ill-conditioned) where `|direction . normal|` is below this; there an open curve's
+/// end is left free.
 const PROJECT_GRAZING: f64 = 0.05;
 
 /// A point of the projected curve with its surface parameters.
