@@ -7,7 +7,10 @@
 
 use dieface::geom::compat::make_compatible;
 use dieface::geom::construct::coons;
-use dieface::geom::interpolate::{interpolate, Interpolation, KnotPlacement, Parametrization};
+use dieface::geom::interpolate::{
+    closed_parameters, interpolate, interpolate_closed, Interpolation, KnotPlacement,
+    Parametrization,
+};
 use dieface::geom::{Curve2, Curve3, Direction, NurbsSurface};
 use glam::{DVec2, DVec3};
 use proptest::prelude::*;
@@ -328,6 +331,236 @@ proptest! {
         prop_assert_eq!(p2.extend(0.0), p3);
         prop_assert_eq!(d2.extend(0.0), d3);
         prop_assert_eq!(dd2.extend(0.0), dd3);
+    }
+}
+
+/// Largest distance, at the same parameter, between two curves on one domain (sampled).
+fn parametric_distance(a: &Curve3, b: &Curve3) -> f64 {
+    samples(a.domain())
+        .map(|t| a.point_at(t).distance(b.point_at(t)))
+        .fold(0.0, f64::max)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(200))]
+
+    /// Knot removal (P&T A5.8) undoes knot insertion exactly: the same knots, the same
+    /// control points and weights.
+    #[test]
+    fn removing_inserted_knots_gives_back_the_curve(
+        c in curve3(), f in 0.01..0.99f64, times in 1..6usize,
+    ) {
+        let (a, b) = c.domain();
+        let t = a + (b - a) * f;
+        let more = c.insert_knot(t, times).unwrap();
+        let inserted = more.control_points().len() - c.control_points().len();
+        prop_assume!(inserted > 0);
+        // A tolerance well above rounding (rational curves measure it in homogeneous
+        // space, scaled down by w_min / (1 + |P|max), P&T eq. 5.30).
+        let (back, removed) = more.remove_knot(t, inserted, 1e-6).unwrap();
+        prop_assert_eq!(removed, inserted);
+        prop_assert_eq!(back.knots().as_slice(), c.knots().as_slice());
+        for (p, q) in back.control_points().iter().zip(c.control_points()) {
+            prop_assert!(p.distance(*q) <= 1e-9, "{p} against {q}");
+        }
+        for i in 0..c.control_points().len() {
+            prop_assert!((back.weight(i) - c.weight(i)).abs() <= 1e-9);
+        }
+    }
+
+    /// Removal within a tolerance never moves the curve by more than the tolerance, for
+    /// any knot of any curve (most removals are refused; those that go stay inside).
+    #[test]
+    fn knot_removal_stays_within_its_tolerance(
+        c in curve3(), pick in 0..20usize, times in 1..6usize, tol_exp in -4.0..1.5f64,
+    ) {
+        let (a, b) = c.domain();
+        let interior: Vec<f64> = c.span_breaks().into_iter().filter(|&k| k > a && k < b).collect();
+        prop_assume!(!interior.is_empty());
+        let t = interior[pick % interior.len()];
+        let tol = 10f64.powf(tol_exp);
+        let (d, removed) = c.remove_knot(t, times, tol).unwrap();
+        prop_assert!(removed <= times.min(c.knots().multiplicity(t)));
+        prop_assert_eq!(d.control_points().len(), c.control_points().len() - removed);
+        let moved = parametric_distance(&c, &d);
+        prop_assert!(moved <= tol * (1.0 + 1e-9) + 1e-12, "moved {moved:e} > {tol:e} ({removed} removed)");
+    }
+
+    /// A cubic that is C1 but not C2 at a knot (drawn as a double knot, then inserted to a
+    /// triple one) loses exactly the one copy its smoothness allows at a tight tolerance.
+    #[test]
+    fn knot_removal_stops_at_the_curves_continuity(
+        pts in prop::collection::vec(point3(), 6), f in 0.2..0.8f64,
+    ) {
+        let knots = vec![0.0, 0.0, 0.0, 0.0, f, f, 1.0, 1.0, 1.0, 1.0];
+        let c = Curve3::new(3, knots, pts).unwrap();
+        // Skip the (measure-zero) curves that happen to be C2 at f.
+        let jump = c.derivatives::<3>(f - 1e-9)[2].distance(c.derivatives::<3>(f)[2]);
+        prop_assume!(jump > 1e-3 * c.control_scale().max(1.0));
+        let triple = c.insert_knot(f, 1).unwrap();
+        prop_assert_eq!(triple.knots().multiplicity(f), 3);
+        let (d, removed) = triple.remove_knot(f, 3, 1e-9).unwrap();
+        prop_assert_eq!(removed, 1);
+        prop_assert_eq!(d.knots().multiplicity(f), 2);
+        prop_assert!(parametric_distance(&c, &d) <= 1e-9);
+    }
+}
+
+/// Only G1 at a knot (same tangent direction, different speeds on either side): no copy
+/// of the triple knot goes at a tight tolerance, since any removal would move the curve.
+#[test]
+fn knot_removal_keeps_a_knot_where_the_speed_jumps() {
+    let pts = vec![
+        DVec3::new(0.0, 0.0, 0.0),
+        DVec3::new(10.0, 20.0, 0.0),
+        DVec3::new(30.0, 20.0, 5.0),
+        DVec3::new(50.0, 20.0, 5.0),
+        // Along the same direction as the previous leg, three times as far.
+        DVec3::new(110.0, 20.0, 5.0),
+        DVec3::new(140.0, -10.0, 0.0),
+        DVec3::new(160.0, 0.0, 0.0),
+    ];
+    let knots = vec![0.0, 0.0, 0.0, 0.0, 0.5, 0.5, 0.5, 1.0, 1.0, 1.0, 1.0];
+    let c = Curve3::new(3, knots, pts).unwrap();
+    let (same, removed) = c.remove_knot(0.5, 3, 1e-6).unwrap();
+    assert_eq!(removed, 0);
+    assert_eq!(same, c);
+    // With a loose tolerance some copies go, and the curve stays inside it.
+    let (d, removed) = c.remove_knot(0.5, 3, 50.0).unwrap();
+    assert!(removed >= 1, "a 50 mm tolerance removes at least one copy");
+    assert!(parametric_distance(&c, &d) <= 50.0);
+}
+
+/// Asking to remove a value that is not a knot, or with a bad tolerance, is an error.
+#[test]
+fn knot_removal_refuses_what_is_not_a_knot() {
+    let c = Curve3::new(
+        3,
+        uniform(3, 6),
+        (0..6)
+            .map(|i| DVec3::new(i as f64, (i * i) as f64, 0.0))
+            .collect(),
+    )
+    .unwrap();
+    assert!(c.remove_knot(0.3, 1, 1e-6).is_err());
+    assert!(c.remove_knot(0.0, 1, 1e-6).is_err());
+    assert!(c.remove_knot(c.span_breaks()[1], 1, -1.0).is_err());
+    assert!(c.remove_knot(c.span_breaks()[1], 1, f64::NAN).is_err());
+}
+
+/// A closed loop of points around the origin: angles and radii drawn at random, so
+/// neighbours are distinct and spacing is uneven (z varies too).
+fn point_loop() -> impl Strategy<Value = Vec<DVec3>> {
+    prop::collection::vec((0.2..1.0f64, 20.0..100.0f64, -10.0..10.0f64), 3..24).prop_map(|raw| {
+        let total: f64 = raw.iter().map(|r| r.0).sum();
+        let mut angle = 0.0f64;
+        raw.iter()
+            .map(|&(step, r, z)| {
+                let p = DVec3::new(r * angle.cos(), 0.6 * r * angle.sin(), z);
+                angle += std::f64::consts::TAU * step / total;
+                p
+            })
+            .collect()
+    })
+}
+
+/// `c` at `t` taken modulo its period (domain length 1).
+fn periodic_point(c: &Curve3, t: f64) -> DVec3 {
+    let (a, _) = c.domain();
+    c.point_at(a + (t - a).rem_euclid(1.0))
+}
+
+/// Checks the defining conditions of a closed interpolant and its independence of the
+/// starting point, for one loop and one parametrization.
+fn check_closed(points: &[DVec3], method: Parametrization) -> Result<(), TestCaseError> {
+    let n = points.len();
+    let c = interpolate_closed(points, method).unwrap();
+    let params = closed_parameters(points, method).unwrap();
+    let scale = c.control_scale().max(1.0);
+    prop_assert_eq!(c.domain(), (0.0, 1.0));
+    // Through every point.
+    for (q, &t) in points.iter().zip(&params) {
+        prop_assert!(
+            c.point_at(t).distance(*q) <= 1e-9,
+            "{q} missed by {:e}",
+            c.point_at(t).distance(*q)
+        );
+    }
+    // C2 at the seam: derivatives at the start (right side) equal those at the end (left).
+    let start = c.derivatives::<3>(0.0);
+    let end = c.derivatives::<3>(1.0);
+    prop_assert!(start[0].distance(end[0]) <= 1e-12 * scale);
+    for k in 1..3 {
+        let size = start[k].length().max(end[k].length()).max(1e-9);
+        prop_assert!(
+            start[k].distance(end[k]) <= 1e-9 * size,
+            "derivative {k}: {} against {}",
+            start[k],
+            end[k]
+        );
+    }
+    // Started at another point, the same curve with its parameter shifted.
+    for m in 1..n.min(6) {
+        let rotated: Vec<DVec3> = points[m..].iter().chain(&points[..m]).copied().collect();
+        let r = interpolate_closed(&rotated, method).unwrap();
+        for t in samples((0.0, 1.0)).step_by(7) {
+            let d = r.point_at(t).distance(periodic_point(&c, t + params[m]));
+            prop_assert!(d <= 1e-9, "start {m}: {d:e} at {t}");
+        }
+    }
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(100))]
+
+    /// The closed cubic passes through its points, is C2 at its seam, and does not
+    /// depend on which point of the loop comes first.
+    #[test]
+    fn closed_interpolation_is_periodic_and_start_independent(points in point_loop()) {
+        check_closed(&points, Parametrization::ChordLength)?;
+        check_closed(&points, Parametrization::Centripetal)?;
+        check_closed(&points, Parametrization::Uniform)?;
+    }
+
+    /// Joined to itself end to start, the closed cubic's seam is a triple knot of which
+    /// knot removal takes two copies at rounding level: C2 in the representation too.
+    #[test]
+    fn closed_interpolation_seam_knot_goes_by_removal(points in point_loop()) {
+        let c = interpolate_closed(&points, Parametrization::ChordLength).unwrap();
+        let k = c.knots().as_slice();
+        let mut knots: Vec<f64> = k[..k.len() - 1].to_vec();
+        knots.extend(k[4..].iter().map(|t| t + 1.0));
+        let mut net = c.control_points().to_vec();
+        net.extend_from_slice(&c.control_points()[1..]);
+        let twice = Curve3::new(3, knots, net).unwrap();
+        prop_assert_eq!(twice.knots().multiplicity(1.0), 3);
+        let (smooth, removed) = twice.remove_knot(1.0, 3, 1e-9).unwrap();
+        prop_assert_eq!(removed, 2);
+        prop_assert_eq!(smooth.knots().multiplicity(1.0), 1);
+    }
+}
+
+/// Too few points, or a point repeated (the last equal to the first included), are
+/// errors, not a curve.
+#[test]
+fn closed_interpolation_refuses_degenerate_loops() {
+    let sq = [DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 0.0), DVec3::Y];
+    assert!(interpolate_closed(&sq[..2], Parametrization::ChordLength).is_err());
+    let mut repeated = sq.to_vec();
+    repeated.push(sq[0]);
+    assert!(interpolate_closed(&repeated, Parametrization::ChordLength).is_err());
+    // A square of four points: the curve is symmetric, through the corners.
+    let c = interpolate_closed(&sq, Parametrization::ChordLength).unwrap();
+    for (q, t) in sq.iter().zip([0.0, 0.25, 0.5, 0.75]) {
+        assert!(c.point_at(t).distance(*q) <= 1e-12);
+    }
+    // Its quarter turn about the centre maps corner k to corner k + 1 and the curve
+    // onto itself, a quarter of the period on: C(t + 1/4) = R(C(t)).
+    let turn = |p: DVec3| DVec3::new(1.0 - p.y, p.x, p.z);
+    for t in [0.05, 0.125, 0.3, 0.6] {
+        let d = periodic_point(&c, t + 0.25).distance(turn(c.point_at(t)));
+        assert!(d <= 1e-12, "{d:e} at {t}");
     }
 }
 

@@ -374,6 +374,59 @@ impl<P: Point> NurbsCurve<P> {
         ))
     }
 
+    /// Removes the interior knot `t` as many times as it can, at most `times`, while the
+    /// curve moves by no more than `tolerance` (P&T A5.8). Returns the new curve and how
+    /// many times the knot went; 0 leaves the curve as it was.
+    ///
+    /// This is how a curve sheds knots it does not need: a knot inserted and removed
+    /// again gives back the same control points, and a knot where the curve is smoother
+    /// than its multiplicity says (the seam of a closed spline, a join that is C2 in
+    /// fact) goes with an error at rounding level. The bound is P&T's: at each removal
+    /// the two candidate control points must agree within the error allowed (eq. 5.29,
+    /// and for rational curves the homogeneous form of eq. 5.30, `tolerance * w_min /
+    /// (1 + |P|_max)`), and the errors of successive removals are added up against
+    /// `tolerance`. Fails when `t` is not an interior knot or the tolerance is negative
+    /// or not finite.
+    pub fn remove_knot(&self, t: f64, times: usize, tolerance: f64) -> Result<(Self, usize)> {
+        if !tolerance.is_finite() {
+            return Err(GeomError::NotFinite {
+                what: "knot removal tolerance",
+            });
+        }
+        if tolerance < 0.0 {
+            return Err(GeomError::NotPositive {
+                what: "knot removal tolerance",
+                value: tolerance,
+            });
+        }
+        let (a, b) = self.domain();
+        if !t.is_finite() || t <= a || t >= b {
+            return Err(GeomError::ParameterOutOfRange {
+                value: t,
+                min: a,
+                max: b,
+            });
+        }
+        if self.knots.multiplicity(t) == 0 {
+            return Err(GeomError::KnotVector {
+                reason: format!("{t} is not a knot of the curve, so it cannot be removed"),
+            });
+        }
+        let tol = match &self.weights {
+            None => tolerance,
+            Some(w) => {
+                let w_min = w.iter().copied().fold(f64::INFINITY, f64::min);
+                tolerance * w_min / (1.0 + self.control_scale())
+            }
+        };
+        let dist = |x: Homogeneous<P>, y: Homogeneous<P>| {
+            let d = x - y;
+            (d.weighted.dot(d.weighted) + d.weight * d.weight).sqrt()
+        };
+        let (s, removed) = ops::remove_knot(&self.to_homogeneous(), t, times, tol, dist);
+        Ok((Self::from_homogeneous(s, self.is_rational()), removed))
+    }
+
     /// Splits at `t` into the pieces on `[t0, t]` and `[t, t1]`, each keeping its part of
     /// the parameter range.
     pub fn split_at(&self, t: f64) -> Result<(Self, Self)> {

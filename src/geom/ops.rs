@@ -1,5 +1,5 @@
 //! The fundamental B-spline algorithms on raw control arrays: knot insertion (P&T A5.1),
-//! knot refinement (A5.4) and degree elevation (A5.9).
+//! knot refinement (A5.4), knot removal (A5.8) and degree elevation (A5.9).
 //!
 //! They are generic over [`Linear`] so the same code serves 2-D and 3-D curves in
 //! homogeneous form (rational curves) and the rows and columns of a surface's net. The
@@ -302,4 +302,117 @@ pub(crate) fn elevate_degree<T: Linear>(s: &Spline<T>, t: usize) -> Spline<T> {
         knots: uh,
         points: qw,
     }
+}
+
+/// Removes the interior knot `u` up to `times` times (P&T A5.8), stopping at the first
+/// removal that would move the control structure by more than `tol`. Returns the new
+/// spline and how many times the knot was removed.
+///
+/// Each removal is checked as in A5.8: the control point computed from the left and the
+/// one computed from the right must agree within the removal's error, measured by
+/// `dist`. P&T's bound (eq. 5.29) makes the curve move by at most that error at each
+/// removal; since successive removals add up, the errors are summed and the removals
+/// stop before the sum exceeds `tol` (A5.8 checks each one against `tol` alone).
+/// `u` must be an interior knot of `s`.
+pub(crate) fn remove_knot<T: Linear>(
+    s: &Spline<T>,
+    u: f64,
+    times: usize,
+    tol: f64,
+    dist: impl Fn(T, T) -> f64,
+) -> (Spline<T>, usize) {
+    let p = s.degree as isize;
+    let knots = &s.knots;
+    let mut pw = s.points.clone();
+    let n = pw.len() as isize - 1;
+    let m = n + p + 1;
+    let mult = knots.iter().filter(|&&k| k == u).count();
+    // r: the index of the last occurrence of u.
+    let Some(r) = knots.iter().rposition(|&k| k == u) else {
+        return (s.clone(), 0);
+    };
+    let r = r as isize;
+    let s_ = mult as isize;
+    let num = times.min(mult) as isize;
+    let ord = p + 1;
+    let fout = (2 * r - s_ - p) / 2;
+    let mut last = r - s_;
+    let mut first = r - p;
+    let uk = |i: isize| knots[i as usize];
+    let mut temp = vec![T::ZERO; (2 * p + 1) as usize];
+    let mut spent = 0.0;
+    let mut t = 0;
+    while t < num {
+        let off = first - 1;
+        temp[0] = pw[off as usize];
+        temp[(last + 1 - off) as usize] = pw[(last + 1) as usize];
+        let (mut i, mut j) = (first, last);
+        let (mut ii, mut jj) = (1, last - off);
+        while j - i > t {
+            let alfi = (u - uk(i)) / (uk(i + ord + t) - uk(i));
+            let alfj = (u - uk(j - t)) / (uk(j + ord) - uk(j - t));
+            temp[ii as usize] =
+                (pw[i as usize] - temp[(ii - 1) as usize] * (1.0 - alfi)) * (1.0 / alfi);
+            temp[jj as usize] =
+                (pw[j as usize] - temp[(jj + 1) as usize] * alfj) * (1.0 / (1.0 - alfj));
+            i += 1;
+            ii += 1;
+            j -= 1;
+            jj -= 1;
+        }
+        let error = if j - i < t {
+            dist(temp[(ii - 1) as usize], temp[(jj + 1) as usize])
+        } else {
+            let alfi = (u - uk(i)) / (uk(i + ord + t) - uk(i));
+            dist(
+                pw[i as usize],
+                temp[(ii + t + 1) as usize] * alfi + temp[(ii - 1) as usize] * (1.0 - alfi),
+            )
+        };
+        // A NaN error (a degenerate knot span) refuses the removal too.
+        if error.is_nan() || spent + error > tol {
+            break;
+        }
+        spent += error;
+        let (mut i, mut j) = (first, last);
+        while j - i > t {
+            pw[i as usize] = temp[(i - off) as usize];
+            pw[j as usize] = temp[(j - off) as usize];
+            i += 1;
+            j -= 1;
+        }
+        first -= 1;
+        last += 1;
+        t += 1;
+    }
+    if t == 0 {
+        return (s.clone(), 0);
+    }
+    let mut uq = knots.clone();
+    for k in r + 1..=m {
+        uq[(k - t) as usize] = knots[k as usize];
+    }
+    uq.truncate((m + 1 - t) as usize);
+    let mut j = fout;
+    let mut i = j;
+    for k in 1..t {
+        if k % 2 == 1 {
+            i += 1;
+        } else {
+            j -= 1;
+        }
+    }
+    for k in i + 1..=n {
+        pw[j as usize] = pw[k as usize];
+        j += 1;
+    }
+    pw.truncate((n + 1 - t) as usize);
+    (
+        Spline {
+            degree: s.degree,
+            knots: uq,
+            points: pw,
+        },
+        t as usize,
+    )
 }

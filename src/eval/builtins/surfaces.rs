@@ -14,7 +14,9 @@ use crate::geom::construct::{
     coons as coons_patch, coons_triangle, loft as loft_surface, revolve as revolve_surface,
     ruled as ruled_surface, Loft,
 };
-use crate::geom::interpolate::{interpolate, parameters, Interpolation, Parametrization};
+use crate::geom::interpolate::{
+    closed_parameters, interpolate, interpolate_closed, parameters, Interpolation, Parametrization,
+};
 use crate::geom::intersect::intersect_line_surface_all;
 use crate::geom::tessellate::{tessellate_curve, Tolerance};
 use crate::geom::{Curve3, GeomError, KnotVector, NurbsSurface};
@@ -254,7 +256,10 @@ fn revolve(call: &Call) -> Result<Data, Diagnostic> {
 // pieces get points too), every sample is moved along the direction onto the surface
 // (Newton continuing from the previous sample's (u, v); a global line-surface search
 // where that fails), and the hits are interpolated by one cubic B-spline (chord length,
-// averaged knots: simple interior knots, so the result is C2 between its samples). The
+// averaged knots: simple interior knots, so the result is C2 between its samples). A
+// closed curve is sampled segment by segment (between its C0 knots) and its hits get
+// the periodic cubic (`interpolate_closed`): neither the samples nor the fit then
+// depend on where the closed sketch starts, and the seam is C2 like the rest. The
 // fit is then checked at the middle of every sample interval against the true
 // projection there, and intervals that deviate get that point as a new sample, until
 // the fit holds everywhere.
@@ -283,9 +288,8 @@ const PROJECT_MAX_SAMPLES: usize = 4000;
 const PROJECT_CORNER: f64 = 0.5 * std::f64::consts::PI / 180.0;
 
 /// The input direction is nearly parallel to the surface (the projected tangent is
-/// ill-conditioned) where `|direction . normal|` is below this; there the seam tangent
-/// of a closed curve comes from the neighbouring samples, and an open curve's end is
-/// left free.
+/// ill-conditioned) where `|direction . normal|` is below this; there an open curve's
+/// end is left free.
 const PROJECT_GRAZING: f64 = 0.05;
 
 /// A point of the projected curve with its surface parameters.
@@ -462,6 +466,48 @@ fn fit(points: &[DVec3], ends: (Option<DVec3>, Option<DVec3>)) -> Result<Curve3,
     interpolate(points, &opts)
 }
 
+/// A closed curve cut at its C0 knots (multiplicity >= degree: a sketch's segment
+/// joins) into pieces, each on [0, 1] with its first weight 1. The same segment then has
+/// the same numbers whichever segment the sketch starts with (the cut and the remap are
+/// exact for a sketch's segments on [k, k + 1]), so its samples are the same points.
+fn pieces_between_corners(curve: &Curve3) -> Result<Vec<Curve3>, GeomError> {
+    let (t0, t1) = curve.domain();
+    let cuts: Vec<f64> = curve
+        .knots()
+        .distinct()
+        .into_iter()
+        .filter(|&(k, m)| k > t0 && k < t1 && m >= curve.degree())
+        .map(|(k, _)| k)
+        .collect();
+    let mut pieces = Vec::with_capacity(cuts.len() + 1);
+    let mut rest = curve.clone();
+    for &k in &cuts {
+        let (left, right) = rest.split_at(k)?;
+        pieces.push(left);
+        rest = right;
+    }
+    pieces.push(rest);
+    pieces
+        .into_iter()
+        .map(|piece| {
+            let piece = piece.reparametrized(0.0, 1.0)?;
+            match piece.weights() {
+                Some(w) => {
+                    let w0 = w[0];
+                    let weights = w.iter().map(|&x| x / w0).collect();
+                    Curve3::new_rational(
+                        piece.degree(),
+                        piece.knots().as_slice().to_vec(),
+                        piece.control_points().to_vec(),
+                        weights,
+                    )
+                }
+                None => Ok(piece),
+            }
+        })
+        .collect()
+}
+
 /// A point in words: `(x, y)` across a vertical direction, else `(x, y, z)`.
 fn place(p: DVec3, dir: DVec3) -> String {
     let r = crate::eval::units::round;
@@ -518,7 +564,25 @@ fn project(call: &Call) -> Result<Data, Diagnostic> {
     let tol = Tolerance::new(PROJECT_CHORDAL)
         .and_then(|t| t.with_max_edge(PROJECT_MAX_EDGE.min(length / PROJECT_MIN_SAMPLES)))
         .map_err(fail)?;
-    let first = tessellate_curve(&input, &tol).map_err(fail)?;
+    // The input's pieces (one for an open curve; for a closed one, one per stretch
+    // between its C0 knots, each on [0, 1], so that the samples of a sketch's segment do
+    // not depend on where the sketch starts) and their samples: `samples[k]` is
+    // `(piece, s)`, the piece of the interval that ends there and the parameter on it.
+    let pieces = if closed {
+        pieces_between_corners(&input).map_err(fail)?
+    } else {
+        vec![(*input).clone()]
+    };
+    let mut samples: Vec<(usize, f64)> = Vec::new();
+    let mut sample_points: Vec<DVec3> = Vec::new();
+    for (j, piece) in pieces.iter().enumerate() {
+        let line = tessellate_curve(piece, &tol).map_err(fail)?;
+        let skip = usize::from(j > 0); // the previous piece's end
+        for (&t, &p) in line.params.iter().zip(&line.points).skip(skip) {
+            samples.push((j, t));
+            sample_points.push(p);
+        }
+    }
     let too_many = |n: usize| {
         bad_argument(
             call,
@@ -529,8 +593,8 @@ fn project(call: &Call) -> Result<Data, Diagnostic> {
             "the curve is very long or very finely curved for the surface; project it in pieces",
         )
     };
-    if first.params.len() > PROJECT_MAX_SAMPLES {
-        return Err(too_many(first.params.len()));
+    if samples.len() > PROJECT_MAX_SAMPLES {
+        return Err(too_many(samples.len()));
     }
     let projector = Projector::new(&surface, dir, scale);
     let leaves = |p: DVec3| {
@@ -545,14 +609,12 @@ fn project(call: &Call) -> Result<Data, Diagnostic> {
         )
         .with_label(span_of(call, "surface"), "the surface")
     };
-    let mut params = Vec::with_capacity(first.params.len());
-    let mut hits: Vec<Hit> = Vec::with_capacity(first.params.len());
-    for (&t, &p) in first.params.iter().zip(&first.points) {
+    let mut hits: Vec<Hit> = Vec::with_capacity(samples.len());
+    for &p in &sample_points {
         let h = projector
             .hit(p, hits.last().copied())
             .map_err(fail)?
             .ok_or_else(|| leaves(p))?;
-        params.push(t);
         hits.push(h);
     }
     if closed {
@@ -568,13 +630,15 @@ fn project(call: &Call) -> Result<Data, Diagnostic> {
             "curve",
             format!(
                 "the curve runs along the direction near {}: its projection there shrinks to a point",
-                place(first.points[i], dir)
+                place(sample_points[i], dir)
             ),
             "a projected curve must advance across the direction; project a curve drawn across it (in the top view for the default direction)",
         ));
     }
-    // End tangents from the input's, moved onto the surface; where the surface is too
-    // steep for that, from the neighbouring samples (closed) or free (open).
+    // A closed curve gets the periodic cubic through its samples (the seam repeated in
+    // `hits` is dropped for the fit): no end conditions, so the outline does not depend
+    // on where the sketch starts. An open one gets end tangents from the input's, moved
+    // onto the surface, or free ends where the surface is too steep for that.
     let end_tangents = |hits: &[Hit]| -> (Option<DVec3>, Option<DVec3>) {
         let at = |t: f64, h: Hit| {
             input
@@ -583,32 +647,39 @@ fn project(call: &Call) -> Result<Data, Diagnostic> {
                 .and_then(|d| projector.tangent(d, h))
         };
         let n = hits.len() - 1;
-        if closed {
-            let exact = match (at(t0, hits[0]), at(t1, hits[n])) {
-                (Some(a), Some(b)) => (a + b).try_normalize(),
-                _ => None,
-            };
-            let seam = exact.or_else(|| {
-                // Bessel's estimate: the parabola through the seam's neighbours.
-                let (a, b, c) = (hits[n - 1].point, hits[0].point, hits[1].point);
-                let (h0, h1) = (a.distance(b), b.distance(c));
-                ((b - a) * (h1 / (h0 * (h0 + h1))) + (c - b) * (h0 / (h1 * (h0 + h1))))
-                    .try_normalize()
-            });
-            (seam, seam)
-        } else {
-            (at(t0, hits[0]), at(t1, hits[n]))
-        }
+        (at(t0, hits[0]), at(t1, hits[n]))
     };
     let points = |hits: &[Hit]| hits.iter().map(|h| h.point).collect::<Vec<_>>();
-    let mut curve = fit(&points(&hits), end_tangents(&hits)).map_err(fail)?;
+    let fit_hits = |hits: &[Hit]| -> Result<Curve3, GeomError> {
+        let pts = points(hits);
+        if closed {
+            interpolate_closed(&pts[..pts.len() - 1], Parametrization::ChordLength)
+        } else {
+            fit(&pts, end_tangents(hits))
+        }
+    };
+    // The fitted curve's parameter of every sample (the seam's twice when closed: 0 and 1).
+    let fit_parameters = |pts: &[DVec3]| -> Result<Vec<f64>, GeomError> {
+        if closed {
+            let mut s = closed_parameters(&pts[..pts.len() - 1], Parametrization::ChordLength)?;
+            s.push(1.0);
+            Ok(s)
+        } else {
+            parameters(pts, Parametrization::ChordLength)
+        }
+    };
+    let mut curve = fit_hits(&hits).map_err(fail)?;
     for _ in 0..PROJECT_ROUNDS {
         let pts = points(&hits);
-        let s = parameters(&pts, Parametrization::ChordLength).map_err(fail)?;
-        let mut inserts: Vec<(usize, f64, Hit)> = Vec::new();
+        let s = fit_parameters(&pts).map_err(fail)?;
+        let mut inserts: Vec<(usize, (usize, f64), Hit)> = Vec::new();
         for i in 0..hits.len() - 1 {
-            let tm = 0.5 * (params[i] + params[i + 1]);
-            let pm = input.point_at(tm);
+            // The interval's piece, and its start on it (0 where the interval starts
+            // the piece).
+            let (j, end) = samples[i + 1];
+            let begin = if samples[i].0 == j { samples[i].1 } else { 0.0 };
+            let tm = 0.5 * (begin + end);
+            let pm = pieces[j].point_at(tm);
             let truth = projector
                 .hit(pm, Some(hits[i]))
                 .map_err(fail)?
@@ -621,7 +692,7 @@ fn project(call: &Call) -> Result<Data, Diagnostic> {
                 None => off,
             };
             if across.length() > PROJECT_FIT {
-                inserts.push((i, tm, truth));
+                inserts.push((i, (j, tm), truth));
             }
         }
         if inserts.is_empty() {
@@ -630,19 +701,19 @@ fn project(call: &Call) -> Result<Data, Diagnostic> {
         if hits.len() + inserts.len() > PROJECT_MAX_SAMPLES {
             return Err(too_many(hits.len() + inserts.len()));
         }
-        let mut new_params = Vec::with_capacity(params.len() + inserts.len());
-        let mut new_hits = Vec::with_capacity(params.len() + inserts.len());
+        let mut new_samples = Vec::with_capacity(samples.len() + inserts.len());
+        let mut new_hits = Vec::with_capacity(samples.len() + inserts.len());
         let mut next = inserts.iter().peekable();
         for i in 0..hits.len() {
-            new_params.push(params[i]);
+            new_samples.push(samples[i]);
             new_hits.push(hits[i]);
-            if let Some(&(_, tm, h)) = next.next_if(|(k, _, _)| *k == i) {
-                new_params.push(tm);
+            if let Some(&(_, at, h)) = next.next_if(|(k, _, _)| *k == i) {
+                new_samples.push(at);
                 new_hits.push(h);
             }
         }
-        (params, hits) = (new_params, new_hits);
-        curve = fit(&points(&hits), end_tangents(&hits)).map_err(fail)?;
+        (samples, hits) = (new_samples, new_hits);
+        curve = fit_hits(&hits).map_err(fail)?;
     }
     Ok(Data::Curve3(Arc::new(curve)))
 }
