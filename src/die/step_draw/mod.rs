@@ -285,6 +285,12 @@ fn fail(section: usize, problem: Problem) -> Error {
 /// opening's sake.
 const MIN_SPAN: f64 = 2.0;
 
+/// The share of the tolerance the step draw's punch edge may leave the opening line by:
+/// the binder's inner edge is the opening line itself, so this is the gap along the
+/// seam between step draw and binder (0.001 mm, a strict checker's limit, at the
+/// default tolerance).
+const OPENING_SHARE: f64 = 0.1;
+
 /// The most distinct knots a patch's product piece gets by refinement.
 const MAX_KNOTS: usize = 400;
 
@@ -855,7 +861,7 @@ fn patch(
     let product = piece(&guides.product, ends.0.product_t, ends.1.product_t)?;
     let opening = piece(&guides.opening, ends.0.opening_t, ends.1.opening_t)?;
     let matching = Matching::new(&product, &opening);
-    let product = refine_for_opening(&product, &opening, &matching, tol)?;
+    let product = refine_for_opening(&product, &opening, &matching, OPENING_SHARE * tol)?;
     let knots = product.knots().distinct();
     let params: Vec<f64> = knots.iter().map(|&(k, _)| k).collect();
     // Each knot's point on the opening, by arc-length fraction.
