@@ -711,3 +711,35 @@ pub fn closest_point_on_surface(surface: &NurbsSurface, target: DVec3) -> Result
         }),
     }
 }
+
+/// The closest point of `surface` to `target` near the parameters `guess`, for callers
+/// that march along a line of nearby points (measuring the gap along a seam).
+///
+/// The 2-D Newton iteration of [`closest_point_on_surface`] starts at `guess` (clamped
+/// to the domain) and returns the local minimum it converges to, which need not be the
+/// global one; if it does not converge, the global search answers instead.
+///
+/// Errors: [`GeomError::NotFinite`] for a NaN or infinite target or guess, otherwise as
+/// [`closest_point_on_surface`].
+pub fn project_to_surface_near(
+    surface: &NurbsSurface,
+    target: DVec3,
+    guess: (f64, f64),
+) -> Result<SurfacePoint> {
+    if !target.is_finite() {
+        return Err(GeomError::NotFinite {
+            what: "target point",
+        });
+    }
+    if !(guess.0.is_finite() && guess.1.is_finite()) {
+        return Err(GeomError::NotFinite {
+            what: "parameter guess",
+        });
+    }
+    let tol = Tolerances::new(surface.control_scale(), target.length());
+    let out = newton_surface(surface, target, guess.0, guess.1, tol);
+    if out.converged {
+        return finite_distance(out.value, out.value.distance);
+    }
+    closest_point_on_surface(surface, target)
+}
