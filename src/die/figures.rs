@@ -27,13 +27,9 @@ use crate::geom::{Curve3, GeomError, KnotVector, NurbsSurface};
 pub const UNDERCUT_TOLERANCE: f64 = 1e-6;
 
 /// Target number of samples per surface direction: a direction with few knot spans is
-/// sampled more finely per span, one with many spans (a step-draw profile fitted on a
-/// hundred spans) at least [`MIN_PER_SPAN`] times per span.
+/// sampled several times per span, one with many spans (a step draw runs seventy
+/// sections along the outline and fits its profiles on a hundred spans) once per span.
 const SAMPLES_PER_DIRECTION: usize = 96;
-
-/// Fewest samples per knot span and direction (span ends included): a curvature spike
-/// sits inside a span, where the control net gives no hint of it.
-const MIN_PER_SPAN: usize = 2;
 
 /// Most samples per knot span and direction.
 const MAX_PER_SPAN: usize = 12;
@@ -42,7 +38,7 @@ const MAX_PER_SPAN: usize = 12;
 const REFINE: usize = 16;
 
 /// Samples per knot span of a section curve.
-const SECTION_PER_SPAN: usize = 4;
+const SECTION_PER_SPAN: usize = 2;
 
 /// What a die engineer reads off one patch.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -62,14 +58,15 @@ pub struct SurfaceFigures {
     pub flipped: bool,
 }
 
-/// Samples of one surface direction: every knot span at `per_span` equal steps.
-fn direction_samples(knots: &KnotVector) -> Vec<f64> {
-    let breaks: Vec<f64> = knots.distinct().iter().map(|&(t, _)| t).collect();
-    let spans = breaks.len().saturating_sub(1).max(1);
-    let per_span = SAMPLES_PER_DIRECTION
-        .div_ceil(spans)
-        .clamp(MIN_PER_SPAN, MAX_PER_SPAN);
-    let mut out = Vec::with_capacity(spans * per_span + 1);
+/// The distinct knots of a direction.
+fn breaks(knots: &KnotVector) -> Vec<f64> {
+    knots.distinct().iter().map(|&(t, _)| t).collect()
+}
+
+/// Every span between `breaks` at `per_span` equal steps, each break once.
+fn span_steps(breaks: &[f64], per_span: usize) -> Vec<f64> {
+    let per_span = per_span.max(1);
+    let mut out = Vec::with_capacity(breaks.len() * per_span + 1);
     for w in breaks.windows(2) {
         for k in 0..per_span {
             out.push(w[0] + (w[1] - w[0]) * k as f64 / per_span as f64);
@@ -81,12 +78,22 @@ fn direction_samples(knots: &KnotVector) -> Vec<f64> {
     out
 }
 
-/// The sample grid of a surface.
+/// The sample grid of a surface: every knot span of each direction, `96 / spans`
+/// samples per span (1 to 12), and at least two (its ends and middle) across the
+/// direction with more spans: the finely knotted direction is the one a tight radius
+/// hides in (a step-draw profile), the other is sampled at its knots (a step draw's
+/// sections) and between them only where the worst sample is refined.
 fn grid(s: &NurbsSurface) -> (Vec<f64>, Vec<f64>) {
-    (
-        direction_samples(s.knots_u()),
-        direction_samples(s.knots_v()),
-    )
+    let (bu, bv) = (breaks(s.knots_u()), breaks(s.knots_v()));
+    let spans = |b: &[f64]| b.len().saturating_sub(1).max(1);
+    let per = |n: usize| (SAMPLES_PER_DIRECTION / n).clamp(1, MAX_PER_SPAN);
+    let (mut pu, mut pv) = (per(spans(&bu)), per(spans(&bv)));
+    if spans(&bu) > spans(&bv) {
+        pu = pu.max(2);
+    } else {
+        pv = pv.max(2);
+    }
+    (span_steps(&bu, pu), span_steps(&bv, pv))
 }
 
 /// `+1` when the mean normal of `s` (the sum of the unit normals over its sample grid)
@@ -122,8 +129,8 @@ fn unit_normal(s: &NurbsSurface, u: f64, v: f64) -> Option<DVec3> {
 
 /// The smallest radius and the smallest draft of a patch.
 ///
-/// One pass over a grid of every knot span in both directions (at least
-/// [`MIN_PER_SPAN`] samples per span, more on coarsely knotted directions) computes the
+/// One pass over a grid of every knot span in both directions (see `grid`: at least
+/// two samples per span across the more finely knotted direction) computes the
 /// principal curvatures and the normal at each sample; then a finer grid over the cells
 /// around the worst radius, and another around the worst draft, refine both. Degenerate
 /// points (collapsed edges) are skipped.
@@ -238,28 +245,14 @@ fn depth_below_chord(a: DVec3, b: DVec3, p: DVec3) -> f64 {
     a.z + s * (b.z - a.z) - p.z
 }
 
-/// The largest of `f` over a curve's domain: every knot span sampled, then a golden
-/// section search between the neighbours of the best sample. Returns the value and
-/// its parameter.
-fn curve_max(c: &Curve3, f: &dyn Fn(f64) -> f64) -> (f64, f64) {
-    let breaks = c.span_breaks();
-    let mut ts = Vec::with_capacity(breaks.len() * SECTION_PER_SPAN + 1);
-    for w in breaks.windows(2) {
-        for k in 0..SECTION_PER_SPAN {
-            ts.push(w[0] + (w[1] - w[0]) * k as f64 / SECTION_PER_SPAN as f64);
-        }
-    }
-    if let Some(&last) = breaks.last() {
-        ts.push(last);
-    }
-    let values: Vec<f64> = ts.iter().map(|&t| f(t)).collect();
-    let k = values
-        .iter()
-        .enumerate()
-        .max_by(|a, b| a.1.total_cmp(b.1))
-        .map_or(0, |(k, _)| k);
-    let (mut lo, mut hi) = (ts[k.saturating_sub(1)], ts[(k + 1).min(ts.len() - 1)]);
-    let mut best = (values[k], ts[k]);
+/// The largest of `f` between the parameters `lo` and `hi`, starting from the sampled
+/// best `(value, t)`: a golden-section search.
+fn golden_max(
+    f: &dyn Fn(f64) -> f64,
+    mut lo: f64,
+    mut hi: f64,
+    mut best: (f64, f64),
+) -> (f64, f64) {
     let ratio = (5f64.sqrt() - 1.0) / 2.0;
     for _ in 0..60 {
         if hi - lo <= 1e-12 * (1.0 + hi.abs()) {
@@ -281,15 +274,34 @@ fn curve_max(c: &Curve3, f: &dyn Fn(f64) -> f64) -> (f64, f64) {
     best
 }
 
-/// How far a section dips below its chord and below its opening end.
+/// How far a section dips below its chord and below its opening end: every knot span
+/// sampled [`SECTION_PER_SPAN`] times, each figure's worst sample refined by a
+/// golden-section search between its neighbours.
 pub fn section_sag(section: &Curve3, opening: SectionEnd) -> Sag {
     let (a, b) = (section.start_point(), section.end_point());
     let open_z = match opening {
         SectionEnd::Start => a.z,
         SectionEnd::End => b.z,
     };
-    let (chord, tc) = curve_max(section, &|t| depth_below_chord(a, b, section.point_at(t)));
-    let (low, tl) = curve_max(section, &|t| -section.point_at(t).z);
+    let ts = span_steps(&section.span_breaks(), SECTION_PER_SPAN);
+    let chord_depth = |t: f64| depth_below_chord(a, b, section.point_at(t));
+    let depth = |t: f64| -section.point_at(t).z;
+    let (mut kc, mut kl) = (0, 0);
+    let (mut dc, mut dl) = (f64::NEG_INFINITY, f64::NEG_INFINITY);
+    for (k, &t) in ts.iter().enumerate() {
+        let p = section.point_at(t);
+        let c = depth_below_chord(a, b, p);
+        if c > dc {
+            (dc, kc) = (c, k);
+        }
+        if -p.z > dl {
+            (dl, kl) = (-p.z, k);
+        }
+    }
+    let around = |k: usize| (ts[k.saturating_sub(1)], ts[(k + 1).min(ts.len() - 1)]);
+    let ((lo, hi), (lo2, hi2)) = (around(kc), around(kl));
+    let (chord, tc) = golden_max(&chord_depth, lo, hi, (dc, ts[kc]));
+    let (low, tl) = golden_max(&depth, lo2, hi2, (dl, ts[kl]));
     Sag {
         below_chord: chord.max(0.0),
         below_chord_at: section.point_at(tc),
@@ -329,23 +341,13 @@ pub enum Edge {
 /// Parameters along one edge of `s`, every knot span of the running direction sampled
 /// `per_span` times (span ends included).
 pub fn edge_samples(s: &NurbsSurface, edge: Edge, per_span: usize) -> Vec<(f64, f64)> {
-    let per_span = per_span.max(1);
     let (knots, fixed, along_u) = match edge {
         Edge::U0 => (s.knots_v(), s.domain_u().0, false),
         Edge::U1 => (s.knots_v(), s.domain_u().1, false),
         Edge::V0 => (s.knots_u(), s.domain_v().0, true),
         Edge::V1 => (s.knots_u(), s.domain_v().1, true),
     };
-    let breaks: Vec<f64> = knots.distinct().iter().map(|&(t, _)| t).collect();
-    let mut ts = Vec::with_capacity(breaks.len() * per_span + 1);
-    for w in breaks.windows(2) {
-        for k in 0..per_span {
-            ts.push(w[0] + (w[1] - w[0]) * k as f64 / per_span as f64);
-        }
-    }
-    if let Some(&last) = breaks.last() {
-        ts.push(last);
-    }
+    let ts = span_steps(&breaks(knots), per_span);
     ts.into_iter()
         .map(|t| if along_u { (t, fixed) } else { (fixed, t) })
         .collect()
