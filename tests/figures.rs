@@ -272,3 +272,34 @@ fn a_section_above_its_chord_has_no_sag() {
     assert!((s.below_opening - (-50.0 - low)).abs() < 1e-9, "{s:?}");
     assert!((s.below_opening_at.x - 100.0 * t).abs() < 1e-5, "{s:?}");
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(32))]
+
+    /// A cone's draft is its wall angle in closed form, `atan(dr / dz)`.
+    #[test]
+    fn cone_draft_is_its_wall_angle(r0 in 5.0f64..50.0, shrink in 0.0f64..0.9, h in 5.0f64..60.0) {
+        let r1 = r0 * (1.0 - shrink);
+        let line = Curve3::line(DVec3::new(r0, 0.0, 0.0), DVec3::new(r1, 0.0, h)).expect("line");
+        let cone = revolve(&line, DVec3::ZERO, DVec3::Z, FRAC_PI_2).expect("a cone");
+        let f = surface_figures(&cone);
+        let want = ((r0 - r1) / h).atan().to_degrees();
+        prop_assert!((f.draft - want).abs() < 1e-8, "{:?} vs {}", f, want);
+        prop_assert!(!f.undercut);
+    }
+
+    /// Turning a patch about the press axis and moving it changes none of its figures.
+    #[test]
+    fn figures_do_not_depend_on_where_a_patch_stands(angle in 0.0f64..std::f64::consts::TAU, dx in -500.0f64..500.0, dz in -100.0f64..100.0) {
+        let line = Curve3::line(DVec3::new(10.0, 0.0, 0.0), DVec3::new(6.0, 0.0, 20.0)).expect("line");
+        let cone = revolve(&line, DVec3::ZERO, DVec3::Z, FRAC_PI_2).expect("a cone");
+        let (s, c) = angle.sin_cos();
+        let moved = cone.map_points(|p| {
+            DVec3::new(c * p.x - s * p.y + dx, s * p.x + c * p.y, p.z + dz)
+        });
+        let (a, b) = (surface_figures(&cone), surface_figures(&moved));
+        prop_assert!((a.min_radius - b.min_radius).abs() < 1e-7 * a.min_radius);
+        prop_assert!((a.draft - b.draft).abs() < 1e-8);
+        prop_assert_eq!(a.undercut, b.undercut);
+    }
+}

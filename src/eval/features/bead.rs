@@ -661,7 +661,7 @@ fn output(
         fields.push((format!("section {name}"), curve(section)));
     }
     let q = bead.quality;
-    let quality = vec![
+    let mut quality = vec![
         ("foot_gap".to_string(), mm(q.foot_gap, span)),
         ("section_error".to_string(), mm(q.section_error, span)),
         ("height".to_string(), mm(q.height, span)),
@@ -670,5 +670,7 @@ fn output(
         ("sections".to_string(), count(q.sections, span)),
         ("length".to_string(), mm(q.length, span)),
     ];
+    let skin = [("surface", &bead.surface, &[][..])];
+    super::surface_figures(&mut quality, skin, span);
     feature_value(KIND, span, fields, quality, Feature::Bead(Arc::new(bead)))
 }
