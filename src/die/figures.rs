@@ -19,7 +19,7 @@
 use glam::DVec3;
 
 use crate::geom::curvature::principal_curvatures;
-use crate::geom::inversion::{closest_point_on_surface, project_to_surface_near};
+use crate::geom::inversion::project_to_surface_near;
 use crate::geom::{Curve3, GeomError, KnotVector, NurbsSurface};
 
 /// Draft (degrees) below which a point counts as an undercut: a vertical wall measured
@@ -353,6 +353,22 @@ pub fn edge_samples(s: &NurbsSurface, edge: Edge, per_span: usize) -> Vec<(f64, 
         .collect()
 }
 
+/// The parameters of the sample of `s`'s grid nearest to `p`: the start of the first
+/// projection onto a surface along a seam.
+fn nearest_on_grid(s: &NurbsSurface, p: DVec3) -> (f64, f64) {
+    let (us, vs) = grid(s);
+    let mut best = (f64::INFINITY, (us[0], vs[0]));
+    for &u in &us {
+        for &v in &vs {
+            let d = s.point_at(u, v).distance_squared(p);
+            if d < best.0 {
+                best = (d, (u, v));
+            }
+        }
+    }
+    best.1
+}
+
 /// The distance from `p` to the box `lo..hi`.
 fn box_distance(lo: DVec3, hi: DVec3, p: DVec3) -> f64 {
     (lo - p).max(p - hi).max(DVec3::ZERO).length()
@@ -360,8 +376,10 @@ fn box_distance(lo: DVec3, hi: DVec3, p: DVec3) -> f64 {
 
 /// The gap and crease along a seam: at each parameter pair `along` of surface `a`
 /// (samples of one of its boundaries, e.g. from [`edge_samples`]), the nearest point of
-/// the surfaces `b` (closest-point inversion, warm-started from the previous sample on
-/// each surface, surfaces whose control box lies farther than the best found skipped),
+/// the surfaces `b` (closest-point inversion started from the previous sample's foot on
+/// each surface, or from its nearest grid sample the first time; surfaces whose control
+/// box lies farther than the best found skipped; a surface whose inversion does not
+/// converge skipped for that sample),
 /// the distance to it, and the angle between the two tangent planes there. Both normals
 /// are turned up by their patch's mean normal ([`up_sign`]), so a crease is the angle
 /// between the up-facing normals: 0 for a tangent seam, whichever way each surface is
@@ -401,9 +419,11 @@ pub fn seam(
                     break;
                 }
             }
-            let sp = match guesses[k] {
-                Some(g) => project_to_surface_near(b[k], p, g)?,
-                None => closest_point_on_surface(b[k], p)?,
+            let guess = guesses[k].unwrap_or_else(|| nearest_on_grid(b[k], p));
+            let sp = match project_to_surface_near(b[k], p, guess) {
+                Ok(sp) => sp,
+                Err(GeomError::NoConvergence { .. }) => continue,
+                Err(e) => return Err(e),
             };
             guesses[k] = Some((sp.u, sp.v));
             if best.as_ref().is_none_or(|(_, x)| sp.distance < x.distance) {

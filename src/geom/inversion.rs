@@ -717,7 +717,10 @@ pub fn closest_point_on_surface(surface: &NurbsSurface, target: DVec3) -> Result
 ///
 /// The 2-D Newton iteration of [`closest_point_on_surface`] starts at `guess` (clamped
 /// to the domain) and returns the local minimum it converges to, which need not be the
-/// global one; if it does not converge, the global search answers instead.
+/// global one. A target within [`NEAR_COINCIDENCE`] (relative) of the point reached is
+/// on the surface for every purpose: rounding in `S - P` then makes the cosine test
+/// meaningless, so that point is returned even if the test did not pass. Otherwise, if
+/// Newton does not converge, the global search answers instead.
 ///
 /// Errors: [`GeomError::NotFinite`] for a NaN or infinite target or guess, otherwise as
 /// [`closest_point_on_surface`].
@@ -738,8 +741,14 @@ pub fn project_to_surface_near(
     }
     let tol = Tolerances::new(surface.control_scale(), target.length());
     let out = newton_surface(surface, target, guess.0, guess.1, tol);
-    if out.converged {
+    let size = surface.control_scale().max(target.length());
+    if out.converged || out.value.distance <= NEAR_COINCIDENCE * size {
         return finite_distance(out.value, out.value.distance);
     }
     closest_point_on_surface(surface, target)
 }
+
+/// Relative distance under which [`project_to_surface_near`] takes the point Newton
+/// reached as the foot even when the cosine test fails to rounding (1e-9 of a 1 m part
+/// is a micrometre's thousandth).
+pub const NEAR_COINCIDENCE: f64 = 1e-9;
