@@ -285,3 +285,35 @@ proptest! {
         assert_orthogonal(&s, target, sp.u, sp.v);
     }
 }
+
+/// Marching along a seam: points on a doubly curved patch (the surface's own points,
+/// where rounding makes the cosine test meaningless) and points off it, projected from
+/// the previous foot, land on the same foot as the global search.
+#[test]
+fn projection_near_a_guess_follows_a_line_of_points() {
+    use dieface::geom::inversion::project_to_surface_near;
+    let net: Vec<Vec<DVec3>> = (0..4)
+        .map(|i| {
+            (0..4)
+                .map(|j| {
+                    let (x, y) = (i as f64 * 100.0, j as f64 * 100.0);
+                    DVec3::new(x, y, 0.001 * ((x - 150.0).powi(2) - (y - 150.0).powi(2)))
+                })
+                .collect()
+        })
+        .collect();
+    let knots = vec![0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0];
+    let s = NurbsSurface::new(3, 3, knots.clone(), knots, net).expect("a valid patch");
+    let mut guess = (0.0, 0.0);
+    for k in 0..=40 {
+        let t = k as f64 / 40.0;
+        let on = s.point_at(t, 0.3 + 0.4 * t);
+        let near = project_to_surface_near(&s, on, guess).expect("converges");
+        assert!(near.distance < 1e-9, "{near:?}");
+        let off = on + DVec3::new(0.0, 0.0, 2.0);
+        let a = project_to_surface_near(&s, off, guess).expect("converges");
+        let b = closest_point_on_surface(&s, off).expect("converges");
+        assert!((a.distance - b.distance).abs() < 1e-9, "{a:?} vs {b:?}");
+        guess = (near.u, near.v);
+    }
+}

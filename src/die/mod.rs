@@ -11,6 +11,7 @@ pub mod bead;
 pub mod blankholder;
 pub mod continuity;
 pub mod corner;
+pub mod figures;
 pub mod punch_opening;
 pub mod step_draw;
 pub mod two_view;

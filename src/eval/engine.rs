@@ -44,6 +44,7 @@ pub const KINDS: &[&str] = &[
     "blankholder",
     "step_draw",
     "bead",
+    "die_checks",
 ];
 
 /// The names, values and units visible at the top level of one file.
@@ -911,6 +912,7 @@ impl Engine {
                 })
                 .collect();
             let apply = |g: &Value, args: Vec<Value>, s: Span| ctx.apply(g, args, Vec::new(), s);
+            let text = |s: Span| self.sources.slice(s).to_string();
             return features::build(&features::Block {
                 kind,
                 name: &d.name.node,
@@ -918,6 +920,7 @@ impl Engine {
                 fields,
                 units: ctx.units(),
                 apply: &apply,
+                text: &text,
             });
         }
         let value = match &d.body {

@@ -272,10 +272,11 @@ pub fn feature_report(v: &Value) -> Vec<String> {
     lines
 }
 
-/// A figure as `12.5 mm`, `0.01 deg`, `3`.
+/// A figure as `12.5 mm`, `0.01 deg`, `3`, `yes`, a point as `(1 mm, 2 mm, 3 mm)`.
 fn figure(v: &Value) -> String {
     match &v.data {
         Data::Number(q) => super::units::display(*q),
+        Data::Bool(b) => if *b { "yes" } else { "no" }.to_string(),
         _ => summarize(v),
     }
 }

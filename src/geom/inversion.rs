@@ -712,6 +712,7 @@ pub fn closest_point_on_surface(surface: &NurbsSurface, target: DVec3) -> Result
     }
 }
 
+<<<<<<< HEAD
 /// The point of `surface` closest to `target` found by Newton's iteration from
 /// `(u, v)` alone: for marching along a curve that lies on the surface, where the last
 /// foot point is a good start. Falls back to [`closest_point_on_surface`] when the
@@ -721,12 +722,31 @@ pub fn closest_point_on_surface_near(
     target: DVec3,
     u: f64,
     v: f64,
+=======
+/// The closest point of `surface` to `target` near the parameters `guess`, for callers
+/// that march along a line of nearby points (measuring the gap along a seam).
+///
+/// The 2-D Newton iteration of [`closest_point_on_surface`] starts at `guess` (clamped
+/// to the domain) and returns the local minimum it converges to, which need not be the
+/// global one. A target within [`NEAR_COINCIDENCE`] (relative) of the point reached is
+/// on the surface for every purpose: rounding in `S - P` then makes the cosine test
+/// meaningless, so that point is returned even if the test did not pass. Otherwise, if
+/// Newton does not converge, the global search answers instead.
+///
+/// Errors: [`GeomError::NotFinite`] for a NaN or infinite target or guess, otherwise as
+/// [`closest_point_on_surface`].
+pub fn project_to_surface_near(
+    surface: &NurbsSurface,
+    target: DVec3,
+    guess: (f64, f64),
+>>>>>>> h3
 ) -> Result<SurfacePoint> {
     if !target.is_finite() {
         return Err(GeomError::NotFinite {
             what: "target point",
         });
     }
+<<<<<<< HEAD
     let tol = Tolerances::new(surface.control_scale(), target.length());
     let out = newton_surface(surface, target, u, v, tol);
     if out.converged {
@@ -735,3 +755,23 @@ pub fn closest_point_on_surface_near(
         closest_point_on_surface(surface, target)
     }
 }
+=======
+    if !(guess.0.is_finite() && guess.1.is_finite()) {
+        return Err(GeomError::NotFinite {
+            what: "parameter guess",
+        });
+    }
+    let tol = Tolerances::new(surface.control_scale(), target.length());
+    let out = newton_surface(surface, target, guess.0, guess.1, tol);
+    let size = surface.control_scale().max(target.length());
+    if out.converged || out.value.distance <= NEAR_COINCIDENCE * size {
+        return finite_distance(out.value, out.value.distance);
+    }
+    closest_point_on_surface(surface, target)
+}
+
+/// Relative distance under which [`project_to_surface_near`] takes the point Newton
+/// reached as the foot even when the cosine test fails to rounding (1e-9 of a 1 m part
+/// is a micrometre's thousandth).
+pub const NEAR_COINCIDENCE: f64 = 1e-9;
+>>>>>>> h3

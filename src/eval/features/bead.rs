@@ -661,7 +661,7 @@ fn output(
         fields.push((format!("section {name}"), curve(section)));
     }
     let q = bead.quality;
-    let quality = vec![
+    let mut quality = vec![
         ("foot_gap".to_string(), mm(q.foot_gap, span)),
         ("section_error".to_string(), mm(q.section_error, span)),
         ("height".to_string(), mm(q.height, span)),
@@ -677,5 +677,15 @@ fn output(
         ("end_min_radius".to_string(), mm(q.end_min_radius, span)),
         ("drawn_radius".to_string(), mm(q.drawn_radius, span)),
     ];
+    // The skin's draft and undercut (and its figures as the record `surface`); the
+    // bead's own radii above (full height, ends, drawn) stay as they are.
+    let skin = [("surface", &bead.surface, &[][..])];
+    let mut skin_figures = Vec::new();
+    super::surface_figures(&mut skin_figures, skin, span);
+    for (key, value) in skin_figures {
+        if !quality.iter().any(|(k, _)| *k == key) {
+            quality.push((key, value));
+        }
+    }
     feature_value(KIND, span, fields, quality, Feature::Bead(Arc::new(bead)))
 }

@@ -929,6 +929,12 @@ fn output(block: &Block, binder: bh::Blankholder) -> Value {
         span,
     );
     quality.extend(joins);
+    let patches = binder.patches.iter();
+    super::surface_figures(
+        &mut quality,
+        patches.map(|p| (p.name.as_str(), &p.surface, &[][..])),
+        span,
+    );
     feature_value(
         KIND,
         span,

@@ -10,6 +10,7 @@
 
 mod bead;
 mod blankholder;
+mod die_checks;
 mod punch_opening;
 mod step_draw;
 
@@ -22,8 +23,15 @@ use super::builtins::{as_angle, as_length, as_number, type_error};
 use super::units::Units;
 use super::value::{Data, Dim, Quantity, Record, Value};
 
-/// Declaration kinds that are features, built by [`build`].
-pub const FEATURES: &[&str] = &["punch_opening", "blankholder", "step_draw", "bead"];
+/// Declaration kinds written as feature blocks, built by [`build`]: the die-face
+/// features, and `die_checks` (limits on their figures, `die_checks.rs`).
+pub const FEATURES: &[&str] = &[
+    "punch_opening",
+    "blankholder",
+    "step_draw",
+    "bead",
+    "die_checks",
+];
 
 /// One field of a feature block.
 #[derive(Debug, Clone)]
@@ -73,6 +81,9 @@ pub struct Block<'a> {
     /// Calls a function value given in a field (a step-draw profile) with positional
     /// arguments, at the span of the call that asks.
     pub apply: &'a super::builtins::Apply<'a>,
+    /// The source text at a span: a feature's name as written in `die_checks`'
+    /// `features` list.
+    pub text: &'a dyn Fn(Span) -> String,
 }
 
 impl Block<'_> {
@@ -187,6 +198,7 @@ pub fn build(block: &Block) -> Result<Value, Diagnostic> {
         "blankholder" => blankholder::build(block),
         "step_draw" => step_draw::build(block),
         "bead" => bead::build(block),
+        "die_checks" => die_checks::build(block),
         other => Err(Diagnostic::new(
             "die::unknown_kind",
             format!("`{other}` is not a die-face feature"),
@@ -404,4 +416,100 @@ fn join_figures<'j>(
         ("ratio_spread".to_string(), ratio(spread, span)),
     ];
     (worst, per_join)
+}
+
+/// The die engineer's figures of a feature's patches (`die::figures`), added to its
+/// `quality` record: the worst over the feature (`min_radius`, `min_radius_at`, `draft`,
+/// `draft_at`, `undercut`, and where patches carry sections, `sag`, `sag_at`,
+/// `sag_below_opening`, `sag_below_opening_at`), then one record per patch, named as
+/// the patch, with the same figures. Each patch is given with its surface and its
+/// sections (from the opening end to the product end; none for a binder).
+fn surface_figures<'p>(
+    quality: &mut Fields,
+    patches: impl IntoIterator<
+        Item = (
+            &'p str,
+            &'p crate::geom::NurbsSurface,
+            &'p [crate::geom::Curve3],
+        ),
+    >,
+    span: Span,
+) {
+    use crate::die::figures::{section_sag, surface_figures as measure, SectionEnd};
+    use glam::DVec3;
+    let point = |p: DVec3| Value::point3(p, span);
+    let mut per_patch = Vec::new();
+    // (value, where) of the worst so far.
+    let mut radius = (f64::INFINITY, DVec3::ZERO);
+    let mut draft = (f64::INFINITY, DVec3::ZERO);
+    let mut sag: Option<((f64, DVec3), (f64, DVec3))> = None;
+    for (name, surface, sections) in patches {
+        let f = measure(surface);
+        let mut fields = vec![
+            ("min_radius".to_string(), mm(f.min_radius, span)),
+            ("min_radius_at".to_string(), point(f.min_radius_at)),
+            ("draft".to_string(), deg(f.draft, span)),
+            ("draft_at".to_string(), point(f.draft_at)),
+            (
+                "undercut".to_string(),
+                Value::new(Data::Bool(f.undercut), span),
+            ),
+        ];
+        if per_patch.is_empty() || f.min_radius < radius.0 {
+            radius = (f.min_radius, f.min_radius_at);
+        }
+        if per_patch.is_empty() || f.draft < draft.0 {
+            draft = (f.draft, f.draft_at);
+        }
+        if let Some(first) = sections.first() {
+            let mut chord = (0.0, first.start_point());
+            let mut below = (0.0, first.start_point());
+            for s in sections {
+                let g = section_sag(s, SectionEnd::Start);
+                if g.below_chord > chord.0 {
+                    chord = (g.below_chord, g.below_chord_at);
+                }
+                if g.below_opening > below.0 {
+                    below = (g.below_opening, g.below_opening_at);
+                }
+            }
+            fields.extend([
+                ("sag".to_string(), mm(chord.0, span)),
+                ("sag_at".to_string(), point(chord.1)),
+                ("sag_below_opening".to_string(), mm(below.0, span)),
+                ("sag_below_opening_at".to_string(), point(below.1)),
+            ]);
+            let worst = sag.get_or_insert((chord, below));
+            if chord.0 > worst.0 .0 {
+                worst.0 = chord;
+            }
+            if below.0 > worst.1 .0 {
+                worst.1 = below;
+            }
+        }
+        per_patch.push((name.to_string(), record_value(fields, span)));
+    }
+    if per_patch.is_empty() {
+        return;
+    }
+    let undercut = draft.0 < -crate::die::figures::UNDERCUT_TOLERANCE;
+    quality.extend([
+        ("min_radius".to_string(), mm(radius.0, span)),
+        ("min_radius_at".to_string(), point(radius.1)),
+        ("draft".to_string(), deg(draft.0, span)),
+        ("draft_at".to_string(), point(draft.1)),
+        (
+            "undercut".to_string(),
+            Value::new(Data::Bool(undercut), span),
+        ),
+    ]);
+    if let Some((chord, below)) = sag {
+        quality.extend([
+            ("sag".to_string(), mm(chord.0, span)),
+            ("sag_at".to_string(), point(chord.1)),
+            ("sag_below_opening".to_string(), mm(below.0, span)),
+            ("sag_below_opening_at".to_string(), point(below.1)),
+        ]);
+    }
+    quality.extend(per_patch);
 }

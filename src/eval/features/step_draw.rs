@@ -1007,6 +1007,12 @@ fn output(block: &Block, sd_result: sd::StepDraw) -> Value {
         ));
     }
     quality.extend(joins);
+    let patches = sd_result.patches.iter();
+    super::surface_figures(
+        &mut quality,
+        patches.map(|p| (p.name.as_str(), &p.surface, p.sections.as_slice())),
+        span,
+    );
     feature_value(
         KIND,
         span,
