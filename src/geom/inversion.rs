@@ -712,17 +712,6 @@ pub fn closest_point_on_surface(surface: &NurbsSurface, target: DVec3) -> Result
     }
 }
 
-<<<<<<< HEAD
-/// The point of `surface` closest to `target` found by Newton's iteration from
-/// `(u, v)` alone: for marching along a curve that lies on the surface, where the last
-/// foot point is a good start. Falls back to [`closest_point_on_surface`] when the
-/// iteration does not converge.
-pub fn closest_point_on_surface_near(
-    surface: &NurbsSurface,
-    target: DVec3,
-    u: f64,
-    v: f64,
-=======
 /// The closest point of `surface` to `target` near the parameters `guess`, for callers
 /// that march along a line of nearby points (measuring the gap along a seam).
 ///
@@ -739,23 +728,12 @@ pub fn project_to_surface_near(
     surface: &NurbsSurface,
     target: DVec3,
     guess: (f64, f64),
->>>>>>> h3
 ) -> Result<SurfacePoint> {
     if !target.is_finite() {
         return Err(GeomError::NotFinite {
             what: "target point",
         });
     }
-<<<<<<< HEAD
-    let tol = Tolerances::new(surface.control_scale(), target.length());
-    let out = newton_surface(surface, target, u, v, tol);
-    if out.converged {
-        finite_distance(out.value, out.value.distance)
-    } else {
-        closest_point_on_surface(surface, target)
-    }
-}
-=======
     if !(guess.0.is_finite() && guess.1.is_finite()) {
         return Err(GeomError::NotFinite {
             what: "parameter guess",
@@ -774,4 +752,3 @@ pub fn project_to_surface_near(
 /// reached as the foot even when the cosine test fails to rounding (1e-9 of a 1 m part
 /// is a micrometre's thousandth).
 pub const NEAR_COINCIDENCE: f64 = 1e-9;
->>>>>>> h3

@@ -12,7 +12,7 @@ use std::cell::Cell;
 
 use glam::DVec3;
 
-use crate::geom::inversion::{closest_point_on_surface, closest_point_on_surface_near};
+use crate::geom::inversion::{closest_point_on_surface, project_to_surface_near};
 use crate::geom::NurbsSurface;
 
 /// Beyond this distance (mm) a guide point is taken as off a surface: its slope is not
@@ -52,7 +52,7 @@ impl<'a> ProductSlope<'a> {
     /// The product's slope at the outline point `p`, along `h` (towards the opening).
     pub fn at(&self, p: DVec3, h: DVec3) -> Option<f64> {
         let hit = match self.last.get() {
-            Some((u, v)) => closest_point_on_surface_near(self.surface, p, u, v),
+            Some((u, v)) => project_to_surface_near(self.surface, p, (u, v)),
             None => closest_point_on_surface(self.surface, p),
         }
         .ok()?;
@@ -82,7 +82,7 @@ impl<'a> BinderSlope<'a> {
     /// The binder's slope at the opening point `p`, along `h` (outwards).
     pub fn at(&self, p: DVec3, h: DVec3) -> Option<f64> {
         if let Some((k, u, v)) = self.last.get() {
-            if let Ok(hit) = closest_point_on_surface_near(&self.patches[k], p, u, v) {
+            if let Ok(hit) = project_to_surface_near(&self.patches[k], p, (u, v)) {
                 if hit.distance <= 1e-3 {
                     self.last.set(Some((k, hit.u, hit.v)));
                     return slope_at(&self.patches[k], hit.u, hit.v, h);
