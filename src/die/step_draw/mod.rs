@@ -285,6 +285,12 @@ fn fail(section: usize, problem: Problem) -> Error {
 /// opening's sake.
 const MIN_SPAN: f64 = 2.0;
 
+/// How long (mm) the flat on to the opening takes to turn onto the binder's slope. The
+/// turn is kept near the opening: the flat keeps its drawn direction, so a binder whose
+/// slope across the opening changes along it does not lever the die radius, a flat's
+/// length away, up and down.
+const BINDER_BLEND: f64 = 20.0;
+
 /// The share of the tolerance the step draw's punch edge may leave the opening line by:
 /// the binder's inner edge is the opening line itself, so this is the gap along the
 /// seam between step draw and binder (0.001 mm, a strict checker's limit, at the
@@ -466,7 +472,21 @@ pub fn build(guides: &Guides, sections: &[SectionSpec], opts: &Options) -> Resul
     // Step 1 (continued): one list of corners for all key sections, one knot vector
     // for every section, and the key sections' runs and corners carried along the
     // outline by their positions on it.
-    let aligned = align(&key_chains);
+    let mut aligned = align(&key_chains);
+    let binder_tangent = opts.tangent_binder && !guides.binder.is_empty();
+    if binder_tangent {
+        // The last run turns onto the binder over its last [`BINDER_BLEND`]: a corner
+        // of no drawn turn whose outgoing run (of no length) takes the binder's slope
+        // at each section.
+        for c in &mut aligned {
+            let last = *c.runs.last().expect("a chain always has a run");
+            c.radii.push(BINDER_BLEND / chain::GENTLE_TURN);
+            c.runs.push(chain::Run {
+                angle: last.angle,
+                length: 0.0,
+            });
+        }
+    }
     let basis = SectionBasis::new(&aligned).map_err(at(0))?;
     let outline = ArcTable::new(product);
     let origin = outline.fraction_at(ends[0].product_t) * outline.total;
@@ -494,8 +514,7 @@ pub fn build(guides: &Guides, sections: &[SectionSpec], opts: &Options) -> Resul
             .as_ref()
             .filter(|_| opts.tangent_product)
             .map(ProductSlope::new),
-        binder: (opts.tangent_binder && !guides.binder.is_empty())
-            .then(|| BinderSlope::new(&guides.binder)),
+        binder: binder_tangent.then(|| BinderSlope::new(&guides.binder)),
     };
     // The key sections themselves, as built, and how closely the cubics follow them.
     let mut key_sections = Vec::with_capacity(sections.len());
