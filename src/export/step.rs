@@ -166,8 +166,9 @@ impl Writer {
             let bound = self.add(format!("FACE_OUTER_BOUND('',{lp},.T.)"));
             let surface = self.surface(f.face.surface());
             faces.push(self.add(format!(
-                "ADVANCED_FACE('{}',({bound}),{surface},.T.)",
-                escape(&f.face.name)
+                "ADVANCED_FACE('{}',({bound}),{surface},{})",
+                escape(&f.face.name),
+                flag(!f.reversed)
             )));
         }
         self.add(format!(

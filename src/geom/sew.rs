@@ -105,13 +105,18 @@ pub struct Edge {
 }
 
 /// A sewn face: the face and its boundary as edges in loop order, each with whether
-/// the loop runs along the edge's curve (`true`) or against it.
+/// the loop runs along the edge's curve (`true`) or against it. The loop runs
+/// counter-clockwise around the face's normal, which is the surface's `S_u x S_v`, or
+/// its opposite when `reversed`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SewnFace {
     /// The face.
     pub face: Face,
     /// `(edge index, same direction)` in loop order.
     pub bound: Vec<(usize, bool)>,
+    /// Whether the face's normal is turned against its surface's, so that the shell
+    /// is oriented consistently (every shared edge used in opposite directions).
+    pub reversed: bool,
 }
 
 /// Faces sewn along shared edges.
@@ -259,13 +264,60 @@ pub fn sew(faces: Vec<Face>, tol: f64) -> Result<Shell> {
                 }
             }
         }
-        sewn.push(SewnFace { face, bound });
+        sewn.push(SewnFace {
+            face,
+            bound,
+            reversed: false,
+        });
     }
+    orient(&mut sewn, edges.len());
     Ok(Shell {
         vertices,
         edges,
         faces: sewn,
     })
+}
+
+/// Turns faces so that every shared edge is used in opposite directions: the first
+/// face of each connected group keeps its orientation, each neighbour follows across
+/// the edges they share. (On a non-orientable group the later face keeps the first
+/// orientation found.)
+fn orient(faces: &mut [SewnFace], edge_count: usize) {
+    let mut users: Vec<Vec<(usize, bool)>> = vec![Vec::new(); edge_count];
+    for (i, f) in faces.iter().enumerate() {
+        for &(e, d) in &f.bound {
+            users[e].push((i, d));
+        }
+    }
+    let mut flip: Vec<Option<bool>> = vec![None; faces.len()];
+    for start in 0..faces.len() {
+        if flip[start].is_some() {
+            continue;
+        }
+        flip[start] = Some(false);
+        let mut stack = vec![start];
+        while let Some(f) = stack.pop() {
+            let flip_f = flip[f].unwrap_or(false);
+            for &(e, d) in &faces[f].bound {
+                for &(g, dg) in &users[e] {
+                    if g != f && flip[g].is_none() {
+                        // g is used the way f effectively runs: turn it.
+                        flip[g] = Some((d ^ flip_f) == dg);
+                        stack.push(g);
+                    }
+                }
+            }
+        }
+    }
+    for (f, flipped) in faces.iter_mut().zip(flip) {
+        if flipped == Some(true) {
+            f.bound.reverse();
+            for b in &mut f.bound {
+                b.1 = !b.1;
+            }
+            f.reversed = true;
+        }
+    }
 }
 
 /// Whether `b` runs along `a` within `tol` (interior samples of `b` near `a`): `Some`

@@ -65,7 +65,7 @@ pub fn tessellate_trimmed(face: &TrimmedSurface, tol: &Tolerance) -> Result<Surf
 
     for _ in 0..REFINE_ROUNDS {
         let mut added = false;
-        let faces = inner_triangles(&cdt, &inside);
+        let faces = inner_triangles(&cdt, n, &inside);
         for [a, b, c] in faces {
             let centre = (uv[a] + uv[b] + uv[c]) / 3.0;
             let flat = (positions[a] + positions[b] + positions[c]) / 3.0;
@@ -85,7 +85,7 @@ pub fn tessellate_trimmed(face: &TrimmedSurface, tol: &Tolerance) -> Result<Surf
         }
     }
 
-    let triangles: Vec<[u32; 3]> = inner_triangles(&cdt, &inside)
+    let triangles: Vec<[u32; 3]> = inner_triangles(&cdt, n, &inside)
         .into_iter()
         .map(|[a, b, c]| [a as u32, b as u32, c as u32])
         .collect();
@@ -106,21 +106,29 @@ fn invalid(reason: String) -> GeomError {
 }
 
 /// The triangles of `cdt` inside the loop, counter-clockwise, as vertex indices (the
-/// insertion order).
+/// insertion order). The first `boundary` vertices are the outline's; every other
+/// vertex lies inside it, so only a triangle of three outline vertices needs the
+/// inside test.
 fn inner_triangles(
     cdt: &ConstrainedDelaunayTriangulation<Point2<f64>>,
+    boundary: usize,
     inside: &impl Fn(DVec2) -> bool,
 ) -> Vec<[usize; 3]> {
     let mut out = Vec::new();
     for f in cdt.inner_faces() {
         let [a, b, c] = f.vertices();
+        let ids = [a.fix().index(), b.fix().index(), c.fix().index()];
+        if ids.iter().any(|&i| i >= boundary) {
+            out.push(ids);
+            continue;
+        }
         let p = |v: &spade::handles::VertexHandle<'_, Point2<f64>, (), _, ()>| {
             let q = v.position();
             DVec2::new(q.x, q.y)
         };
         let centre = (p(&a) + p(&b) + p(&c)) / 3.0;
         if inside(centre) {
-            out.push([a.fix().index(), b.fix().index(), c.fix().index()]);
+            out.push(ids);
         }
     }
     out
