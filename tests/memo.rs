@@ -96,7 +96,10 @@ fn editing_the_fender_example_reevaluates_only_the_dependents() {
     assert!(warm.diagnostics.is_empty());
     let mut ran = engine.last_evaluated().to_vec();
     ran.sort();
-    assert_eq!(ran, ["addendum", "crown", "fender", "net", "outline", "panel"]);
+    assert_eq!(
+        ran,
+        ["addendum", "crown", "fender", "net", "outline", "panel"]
+    );
     assert_eq!(engine.evaluation_count(), after_cold + 6);
 
     // Redrawing one side's binder wrap rebuilds that sketch, the punch opening, the

@@ -128,6 +128,13 @@ fn tessellation_is_cut_at_the_outline_and_within_tolerance() {
             "sag {}",
             r - mid.length()
         );
+        for m in [(a + b) / 2.0, (b + c) / 2.0, (c + a) / 2.0] {
+            assert!(
+                r - m.length() <= tol.chordal * 1.01,
+                "edge sag {}",
+                r - m.length()
+            );
+        }
         // Counter-clockwise around the outward normal.
         let n = (b - a).cross(c - a);
         assert!(

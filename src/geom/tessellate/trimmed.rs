@@ -6,9 +6,10 @@
 //! tessellation grid (sized by the tolerance and the curvature) inside the loop, kept
 //! away from the boundary so no sliver forms. A constrained Delaunay triangulation in
 //! `(u, v)` (the `spade` crate) joins them with the boundary segments as constraints;
-//! triangles outside the loop are dropped. Triangles whose middle or edge midpoints
-//! deviate from the surface by more than the tolerance get a new vertex there, for a
-//! few rounds.
+//! triangles outside the loop are dropped. A triangle whose middle or an inner edge's
+//! midpoint deviates from the surface by more than the tolerance gets a new vertex at
+//! the worst of them, for a few rounds (the outline's own segments are its chords
+//! within the tolerance already).
 
 use glam::{DVec2, DVec3};
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
@@ -66,18 +67,38 @@ pub fn tessellate_trimmed(face: &TrimmedSurface, tol: &Tolerance) -> Result<Surf
     for _ in 0..REFINE_ROUNDS {
         let mut added = false;
         let faces = inner_triangles(&cdt, n, &inside);
+        let mut inserts: Vec<DVec2> = Vec::new();
         for [a, b, c] in faces {
-            let centre = (uv[a] + uv[b] + uv[c]) / 3.0;
-            let flat = (positions[a] + positions[b] + positions[c]) / 3.0;
-            if s.point_at(centre.x, centre.y).distance(flat) > tol.chordal {
-                let idx = cdt
-                    .insert(Point2::new(centre.x, centre.y))
-                    .map_err(|e| invalid(format!("triangulation failed: {e:?}")))?;
-                if idx.index() == uv.len() {
-                    uv.push(centre);
-                    positions.push(s.point_at(centre.x, centre.y));
-                    added = true;
+            // The middle and the midpoints of the edges that are not outline segments
+            // (those are the outline's own chords, within the tolerance already).
+            let outline_edge = |i: usize, j: usize| {
+                i < n && j < n && (i + 1 == j || j + 1 == i || (i + j + 1 == n && i.min(j) == 0))
+            };
+            let mut probes = vec![(
+                (uv[a] + uv[b] + uv[c]) / 3.0,
+                (positions[a] + positions[b] + positions[c]) / 3.0,
+            )];
+            for (i, j) in [(a, b), (b, c), (c, a)] {
+                if !outline_edge(i, j) {
+                    probes.push((0.5 * (uv[i] + uv[j]), 0.5 * (positions[i] + positions[j])));
                 }
+            }
+            let worst = probes
+                .into_iter()
+                .map(|(q, flat)| (q, s.point_at(q.x, q.y).distance(flat)))
+                .max_by(|x, y| x.1.total_cmp(&y.1));
+            if let Some((q, _)) = worst.filter(|w| w.1 > tol.chordal) {
+                inserts.push(q);
+            }
+        }
+        for q in inserts {
+            let idx = cdt
+                .insert(Point2::new(q.x, q.y))
+                .map_err(|e| invalid(format!("triangulation failed: {e:?}")))?;
+            if idx.index() == uv.len() {
+                uv.push(q);
+                positions.push(s.point_at(q.x, q.y));
+                added = true;
             }
         }
         if !added {
