@@ -104,6 +104,15 @@ product part = trim(panel, project(sk.rectangle(top, (0, 0), 400 mm, 300 mm, 50 
 }
 
 #[test]
+fn a_step_output_without_a_die_face_is_refused() {
+    let dir = project("step_empty", "let a = circle((0, 0), 10 mm)\n");
+    let (code, _, stderr) = dieface(&dir, &["build", "part.die", "-o", "a.step"]);
+    assert_eq!(code, Some(2), "{stderr}");
+    assert!(stderr.contains("no die face to write"), "{stderr}");
+    assert!(!dir.join("a.step").exists());
+}
+
+#[test]
 fn an_unknown_extension_is_a_usage_error_before_evaluating() {
     // The script is broken too: exit 2 shows the outputs were checked first.
     let dir = project("bad_ext", "let a = 10 mm + 5 deg\n");

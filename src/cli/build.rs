@@ -71,9 +71,15 @@ pub(crate) fn step_bytes(outcome: &Outcome, name: &str) -> Result<Vec<u8>, Strin
         .map_err(|e| format!("sewing the die face failed: {e}"))?;
     let beads =
         sew(faces.beads, SEW_TOLERANCE_MM).map_err(|e| format!("sewing the beads failed: {e}"))?;
-    let mut shells = vec![("die_face".to_string(), &die)];
+    let mut shells = Vec::new();
+    if !die.faces.is_empty() {
+        shells.push(("die_face".to_string(), &die));
+    }
     if !beads.faces.is_empty() {
         shells.push(("beads".to_string(), &beads));
+    }
+    if shells.is_empty() {
+        return Err("the script has no die face to write: STEP carries the products (trimmed with `trim(panel, outline)`) and the step draw, blankholder and bead features, and this script has none".into());
     }
     Ok(encode_step(&StepModel {
         name: name.to_string(),
