@@ -71,12 +71,54 @@ fn builds_every_format_in_one_run() {
 }
 
 #[test]
+fn a_step_output_is_written_byte_identical_twice() {
+    let script = r#"
+import "std/sketch" as sk
+let panel = nurbs_surface(degree: (2, 1), points: [[(-300, -250, 0), (-300, 250, 0)], [(0, -250, 20), (0, 250, 20)], [(300, -250, 0), (300, 250, 0)]])
+product part = trim(panel, project(sk.rectangle(top, (0, 0), 400 mm, 300 mm, 50 mm), panel))
+"#;
+    let dir = project("step_out", script);
+    let (code, _, stderr) = dieface(&dir, &["build", "part.die", "-o", "a.step", "-o", "b.STP"]);
+    assert_eq!(code, Some(0), "{stderr}");
+    let a = std::fs::read_to_string(dir.join("a.step")).expect("step");
+    assert!(a.starts_with("ISO-10303-21;"), "{a}");
+    assert_eq!(
+        a.matches("ADVANCED_FACE(").count(),
+        1,
+        "the trimmed product only"
+    );
+    assert_eq!(
+        a.matches("ORIENTED_EDGE(").count(),
+        1,
+        "one closed outline edge"
+    );
+    assert_eq!(a, std::fs::read_to_string(dir.join("b.STP")).expect("stp"));
+    assert_eq!(
+        dieface(&dir, &["build", "part.die", "-o", "a.step"]).0,
+        Some(0)
+    );
+    assert_eq!(
+        a,
+        std::fs::read_to_string(dir.join("a.step")).expect("step")
+    );
+}
+
+#[test]
+fn a_step_output_without_a_die_face_is_refused() {
+    let dir = project("step_empty", "let a = circle((0, 0), 10 mm)\n");
+    let (code, _, stderr) = dieface(&dir, &["build", "part.die", "-o", "a.step"]);
+    assert_eq!(code, Some(2), "{stderr}");
+    assert!(stderr.contains("no die face to write"), "{stderr}");
+    assert!(!dir.join("a.step").exists());
+}
+
+#[test]
 fn an_unknown_extension_is_a_usage_error_before_evaluating() {
     // The script is broken too: exit 2 shows the outputs were checked first.
     let dir = project("bad_ext", "let a = 10 mm + 5 deg\n");
     let (code, _, stderr) = dieface(&dir, &["build", "part.die", "-o", "a.stl"]);
     assert_eq!(code, Some(2), "{stderr}");
-    assert!(stderr.contains(".glb, .gltf or .obj"), "{stderr}");
+    assert!(stderr.contains(".glb, .gltf, .obj or .step"), "{stderr}");
     assert!(!stderr.contains("unit_mismatch"), "{stderr}");
     assert_eq!(dieface(&dir, &["build", "part.die"]).0, Some(2), "no -o");
     assert_eq!(

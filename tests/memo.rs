@@ -75,8 +75,8 @@ fn memoized_values_follow_their_declarations_when_text_above_moves() {
 }
 
 /// The fender example: changing the crown height re-evaluates the height function's
-/// users (the control net, the product, its outline and the step draw that meets it)
-/// and nothing else.
+/// users (the control net, the panel, its outline, the product trimmed there and the
+/// step draw that meets it) and nothing else.
 #[test]
 fn editing_the_fender_example_reevaluates_only_the_dependents() {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/fender");
@@ -96,8 +96,11 @@ fn editing_the_fender_example_reevaluates_only_the_dependents() {
     assert!(warm.diagnostics.is_empty());
     let mut ran = engine.last_evaluated().to_vec();
     ran.sort();
-    assert_eq!(ran, ["addendum", "crown", "fender", "net", "outline"]);
-    assert_eq!(engine.evaluation_count(), after_cold + 5);
+    assert_eq!(
+        ran,
+        ["addendum", "crown", "fender", "net", "outline", "panel"]
+    );
+    assert_eq!(engine.evaluation_count(), after_cold + 6);
 
     // Redrawing one side's binder wrap rebuilds that sketch, the punch opening, the
     // blankholder around it, the step draw that reaches it and the beads on the

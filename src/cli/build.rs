@@ -1,4 +1,5 @@
-//! `dieface build FILE -o OUT.glb [-o OUT.obj] [--tolerance 0.01mm] [-D name=value]`.
+//! `dieface build FILE -o OUT.glb [-o OUT.obj] [-o OUT.step] [--tolerance 0.01mm]
+//! [-D name=value]`.
 //!
 //! Evaluate; on any diagnostic print them all and exit 1 without touching an output;
 //! else tessellate once into a scene and write every output atomically (a failed or
@@ -15,7 +16,9 @@ use crate::eval::units::Units;
 use crate::eval::value::{Data, Dim};
 use crate::eval::{Engine, Outcome};
 use crate::export::atomic::write_atomic;
+use crate::export::step::{encode_step, StepModel};
 use crate::export::{build_scene, encode, Format};
+use crate::geom::sew::sew;
 use crate::geom::tessellate::Tolerance;
 
 use super::{ms, progress, OutputArgs, ScriptArgs, SCRIPT_ERROR, USAGE_ERROR};
@@ -29,11 +32,60 @@ const TOLERANCE_PARAM: &str = "tolerance";
 /// What a build writes, checked before anything is evaluated.
 pub(crate) struct Plan {
     /// Outputs with their formats, in command-line order.
-    pub outputs: Vec<(PathBuf, Format)>,
+    pub outputs: Vec<(PathBuf, Output)>,
     /// `--tolerance` in mm, which wins over the script's `param tolerance`.
     pub tolerance: Option<f64>,
     /// Colour diagnostics.
     pub color: bool,
+}
+
+/// An output's format: a tessellated scene (glTF, OBJ) or the die face's B-spline
+/// faces (STEP, `.step` or `.stp`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Output {
+    /// A scene format.
+    Scene(Format),
+    /// STEP AP214: the die face sewn into a shell ([`crate::export::step`]).
+    Step,
+}
+
+impl Output {
+    fn from_path(p: &std::path::Path) -> Option<Output> {
+        let ext = p.extension()?.to_str()?.to_ascii_lowercase();
+        match ext.as_str() {
+            "step" | "stp" => Some(Output::Step),
+            _ => Format::from_path(p).map(Output::Scene),
+        }
+    }
+}
+
+/// How far apart (mm) two faces' boundaries may lie and still be sewn into one edge in
+/// the STEP output.
+const SEW_TOLERANCE_MM: f64 = crate::geom::sew::DIE_FACE_TOLERANCE;
+
+/// The STEP bytes of the die face of `outcome`: the product, step draw and binder
+/// faces sewn into one shell, the beads in a second.
+pub(crate) fn step_bytes(outcome: &Outcome, name: &str) -> Result<Vec<u8>, String> {
+    let faces = crate::eval::die_face::die_face(outcome);
+    let die = sew(faces.faces, SEW_TOLERANCE_MM)
+        .map_err(|e| format!("sewing the die face failed: {e}"))?;
+    let beads =
+        sew(faces.beads, SEW_TOLERANCE_MM).map_err(|e| format!("sewing the beads failed: {e}"))?;
+    let mut shells = Vec::new();
+    if !die.faces.is_empty() {
+        shells.push(("die_face".to_string(), &die));
+    }
+    if !beads.faces.is_empty() {
+        shells.push(("beads".to_string(), &beads));
+    }
+    if shells.is_empty() {
+        return Err("the script has no die face to write: STEP carries the products (trimmed with `trim(panel, outline)`) and the step draw, blankholder and bead features, and this script has none".into());
+    }
+    Ok(encode_step(&StepModel {
+        name: name.to_string(),
+        shells,
+        uncertainty: SEW_TOLERANCE_MM,
+    }))
 }
 
 /// How one build went.
@@ -59,11 +111,11 @@ impl Plan {
     pub(crate) fn new(script: &ScriptArgs, out: &OutputArgs) -> Result<Plan, ExitCode> {
         let mut outputs = Vec::new();
         for path in &out.outputs {
-            match Format::from_path(path) {
+            match Output::from_path(path) {
                 Some(f) => outputs.push((path.clone(), f)),
                 None => {
                     eprintln!(
-                        "error: cannot tell the format of `{}`: use .glb, .gltf or .obj",
+                        "error: cannot tell the format of `{}`: use .glb, .gltf, .obj or .step",
                         path.display()
                     );
                     return Err(ExitCode::from(USAGE_ERROR));
@@ -143,7 +195,23 @@ impl Plan {
         let mut files = Vec::new();
         for (path, format) in &self.outputs {
             let bar = progress(format!("writing {}", path.display()));
-            let bytes = encode(&scene, *format);
+            let bytes = match format {
+                Output::Scene(f) => encode(&scene, *f),
+                Output::Step => {
+                    let stem = script
+                        .file
+                        .file_stem()
+                        .map_or_else(|| "die_face".into(), |s| s.to_string_lossy().into_owned());
+                    match step_bytes(&outcome, &stem) {
+                        Ok(b) => b,
+                        Err(e) => {
+                            bar.finish_and_clear();
+                            eprintln!("error: cannot write `{}`: {e}", path.display());
+                            return Ok(Built::WriteFailed);
+                        }
+                    }
+                }
+            };
             let written = write_atomic(path, &bytes);
             bar.finish_and_clear();
             if let Err(e) = written {

@@ -151,6 +151,7 @@ pub(crate) fn run(script: &ScriptArgs, json: bool) -> ExitCode {
 fn area(v: &Value) -> Option<f64> {
     match &v.data {
         Data::Surface(s) => Some(s.area()),
+        Data::Trimmed(t) => Some(t.area()),
         Data::Mesh(m) => Some(m.total_area()),
         _ => None,
     }
@@ -179,6 +180,7 @@ fn type_token(v: &Value) -> &'static str {
         Data::Curve2(_) => "curve2",
         Data::Curve3(_) => "curve3",
         Data::Surface(_) => "surface",
+        Data::Trimmed(_) => "trimmed_surface",
         Data::Mesh(_) => "mesh",
         Data::Transform(_) => "transform",
     }
@@ -388,6 +390,13 @@ fn value_json(v: &Value, sources: &Sources) -> Json {
         Data::Curve2(c) => curve_json(c.as_ref()),
         Data::Curve3(c) => curve_json(c.as_ref()),
         Data::Surface(s) => surface_json(s),
+        Data::Trimmed(t) => {
+            let mut m = Map::new();
+            m.insert("surface".into(), surface_json(t.surface()));
+            m.insert("outer".into(), curve_json(t.outer().curve()));
+            m.insert("area".into(), json!(t.area()));
+            Json::Object(m)
+        }
         Data::Mesh(mesh) => {
             let (t, q) = mesh.triangle_and_quad_counts();
             let groups: Vec<Json> = mesh

@@ -940,7 +940,7 @@ impl Engine {
 
 /// A product is a surface, a mesh, or a list of them.
 fn check_product(v: &Value) -> Result<(), Diagnostic> {
-    let ok = |d: &Data| matches!(d, Data::Surface(_) | Data::Mesh(_));
+    let ok = |d: &Data| matches!(d, Data::Surface(_) | Data::Trimmed(_) | Data::Mesh(_));
     let fine = match &v.data {
         Data::List(items) => !items.is_empty() && items.iter().all(|i| ok(&i.data)),
         d => ok(d),
@@ -950,11 +950,11 @@ fn check_product(v: &Value) -> Result<(), Diagnostic> {
     } else {
         Err(Diagnostic::new(
             "die::type_mismatch",
-            format!("a product must be a surface, a mesh or a list of surfaces, but this is {}", v.type_name()),
+            format!("a product must be a surface, a trimmed surface, a mesh or a list of them, but this is {}", v.type_name()),
             v.span,
             format!("this is {}", v.type_name()),
         )
-        .with_help("build the panel with `nurbs_surface(...)`, `loft(...)`, `coons(...)`, or read it with `read_obj(\"part.obj\")`"))
+        .with_help("build the panel with `nurbs_surface(...)`, `loft(...)`, `coons(...)` and trim it at its outline with `trim(panel, outline)`, or read it with `read_obj(\"part.obj\")`"))
     }
 }
 

@@ -8,6 +8,7 @@
 
 pub mod builtins;
 pub mod deps;
+pub mod die_face;
 pub mod engine;
 pub mod expr;
 pub mod features;

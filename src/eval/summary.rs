@@ -111,6 +111,22 @@ pub fn summarize(v: &Value) -> String {
                 bbox(lo, hi)
             )
         }
+        Data::Trimmed(t) => {
+            let s = t.surface();
+            let (nu, nv) = s.counts();
+            let c = t.outer().curve();
+            let (lo, hi) = bounds(sampled_curve(c));
+            format!(
+                "trimmed surface, degree {}x{}, {}x{} control points{}, outline length {} mm, bounds {}",
+                s.degree_u(),
+                s.degree_v(),
+                nu,
+                nv,
+                if s.is_rational() { " (rational)" } else { "" },
+                round(c.length()),
+                bbox(lo, hi)
+            )
+        }
         Data::Mesh(m) => {
             let (t, q) = m.triangle_and_quad_counts();
             let b = m

@@ -15,7 +15,7 @@ use crate::die::blankholder::Blankholder;
 use crate::die::punch_opening::PunchOpening;
 use crate::die::step_draw::StepDraw;
 use crate::geom::mesh::Mesh;
-use crate::geom::{Curve2, Curve3, NurbsSurface, Transform};
+use crate::geom::{Curve2, Curve3, NurbsSurface, Transform, TrimmedSurface};
 use crate::syntax::ast::{Expr, Param};
 use crate::syntax::{FileId, Span};
 
@@ -186,6 +186,9 @@ pub enum Data {
     Curve3(Arc<Curve3>),
     /// A NURBS surface.
     Surface(Arc<NurbsSurface>),
+    /// A surface trimmed at a closed outline on it (`trim(panel, outline)`): the
+    /// product as the die face carries it.
+    Trimmed(Arc<TrimmedSurface>),
     /// A triangle/quad mesh (a product read from OBJ).
     Mesh(Arc<Mesh>),
     /// An affine transform.
@@ -218,6 +221,7 @@ impl Data {
             Data::Curve2(_) => "a 2-D curve".into(),
             Data::Curve3(_) => "a 3-D curve".into(),
             Data::Surface(_) => "a surface".into(),
+            Data::Trimmed(_) => "a trimmed surface".into(),
             Data::Mesh(_) => "a mesh".into(),
             Data::Transform(_) => "a transform".into(),
         }

@@ -21,6 +21,7 @@ pub mod atomic;
 pub mod gltf;
 pub mod obj;
 pub mod scene;
+pub mod step;
 
 use std::path::Path;
 

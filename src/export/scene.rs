@@ -4,6 +4,8 @@
 //! exported):
 //!
 //! * a surface: triangles within the chordal tolerance, with the surface normals;
+//! * a trimmed surface (the product trimmed at its outline): the same, cut exactly at
+//!   the outline (its boundary vertices are points of the outline);
 //! * a mesh: its faces as triangles (quads split along the shorter diagonal), with its
 //!   own normals or, when it has none, angle-weighted vertex normals;
 //! * a 3-D curve, a sketch (placed in its view) or a 2-D curve (at z = 0): a line strip
@@ -17,6 +19,10 @@
 //! * a feature (`punch_opening opening { ... }`, `blankholder binder { ... }`): one child
 //!   per piece, `opening/front`, `opening/front_nose`, `binder/front`; the opening's
 //!   closed `line` is not repeated, its pieces are the line.
+//!
+//! A top-level `let` whose surface a `product` trims (`let panel = ...`,
+//! `product fender = trim(panel, outline)`) is not exported: the product is that panel,
+//! cut at its outline.
 //!
 //! Node names are full paths from the declaration (`pol/side-front`, `bead_lines/1`), so
 //! they are unique in the scene and an OBJ group keeps the nesting. Children carry the
@@ -36,7 +42,9 @@ use crate::die::bead::Bead;
 use crate::eval::value::{Data, Feature, Record, Value};
 use crate::eval::Outcome;
 use crate::geom::mesh::Mesh;
-use crate::geom::tessellate::{tessellate_curve, tessellate_surface, Tolerance};
+use crate::geom::tessellate::{
+    tessellate_curve, tessellate_surface, tessellate_trimmed, SurfaceMesh, Tolerance,
+};
 use crate::geom::{Curve3, GeomError};
 use crate::syntax::Span;
 
@@ -201,6 +209,7 @@ type Cache = RefCell<HashMap<usize, (Data, Geometry, bool)>>;
 fn identity(data: &Data) -> Option<usize> {
     match data {
         Data::Surface(s) => Some(Arc::as_ptr(s) as *const () as usize),
+        Data::Trimmed(t) => Some(Arc::as_ptr(t) as *const () as usize),
         Data::Mesh(m) => Some(Arc::as_ptr(m) as *const () as usize),
         Data::Curve3(c) => Some(Arc::as_ptr(c) as *const () as usize),
         Data::Curve2(c) => Some(Arc::as_ptr(c) as *const () as usize),
@@ -218,9 +227,13 @@ fn build_with_cache(
     let source_name = sources
         .get(outcome.file)
         .map_or_else(String::new, |f| f.name.clone());
+    let trimmed = trimmed_panels(outcome);
     let mut nodes = Vec::new();
     for d in &outcome.decls {
         let Some(value) = &d.value else { continue };
+        if d.kind == "let" && matches!(&value.data, Data::Surface(s) if trimmed.contains(&&**s)) {
+            continue;
+        }
         let ctx = Ctx {
             sources,
             tol,
@@ -239,6 +252,26 @@ fn build_with_cache(
         tolerance_mm: tol.chordal,
         source_name,
     })
+}
+
+/// The untrimmed surfaces of the products trimmed at their outline: a `let` holding
+/// one of them is the panel the product was cut from, and exporting it too would put
+/// the untrimmed product back over the step draw.
+fn trimmed_panels(outcome: &Outcome) -> Vec<&crate::geom::NurbsSurface> {
+    let mut out = Vec::new();
+    for d in outcome.decls.iter().filter(|d| d.kind == "product") {
+        let Some(value) = &d.value else { continue };
+        let items: Vec<&Value> = match &value.data {
+            Data::List(items) => items.iter().collect(),
+            _ => vec![value],
+        };
+        for v in items {
+            if let Data::Trimmed(t) = &v.data {
+                out.push(t.surface());
+            }
+        }
+    }
+    out
 }
 
 /// What every node of one declaration shares.
@@ -274,17 +307,11 @@ impl Ctx<'_> {
         match &value.data {
             Data::Surface(s) => {
                 let mesh = tessellate_surface(s, self.tol).map_err(|e| self.error(value, e))?;
-                let normals = mesh
-                    .normals
-                    .iter()
-                    .map(|n| n.try_normalize().unwrap_or(DVec3::Z))
-                    .collect();
-                let indices = mesh.triangles.iter().flatten().copied().collect();
-                node.geometry.push(Geometry::Triangles {
-                    positions: mesh.positions,
-                    normals,
-                    indices,
-                });
+                node.geometry.push(surface_triangles(mesh));
+            }
+            Data::Trimmed(t) => {
+                let mesh = tessellate_trimmed(t, self.tol).map_err(|e| self.error(value, e))?;
+                node.geometry.push(surface_triangles(mesh));
             }
             Data::Mesh(m) => node.geometry.push(mesh_triangles(m)),
             Data::Curve3(c) => node.geometry.push(self.line_strip(c, value)?),
@@ -359,6 +386,21 @@ impl Ctx<'_> {
         )
         .with_label(self.decl_span, "in this declaration")
         .with_help("use a coarser tolerance (`--tolerance`), e.g. 0.01mm or 0.05mm")
+    }
+}
+
+/// A surface tessellation as triangles with unit normals.
+fn surface_triangles(mesh: SurfaceMesh) -> Geometry {
+    let normals = mesh
+        .normals
+        .iter()
+        .map(|n| n.try_normalize().unwrap_or(DVec3::Z))
+        .collect();
+    let indices = mesh.triangles.iter().flatten().copied().collect();
+    Geometry::Triangles {
+        positions: mesh.positions,
+        normals,
+        indices,
     }
 }
 

@@ -140,6 +140,14 @@ pub enum GeomError {
     /// direction (parameters given).
     #[error("the end of the stretch (parameter {to}) comes before its start (parameter {from}) along the open curve")]
     StretchBackwards { from: f64, to: f64 },
+
+    /// A boundary loop that must be closed has its ends `gap` mm apart.
+    #[error("the loop is open: its ends are {gap} mm apart")]
+    OpenLoop { gap: f64 },
+
+    /// A curve that must lie on a surface is `distance` mm from it at the point `at`.
+    #[error("the curve lies {distance} mm off the surface at ({}, {}, {})", at.0, at.1, at.2)]
+    OffSurface { distance: f64, at: (f64, f64, f64) },
 }
 
 /// The kernel's result type.

@@ -42,9 +42,11 @@ pub mod mesh;
 pub mod offset;
 pub mod ops;
 pub mod point;
+pub mod sew;
 pub mod surface;
 pub mod tessellate;
 pub mod transform;
+pub mod trimmed;
 
 pub use curve::{Curve2, Curve3, NurbsCurve};
 pub use error::{GeomError, Result};
@@ -52,6 +54,7 @@ pub use knots::KnotVector;
 pub use point::{Homogeneous, Linear, Point};
 pub use surface::{Direction, NurbsSurface};
 pub use transform::Transform;
+pub use trimmed::{TrimLoop, TrimmedSurface};
 
 /// Highest degree the kernel evaluates. OpenCascade allows 25; die-face geometry stays
 /// below 10, and a small fixed bound keeps basis evaluation on the stack.

@@ -44,6 +44,7 @@ use fit::SectionBasis;
 use slopes::{BinderSlope, ProductSlope};
 
 use super::continuity::{measure_join, JoinQuality};
+use super::figures::{edge_samples, seam, Edge, Seam};
 use crate::geom::interpolate::{interpolate_at, Interpolation, KnotPlacement};
 use crate::geom::intersect::{intersect_curve_plane, Plane};
 use crate::geom::inversion::{closest_point_on_curve, project_to_curve_near};
@@ -134,6 +135,9 @@ pub struct Patch {
     pub reversed: bool,
     /// The sections at the knots, from `G_U` to `G_D` (key and intermediate).
     pub sections: Vec<Curve3>,
+    /// The smallest radius drawn in the patch's two key sections (mm; infinite when
+    /// they draw none): no radius on the patch may be much tighter.
+    pub drawn_radius: f64,
 }
 
 /// Quality figures.
@@ -155,6 +159,12 @@ pub struct Quality {
     pub per_section: Vec<(String, SectionMoves)>,
     /// Every join between neighbouring patches.
     pub joins: Vec<(String, String, JoinQuality)>,
+    /// Along the trim line: the gap and crease between the step draw and the product
+    /// surface (when the product is given as a surface).
+    pub trim: Option<Seam>,
+    /// Along the punch opening line: the gap and crease between the step draw and the
+    /// binder (when the binder is given).
+    pub opening_seam: Option<Seam>,
 }
 
 /// How far one key section's ends were moved (mm): see [`Quality`].
@@ -551,8 +561,10 @@ pub fn build(guides: &Guides, sections: &[SectionSpec], opts: &Options) -> Resul
         )
         .map_err(|p| fail(next, p))?;
         let base = format!("{}_to_{}", sections[k].name, sections[next].name);
+        let drawn = drawn_radius(&key_chains[k]).min(drawn_radius(&key_chains[next]));
         let count = subs.len();
         for (i, mut s) in subs.into_iter().enumerate() {
+            s.drawn_radius = drawn;
             s.name = if i == 0 || count == 1 {
                 base.clone()
             } else {
@@ -601,6 +613,7 @@ pub fn build(guides: &Guides, sections: &[SectionSpec], opts: &Options) -> Resul
             surface,
             reversed,
             sections: sub.sections.clone(),
+            drawn_radius: sub.drawn_radius,
         });
     }
 
@@ -630,6 +643,26 @@ pub fn build(guides: &Guides, sections: &[SectionSpec], opts: &Options) -> Resul
             measure_join(&a.surface, &b.surface, JOIN_SAMPLES),
         ));
     }
+    let surfaces_edge = |p: &Patch, product_edge: bool| {
+        let edge = match (product_edge, p.reversed) {
+            (true, false) | (false, true) => Edge::V1,
+            _ => Edge::V0,
+        };
+        edge_samples(&p.surface, edge, 4)
+    };
+    let mut trim: Option<Seam> = None;
+    let mut opening_seam: Option<Seam> = None;
+    let binder: Vec<&NurbsSurface> = guides.binder.iter().collect();
+    for p in &patches {
+        if let Some(product_surface) = &guides.product_surface {
+            let s = seam(&p.surface, &surfaces_edge(p, true), &[product_surface]).map_err(at(0))?;
+            trim = Some(worse_seam(trim, s));
+        }
+        if !binder.is_empty() {
+            let s = seam(&p.surface, &surfaces_edge(p, false), &binder).map_err(at(0))?;
+            opening_seam = Some(worse_seam(opening_seam, s));
+        }
+    }
     Ok(StepDraw {
         patches,
         key_sections,
@@ -647,8 +680,36 @@ pub fn build(guides: &Guides, sections: &[SectionSpec], opts: &Options) -> Resul
                 .fold(0.0, f64::max),
             per_section,
             joins,
+            trim,
+            opening_seam,
         },
     })
+}
+
+/// The worse of two seams' figures, each figure on its own.
+fn worse_seam(a: Option<Seam>, b: Seam) -> Seam {
+    let Some(a) = a else { return b };
+    let (gap, gap_at) = if b.gap > a.gap { (b.gap, b.gap_at) } else { (a.gap, a.gap_at) };
+    let (crease, crease_at) = if b.crease > a.crease {
+        (b.crease, b.crease_at)
+    } else {
+        (a.crease, a.crease_at)
+    };
+    Seam {
+        gap,
+        gap_at,
+        crease,
+        crease_at,
+    }
+}
+
+/// The smallest radius a key section draws (its corners that turn; infinite when it
+/// has none).
+fn drawn_radius(chain: &Chain) -> f64 {
+    (0..chain.corners())
+        .filter(|&k| chain.turn(k).abs() > 1e-6 && chain.radii[k] > 0.0)
+        .map(|k| chain.radii[k])
+        .fold(f64::INFINITY, f64::min)
 }
 
 /// Builds the section at any position along the outline: the key sections' runs and
@@ -746,6 +807,8 @@ fn obliquity(h: DVec3, (opening, product): (DVec3, DVec3)) -> f64 {
 #[derive(Debug, Clone)]
 struct SubPatch {
     name: String,
+    /// The smallest radius drawn in the two key sections.
+    drawn_radius: f64,
     /// The product piece on [0, 1] (simple interior knots).
     product: Curve3,
     /// The opening piece re-approximated on the product piece's knots.
@@ -939,6 +1002,7 @@ fn patch(
         )?;
         subs.push(SubPatch {
             name: String::new(),
+            drawn_radius: f64::INFINITY,
             product: sub_product,
             opening: sub_opening,
             sections: sections[i0..=i1].to_vec(),

@@ -19,7 +19,7 @@ use crate::geom::interpolate::{
 };
 use crate::geom::intersect::intersect_line_surface_all;
 use crate::geom::tessellate::{tessellate_curve, Tolerance};
-use crate::geom::{Curve3, GeomError, KnotVector, NurbsSurface};
+use crate::geom::{Curve3, GeomError, KnotVector, NurbsSurface, TrimmedSurface};
 
 use super::super::value::{Data, Value};
 use super::args::{bad_argument, direction3, opt_count, span_of, vector3, what};
@@ -58,6 +58,12 @@ pub static BUILTINS: &[Builtin] = &[
         params: &[req("curve"), req("surface"), opt("direction")],
         doc: "the curve on a surface under a curve seen along a direction (default press -Z: a trim line drawn in the top view, dropped onto the product); a smooth cubic, closed if the curve is",
         run: project,
+    },
+    Builtin {
+        name: "trim",
+        params: &[req("surface"), req("outline")],
+        doc: "the surface trimmed at a closed 3-D outline lying on it (such as `project(trim_line, panel)`): the part inside the outline, the product as the die face carries it",
+        run: trim,
     },
 ];
 
@@ -716,4 +722,39 @@ fn project(call: &Call) -> Result<Data, Diagnostic> {
         curve = fit_hits(&hits).map_err(fail)?;
     }
     Ok(Data::Curve3(Arc::new(curve)))
+}
+
+// ---- trim -----------------------------------------------------------------------------
+
+/// How far (mm) the outline of `trim` may lie from the surface, and its ends from each
+/// other: die-face accuracy (`project` itself fits within 1e-4 mm).
+const TRIM_TOLERANCE: f64 = 0.01;
+
+fn trim(call: &Call) -> Result<Data, Diagnostic> {
+    let surface = call.surface("surface")?;
+    let outline = call.curve3("outline")?;
+    let r = crate::eval::units::round;
+    match TrimmedSurface::new((*surface).clone(), (*outline).clone(), TRIM_TOLERANCE) {
+        Ok(t) => Ok(Data::Trimmed(Arc::new(t))),
+        Err(GeomError::OpenLoop { gap }) => Err(bad_argument(
+            call,
+            "outline",
+            format!("the outline of `trim` must be closed, but its ends are {} mm apart", r(gap)),
+            "trim at a closed outline: draw the trim line closed (`close` in the sketch) and project it onto the surface, `project(trim_line, panel)`",
+        )),
+        Err(GeomError::OffSurface { distance, at }) => Err(bad_argument(
+            call,
+            "outline",
+            format!(
+                "the outline of `trim` must lie on the surface, but it is {} mm off it near ({}, {}, {})",
+                r(distance),
+                r(at.0),
+                r(at.1),
+                r(at.2)
+            ),
+            format!("the outline must lie within {TRIM_TOLERANCE} mm of the surface: project the trim line onto this very surface, `project(trim_line, panel)`"),
+        )
+        .with_label(span_of(call, "surface"), "the surface")),
+        Err(e) => Err(call.kernel_error(e, Some("outline"))),
+    }
 }

@@ -127,7 +127,10 @@ pub fn build(block: &Block) -> Result<Value, Diagnostic> {
     let guides = sd::oriented(Guides {
         product,
         opening,
-        product_surface: None,
+        product_surface: match &product_field.value.data {
+            Data::Trimmed(t) => Some(t.surface().clone()),
+            _ => None,
+        },
         binder,
         closed,
     });
@@ -279,10 +282,12 @@ fn flag(block: &Block, name: &str) -> Result<bool, Diagnostic> {
     }
 }
 
-/// The product outline of the `product` field: a 3-D curve (a drawing has no heights).
+/// The product outline of the `product` field: a 3-D curve (a drawing has no heights),
+/// or a trimmed product, whose outer loop is the outline.
 fn product_curve(v: &Value) -> Result<Curve3, Diagnostic> {
     match &v.data {
         Data::Curve3(c) => Ok((**c).clone()),
+        Data::Trimmed(t) => Ok(t.outer().curve().clone()),
         Data::Sketch(_) | Data::Curve2(_) => Err(Diagnostic::new(
             "die::type_mismatch",
             format!(
@@ -296,7 +301,7 @@ fn product_curve(v: &Value) -> Result<Curve3, Diagnostic> {
         _ => Err(type_error(
             v,
             "`product` of a step draw",
-            "the product outline, a 3-D curve such as `project(trim, panel)`",
+            "the product outline, a 3-D curve such as `project(trim, panel)`, or the trimmed product, `trim(panel, outline)`",
         )),
     }
 }

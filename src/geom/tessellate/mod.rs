@@ -14,6 +14,8 @@
 //! * [`tessellate_surface`] gives a [`SurfaceMesh`]: a structured tensor grid whose
 //!   parameter lines are shared across the whole surface, hence watertight by
 //!   construction (no T-junctions), triangles wound like `S_u x S_v`.
+//! * [`tessellate_trimmed`] gives a [`SurfaceMesh`] of a trimmed face, cut exactly at
+//!   its outline (a constrained Delaunay triangulation in `(u, v)`).
 //!
 //! Everything is deterministic (no threads, no hashing) and never panics; invalid
 //! tolerances and runaway refinement come back as [`GeomError`].
@@ -21,9 +23,11 @@
 mod curve;
 mod grid;
 mod surface;
+mod trimmed;
 
 pub use curve::tessellate_curve;
 pub use surface::tessellate_surface;
+pub use trimmed::tessellate_trimmed;
 
 use glam::{DVec2, DVec3};
 
