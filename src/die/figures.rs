@@ -369,6 +369,38 @@ fn nearest_on_grid(s: &NurbsSurface, p: DVec3) -> (f64, f64) {
     best.1
 }
 
+/// The nearest point to `p` on the four boundary curves of `s`.
+fn nearest_on_edges(s: &NurbsSurface, p: DVec3) -> Option<crate::geom::inversion::SurfacePoint> {
+    use crate::geom::inversion::{closest_point_on_curve, SurfacePoint};
+    use crate::geom::Direction;
+    let (u0, u1) = s.domain_u();
+    let (v0, v1) = s.domain_v();
+    let mut best: Option<SurfacePoint> = None;
+    for (dir, fixed) in [
+        (Direction::U, u0),
+        (Direction::U, u1),
+        (Direction::V, v0),
+        (Direction::V, v1),
+    ] {
+        let Ok(cp) = closest_point_on_curve(&s.iso_curve(dir, fixed), p) else {
+            continue;
+        };
+        let (u, v) = match dir {
+            Direction::U => (fixed, cp.t),
+            Direction::V => (cp.t, fixed),
+        };
+        if best.as_ref().is_none_or(|b| cp.distance < b.distance) {
+            best = Some(SurfacePoint {
+                u,
+                v,
+                point: cp.point,
+                distance: cp.distance,
+            });
+        }
+    }
+    best
+}
+
 /// The distance from `p` to the box `lo..hi`.
 fn box_distance(lo: DVec3, hi: DVec3, p: DVec3) -> f64 {
     (lo - p).max(p - hi).max(DVec3::ZERO).length()
@@ -422,7 +454,12 @@ pub fn seam(
             let guess = guesses[k].unwrap_or_else(|| nearest_on_grid(b[k], p));
             let sp = match project_to_surface_near(b[k], p, guess) {
                 Ok(sp) => sp,
-                Err(GeomError::NoConvergence { .. }) => continue,
+                // A foot on the boundary (a seam runs along B's edge) can fail the
+                // interior test: the nearest point of B's four edges answers instead.
+                Err(GeomError::NoConvergence { .. }) => match nearest_on_edges(b[k], p) {
+                    Some(sp) => sp,
+                    None => continue,
+                },
                 Err(e) => return Err(e),
             };
             guesses[k] = Some((sp.u, sp.v));

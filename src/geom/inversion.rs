@@ -749,6 +749,7 @@ pub fn project_to_surface_near(
 }
 
 /// Relative distance under which [`project_to_surface_near`] takes the point Newton
-/// reached as the foot even when the cosine test fails to rounding (1e-9 of a 1 m part
-/// is a micrometre's thousandth).
-pub const NEAR_COINCIDENCE: f64 = 1e-9;
+/// reached as the foot even when the cosine test fails to rounding (1e-7 of a 1 m part
+/// is a tenth of a micrometre: curves that lie on a surface, such as a trim line
+/// projected onto it, sit that close, and their direction to the surface is noise).
+pub const NEAR_COINCIDENCE: f64 = 1e-7;

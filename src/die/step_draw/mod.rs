@@ -689,7 +689,11 @@ pub fn build(guides: &Guides, sections: &[SectionSpec], opts: &Options) -> Resul
 /// The worse of two seams' figures, each figure on its own.
 fn worse_seam(a: Option<Seam>, b: Seam) -> Seam {
     let Some(a) = a else { return b };
-    let (gap, gap_at) = if b.gap > a.gap { (b.gap, b.gap_at) } else { (a.gap, a.gap_at) };
+    let (gap, gap_at) = if b.gap > a.gap {
+        (b.gap, b.gap_at)
+    } else {
+        (a.gap, a.gap_at)
+    };
     let (crease, crease_at) = if b.crease > a.crease {
         (b.crease, b.crease_at)
     } else {

@@ -679,7 +679,7 @@ fn output(
     ];
     // The skin's draft and undercut (and its figures as the record `surface`); the
     // bead's own radii above (full height, ends, drawn) stay as they are.
-    let skin = [("surface", &bead.surface, &[][..])];
+    let skin = [("surface", &bead.surface, &[][..], None)];
     let mut skin_figures = Vec::new();
     super::surface_figures(&mut skin_figures, skin, span);
     for (key, value) in skin_figures {

@@ -932,7 +932,7 @@ fn output(block: &Block, binder: bh::Blankholder) -> Value {
     let patches = binder.patches.iter();
     super::surface_figures(
         &mut quality,
-        patches.map(|p| (p.name.as_str(), &p.surface, &[][..])),
+        patches.map(|p| (p.name.as_str(), &p.surface, &[][..], None)),
         span,
     );
     feature_value(

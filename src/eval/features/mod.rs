@@ -422,8 +422,9 @@ fn join_figures<'j>(
 /// `quality` record: the worst over the feature (`min_radius`, `min_radius_at`, `draft`,
 /// `draft_at`, `undercut`, and where patches carry sections, `sag`, `sag_at`,
 /// `sag_below_opening`, `sag_below_opening_at`), then one record per patch, named as
-/// the patch, with the same figures. Each patch is given with its surface and its
-/// sections (from the opening end to the product end; none for a binder).
+/// the patch, with the same figures. Each patch is given with its surface, its
+/// sections (from the opening end to the product end; none for a binder) and the
+/// smallest radius drawn for it, when one is (`drawn_radius`, beside `min_radius`).
 fn surface_figures<'p>(
     quality: &mut Fields,
     patches: impl IntoIterator<
@@ -431,6 +432,7 @@ fn surface_figures<'p>(
             &'p str,
             &'p crate::geom::NurbsSurface,
             &'p [crate::geom::Curve3],
+            Option<f64>,
         ),
     >,
     span: Span,
@@ -443,7 +445,8 @@ fn surface_figures<'p>(
     let mut radius = (f64::INFINITY, DVec3::ZERO);
     let mut draft = (f64::INFINITY, DVec3::ZERO);
     let mut sag: Option<((f64, DVec3), (f64, DVec3))> = None;
-    for (name, surface, sections) in patches {
+    let mut drawn_min = f64::INFINITY;
+    for (name, surface, sections, drawn) in patches {
         let f = measure(surface);
         let mut fields = vec![
             ("min_radius".to_string(), mm(f.min_radius, span)),
@@ -455,6 +458,10 @@ fn surface_figures<'p>(
                 Value::new(Data::Bool(f.undercut), span),
             ),
         ];
+        if let Some(d) = drawn.filter(|d| d.is_finite()) {
+            fields.push(("drawn_radius".to_string(), mm(d, span)));
+            drawn_min = drawn_min.min(d);
+        }
         if per_patch.is_empty() || f.min_radius < radius.0 {
             radius = (f.min_radius, f.min_radius_at);
         }
@@ -496,6 +503,11 @@ fn surface_figures<'p>(
     quality.extend([
         ("min_radius".to_string(), mm(radius.0, span)),
         ("min_radius_at".to_string(), point(radius.1)),
+    ]);
+    if drawn_min.is_finite() {
+        quality.push(("drawn_radius".to_string(), mm(drawn_min, span)));
+    }
+    quality.extend([
         ("draft".to_string(), deg(draft.0, span)),
         ("draft_at".to_string(), point(draft.1)),
         (

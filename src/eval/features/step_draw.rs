@@ -998,6 +998,19 @@ fn output(block: &Block, sd_result: sd::StepDraw) -> Value {
         ("end_snap".to_string(), mm(q.end_snap, span)),
         ("knot_move".to_string(), mm(q.knot_move, span)),
     ];
+    for (name, seam) in [("trim", &q.trim), ("opening", &q.opening_seam)] {
+        if let Some(seam) = seam {
+            quality.extend([
+                (format!("{name}_gap"), mm(seam.gap, span)),
+                (format!("{name}_gap_at"), Value::point3(seam.gap_at, span)),
+                (format!("{name}_crease"), super::deg(seam.crease, span)),
+                (
+                    format!("{name}_crease_at"),
+                    Value::point3(seam.crease_at, span),
+                ),
+            ]);
+        }
+    }
     quality.extend(worst);
     for (name, m) in &q.per_section {
         quality.push((
@@ -1015,7 +1028,14 @@ fn output(block: &Block, sd_result: sd::StepDraw) -> Value {
     let patches = sd_result.patches.iter();
     super::surface_figures(
         &mut quality,
-        patches.map(|p| (p.name.as_str(), &p.surface, p.sections.as_slice())),
+        patches.map(|p| {
+            (
+                p.name.as_str(),
+                &p.surface,
+                p.sections.as_slice(),
+                Some(p.drawn_radius),
+            )
+        }),
         span,
     );
     feature_value(
