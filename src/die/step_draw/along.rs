@@ -49,7 +49,10 @@ impl Along {
             start: self.chains[0].start,
             runs,
             radii,
-            obliquity: self.value(s, |c| c.obliquity),
+            obliquity: (
+                self.value(s, |c| c.obliquity.0),
+                self.value(s, |c| c.obliquity.1),
+            ),
         }
     }
 

@@ -25,6 +25,11 @@ use glam::DVec2;
 
 use crate::geom::Curve2;
 
+/// The shortest a run that the key sections give some length becomes when a section
+/// is made to reach its opening point (mm): a run of no length would leave its stretch
+/// of the knot vector standing still (a line of the surface with no tangent plane).
+pub const MIN_RUN: f64 = 0.5;
+
 /// Corners turning less than this (30 deg) are rounded wider: see [`Chain::arc_length`].
 pub const GENTLE_TURN: f64 = std::f64::consts::PI / 6.0;
 
@@ -47,9 +52,9 @@ pub struct Chain {
     pub runs: Vec<Run>,
     /// The corner radii.
     pub radii: Vec<f64>,
-    /// How square the drawing's plane cuts the walls (1 for square; see
-    /// `super::obliquity`).
-    pub obliquity: f64,
+    /// How square the drawing's plane cuts the walls at the product end and at the
+    /// opening end (1 for square; see `super::obliquity`).
+    pub obliquity: (f64, f64),
 }
 
 /// Where the pieces of a chain lie: each run's usable straight part and each corner's
@@ -237,8 +242,8 @@ impl Chain {
                 }
                 let w = out.runs[k].length + 1.0;
                 let l = out.runs[k].length + w * dir(out.runs[k].angle).dot(lam);
-                if l < 0.0 {
-                    next.runs[k].length = 0.0;
+                if l < MIN_RUN {
+                    next.runs[k].length = MIN_RUN.min(out.runs[k].length.max(0.0));
                     pinned[k] = true;
                     clamped = true;
                 } else {
@@ -393,7 +398,7 @@ fn build_chain(start: DVec2, elements: &[Element], eps: f64) -> Chain {
         start,
         runs,
         radii,
-        obliquity: 1.0,
+        obliquity: (1.0, 1.0),
     }
 }
 
@@ -561,8 +566,12 @@ fn expand(c: &Chain, master: &[Slot]) -> Chain {
         };
         let straight = run.length - wanted * shrink;
         let mut last_f = 0.0;
-        for s in pending.iter() {
-            let f = ((s.position - left) / span).clamp(last_f, 1.0);
+        let count = pending.len() as f64;
+        for (i, s) in pending.iter().enumerate() {
+            // Every piece keeps at least 5 % of the run, so none has no length.
+            let lo: f64 = last_f + 0.05;
+            let hi: f64 = 1.0 - 0.05 * (count - i as f64);
+            let f = ((s.position - left) / span).clamp(lo.min(hi), hi.max(lo));
             runs.push(Run {
                 angle: run.angle,
                 length: straight * (f - last_f),

@@ -179,16 +179,33 @@ impl SectionBasis {
     /// exactly at the chain's, with its largest distance from the chain (sampled
     /// halfway between the fitting points).
     pub fn fit(&self, chain: &Chain) -> crate::geom::Result<(crate::geom::Curve2, f64)> {
+        let curve = self.fit_warped(chain, |p| p)?;
+        let geo = PieceGeometry::new(chain);
+        let mut worst: f64 = 0.0;
+        for w in self.samples.windows(2) {
+            let u = 0.5 * (w[0].0 + w[1].0);
+            worst = worst.max(geo.distance(curve.point_at(u)));
+        }
+        Ok((curve, worst))
+    }
+
+    /// The cubic through the chain's points moved by `warp` (a smooth map of the
+    /// section plane), ends exactly at the warped chain's.
+    pub fn fit_warped(
+        &self,
+        chain: &Chain,
+        warp: impl Fn(DVec2) -> DVec2,
+    ) -> crate::geom::Result<crate::geom::Curve2> {
         debug_assert_eq!(chain.corners(), self.corners);
         let geo = PieceGeometry::new(chain);
         let pace = self.pace(&geo);
         let points: Vec<DVec2> = self
             .samples
             .iter()
-            .map(|&(_, piece, f)| geo.point(self.pieces[piece].0, pace[piece].at(f)))
+            .map(|&(_, piece, f)| warp(geo.point(self.pieces[piece].0, pace[piece].at(f))))
             .collect();
-        let p0 = chain.start;
-        let p1 = chain.end();
+        let p0 = warp(chain.start);
+        let p1 = warp(chain.end());
         let inner = self.basis.ncols();
         let mut out = vec![p0; inner + 2];
         for axis in 0..2 {
@@ -206,12 +223,7 @@ impl SectionBasis {
         }
         out[inner + 1] = p1;
         let curve = crate::geom::Curve2::new(3, self.knots.clone(), out)?;
-        let mut worst: f64 = 0.0;
-        for w in self.samples.windows(2) {
-            let u = 0.5 * (w[0].0 + w[1].0);
-            worst = worst.max(geo.distance(curve.point_at(u)));
-        }
-        Ok((curve, worst))
+        Ok(curve)
     }
 }
 
@@ -270,10 +282,22 @@ impl SectionBasis {
                     own[i]
                 };
                 let scale = (u1 - u0) / length;
-                // Slopes up to 3 keep the fraction increasing (Fritsch and Carlson).
+                // Slopes up to 3 keep the fraction increasing (Fritsch and Carlson); their
+                // sum up to 5 keeps the speed at a quarter of the mean or more midway
+                // (at a sum of 6 it stops there: a line of the surface with no tangent
+                // plane).
+                let (start, end) = (
+                    (left * scale).clamp(0.0, 3.0),
+                    (right * scale).clamp(0.0, 3.0),
+                );
+                let shrink = if start + end > 5.0 {
+                    5.0 / (start + end)
+                } else {
+                    1.0
+                };
                 Pace {
-                    start: (left * scale).clamp(0.0, 3.0),
-                    end: (right * scale).clamp(0.0, 3.0),
+                    start: start * shrink,
+                    end: end * shrink,
                 }
             })
             .collect()

@@ -761,16 +761,22 @@ impl Stations<'_> {
         let h = (across / length).extend(0.0);
         let mut chain = self.along.at(s);
         // How much more slanted this plane is than the key sections' (whose drawings
-        // are taken as they are).
-        let c = (obliquity(h, tangents) / chain.obliquity).clamp(0.5, 2.0);
-        let square = |angle: f64| angle.sin().atan2(angle.cos() * c);
+        // are taken as they are), at the product end and at the opening end.
+        // (One figure for the whole section, the mean of both ends': a slant that
+        // changes across the section, stretched as such, bent the die and punch radii
+        // tighter than drawn; a single stretch keeps them.)
+        let (cp, co) = obliquity(h, tangents);
+        let key = 0.5 * (chain.obliquity.0 + chain.obliquity.1);
+        let c0 = (0.5 * (cp + co) / key).clamp(0.5, 2.0);
+        let c1 = c0;
+        let square = |angle: f64, c: f64| angle.sin().atan2(angle.cos() * c);
         chain.start = DVec2::new(0.0, b.z);
         let last = chain.runs.len() - 1;
         if let Some(slope) = self.product.as_ref().and_then(|p| p.at(b, h)) {
-            chain.runs[0].angle = square(slope);
+            chain.runs[0].angle = square(slope, c0);
         }
         if let Some(slope) = self.binder.as_ref().and_then(|p| p.at(a, h)) {
-            chain.runs[last].angle = square(slope);
+            chain.runs[last].angle = square(slope, c1);
         }
         let fixed: Vec<bool> = self
             .basis
@@ -778,24 +784,54 @@ impl Stations<'_> {
             .iter()
             .map(|&own| !own)
             .collect();
+        // Across the section the slant goes linearly from c0 to c1: a width `dx` seen
+        // square to the walls takes `dx / c(x)` of the plane, so the whole width takes
+        // the logarithmic mean of the two.
+        let square_length = length * log_mean(c0, c1);
         let chain = chain
-            .reach(DVec2::new(length * c, a.z), &fixed)
+            .reach(DVec2::new(square_length, a.z), &fixed)
             .ok_or(Problem::CannotReach { at: b })?;
-        let (fitted, error) = self.basis.fit(&chain)?;
-        // Square to the walls, then across the plane, then into press coordinates: an
-        // affine map, so it moves the control points.
-        let fitted = fitted.map_points(|p: DVec2| {
-            let x = p.x / c;
-            DVec3::new(b.x + h.x * x, b.y + h.y * x, p.y)
-        });
-        Ok((fitted.reversed(), error / c))
+        let (_, error) = self.basis.fit(&chain)?;
+        let warp = |p: DVec2| {
+            let x = p.x;
+            let slope = (c1 - c0) / square_length.max(1e-9);
+            let across = if (c1 - c0).abs() <= 1e-9 * c0 {
+                x / c0
+            } else {
+                ((c0 + slope * x).max(0.25 * c0) / c0).ln() / slope
+            };
+            DVec2::new(across, p.y)
+        };
+        let fitted = self.basis.fit_warped(&chain, warp)?;
+        let fitted =
+            fitted.map_points(|p: DVec2| DVec3::new(b.x + h.x * p.x, b.y + h.y * p.x, p.y));
+        let end = fitted.end_point();
+        // The warp maps the chain's end onto the opening up to rounding: pin it there.
+        let fitted = if end.distance(a) > 0.0 {
+            let mut pts = fitted.control_points().to_vec();
+            let n = pts.len();
+            pts[n - 1] = a;
+            Curve3::new(3, fitted.knots().as_slice().to_vec(), pts)?
+        } else {
+            fitted
+        };
+        Ok((fitted.reversed(), error / c0.min(c1)))
     }
 }
 
-/// How square a section plane along `h` (horizontal, unit) cuts the walls: the cosine
-/// of its angle to the guides' normals in the top view (the mean of the opening's and
-/// the product outline's, from their tangents), at least 0.5.
-fn obliquity(h: DVec3, (opening, product): (DVec3, DVec3)) -> f64 {
+/// `(b - a) / ln(b / a)`, or `a` when they are equal.
+fn log_mean(a: f64, b: f64) -> f64 {
+    if (b - a).abs() <= 1e-9 * a {
+        a
+    } else {
+        (b - a) / (b / a).ln()
+    }
+}
+
+/// How square a section plane along `h` (horizontal, unit) cuts the walls at its
+/// product end and at its opening end: the cosine of its angle to each guide's normal
+/// in the top view (from their tangents), at least 0.5.
+fn obliquity(h: DVec3, (opening, product): (DVec3, DVec3)) -> (f64, f64) {
     let square = |t: DVec3| {
         let t = t.truncate().normalize_or_zero();
         if t == DVec2::ZERO {
@@ -804,7 +840,10 @@ fn obliquity(h: DVec3, (opening, product): (DVec3, DVec3)) -> f64 {
             h.truncate().perp_dot(t).abs()
         }
     };
-    (0.5 * (square(opening) + square(product))).clamp(0.5, 1.0)
+    (
+        square(product).clamp(0.5, 1.0),
+        square(opening).clamp(0.5, 1.0),
+    )
 }
 
 /// A patch between two sections before its rows are interpolated.
@@ -930,9 +969,34 @@ fn piece(curve: &Curve3, t0: f64, t1: f64) -> crate::geom::Result<Curve3> {
     } else {
         let first = cut(curve, t0, hi)?;
         let second = cut(curve, lo, t1)?;
-        join_curves(&[first, second])?
+        across_seam(&first, &second)?
     };
     p.reparametrized(0.0, 1.0)
+}
+
+/// The piece of a closed curve that runs over its seam: the end `first` (up to the
+/// seam) and the start `second` joined with the parameter running on at the same rate,
+/// then the seam's knot removed as often as the curve allows within 1e-9 of its size.
+/// A curve that is smooth at its seam (a closed outline from `project`) then has no
+/// joint there, so the step draw does not depend on where the outline starts.
+fn across_seam(first: &Curve3, second: &Curve3) -> crate::geom::Result<Curve3> {
+    if first.is_rational() || second.is_rational() || first.degree() != second.degree() {
+        return join_curves(&[first.clone(), second.clone()]);
+    }
+    let p = first.degree();
+    let (_, a1) = first.domain();
+    let (b0, _) = second.domain();
+    let shift = a1 - b0;
+    let k1 = first.knots().as_slice();
+    let k2 = second.knots().as_slice();
+    let mut knots: Vec<f64> = k1[..k1.len() - 1].to_vec();
+    knots.extend(k2[p + 1..].iter().map(|k| k + shift));
+    let mut points = first.control_points().to_vec();
+    points.extend_from_slice(&second.control_points()[1..]);
+    let joined = Curve3::new(p, knots, points)?;
+    let tolerance = 1e-9 * joined.control_scale().max(1.0);
+    let (out, _) = joined.remove_knot(a1, p, tolerance)?;
+    Ok(out)
 }
 
 /// The sub-patches of the patch between two key sections; `start` is the left key
