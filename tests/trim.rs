@@ -97,8 +97,8 @@ fn the_export_carries_the_product_cut_at_the_outline_and_not_the_panel() {
 
 #[test]
 fn the_step_draw_takes_the_trimmed_product() {
-    // The fender example gives its step draw the trimmed product: the step draw is the
-    // one the outline curve gives.
+    // The fender example gives its step draw the trimmed product: its outline is the
+    // step draw's product guide, and its surface the slope the sections start along.
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/fender");
     let text = std::fs::read_to_string(root.join("fender.die")).unwrap();
     let with_curve = text.replace("    product = fender\n", "    product = outline\n");
@@ -120,6 +120,14 @@ fn the_step_draw_takes_the_trimmed_product() {
             })
             .sum::<f64>()
     };
-    let (a, b) = (area(&text), area(&with_curve));
+    // With the product's slope not used, the trimmed product gives the step draw the
+    // outline curve gives; with it (the default), the sections start tangentially,
+    // which moves the step draw.
+    let drawn_start = text.replace(
+        "    product = fender\n",
+        "    product = fender\n    tangent_product = false\n",
+    );
+    let (a, b, tangent) = (area(&drawn_start), area(&with_curve), area(&text));
     assert!(a > 0.0 && a == b, "{a} vs {b}");
+    assert!(tangent != a, "the tangent start changed nothing: {tangent}");
 }
