@@ -18,7 +18,7 @@
 
 use glam::DVec3;
 
-use crate::geom::curvature::principal_curvatures;
+use crate::geom::curvature::{principal_curvatures, span_steps};
 use crate::geom::inversion::project_to_surface_near;
 use crate::geom::{Curve3, GeomError, KnotVector, NurbsSurface};
 
@@ -61,21 +61,6 @@ pub struct SurfaceFigures {
 /// The distinct knots of a direction.
 fn breaks(knots: &KnotVector) -> Vec<f64> {
     knots.distinct().iter().map(|&(t, _)| t).collect()
-}
-
-/// Every span between `breaks` at `per_span` equal steps, each break once.
-fn span_steps(breaks: &[f64], per_span: usize) -> Vec<f64> {
-    let per_span = per_span.max(1);
-    let mut out = Vec::with_capacity(breaks.len() * per_span + 1);
-    for w in breaks.windows(2) {
-        for k in 0..per_span {
-            out.push(w[0] + (w[1] - w[0]) * k as f64 / per_span as f64);
-        }
-    }
-    if let Some(&last) = breaks.last() {
-        out.push(last);
-    }
-    out
 }
 
 /// The sample grid of a surface: every knot span of each direction, `96 / spans`

@@ -60,6 +60,22 @@ pub fn principal_curvatures(s: &NurbsSurface, u: f64, v: f64) -> Option<Principa
     })
 }
 
+/// Every span between the increasing `breaks` (a direction's distinct knots) at
+/// `per_span` equal steps, each break once: where a curvature spike inside a span shows.
+pub fn span_steps(breaks: &[f64], per_span: usize) -> Vec<f64> {
+    let per_span = per_span.max(1);
+    let mut out = Vec::with_capacity(breaks.len() * per_span + 1);
+    for w in breaks.windows(2) {
+        for k in 0..per_span {
+            out.push(w[0] + (w[1] - w[0]) * k as f64 / per_span as f64);
+        }
+    }
+    if let Some(&last) = breaks.last() {
+        out.push(last);
+    }
+    out
+}
+
 /// Where a patch is tightest: the smallest radius of curvature found and where.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MinRadius {
@@ -75,22 +91,10 @@ pub struct MinRadius {
 /// span of each direction (span ends included), then refined around the worst sample by
 /// a finer local grid. Degenerate points are skipped.
 pub fn min_radius(s: &NurbsSurface, per_span: usize) -> MinRadius {
-    let per_span = per_span.max(1);
-    let params = |breaks: Vec<f64>| -> Vec<f64> {
-        let mut out = Vec::with_capacity(breaks.len() * per_span + 1);
-        for w in breaks.windows(2) {
-            for k in 0..per_span {
-                out.push(w[0] + (w[1] - w[0]) * k as f64 / per_span as f64);
-            }
-        }
-        if let Some(&last) = breaks.last() {
-            out.push(last);
-        }
-        out
-    };
-    let breaks = |k: &super::KnotVector| k.distinct().iter().map(|&(t, _)| t).collect();
-    let us = params(breaks(s.knots_u()));
-    let vs = params(breaks(s.knots_v()));
+    let breaks =
+        |k: &super::KnotVector| -> Vec<f64> { k.distinct().iter().map(|&(t, _)| t).collect() };
+    let us = span_steps(&breaks(s.knots_u()), per_span);
+    let vs = span_steps(&breaks(s.knots_v()), per_span);
     let mut best = MinRadius {
         radius: f64::INFINITY,
         uv: (us[0], vs[0]),
