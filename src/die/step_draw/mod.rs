@@ -295,10 +295,10 @@ fn fail(section: usize, problem: Problem) -> Error {
 /// opening's sake.
 const MIN_SPAN: f64 = 2.0;
 
-/// How long (mm) the flat on to the opening takes to turn onto the binder's slope. The
-/// turn is kept near the opening: the flat keeps its drawn direction, so a binder whose
-/// slope across the opening changes along it does not lever the die radius, a flat's
-/// length away, up and down.
+/// How long (mm) the flat on to the opening takes to turn onto the binder's slope (at
+/// most 40 % of the flat). The turn is kept near the opening: the flat keeps its drawn
+/// direction, so a binder whose slope across the opening changes along it does not
+/// lever the die radius, a flat's length away, up and down.
 const BINDER_BLEND: f64 = 20.0;
 
 /// The share of the tolerance the step draw's punch edge may leave the opening line by:
@@ -490,7 +490,7 @@ pub fn build(guides: &Guides, sections: &[SectionSpec], opts: &Options) -> Resul
         // at each section.
         for c in &mut aligned {
             let last = *c.runs.last().expect("a chain always has a run");
-            c.radii.push(BINDER_BLEND / chain::GENTLE_TURN);
+            c.radii.push(BINDER_BLEND.min(0.4 * last.length) / chain::GENTLE_TURN);
             c.runs.push(chain::Run {
                 angle: last.angle,
                 length: 0.0,
