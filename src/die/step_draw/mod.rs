@@ -490,7 +490,8 @@ pub fn build(guides: &Guides, sections: &[SectionSpec], opts: &Options) -> Resul
         // at each section.
         for c in &mut aligned {
             let last = *c.runs.last().expect("a chain always has a run");
-            c.radii.push(BINDER_BLEND.min(0.4 * last.length) / chain::GENTLE_TURN);
+            c.radii
+                .push(BINDER_BLEND.min(0.4 * last.length) / chain::GENTLE_TURN);
             c.runs.push(chain::Run {
                 angle: last.angle,
                 length: 0.0,
