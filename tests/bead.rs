@@ -124,7 +124,6 @@ fn fender_bead_feet_lie_on_the_binder() {
 /// key section, between 6 and 8 mm on the way there; its rule curve (`rules = [0 mm]`)
 /// is the crest, straight above the centre line.
 #[test]
-#[ignore = "issue 12: since the binder corners turn smoothly (item 4) the rear_corner bead is skinned with 168 sections instead of 202 (fewer foot-gap insertions) and its crest rule leaves the centre line by 0.010 mm between sections; to be fixed with the bead sections of item 8"]
 fn fender_corner_bead_tapers_rises_and_keeps_its_crest_rule() {
     let values = fender::fender_values();
     let binder = binder_of(find(&values, "binder"));
@@ -591,7 +590,7 @@ fn bead_radius_figures_are_reported() {
 /// the tapered ends none below 90 % of the drawn shoulder. Fails on the current method
 /// (full height 2.4 to 2.6 mm against 3 mm drawn; ends 0.37 to 1.26 mm).
 #[test]
-#[ignore = "issue 12 item 8: the run-out profile and the section fit are not fixed yet"]
+#[ignore = "issue 12 item 8: with the run-out lowered and the sections quadratic through softened joins the figures are 2.60 / 2.62 (wheel_arch), 2.69 / 2.69 (rear_corner), 2.77 / 2.69 (sill), 2.82 / 2.63 mm (belt_front) against 2.7 required; the remaining overshoot is the section fit across the profile's joins (needs C1 breaks there)"]
 fn bead_radii_are_kept_as_drawn() {
     let mut failures = Vec::new();
     for path in ["fender/fender.die", "door_outer/door_outer.die"] {
@@ -625,4 +624,26 @@ fn bead_radii_are_kept_as_drawn() {
         ));
     }
     assert!(failures.is_empty(), "{}", failures.join("; "));
+}
+
+/// The run-out sinks the profile into the binder instead of squashing it, so the tapered
+/// ends keep the drawn shoulder (a squashed profile sharpened it to 0.36 to 1.2 mm of
+/// 3 mm drawn). Until the section fit stops overshooting at the profile's joins
+/// (`bead_radii_are_kept_as_drawn`), the ends are held to 85 % of the drawn radius.
+#[test]
+fn bead_run_out_keeps_the_shoulder_radius() {
+    for path in ["fender/fender.die", "door_outer/door_outer.die"] {
+        for (name, q) in example_beads(path) {
+            eprintln!(
+                "{path} {name}: full height {:.3} mm, ends {:.3} mm, drawn {:.3} mm",
+                q.min_radius, q.end_min_radius, q.drawn_radius
+            );
+            assert!(
+                q.end_min_radius >= 0.85 * q.drawn_radius,
+                "{path} {name}: ends {} mm against {} drawn",
+                q.end_min_radius,
+                q.drawn_radius
+            );
+        }
+    }
 }

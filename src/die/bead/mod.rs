@@ -11,7 +11,8 @@
 //! 2. **Key sections** (step 2): at designer positions along the bead, each with its
 //!    own profile (height above the binder across the bead). Between key sections the
 //!    profile changes smoothly (an [`ease`] blend of corresponding points), and its
-//!    height runs out to zero over the `taper` length at both ends.
+//!    height runs out to zero over the `taper` length at both ends, the profile sunk
+//!    into the binder with its new feet rounded (`runout`), so the drawn radii stay.
 //! 3. **Rules** (step 3): where the designer gives rule points (positions across each
 //!    key section that belong together, such as the crests of a round and a double
 //!    bead), corresponding points are matched piece by piece between them, so the rule
@@ -38,6 +39,7 @@ use crate::geom::{Curve2, Curve3, Direction, GeomError, NurbsSurface};
 mod binder;
 mod course;
 mod profiles;
+mod runout;
 
 pub use binder::Binder;
 use course::CourseMap;
@@ -346,6 +348,10 @@ const SECTION_INTERVALS: usize = 48;
 /// The foot gap (mm) above which a section is added between two others.
 const FOOT_TOLERANCE: f64 = 0.0005;
 
+/// How far (mm, across the bead in the top view) a rule may drift between two
+/// sections from where the section there has it before a section is added between them.
+const RULE_TOLERANCE: f64 = 0.0005;
+
 /// Rounds of section insertion.
 const MAX_REFINEMENTS: usize = 6;
 
@@ -417,7 +423,8 @@ pub fn build(binder: &Binder, spec: &BeadSpec) -> Result<Bead, Problem> {
     let section_at = |along: f64| -> Result<(Curve3, f64), Problem> {
         let (c, across, turn) = course.frame_and_turn(along)?;
         let height_factor = taper_factor(along * length2, length2, spec.taper);
-        let shape = profiles.blend(along);
+        let rate = taper_rate(along * length2, length2, spec.taper);
+        let shape = profiles.shape(along, height_factor, rate);
         let (s0, s1) = (shape[0].x, shape[shape.len() - 1].x);
         let stretch = course.feet(c, across)?;
         let mut points = Vec::with_capacity(shape.len());
@@ -435,17 +442,29 @@ pub fn build(binder: &Binder, spec: &BeadSpec) -> Result<Bead, Problem> {
                 });
             }
             let base = binder.base(c + across * offset, Some(offset))?;
-            points.push(base + DVec3::Z * (q.y * height_factor));
+            points.push(base + DVec3::Z * q.y);
         }
         let width = points[0]
             .truncate()
             .distance(points[points.len() - 1].truncate());
-        let curve = interpolate_at(&points, &profiles.params, &Interpolation::default())?;
+        // Quadratic: a C2 cubic through the points of a profile whose curvature jumps
+        // where two of its pieces meet overshoots by about an eighth of the jump on
+        // either side (a 3 mm shoulder next to a 6 mm crest came out at 2.33 mm); the
+        // quadratic, C1 like the profile itself, overshoots less.
+        let curve = interpolate_at(
+            &points,
+            &profiles.params,
+            &Interpolation {
+                degree: 2,
+                ..Interpolation::default()
+            },
+        )?;
         Ok((curve, width))
     };
 
     // Step 4: sections every `spacing` and at every key section, then more where the
-    // skinned feet leave the binder by more than FOOT_TOLERANCE between two sections.
+    // skinned feet leave the binder by more than FOOT_TOLERANCE, or a rule its place by
+    // more than RULE_TOLERANCE, between two sections.
     let mut stations = station_fractions(length2, spec.spacing, spec.taper);
     for &at in &ats {
         let i = stations.partition_point(|&x| x < at);
@@ -470,8 +489,20 @@ pub fn build(binder: &Binder, spec: &BeadSpec) -> Result<Bead, Problem> {
         let mut inserted = Vec::new();
         for k in 0..sections.len() - 1 {
             let v = 0.5 * (vs[k] + vs[k + 1]);
-            if foot_gap_at(binder, &surface, v)? > FOOT_TOLERANCE {
-                inserted.push(0.5 * (stations[k] + stations[k + 1]));
+            let along = 0.5 * (stations[k] + stations[k + 1]);
+            let mut leaves = foot_gap_at(binder, &surface, v)? > FOOT_TOLERANCE;
+            if !leaves && !profiles.rule_params.is_empty() {
+                // The rules run through the same feature of every section; between
+                // two sections they must not drift off it across the bead.
+                let (_, across) = course.frame(along)?;
+                let (exact, _) = section_at(along)?;
+                leaves = profiles.rule_params.iter().any(|&u| {
+                    let drift = surface.point_at(u, v) - exact.point_at(u);
+                    drift.truncate().dot(across).abs() > RULE_TOLERANCE
+                });
+            }
+            if leaves {
+                inserted.push(along);
             }
         }
         if inserted.is_empty() {
@@ -526,13 +557,20 @@ pub fn build(binder: &Binder, spec: &BeadSpec) -> Result<Bead, Problem> {
             continue;
         }
         let key = if at_key || k == 0 {
-            Some(&spec.sections[k])
+            Some(k)
         } else {
             let (a, b) = (&spec.sections[k - 1], &spec.sections[k]);
-            (a.profile == b.profile && a.rules == b.rules).then_some(a)
+            (a.profile == b.profile && a.rules == b.rules).then_some(k - 1)
         };
         if let Some(key) = key {
-            let error = conformance(binder, &course, spec.taper, key, along, section)?;
+            let factor = taper_factor(along * course.length, course.length, spec.taper);
+            let exact = if factor >= 1.0 {
+                spec.sections[key].profile.clone()
+            } else {
+                let rate = taper_rate(along * course.length, course.length, spec.taper);
+                polyline(&profiles.run_out_of_key(key, factor, rate))?
+            };
+            let error = conformance(binder, &course, &spec.sections[key], &exact, along, section)?;
             section_error = section_error.max(error);
         }
     }
@@ -586,23 +624,38 @@ const CONFORMANCE_SAMPLES: usize = 4 * SECTION_INTERVALS;
 /// sections): the sections are built alike, so a sample of them tells.
 const CONFORMANCE_STRIDE: usize = 5;
 
+/// A polyline through `points` (degree 1, knots at the chord lengths).
+fn polyline(points: &[DVec2]) -> Result<Curve2, Problem> {
+    let mut knots = vec![0.0, 0.0];
+    let mut acc = 0.0;
+    for w in points.windows(2).take(points.len().saturating_sub(2)) {
+        acc += w[0].distance(w[1]).max(1e-12);
+        knots.push(acc);
+    }
+    let last = acc
+        + points[points.len() - 1]
+            .distance(points[points.len() - 2])
+            .max(1e-12);
+    knots.extend([last, last]);
+    Ok(Curve2::new(1, knots, points.to_vec())?)
+}
+
 /// How closely a skinned section follows its designer profile: the largest
 /// distance, in the section plane, between the section's points (across offset, height
-/// above the binder) and the profile (scaled by the taper, stretched to the
-/// boundaries), sampled between the interpolated points as well as at them.
+/// above the binder) and `exact`, the key section `key`'s profile (run out by the
+/// taper, see [`runout`]), stretched to the boundaries, sampled between the
+/// interpolated points as well as at them.
 fn conformance(
     binder: &Binder,
     course: &CourseMap,
-    taper: f64,
     key: &KeySection,
+    exact: &Curve2,
     at: f64,
     section: &Curve3,
 ) -> Result<f64, Problem> {
     let (c, across) = course.frame(at)?;
-    let factor = taper_factor(at * course.length, course.length, taper);
     let (s0, s1) = (key.profile.start_point().x, key.profile.end_point().x);
     let stretch = course.feet(c, across)?;
-    let exact = key.profile.map_points(|q| DVec2::new(q.x, q.y * factor));
     let (t0, t1) = section.domain();
     let mut worst = 0.0f64;
     let mut guess = exact.domain().0;
@@ -614,7 +667,7 @@ fn conformance(
             Some((low, high)) => s0 + (offset - low) / (high - low) * (s1 - s0),
         };
         let h = p.z - binder.base(p.truncate(), None)?.z;
-        let hit = project_to_curve_near(&exact, DVec2::new(s, h), guess)?;
+        let hit = project_to_curve_near(exact, DVec2::new(s, h), guess)?;
         guess = hit.t;
         worst = worst.max(hit.distance);
     }
@@ -745,6 +798,15 @@ fn taper_factor(s: f64, length: f64, taper: f64) -> f64 {
         return 1.0;
     }
     ease((s.min(length - s) / taper).clamp(0.0, 1.0))
+}
+
+/// How fast (per mm along the bead) [`taper_factor`] changes at `s`, in size.
+fn taper_rate(s: f64, length: f64, taper: f64) -> f64 {
+    if taper <= 0.0 {
+        return 0.0;
+    }
+    let x = (s.min(length - s) / taper).clamp(0.0, 1.0);
+    30.0 * x * x * (1.0 - x) * (1.0 - x) / taper
 }
 
 /// The quintic "smootherstep" `x^3 (10 - 15 x + 6 x^2)` on [0, 1]: 0 to 1 with zero

@@ -4,12 +4,24 @@
 
 use glam::DVec2;
 
+use super::runout::{resampled, run_out, smoothed};
 use super::{ease, BeadSpec, Problem, SECTION_INTERVALS};
 use crate::geom::curve::ArcLengths;
 use crate::geom::Curve2;
 
 /// Samples of a profile for its fold and rule checks.
 const PROFILE_SAMPLES: usize = 512;
+
+/// How many times finer than the matched points the profiles are kept for the run-out
+/// (lowered and rounded at the new feet before they are resampled).
+const RUN_OUT_DENSITY: usize = 16;
+
+/// The length (mm) over which a section's curvature changes where two pieces of its
+/// profile meet ([`smoothed`]): about one space between the interpolated points of a
+/// bead 20 to 30 mm across, so the curve through them overshoots the drawn curvature
+/// far less than across a jump, and short enough to keep the skin within 0.005 mm of
+/// the profile.
+const BEND_WIDTH: f64 = 0.5;
 
 /// The key sections' profiles resampled at corresponding points: the same number of
 /// points in every piece between rule points, spaced by arc length within a piece.
@@ -22,27 +34,79 @@ pub(super) struct MatchedProfiles {
     pub(super) params: Vec<f64>,
     /// The parameters of the rule points.
     pub(super) rule_params: Vec<f64>,
+    /// Each key section's points [`RUN_OUT_DENSITY`] times finer, piece by piece.
+    dense: Vec<Vec<DVec2>>,
+    /// Intervals in each piece between rule points.
+    counts: Vec<usize>,
+    /// Each key section's radii at its left and right foot (0 for a sharp foot).
+    feet: Vec<(f64, f64)>,
 }
 
 impl MatchedProfiles {
     /// The profile at fraction `along`: the neighbouring key sections' points blended
     /// by [`ease`], so the shape stops changing at each key section.
     pub(super) fn blend(&self, along: f64) -> Vec<DVec2> {
-        let k = self.at.partition_point(|&a| a <= along);
-        if k == 0 {
-            return self.points[0].clone();
-        }
-        if k == self.at.len() {
-            return self.points[k - 1].clone();
-        }
-        let x = (along - self.at[k - 1]) / (self.at[k] - self.at[k - 1]);
-        let w = ease(x);
-        self.points[k - 1]
-            .iter()
-            .zip(&self.points[k])
-            .map(|(a, b)| a.lerp(*b, w))
-            .collect()
+        blend_of(&self.points, &self.at, along)
     }
+
+    /// Key section `k`'s profile run out to `factor` of its height ([`lowered`]), a
+    /// fine polyline.
+    pub(super) fn run_out_of_key(&self, k: usize, factor: f64, rate: f64) -> Vec<DVec2> {
+        run_out(&self.dense[k], factor, self.feet[k], rate)
+    }
+
+    /// The profile at fraction `along` with its height run out to `factor` (0 to 1):
+    /// the blended profile lowered into the binder and rounded at its new feet with the
+    /// blended foot radii ([`lowered`]), resampled at corresponding points; the blend
+    /// itself at full height.
+    pub(super) fn shape(&self, along: f64, factor: f64, rate: f64) -> Vec<DVec2> {
+        let dense = blend_of(&self.dense, &self.at, along);
+        let (k, w) = weights(&self.at, along);
+        let (a, b) = (
+            self.feet[k.saturating_sub(1)],
+            self.feet[k.min(self.feet.len() - 1)],
+        );
+        let feet = (a.0 + (b.0 - a.0) * w, a.1 + (b.1 - a.1) * w);
+        let shape = self.blend(along);
+        let mut rules = Vec::with_capacity(self.counts.len() - 1);
+        let mut index = 0;
+        for &c in self.counts.iter().take(self.counts.len() - 1) {
+            index += c;
+            rules.push(shape[index].x);
+        }
+        resampled(
+            &smoothed(&run_out(&dense, factor, feet, rate), BEND_WIDTH),
+            &rules,
+            &self.counts,
+        )
+    }
+}
+
+/// The key section index after `along` (0 before the first, the count after the last)
+/// and the [`ease`] weight of that key section against the one before it.
+fn weights(at: &[f64], along: f64) -> (usize, f64) {
+    let k = at.partition_point(|&a| a <= along);
+    if k == 0 || k == at.len() {
+        return (k, 0.0);
+    }
+    let x = (along - at[k - 1]) / (at[k] - at[k - 1]);
+    (k, ease(x))
+}
+
+/// Corresponding points of the key sections at `at` blended at fraction `along`.
+fn blend_of(points: &[Vec<DVec2>], at: &[f64], along: f64) -> Vec<DVec2> {
+    let (k, w) = weights(at, along);
+    if k == 0 {
+        return points[0].clone();
+    }
+    if k == at.len() {
+        return points[k - 1].clone();
+    }
+    points[k - 1]
+        .iter()
+        .zip(&points[k])
+        .map(|(a, b)| a.lerp(*b, w))
+        .collect()
 }
 
 /// Checks every key section's profile (feet at 0, not folding back, not too tall,
@@ -149,16 +213,31 @@ pub(super) fn matched_profiles(spec: &BeadSpec, ats: &[f64]) -> Result<MatchedPr
         .collect();
 
     let mut points = Vec::with_capacity(spec.sections.len());
+    let mut dense = Vec::with_capacity(spec.sections.len());
+    let mut feet = Vec::with_capacity(spec.sections.len());
     for ((key, table), lengths) in spec.sections.iter().zip(&tables).zip(&piece_lengths) {
-        let mut section = Vec::new();
-        for j in 0..pieces {
-            let first = if j == 0 { 0 } else { 1 };
-            for i in first..=counts[j] {
-                let l = lengths[j] + (lengths[j + 1] - lengths[j]) * i as f64 / counts[j] as f64;
-                section.push(key.profile.point_at(table.parameter_at(l)?));
+        for (density, out) in [(1, &mut points), (RUN_OUT_DENSITY, &mut dense)] {
+            let mut section = Vec::new();
+            for j in 0..pieces {
+                let first = if j == 0 { 0 } else { 1 };
+                let n = counts[j] * density;
+                for i in first..=n {
+                    let l = lengths[j] + (lengths[j + 1] - lengths[j]) * i as f64 / n as f64;
+                    section.push(key.profile.point_at(table.parameter_at(l)?));
+                }
             }
+            out.push(section);
         }
-        points.push(section);
+        let (t0, t1) = key.profile.domain();
+        let radius = |t: f64| {
+            let k = key.profile.curvature(t);
+            if k.is_finite() && k > 0.0 {
+                k.recip()
+            } else {
+                0.0
+            }
+        };
+        feet.push((radius(t0), radius(t1)));
     }
 
     // Shared parameters: the chord-length fractions, averaged over the key sections.
@@ -186,6 +265,9 @@ pub(super) fn matched_profiles(spec: &BeadSpec, ats: &[f64]) -> Result<MatchedPr
         points,
         params,
         rule_params,
+        dense,
+        counts,
+        feet,
     })
 }
 

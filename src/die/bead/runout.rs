@@ -1,0 +1,297 @@
+//! The run-out of a bead's height at its tapered ends: the profile is lowered into the
+//! binder, not squashed.
+//!
+//! Squashing a profile to a fraction `f` of its height scales its curvature by about
+//! `f` where it is flat and by `1 / f` where it is steep: the shoulders sharpen to radii
+//! near `f^2 r` just where the sheet bends over them. Lowering keeps the shape: the
+//! profile moved down by `(1 - f) H` and cut at the binder line, so the crest stands at
+//! `f H` with its drawn radius, and the new feet are rounded with the shoulder radius (a
+//! circle tangent to the binder line and to the lowered profile), as a die maker would
+//! sink the bead into the binder.
+
+use glam::DVec2;
+
+/// Points on each rounded new foot.
+const FOOT_ARC_POINTS: usize = 24;
+
+/// Bisection steps for a foot circle's centre.
+const BISECTIONS: usize = 60;
+
+/// The profile `dense` (s, height), a fine polyline from foot to foot at height 0,
+/// lowered to `factor` (0 to 1) of its height: moved down by `(1 - factor) H` (H its
+/// tallest point), cut at height 0, and rounded at the new feet with the radii
+/// `feet` (left, right; 0 for a sharp foot). The result runs over the same s from foot
+/// to foot, flat at height 0 outside the new feet, as a fine polyline; with it, the s
+/// where each new foot meets the binder line.
+pub(super) fn lowered(dense: &[DVec2], factor: f64, feet: (f64, f64)) -> (Vec<DVec2>, (f64, f64)) {
+    let tallest = dense.iter().map(|p| p.y).fold(0.0, f64::max);
+    let (first, last) = (dense[0].x, dense[dense.len() - 1].x);
+    if factor >= 1.0 || dense.len() < 3 {
+        return (dense.to_vec(), (first, last));
+    }
+    if factor <= 0.0 || tallest <= 0.0 {
+        let middle = 0.5 * (first + last);
+        return (
+            vec![DVec2::new(first, 0.0), DVec2::new(last, 0.0)],
+            (middle, middle),
+        );
+    }
+    let drop = (1.0 - factor) * tallest;
+    let moved: Vec<DVec2> = dense.iter().map(|p| *p - DVec2::Y * drop).collect();
+    let top = moved
+        .iter()
+        .enumerate()
+        .max_by(|a, b| a.1.y.total_cmp(&b.1.y))
+        .map(|(i, _)| i)
+        .expect("at least three points");
+    // The left half, and the right half mirrored (s -> -s, run from its foot), each
+    // rounded at its foot; then the right half mirrored back.
+    let (left, c0) = rounded_foot(&moved[..=top], first, feet.0);
+    let mirrored: Vec<DVec2> = moved[top..]
+        .iter()
+        .rev()
+        .map(|p| DVec2::new(-p.x, p.y))
+        .collect();
+    let (right, c1) = rounded_foot(&mirrored, -last, feet.1);
+    let mut out = left;
+    out.extend(right.iter().rev().skip(1).map(|p| DVec2::new(-p.x, p.y)));
+    (out, (c0, -c1))
+}
+
+/// One half of a lowered profile, `half` running from its (sunk) foot up to the crest,
+/// cut at height 0 and rounded with a circle of `radius` tangent to height 0 and to
+/// the profile; flat at height 0 from `foot` (the original foot's s) to the circle.
+/// With it, the s where the rounded foot meets height 0.
+fn rounded_foot(half: &[DVec2], foot: f64, radius: f64) -> (Vec<DVec2>, f64) {
+    // Where the lowered profile first rises through height 0.
+    let Some(up) = half.iter().position(|p| p.y > 0.0) else {
+        let end = half[half.len() - 1].x;
+        return (vec![DVec2::new(foot, 0.0), DVec2::new(end, 0.0)], end);
+    };
+    let crossing = if up == 0 {
+        half[0]
+    } else {
+        let (a, b) = (half[up - 1], half[up]);
+        a.lerp(b, -a.y / (b.y - a.y))
+    };
+    let mut out = vec![DVec2::new(foot, 0.0)];
+    if radius <= 0.0 {
+        if crossing.x > foot {
+            out.push(DVec2::new(crossing.x, 0.0));
+        }
+        out.extend_from_slice(&half[up..]);
+        return (out, crossing.x.max(foot));
+    }
+    // The circle's centre (c, radius): every point of the profile lies at least
+    // `radius` from it while c is left of the crossing by `radius` (nothing of the
+    // profile is left of its foot, nothing below height 0 comes nearer than `radius`),
+    // and within `radius` at the crossing itself.
+    let gap = |c: f64| -> (f64, usize, DVec2) {
+        let centre = DVec2::new(c, radius);
+        let mut best = (f64::INFINITY, 0, DVec2::ZERO);
+        for (i, w) in half.windows(2).enumerate() {
+            let q = nearest_on_segment(w[0], w[1], centre);
+            let d = q.distance(centre);
+            if d < best.0 {
+                best = (d, i, q);
+            }
+        }
+        (best.0 - radius, best.1, best.2)
+    };
+    let (mut lo, mut hi) = (crossing.x - radius, crossing.x);
+    for _ in 0..BISECTIONS {
+        let mid = 0.5 * (lo + hi);
+        if gap(mid).0 > 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    let c = 0.5 * (lo + hi);
+    let (_, segment, touch) = gap(c);
+    let centre = DVec2::new(c, radius);
+    if c > foot {
+        out.push(DVec2::new(c, 0.0));
+    }
+    // The arc from straight below the centre round to the touching point.
+    let start = -std::f64::consts::FRAC_PI_2;
+    let end = (touch - centre).to_angle();
+    for i in 1..FOOT_ARC_POINTS {
+        let a = start + (end - start) * i as f64 / FOOT_ARC_POINTS as f64;
+        out.push(centre + radius * DVec2::from_angle(a));
+    }
+    out.push(touch);
+    out.extend(half[segment + 1..].iter().filter(|p| p.x > touch.x));
+    (out, c.max(foot))
+}
+
+/// Steps in the height factor for how fast the new feet move across.
+const FACTOR_STEP: f64 = 1e-4;
+
+/// The profile `dense` run out to `factor` of its height by [`lowered`], where the
+/// factor changes by `rate` per mm along the bead. The new feet then run across the
+/// bead at a slope `m` (mm across per mm along), and a skin whose sections are rounded
+/// with a radius `r` is rounded, across its foot line, with about `r / (1 + m^2)`;
+/// each foot's radius is raised by `1 + m^2` (from the slope found with the drawn
+/// radius, then once more with the raised one) so the skin keeps the drawn one.
+pub(super) fn run_out(dense: &[DVec2], factor: f64, feet: (f64, f64), rate: f64) -> Vec<DVec2> {
+    if factor >= 1.0 || factor <= 0.0 || rate == 0.0 {
+        return lowered(dense, factor, feet).0;
+    }
+    let mut radii = feet;
+    for _ in 0..2 {
+        let (a, b) = (
+            (factor - FACTOR_STEP).max(0.0),
+            (factor + FACTOR_STEP).min(1.0),
+        );
+        let (_, low) = lowered(dense, a, radii);
+        let (_, high) = lowered(dense, b, radii);
+        let slope = |x0: f64, x1: f64| (x1 - x0) / (b - a) * rate;
+        let (m0, m1) = (slope(low.0, high.0), slope(low.1, high.1));
+        radii = (
+            feet.0 * (1.0 + m0 * m0).powi(2),
+            feet.1 * (1.0 + m1 * m1).powi(2),
+        );
+    }
+    lowered(dense, factor, radii).0
+}
+
+/// The point of the segment from `a` to `b` nearest to `p`.
+fn nearest_on_segment(a: DVec2, b: DVec2, p: DVec2) -> DVec2 {
+    let d = b - a;
+    let t = if d.length_squared() > 0.0 {
+        ((p - a).dot(d) / d.length_squared()).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    a + d * t
+}
+
+/// The fine polyline `line` resampled at corresponding points: `counts[j]` equal steps
+/// of arc length in each piece between the rule positions `rules` (s across), so the
+/// result has as many points as the matched profiles and its rule points where theirs
+/// are.
+pub(super) fn resampled(line: &[DVec2], rules: &[f64], counts: &[usize]) -> Vec<DVec2> {
+    let mut lengths = Vec::with_capacity(line.len());
+    let mut acc = 0.0;
+    lengths.push(0.0);
+    for w in line.windows(2) {
+        acc += w[0].distance(w[1]);
+        lengths.push(acc);
+    }
+    let length_at_s = |s: f64| -> f64 {
+        let i = line
+            .windows(2)
+            .position(|w| w[0].x <= s && s <= w[1].x)
+            .unwrap_or(line.len() - 2);
+        let (a, b) = (line[i], line[i + 1]);
+        let t = if b.x > a.x {
+            ((s - a.x) / (b.x - a.x)).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        lengths[i] + t * (lengths[i + 1] - lengths[i])
+    };
+    let point_at = |l: f64| -> DVec2 {
+        let i = lengths.partition_point(|&x| x < l).clamp(1, line.len() - 1);
+        let (la, lb) = (lengths[i - 1], lengths[i]);
+        let t = if lb > la { (l - la) / (lb - la) } else { 0.0 };
+        line[i - 1].lerp(line[i], t.clamp(0.0, 1.0))
+    };
+    let mut cuts = vec![0.0];
+    cuts.extend(rules.iter().map(|&s| length_at_s(s)));
+    cuts.push(acc);
+    let mut out = Vec::new();
+    for (j, &count) in counts.iter().enumerate() {
+        let first = if j == 0 { 0 } else { 1 };
+        for i in first..=count {
+            out.push(point_at(
+                cuts[j] + (cuts[j + 1] - cuts[j]) * i as f64 / count as f64,
+            ));
+        }
+    }
+    out
+}
+
+/// The fine polyline `line` with its bends spread over `width` (mm of arc length): its
+/// tangent angle averaged over a window of that length (held constant past the feet),
+/// the points rebuilt from the averaged angles, and the small drift this leaves at the
+/// far foot taken out in proportion to arc length, the tallest point kept at its
+/// height. An average never exceeds what it averages, so no radius gets smaller;
+/// where a drawn radius meets a straight piece or another radius, the curvature now
+/// changes over `width` instead of at a point, which the curve through the section's
+/// points follows with far less overshoot than a jump.
+pub(super) fn smoothed(line: &[DVec2], width: f64) -> Vec<DVec2> {
+    let m = line.len();
+    if m < 3 || width <= 0.0 {
+        return line.to_vec();
+    }
+    let mut lengths = Vec::with_capacity(m - 1);
+    let mut angles: Vec<f64> = Vec::with_capacity(m - 1);
+    for w in line.windows(2) {
+        let d = w[1] - w[0];
+        lengths.push(d.length());
+        let mut a = d.to_angle();
+        if let Some(&prev) = angles.last() {
+            // Unwrapped, so averaging never crosses the +-180 deg seam.
+            while a - prev > std::f64::consts::PI {
+                a -= std::f64::consts::TAU;
+            }
+            while a - prev < -std::f64::consts::PI {
+                a += std::f64::consts::TAU;
+            }
+        }
+        angles.push(a);
+    }
+    // Arc length at each segment's start, and the running integral of the angle.
+    let mut starts = Vec::with_capacity(m);
+    let mut integral = Vec::with_capacity(m);
+    let (mut l, mut area) = (0.0, 0.0);
+    for (len, a) in lengths.iter().zip(&angles) {
+        starts.push(l);
+        integral.push(area);
+        l += len;
+        area += len * a;
+    }
+    starts.push(l);
+    integral.push(area);
+    let total = l;
+    let (first, last) = (angles[0], angles[angles.len() - 1]);
+    // The integral of the angle from 0 to x, constant angles continued past the ends.
+    let integral_to = |x: f64| -> f64 {
+        if x <= 0.0 {
+            return x * first;
+        }
+        if x >= total {
+            return area + (x - total) * last;
+        }
+        let i = starts.partition_point(|&s| s <= x) - 1;
+        integral[i] + (x - starts[i]) * angles[i]
+    };
+    let mut out = Vec::with_capacity(m);
+    out.push(line[0]);
+    let mut at = 0.0;
+    for (len, _) in lengths.iter().zip(&angles) {
+        let mid = at + 0.5 * len;
+        let a = (integral_to(mid + 0.5 * width) - integral_to(mid - 0.5 * width)) / width;
+        let p = out[out.len() - 1] + *len * DVec2::from_angle(a);
+        out.push(p);
+        at += len;
+    }
+    let drift = out[m - 1] - line[m - 1];
+    let mut at = 0.0;
+    for (i, p) in out.iter_mut().enumerate() {
+        *p -= drift * (at / total);
+        if i + 1 < m {
+            at += lengths[i];
+        }
+    }
+    let tallest = line.iter().map(|p| p.y).fold(0.0, f64::max);
+    let now = out.iter().map(|p| p.y).fold(0.0, f64::max);
+    if now > 0.0 {
+        for p in &mut out {
+            p.y *= tallest / now;
+        }
+    }
+    out
+}
