@@ -101,18 +101,24 @@ pub fn min_radius(s: &NurbsSurface, per_span: usize) -> MinRadius {
         point: s.point_at(us[0], vs[0]),
     };
     let mut best_index = (0, 0);
+    // Keeps the sample at (u, v) when it is tighter than the best so far.
+    let consider = |best: &mut MinRadius, u: f64, v: f64| -> bool {
+        match principal_curvatures(s, u, v) {
+            Some(p) if p.min_radius() < best.radius => {
+                *best = MinRadius {
+                    radius: p.min_radius(),
+                    uv: (u, v),
+                    point: s.point_at(u, v),
+                };
+                true
+            }
+            _ => false,
+        }
+    };
     for (i, &u) in us.iter().enumerate() {
         for (j, &v) in vs.iter().enumerate() {
-            if let Some(p) = principal_curvatures(s, u, v) {
-                let r = p.min_radius();
-                if r < best.radius {
-                    best = MinRadius {
-                        radius: r,
-                        uv: (u, v),
-                        point: s.point_at(u, v),
-                    };
-                    best_index = (i, j);
-                }
+            if consider(&mut best, u, v) {
+                best_index = (i, j);
             }
         }
     }
@@ -128,16 +134,7 @@ pub fn min_radius(s: &NurbsSurface, per_span: usize) -> MinRadius {
         for b in 0..=fine {
             let u = ua + (ub - ua) * a as f64 / fine as f64;
             let v = va + (vb - va) * b as f64 / fine as f64;
-            if let Some(p) = principal_curvatures(s, u, v) {
-                let r = p.min_radius();
-                if r < best.radius {
-                    best = MinRadius {
-                        radius: r,
-                        uv: (u, v),
-                        point: s.point_at(u, v),
-                    };
-                }
-            }
+            consider(&mut best, u, v);
         }
     }
     best

@@ -25,7 +25,10 @@ const BISECTIONS: usize = 60;
 /// where each new foot meets the binder line.
 pub(super) fn lowered(dense: &[DVec2], factor: f64, feet: (f64, f64)) -> (Vec<DVec2>, (f64, f64)) {
     let tallest = dense.iter().map(|p| p.y).fold(0.0, f64::max);
-    let (first, last) = (dense[0].x, dense[dense.len() - 1].x);
+    let (Some(head), Some(tail)) = (dense.first(), dense.last()) else {
+        return (Vec::new(), (0.0, 0.0));
+    };
+    let (first, last) = (head.x, tail.x);
     if factor >= 1.0 || dense.len() < 3 {
         return (dense.to_vec(), (first, last));
     }
@@ -43,7 +46,7 @@ pub(super) fn lowered(dense: &[DVec2], factor: f64, feet: (f64, f64)) -> (Vec<DV
         .enumerate()
         .max_by(|a, b| a.1.y.total_cmp(&b.1.y))
         .map(|(i, _)| i)
-        .expect("at least three points");
+        .expect("`dense` has at least three points: shorter ones returned above");
     // The left half, and the right half mirrored (s -> -s, run from its foot), each
     // rounded at its foot; then the right half mirrored back.
     let (left, c0) = rounded_foot(&moved[..=top], first, feet.0);

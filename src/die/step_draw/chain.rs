@@ -588,8 +588,17 @@ fn expand(c: &Chain, master: &[Slot]) -> Chain {
     let mut left_pos = 0.0;
     for &(mi, oi) in &pairs {
         match (mi, oi) {
-            (Some(m), Some(o)) => {
-                let right = master[m].position;
+            (Some(_), None) | (None, None) => {
+                if let Some(m) = mi {
+                    pending.push(master[m]);
+                }
+            }
+            (m, Some(o)) => {
+                // `c`'s own corner: close the run before it (splitting it at the
+                // pending master corners). A corner of `c` the master lacks cannot
+                // happen (the master holds every chain's corners); it is kept all the
+                // same rather than losing the shape.
+                let right = m.map_or(own[o].position, |m| master[m].position);
                 flush(
                     c.runs[run_index],
                     &mut pending,
@@ -598,31 +607,13 @@ fn expand(c: &Chain, master: &[Slot]) -> Chain {
                     left_pos,
                     right,
                 );
-                radii.push(c.radii[o].max(if c.turn(o) == 0.0 {
-                    master[m].radius
-                } else {
-                    0.0
-                }));
+                let fallback = m
+                    .filter(|_| c.turn(o) == 0.0)
+                    .map_or(0.0, |m| master[m].radius);
+                radii.push(c.radii[o].max(fallback));
                 run_index = o + 1;
                 left_pos = right;
             }
-            (Some(m), None) => pending.push(master[m]),
-            (None, Some(o)) => {
-                // A corner of `c` the master lacks cannot happen (the master holds every
-                // chain's corners); keep it rather than lose the shape.
-                flush(
-                    c.runs[run_index],
-                    &mut pending,
-                    &mut runs,
-                    &mut radii,
-                    left_pos,
-                    own[o].position,
-                );
-                radii.push(c.radii[o]);
-                run_index = o + 1;
-                left_pos = own[o].position;
-            }
-            (None, None) => {}
         }
     }
     flush(
