@@ -15,4 +15,5 @@ pub mod die;
 pub mod eval;
 pub mod export;
 pub mod geom;
+pub mod pipeline;
 pub mod syntax;

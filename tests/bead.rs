@@ -20,7 +20,6 @@ use std::path::Path;
 
 use dieface::die::bead::Bead;
 use dieface::die::blankholder::Blankholder;
-use dieface::eval::value::Feature;
 use dieface::eval::{Data, Engine, Outcome, Value};
 use dieface::geom::intersect::intersect_line_surface_all;
 use dieface::geom::inversion::closest_point_on_curve;
@@ -37,20 +36,14 @@ fn find<'a>(values: &'a [(String, Value)], name: &str) -> &'a Value {
 
 fn bead_of(v: &Value) -> &Bead {
     match &v.data {
-        Data::Record(r) => match &r.feature {
-            Some(Feature::Bead(b)) => b,
-            _ => panic!("not a bead"),
-        },
+        Data::Record(r) => r.model::<Bead>().expect("a bead"),
         _ => panic!("not a record"),
     }
 }
 
 fn binder_of(v: &Value) -> &Blankholder {
     match &v.data {
-        Data::Record(r) => match &r.feature {
-            Some(Feature::Blankholder(b)) => b,
-            _ => panic!("not a blankholder"),
-        },
+        Data::Record(r) => r.model::<Blankholder>().expect("a blankholder"),
         _ => panic!("not a record"),
     }
 }
@@ -185,8 +178,7 @@ fn line_beads_and_key_sections_are_in_the_gltf() {
         .expect("readable");
     assert!(out.diagnostics.is_empty());
     let scene = build_scene(
-        &out,
-        &engine.sources,
+        &engine.die_model(&out),
         &Tolerance::new(0.05).expect("tolerance"),
     )
     .expect("the scene builds");
@@ -541,10 +533,7 @@ fn example_beads(path: &str) -> Vec<(String, dieface::die::bead::BeadQuality)> {
     let values = example::example_values(path);
     example::features(&values)
         .into_iter()
-        .filter_map(|(name, f)| match f {
-            Feature::Bead(b) => Some((name, b.quality)),
-            _ => None,
-        })
+        .filter_map(|(name, f)| f.model::<Bead>().map(|b| (name, b.quality)))
         .inspect(|(name, q)| {
             eprintln!(
                 "{path} {name}: min radius {:.3} mm at ({:.1}, {:.1}, {:.1}), ends {:.3} mm, \

@@ -22,7 +22,7 @@ use dieface::die::punch_opening::{
     self as po, CornerSpec, Magnitude, PieceKind, PieceSpec, PunchOpening, PunchOpeningSpec,
     SideView,
 };
-use dieface::eval::value::Feature;
+use dieface::eval::features::Built;
 use dieface::eval::{Data, Value};
 use dieface::geom::arc::circular_arc;
 use dieface::geom::inversion::closest_point_on_curve;
@@ -223,7 +223,7 @@ fn check_stations(
 
 fn fender() -> (Arc<PunchOpening>, Arc<Blankholder>, Vec<(String, Value)>) {
     let values = fender_values();
-    let feature = |name: &str| -> Feature {
+    let feature = |name: &str| -> Built {
         let (_, v) = values
             .iter()
             .find(|(n, _)| n == name)
@@ -233,10 +233,10 @@ fn fender() -> (Arc<PunchOpening>, Arc<Blankholder>, Vec<(String, Value)>) {
             other => panic!("`{name}` is {}", other.type_name()),
         }
     };
-    let Feature::PunchOpening(opening) = feature("opening") else {
+    let Some(opening) = feature("opening").shared::<PunchOpening>() else {
         panic!("`opening` is not a punch opening");
     };
-    let Feature::Blankholder(binder) = feature("binder") else {
+    let Some(binder) = feature("binder").shared::<Blankholder>() else {
         panic!("`binder` is not a blankholder");
     };
     (opening, binder, values)

@@ -20,7 +20,6 @@ use dieface::die::punch_opening::{
     self as po, CornerSpec, Magnitude, PieceKind, PieceSpec, PunchOpening, PunchOpeningSpec,
     SideSpec, SideView,
 };
-use dieface::eval::value::Feature;
 use dieface::eval::{Data, Engine};
 use dieface::geom::arc::circular_arc;
 use dieface::geom::tessellate::{tessellate_curve, Tolerance};
@@ -426,7 +425,7 @@ blankholder binder {{
                 Data::Record(rec) => rec.feature.clone(),
                 _ => None,
             });
-        let Some(Feature::Blankholder(binder)) = binder else {
+        let Some(binder) = binder.and_then(|f| f.shared::<Blankholder>()) else {
             panic!("r {r}, w {w}, tangent {tangent}: no blankholder");
         };
         assert_eq!(binder.patches.len(), 8);
@@ -605,10 +604,7 @@ fn example_binder(path: &str) -> std::sync::Arc<Blankholder> {
     let values = example::example_values(path);
     example::features(&values)
         .into_iter()
-        .find_map(|(_, f)| match f {
-            Feature::Blankholder(b) => Some(b),
-            _ => None,
-        })
+        .find_map(|(_, f)| f.shared::<Blankholder>())
         .unwrap_or_else(|| panic!("{path} has no blankholder"))
 }
 

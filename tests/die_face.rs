@@ -19,7 +19,6 @@ mod script;
 
 use dieface::die::figures::{edge_samples, seam, Edge};
 use dieface::die::step_draw::StepDraw;
-use dieface::eval::value::Feature;
 use dieface::eval::Data;
 use dieface::geom::curvature::min_radius;
 use dieface::geom::inversion::{closest_point_on_surface, project_to_surface_near};
@@ -39,13 +38,14 @@ fn pick(values: Vec<(String, Data)>) -> (StepDraw, Vec<NurbsSurface>, NurbsSurfa
     let mut product = None;
     for (_, data) in values {
         match &data {
-            Data::Record(r) => match &r.feature {
-                Some(Feature::StepDraw(s)) => step = Some((**s).clone()),
-                Some(Feature::Blankholder(b)) => {
+            Data::Record(r) => {
+                if let Some(s) = r.model::<StepDraw>() {
+                    step = Some(s.clone());
+                }
+                if let Some(b) = r.model::<dieface::die::blankholder::Blankholder>() {
                     binder = b.patches.iter().map(|p| p.surface.clone()).collect()
                 }
-                _ => {}
-            },
+            }
             Data::Trimmed(t) => product = Some(t.surface().clone()),
             _ => {}
         }

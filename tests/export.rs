@@ -29,7 +29,7 @@ fn scene_of_path(script: &Path) -> Scene {
     let mut engine = Engine::new(Some(root().join("examples")));
     let outcome = engine.evaluate_path(script).expect("readable example");
     assert!(outcome.diagnostics.is_empty(), "{}", script.display());
-    build_scene(&outcome, &engine.sources, &tol()).expect("tessellates")
+    build_scene(&engine.die_model(&outcome), &tol()).expect("tessellates")
 }
 
 /// The scene of a script given as text.
@@ -45,7 +45,7 @@ fn scene_of(src: &str) -> Scene {
             .map(|d| engine.sources.render(d, false))
             .collect::<Vec<_>>()
     );
-    build_scene(&outcome, &engine.sources, &tol()).expect("tessellates")
+    build_scene(&engine.die_model(&outcome), &tol()).expect("tessellates")
 }
 
 /// A parsed GLB: its JSON and its BIN chunk, with the container checked on the way.
@@ -323,10 +323,16 @@ fn one_material_per_kind_with_distinct_colours() {
         "bead",
         "let",
     ];
-    let colours: Vec<[f64; 3]> = kinds
-        .iter()
-        .map(|k| dieface::export::gltf::kind_color(k))
-        .collect();
+    // Every kind's colour as the fender's scene carries it (a `let` is plain grey).
+    let fender = scene_of_path(&root().join("examples/fender/fender.die"));
+    let all = fender.all_nodes();
+    let colour = |kind: &str| -> [f64; 3] {
+        match all.iter().find(|n| n.kind == kind) {
+            Some(n) => n.color,
+            None => dieface::die::model::PLAIN_COLOR,
+        }
+    };
+    let colours: Vec<[f64; 3]> = kinds.iter().map(|k| colour(k)).collect();
     for i in 0..colours.len() {
         for j in i + 1..colours.len() {
             assert_ne!(colours[i], colours[j], "{} and {}", kinds[i], kinds[j]);
@@ -443,6 +449,7 @@ fn empty_geometry_writes_no_accessor() {
     let node = |name: &str, geometry: Vec<Geometry>| Node {
         name: name.into(),
         kind: "let".into(),
+        color: dieface::die::model::PLAIN_COLOR,
         line: 1,
         children: Vec::new(),
         geometry,
@@ -529,6 +536,7 @@ fn large_meshes_use_u32_indices_small_ones_u16() {
             nodes: vec![Node {
                 name: "m".into(),
                 kind: "let".into(),
+                color: dieface::die::model::PLAIN_COLOR,
                 line: 1,
                 children: Vec::new(),
                 geometry: vec![triangles(n)],
@@ -612,11 +620,11 @@ fn cached_rebuild_equals_a_fresh_build() {
     let mut engine = dieface::eval::Engine::new(Some(dir.clone()));
     let mut cache = SceneCache::default();
     let first = engine.evaluate("fender.die", &text, Some(dir.clone()));
-    cache.build(&first, &engine.sources, &tol).unwrap();
+    cache.build(&engine.die_model(&first), &tol).unwrap();
     let cached_before = cache.len();
     let second = engine.evaluate("fender.die", &edited, Some(dir.clone()));
     let warm = dieface::export::encode(
-        &cache.build(&second, &engine.sources, &tol).unwrap(),
+        &cache.build(&engine.die_model(&second), &tol).unwrap(),
         dieface::export::Format::Glb,
     );
     assert_eq!(
@@ -628,7 +636,7 @@ fn cached_rebuild_equals_a_fresh_build() {
     let mut fresh_engine = dieface::eval::Engine::new(Some(dir.clone()));
     let fresh = fresh_engine.evaluate("fender.die", &edited, Some(dir));
     let cold = dieface::export::encode(
-        &dieface::export::build_scene(&fresh, &fresh_engine.sources, &tol).unwrap(),
+        &dieface::export::build_scene(&fresh_engine.die_model(&fresh), &tol).unwrap(),
         dieface::export::Format::Glb,
     );
     assert!(warm == cold, "cached and fresh builds give the same bytes");

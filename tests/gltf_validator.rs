@@ -34,8 +34,8 @@ fn build(script: &Path, format: Format) -> PathBuf {
         script.display()
     );
     let tol = Tolerance::new(0.01).expect("valid tolerance");
-    let scene = build_scene(&outcome, &engine.sources, &tol)
-        .unwrap_or_else(|d| panic!("{}: {}", script.display(), d.message));
+    let scene = build_scene(&engine.die_model(&outcome), &tol)
+        .unwrap_or_else(|e| panic!("{}: {e}", script.display()));
     assert!(
         !scene.nodes.is_empty(),
         "{} exports nothing",

@@ -19,7 +19,6 @@ use dieface::die::punch_opening::{
     PunchOpening, PunchOpeningSpec, SideSpec, SideView,
 };
 use dieface::eval::sketch::View;
-use dieface::eval::value::Feature;
 use dieface::eval::{Data, Value};
 use dieface::geom::arc::{circular_arc, Circle};
 use dieface::geom::{Curve2, Curve3};
@@ -270,10 +269,10 @@ fn fender() -> Fender {
     let opening = values
         .iter()
         .find_map(|(name, v)| match &v.data {
-            Data::Record(r) if name == "opening" => match &r.feature {
-                Some(Feature::PunchOpening(p)) => Some(p.clone()),
-                _ => None,
-            },
+            Data::Record(r) if name == "opening" => r
+                .feature
+                .as_ref()
+                .and_then(|f| f.shared::<dieface::die::punch_opening::PunchOpening>()),
             _ => None,
         })
         .expect("`opening` is a punch opening");

@@ -6,8 +6,8 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 
-use dieface::eval::die_face::die_face;
-use dieface::eval::value::{Data, Feature};
+use dieface::die::blankholder::Blankholder;
+use dieface::eval::value::Data;
 use dieface::eval::Engine;
 use dieface::export::step::{encode_step, real, StepModel};
 use dieface::geom::sew::{sew, Shell, DIE_FACE_TOLERANCE};
@@ -34,16 +34,13 @@ fn example(name: &str) -> Example {
     let binder_outer = values
         .iter()
         .filter_map(|(_, v)| match &v.data {
-            Data::Record(r) => match &r.feature {
-                Some(Feature::Blankholder(bh)) => {
-                    Some(bh.patches.iter().map(|p| p.outer.length()).sum::<f64>())
-                }
-                _ => None,
-            },
+            Data::Record(r) => r
+                .model::<Blankholder>()
+                .map(|bh| bh.patches.iter().map(|p| p.outer.length()).sum::<f64>()),
             _ => None,
         })
         .sum();
-    let faces = die_face(&outcome);
+    let faces = engine.die_model(&outcome).die_face;
     Example {
         die: sew(faces.faces, DIE_FACE_TOLERANCE).unwrap(),
         beads: sew(faces.beads, DIE_FACE_TOLERANCE).unwrap(),

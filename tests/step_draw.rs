@@ -17,7 +17,7 @@ use std::sync::Arc;
 use dieface::die::continuity::measure_join;
 use dieface::die::punch_opening::PunchOpening;
 use dieface::die::step_draw::{self as sd, Guides, Options, Patch, Problem, SectionSpec, StepDraw};
-use dieface::eval::value::Feature;
+use dieface::eval::features::Built;
 use dieface::eval::{Data, Value};
 use dieface::geom::interpolate::{interpolate, Interpolation};
 use dieface::geom::inversion::{closest_point_on_curve, project_to_curve_near};
@@ -359,16 +359,17 @@ fn fender() -> (Arc<StepDraw>, Curve3, Arc<PunchOpening>) {
             .unwrap_or_else(|| panic!("the fender has no `{name}`"))
             .1
     };
-    let feature = |name: &str| -> Feature {
+    let feature = |name: &str| -> Built {
         match &value(name).data {
             Data::Record(r) => r.feature.clone().expect("a feature record"),
             other => panic!("`{name}` is {}", other.type_name()),
         }
     };
-    let Feature::StepDraw(addendum) = feature("addendum") else {
+    let Some(addendum) = feature("addendum").shared::<dieface::die::step_draw::StepDraw>() else {
         panic!("`addendum` is not a step draw");
     };
-    let Feature::PunchOpening(opening) = feature("opening") else {
+    let Some(opening) = feature("opening").shared::<dieface::die::punch_opening::PunchOpening>()
+    else {
         panic!("`opening` is not a punch opening");
     };
     let Data::Curve3(outline) = &value("outline").data else {

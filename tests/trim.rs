@@ -56,7 +56,7 @@ fn the_export_carries_the_product_cut_at_the_outline_and_not_the_panel() {
         panic!("outline is a curve")
     };
     let tol = Tolerance::new(0.05).unwrap();
-    let scene = build_scene(&outcome, &engine.sources, &tol).unwrap();
+    let scene = build_scene(&engine.die_model(&outcome), &tol).unwrap();
     assert!(
         scene.find("panel").is_none(),
         "the trimmed panel is not exported again"

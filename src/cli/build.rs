@@ -1,33 +1,22 @@
 //! `dieface build FILE -o OUT.glb [-o OUT.obj] [-o OUT.step] [--tolerance 0.01mm]
 //! [-D name=value]`.
 //!
-//! Evaluate; on any diagnostic print them all and exit 1 without touching an output;
-//! else tessellate once into a scene and write every output atomically (a failed or
-//! interrupted build leaves the previous file whole). `watch` reuses [`Plan`] and
-//! [`Plan::build`] with one engine kept across rebuilds.
+//! The work is [`crate::pipeline`]'s: evaluate, make the die model, tessellate, encode,
+//! write atomically (a failed or interrupted build leaves the previous file whole).
+//! This command checks its arguments, prints the diagnostics (and exits 1 without
+//! touching an output) or the files written. `watch` reuses [`Plan`] and
+//! [`Plan::build`] with one pipeline kept across rebuilds.
 
+use std::cell::RefCell;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
-use crate::diag::{Diagnostic, Sources};
-use crate::eval::overrides::eval_text;
-use crate::eval::units::Units;
-use crate::eval::value::{Data, Dim};
-use crate::eval::{Engine, Outcome};
-use crate::export::atomic::write_atomic;
-use crate::export::step::{encode_step, StepModel};
-use crate::export::{build_scene, encode, Format};
-use crate::geom::sew::sew;
-use crate::geom::tessellate::Tolerance;
+use indicatif::ProgressBar;
+
+use crate::pipeline::{parse_tolerance, write_outputs, Output, Pipeline, Stage};
 
 use super::{ms, progress, OutputArgs, ScriptArgs, SCRIPT_ERROR, USAGE_ERROR};
-
-/// The tolerance used when neither the command line nor the script sets one, in mm.
-pub(crate) const DEFAULT_TOLERANCE_MM: f64 = 0.05;
-
-/// The name of the script parameter that sets the tolerance.
-const TOLERANCE_PARAM: &str = "tolerance";
 
 /// What a build writes, checked before anything is evaluated.
 pub(crate) struct Plan {
@@ -39,55 +28,6 @@ pub(crate) struct Plan {
     pub color: bool,
 }
 
-/// An output's format: a tessellated scene (glTF, OBJ) or the die face's B-spline
-/// faces (STEP, `.step` or `.stp`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum Output {
-    /// A scene format.
-    Scene(Format),
-    /// STEP AP214: the die face sewn into a shell ([`crate::export::step`]).
-    Step,
-}
-
-impl Output {
-    fn from_path(p: &std::path::Path) -> Option<Output> {
-        let ext = p.extension()?.to_str()?.to_ascii_lowercase();
-        match ext.as_str() {
-            "step" | "stp" => Some(Output::Step),
-            _ => Format::from_path(p).map(Output::Scene),
-        }
-    }
-}
-
-/// How far apart (mm) two faces' boundaries may lie and still be sewn into one edge in
-/// the STEP output.
-const SEW_TOLERANCE_MM: f64 = crate::geom::sew::DIE_FACE_TOLERANCE;
-
-/// The STEP bytes of the die face of `outcome`: the product, step draw and binder
-/// faces sewn into one shell, the beads in a second.
-pub(crate) fn step_bytes(outcome: &Outcome, name: &str) -> Result<Vec<u8>, String> {
-    let faces = crate::eval::die_face::die_face(outcome);
-    let die = sew(faces.faces, SEW_TOLERANCE_MM)
-        .map_err(|e| format!("sewing the die face failed: {e}"))?;
-    let beads =
-        sew(faces.beads, SEW_TOLERANCE_MM).map_err(|e| format!("sewing the beads failed: {e}"))?;
-    let mut shells = Vec::new();
-    if !die.faces.is_empty() {
-        shells.push(("die_face".to_string(), &die));
-    }
-    if !beads.faces.is_empty() {
-        shells.push(("beads".to_string(), &beads));
-    }
-    if shells.is_empty() {
-        return Err("the script has no die face to write: STEP carries the products (trimmed with `trim(panel, outline)`) and the step draw, blankholder and bead features, and this script has none".into());
-    }
-    Ok(encode_step(&StepModel {
-        name: name.to_string(),
-        shells,
-        uncertainty: SEW_TOLERANCE_MM,
-    }))
-}
-
 /// How one build went.
 pub(crate) enum Built {
     /// Every output written.
@@ -96,6 +36,10 @@ pub(crate) enum Built {
         files: Vec<(PathBuf, usize)>,
         /// Wall time of evaluation, tessellation and writing.
         took: Duration,
+        /// The declarations that re-ran.
+        reran: Vec<String>,
+        /// How many pieces were tessellated anew (the rest came from the cache).
+        tessellated: usize,
     },
     /// Nothing re-ran and the outputs are up to date (watch only): nothing written.
     Unchanged,
@@ -139,151 +83,69 @@ impl Plan {
         })
     }
 
-    /// Evaluates `script` with `engine` and, when clean, writes every output. Prints
-    /// diagnostics and write errors on stderr. With `skip_unchanged` (outputs written by
-    /// the previous, good build of this engine), a clean evaluation in which no
-    /// declaration re-ran writes nothing.
+    /// Evaluates `script` with `pipeline` and, when clean, writes every output.
+    /// Prints diagnostics and write errors on stderr. With `skip_unchanged` (outputs
+    /// written by the previous, good build of this pipeline), a clean evaluation in
+    /// which no declaration re-ran writes nothing.
     pub(crate) fn build(
         &self,
-        engine: &mut Engine,
+        pipeline: &mut Pipeline,
         script: &ScriptArgs,
         skip_unchanged: bool,
     ) -> Result<Built, String> {
         let started = Instant::now();
-        let bar = progress(format!("evaluating {}", script.file.display()));
-        let outcome = engine
-            .evaluate_path(&script.file)
-            .map_err(|e| format!("cannot read `{}`: {e}", script.file.display()));
-        bar.finish_and_clear();
-        let outcome = outcome?;
-        if skip_unchanged && outcome.diagnostics.is_empty() && engine.last_evaluated().is_empty() {
-            return Ok(Built::Unchanged);
-        }
-        let mut problems = outcome.diagnostics.clone();
-        let tolerance = if problems.is_empty() {
-            match self.tolerance_for(&outcome) {
-                Ok(t) => Some(t),
-                Err(d) => {
-                    problems.push(d);
-                    None
-                }
+        // One progress line at a time, replaced at each stage and cleared before
+        // anything is printed.
+        let bar: RefCell<Option<ProgressBar>> = RefCell::new(None);
+        let clear = || {
+            if let Some(b) = bar.borrow_mut().take() {
+                b.finish_and_clear();
             }
-        } else {
-            None
         };
-        let scene = match tolerance {
-            Some(tol) => {
-                let bar = progress("tessellating");
-                let scene = build_scene(&outcome, &engine.sources, &tol);
-                bar.finish_and_clear();
-                match scene {
-                    Ok(s) => Some(s),
-                    Err(d) => {
-                        problems.push(d);
-                        None
+        let mut stage = |s: Stage| {
+            clear();
+            *bar.borrow_mut() = Some(progress(match s {
+                Stage::Evaluating(f) => format!("evaluating {}", f.display()),
+                Stage::Tessellating => "tessellating".to_string(),
+                Stage::Writing(p) => format!("writing {}", p.display()),
+            }));
+        };
+        let build = pipeline.build(&script.file, self.tolerance, &mut stage);
+        let build = build.map_err(|e| format!("cannot read `{}`: {e}", script.file.display()));
+        let result = match build {
+            Err(e) => Err(e),
+            Ok(b) if skip_unchanged && b.problems.is_empty() && b.reran.is_empty() => {
+                Ok(Built::Unchanged)
+            }
+            Ok(b) if !b.problems.is_empty() => {
+                clear();
+                for d in &b.problems {
+                    eprintln!("{}", pipeline.engine.sources.render(d, self.color));
+                }
+                Ok(Built::ScriptErrors(b.problems.len()))
+            }
+            Ok(b) => {
+                let stem = script
+                    .file
+                    .file_stem()
+                    .map_or_else(|| "die_face".into(), |s| s.to_string_lossy().into_owned());
+                match write_outputs(&b, &self.outputs, &stem, &mut stage) {
+                    Ok(files) => Ok(Built::Written {
+                        files,
+                        took: started.elapsed(),
+                        reran: b.reran,
+                        tessellated: b.tessellated,
+                    }),
+                    Err((path, e)) => {
+                        clear();
+                        eprintln!("error: cannot write `{}`: {e}", path.display());
+                        Ok(Built::WriteFailed)
                     }
                 }
             }
-            None => None,
         };
-        let Some(scene) = scene else {
-            for d in &problems {
-                eprintln!("{}", engine.sources.render(d, self.color));
-            }
-            return Ok(Built::ScriptErrors(problems.len()));
-        };
-        let mut files = Vec::new();
-        for (path, format) in &self.outputs {
-            let bar = progress(format!("writing {}", path.display()));
-            let bytes = match format {
-                Output::Scene(f) => encode(&scene, *f),
-                Output::Step => {
-                    let stem = script
-                        .file
-                        .file_stem()
-                        .map_or_else(|| "die_face".into(), |s| s.to_string_lossy().into_owned());
-                    match step_bytes(&outcome, &stem) {
-                        Ok(b) => b,
-                        Err(e) => {
-                            bar.finish_and_clear();
-                            eprintln!("error: cannot write `{}`: {e}", path.display());
-                            return Ok(Built::WriteFailed);
-                        }
-                    }
-                }
-            };
-            let written = write_atomic(path, &bytes);
-            bar.finish_and_clear();
-            if let Err(e) = written {
-                eprintln!("error: cannot write `{}`: {e}", path.display());
-                return Ok(Built::WriteFailed);
-            }
-            files.push((path.clone(), bytes.len()));
-        }
-        Ok(Built::Written {
-            files,
-            took: started.elapsed(),
-        })
-    }
-
-    /// The chordal tolerance: `--tolerance`, else the script's top-level
-    /// `param tolerance` (a positive length), else [`DEFAULT_TOLERANCE_MM`].
-    fn tolerance_for(&self, outcome: &Outcome) -> Result<Tolerance, Diagnostic> {
-        if let Some(mm) = self.tolerance {
-            return Ok(Tolerance::new(mm).expect("checked when parsed"));
-        }
-        let decl = outcome
-            .decls
-            .iter()
-            .find(|d| d.name == TOLERANCE_PARAM && d.kind == "param");
-        let Some(decl) = decl else {
-            return Ok(Tolerance::new(DEFAULT_TOLERANCE_MM).expect("a positive constant"));
-        };
-        let value = decl.value.as_ref();
-        let mm = value.and_then(|v| match v.data {
-            Data::Number(q) if q.dim == Dim::LENGTH && q.value.is_finite() && q.value > 0.0 => {
-                Some(q.value)
-            }
-            _ => None,
-        });
-        match mm.map(Tolerance::new) {
-            Some(Ok(t)) => Ok(t),
-            _ => {
-                let what = value.map_or_else(|| "no value".to_string(), |v| v.type_name());
-                Err(Diagnostic::new(
-                    "die::bad_tolerance",
-                    format!("`param tolerance` sets the tessellation's chordal tolerance and must be a positive length, but this is {what}"),
-                    value.map_or(decl.span, |v| v.span),
-                    format!("this is {what}"),
-                )
-                .with_label(decl.span, "the tolerance parameter")
-                .with_help("e.g. `param tolerance = 0.05 mm`, or pass `--tolerance 0.05mm`"))
-            }
-        }
-    }
-}
-
-/// Parses `--tolerance`: an expression of the language that is a positive length
-/// (`0.01mm`, `0.01 mm`, `0.001in`); returns millimetres.
-pub(crate) fn parse_tolerance(text: &str) -> Result<f64, String> {
-    let mut sources = Sources::new();
-    let value =
-        eval_text(&mut sources, "--tolerance", text, Units::default()).map_err(|d| d.message)?;
-    match value.data {
-        Data::Number(q) if q.dim == Dim::LENGTH => {
-            if q.value.is_finite() && q.value > 0.0 {
-                Ok(q.value)
-            } else {
-                Err("the tolerance must be positive".into())
-            }
-        }
-        Data::Number(q) if q.bare => {
-            Err(format!("give the tolerance with its unit, e.g. `{text}mm`"))
-        }
-        _ => Err(format!(
-            "the tolerance must be a length (mm, cm, m, in), but this is {}",
-            value.type_name()
-        )),
+        clear();
+        result
     }
 }
 
@@ -293,11 +155,11 @@ pub(crate) fn run(script: &ScriptArgs, out: &OutputArgs) -> ExitCode {
         Ok(p) => p,
         Err(code) => return code,
     };
-    let mut engine = match script.engine() {
-        Ok(e) => e,
+    let mut pipeline = match script.engine() {
+        Ok(e) => Pipeline::new(e),
         Err(code) => return code,
     };
-    match plan.build(&mut engine, script, false) {
+    match plan.build(&mut pipeline, script, false) {
         Err(msg) => {
             eprintln!("error: {msg}");
             ExitCode::from(USAGE_ERROR)
@@ -314,7 +176,7 @@ pub(crate) fn run(script: &ScriptArgs, out: &OutputArgs) -> ExitCode {
         // with the command line, not the script.
         Ok(Built::WriteFailed) => ExitCode::from(USAGE_ERROR),
         Ok(Built::Unchanged) => ExitCode::SUCCESS,
-        Ok(Built::Written { files, took }) => {
+        Ok(Built::Written { files, took, .. }) => {
             for (path, bytes) in &files {
                 println!("wrote {} ({bytes} bytes)", path.display());
             }

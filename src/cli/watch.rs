@@ -9,9 +9,11 @@
 //! never by inode). Bursts of events (write, chmod, rename, close) are debounced into
 //! one rebuild.
 //!
-//! One [`Engine`] lives across rebuilds, so its memo re-evaluates only the declarations
-//! an edit touched; each rebuild prints one line with its time and the declarations
-//! that re-ran. A rebuild with errors prints the diagnostics and leaves the outputs as
+//! One [`Pipeline`] lives across rebuilds: its engine's memo re-evaluates only the
+//! declarations an edit touched, and its scene cache re-tessellates only the pieces
+//! whose geometry changed. Each rebuild prints one line with its time (from the save
+//! being noticed to the files written), the declarations that re-ran and how many
+//! pieces were tessellated. A rebuild with errors prints the diagnostics and leaves the outputs as
 //! the last good build wrote them (writes are atomic).
 
 use std::collections::BTreeSet;
@@ -24,6 +26,7 @@ use notify::event::{AccessKind, AccessMode};
 use notify::{EventKind, RecursiveMode, Watcher};
 
 use crate::eval::Engine;
+use crate::pipeline::Pipeline;
 
 use super::build::{Built, Plan};
 use super::{ms, OutputArgs, ScriptArgs, USAGE_ERROR};
@@ -44,8 +47,8 @@ pub(crate) fn run(script: &ScriptArgs, out: &OutputArgs) -> ExitCode {
         Ok(p) => p,
         Err(code) => return code,
     };
-    let mut engine = match script.engine() {
-        Ok(e) => e,
+    let mut pipeline = match script.engine() {
+        Ok(e) => Pipeline::new(e),
         Err(code) => return code,
     };
     let main_file = match normalize(&script.file) {
@@ -79,8 +82,8 @@ pub(crate) fn run(script: &ScriptArgs, out: &OutputArgs) -> ExitCode {
     register(&mut watcher, &files, &mut dirs);
 
     let mut state = State::default();
-    rebuild(&plan, &mut engine, script, &mut state);
-    files.extend(loaded_files(&engine, &script.root()));
+    rebuild(&plan, &mut pipeline, script, &mut state);
+    files.extend(loaded_files(&pipeline.engine, &script.root()));
     register(&mut watcher, &files, &mut dirs);
     eprintln!(
         "watching {} file{} in {} folder{} (Ctrl-C to stop)",
@@ -120,9 +123,9 @@ pub(crate) fn run(script: &ScriptArgs, out: &OutputArgs) -> ExitCode {
                         Err(RecvTimeoutError::Disconnected) => return ExitCode::SUCCESS,
                     }
                 }
-                rebuild(&plan, &mut engine, script, &mut state);
+                rebuild(&plan, &mut pipeline, script, &mut state);
                 // Imports may have changed: watch the folders of new ones too.
-                files.extend(loaded_files(&engine, &script.root()));
+                files.extend(loaded_files(&pipeline.engine, &script.root()));
                 register(&mut watcher, &files, &mut dirs);
             }
         }
@@ -140,10 +143,10 @@ struct State {
 
 /// One build, and its line: `built in ...`, `rebuilt in 12.3 ms: a, b`, `no changes`,
 /// or the diagnostics and `error: see above, keeping the last good output`.
-fn rebuild(plan: &Plan, engine: &mut Engine, script: &ScriptArgs, state: &mut State) {
+fn rebuild(plan: &Plan, pipeline: &mut Pipeline, script: &ScriptArgs, state: &mut State) {
     let started = Instant::now();
     let unchanged_ok = state.built_once && !state.last_failed;
-    match plan.build(engine, script, unchanged_ok) {
+    match plan.build(pipeline, script, unchanged_ok) {
         Err(msg) => {
             // Typically the moment between an editor's delete and its write: the next
             // event brings the new file.
@@ -158,8 +161,12 @@ fn rebuild(plan: &Plan, engine: &mut Engine, script: &ScriptArgs, state: &mut St
                 eprintln!("error: see above, no output written yet");
             }
         }
-        Ok(Built::Written { files, .. }) => {
-            let ran = engine.last_evaluated();
+        Ok(Built::Written {
+            files,
+            reran: ran,
+            tessellated,
+            ..
+        }) => {
             let took = ms(started.elapsed());
             if !state.built_once {
                 let names: Vec<String> =
@@ -172,7 +179,11 @@ fn rebuild(plan: &Plan, engine: &mut Engine, script: &ScriptArgs, state: &mut St
             } else if ran.is_empty() {
                 println!("rebuilt in {took}: nothing re-ran (all memoized)");
             } else {
-                println!("rebuilt in {took}: {}", ran.join(", "));
+                println!(
+                    "rebuilt in {took}: {}; {tessellated} piece{} tessellated",
+                    ran.join(", "),
+                    if tessellated == 1 { "" } else { "s" }
+                );
             }
             state.built_once = true;
             state.last_failed = false;

@@ -12,6 +12,7 @@ pub mod blankholder;
 pub mod continuity;
 pub mod corner;
 pub mod figures;
+pub mod model;
 pub mod punch_opening;
 pub mod step_draw;
 pub mod two_view;

@@ -26,7 +26,7 @@ use crate::syntax::{parse, FileId, Span};
 
 use super::deps::{free_names_of_body, free_names_of_function};
 use super::expr::{Ctx, Locals, World};
-use super::features;
+use super::features::{self, FeatureKind, Registry};
 use super::paths::{self, resolve_in_root};
 use super::stdlib;
 use super::units::{self, Units};
@@ -35,17 +35,9 @@ use super::value::{Closure, Data, Module, Record, Value};
 /// Stack size of the evaluation thread.
 const EVAL_STACK_BYTES: usize = 512 << 20;
 
-/// Declaration kinds the language knows. Die-face features join this list as they land.
-pub const KINDS: &[&str] = &[
-    "let",
-    "param",
-    "product",
-    "punch_opening",
-    "blankholder",
-    "step_draw",
-    "bead",
-    "die_checks",
-];
+/// Declaration kinds written with `=` that every engine knows; the feature kinds come
+/// from its [`Registry`].
+pub const PLAIN_KINDS: &[&str] = &["let", "param", "product"];
 
 /// The names, values and units visible at the top level of one file.
 #[derive(Debug, Default)]
@@ -122,6 +114,8 @@ pub struct Engine {
     // main file's params, and how long each evaluated declaration took.
     overrides: Vec<(String, String)>,
     last_timings: Vec<(String, Duration)>,
+    /// The feature kinds blocks are built by.
+    registry: Registry,
 }
 
 impl World for Engine {
@@ -151,6 +145,7 @@ impl Engine {
             last_evaluated: Vec::new(),
             overrides: Vec::new(),
             last_timings: Vec::new(),
+            registry: Registry::standard(),
         }
     }
 
@@ -860,23 +855,56 @@ impl Engine {
         }
     }
 
+    /// The feature kinds this engine builds blocks with.
+    pub fn registry(&self) -> &Registry {
+        &self.registry
+    }
+
+    /// The die model of an outcome of this engine (see [`super::model::die_model`]).
+    pub fn die_model(&self, outcome: &Outcome) -> crate::die::model::DieModel {
+        super::model::die_model(outcome, &self.sources, &self.registry)
+    }
+
+    /// Every declaration kind this engine knows: the plain ones, then the features.
+    pub fn kinds(&self) -> Vec<&'static str> {
+        PLAIN_KINDS
+            .iter()
+            .copied()
+            .chain(self.registry.names())
+            .collect()
+    }
+
+    /// Adds a feature kind to this engine's registry: `kind name { ... }` blocks are then
+    /// built by it (a plug-in feature, or a test's).
+    pub fn register(&mut self, kind: &'static dyn FeatureKind) {
+        self.registry.register(kind);
+    }
+
+    /// The diagnostic for a declaration whose kind no one knows.
+    fn unknown_kind(&self, d: &ast::Decl) -> Diagnostic {
+        let kind = d.kind.node.as_str();
+        let kinds = self.kinds();
+        let diag = Diagnostic::new(
+            "die::unknown_kind",
+            format!("`{kind}` is not a kind of declaration"),
+            d.kind.span,
+            "unknown kind",
+        );
+        match did_you_mean(kind, kinds.iter().copied()) {
+            Some(s) => diag.with_help(format!("did you mean `{s}`?")),
+            None => diag.with_help(format!(
+                "declarations start with one of: {}",
+                kinds.join(", ")
+            )),
+        }
+    }
+
     /// Evaluates one declaration's body and checks it against its kind.
     fn evaluate_decl(&self, file: FileId, d: &ast::Decl) -> Result<Value, Diagnostic> {
         let kind = d.kind.node.as_str();
-        if !KINDS.contains(&kind) {
-            let diag = Diagnostic::new(
-                "die::unknown_kind",
-                format!("`{kind}` is not a kind of declaration"),
-                d.kind.span,
-                "unknown kind",
-            );
-            return Err(match did_you_mean(kind, KINDS.iter().copied()) {
-                Some(s) => diag.with_help(format!("did you mean `{s}`?")),
-                None => diag.with_help(format!(
-                    "declarations start with one of: {}",
-                    KINDS.join(", ")
-                )),
-            });
+        let feature = self.registry.get(kind);
+        if feature.is_none() && !PLAIN_KINDS.contains(&kind) {
+            return Err(self.unknown_kind(d));
         }
         let ctx = Ctx {
             world: self,
@@ -884,7 +912,7 @@ impl Engine {
             decl: Some(d.name.node.as_str()),
             depth: 0,
         };
-        if features::FEATURES.contains(&kind) {
+        if let Some(feature) = feature {
             let DeclBody::Block(b) = &d.body else {
                 return Err(Diagnostic::new(
                     "die::feature_block",
@@ -913,15 +941,18 @@ impl Engine {
                 .collect();
             let apply = |g: &Value, args: Vec<Value>, s: Span| ctx.apply(g, args, Vec::new(), s);
             let text = |s: Span| self.sources.slice(s).to_string();
-            return features::build(&features::Block {
-                kind,
-                name: &d.name.node,
-                span: d.span,
-                fields,
-                units: ctx.units(),
-                apply: &apply,
-                text: &text,
-            });
+            return features::build(
+                feature,
+                &features::Block {
+                    kind,
+                    name: &d.name.node,
+                    span: d.span,
+                    fields,
+                    units: ctx.units(),
+                    apply: &apply,
+                    text: &text,
+                },
+            );
         }
         let value = match &d.body {
             DeclBody::Expr(e) => ctx.eval(e, &Locals::new())?,

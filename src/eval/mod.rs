@@ -8,10 +8,10 @@
 
 pub mod builtins;
 pub mod deps;
-pub mod die_face;
 pub mod engine;
 pub mod expr;
 pub mod features;
+pub mod model;
 pub mod ops;
 pub mod overrides;
 pub mod paths;

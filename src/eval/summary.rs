@@ -3,12 +3,12 @@
 
 use glam::DVec3;
 
-use crate::geom::curve::bounds;
+pub(crate) use crate::geom::curve::bounds;
 use crate::geom::Point;
 
-use super::units::{display, round};
-use super::value::{Data, Feature, Record, Value};
-use crate::die::punch_opening::PieceKind;
+use super::units::display;
+pub(crate) use super::units::round;
+use super::value::{Data, Record, Value};
 
 /// `kind name: summary` for a declaration, or `(failed)` when it has no value.
 pub fn describe(value: Option<&Value>) -> String {
@@ -147,12 +147,13 @@ pub fn summarize(v: &Value) -> String {
 }
 
 /// Bounds of the points of a curve sampled densely (tighter than the control polygon).
-fn sampled_curve(c: &crate::geom::Curve3) -> impl Iterator<Item = DVec3> + '_ {
+pub(crate) fn sampled_curve(c: &crate::geom::Curve3) -> impl Iterator<Item = DVec3> + '_ {
     let (a, b) = c.domain();
     (0..=256).map(move |i| c.point_at(a + (b - a) * i as f64 / 256.0))
 }
 
-fn sampled_surface(s: &crate::geom::NurbsSurface) -> impl Iterator<Item = DVec3> + '_ {
+/// Points of a surface sampled on a 33 x 33 grid, for its bounds.
+pub(crate) fn sampled_surface(s: &crate::geom::NurbsSurface) -> impl Iterator<Item = DVec3> + '_ {
     let (u0, u1) = s.domain_u();
     let (v0, v1) = s.domain_v();
     (0..=32).flat_map(move |i| {
@@ -165,93 +166,17 @@ fn sampled_surface(s: &crate::geom::NurbsSurface) -> impl Iterator<Item = DVec3>
     })
 }
 
-fn bbox(lo: DVec3, hi: DVec3) -> String {
+/// Bounds as `(x, y, z)..(x, y, z)`, rounded.
+pub(crate) fn bbox(lo: DVec3, hi: DVec3) -> String {
     let f = |p: DVec3| format!("({}, {}, {})", round(p.x), round(p.y), round(p.z));
     format!("{}..{}", f(lo), f(hi))
 }
 
-/// One line for a feature: its pieces and its worst quality figures.
+/// One line for a feature: its pieces and its worst quality figures, as its kind says.
 fn feature_summary(r: &Record) -> String {
-    match &r.feature {
-        Some(Feature::PunchOpening(p)) => {
-            let names = |kind: PieceKind| -> Vec<&str> {
-                p.pieces
-                    .iter()
-                    .filter(|x| x.kind == kind)
-                    .map(|x| x.name.as_str())
-                    .collect()
-            };
-            let (lo, hi) = bounds(sampled_curve(&p.line));
-            format!(
-                "punch opening, sides [{}], corners [{}], closed line of {} mm, bounds {}",
-                names(PieceKind::Side).join(", "),
-                names(PieceKind::Corner).join(", "),
-                round(p.line.length()),
-                bbox(lo, hi)
-            )
-        }
-        Some(Feature::Blankholder(b)) => {
-            let pts = b.patches.iter().flat_map(|p| sampled_surface(&p.surface));
-            let (lo, hi) = bounds(pts);
-            let area: f64 = b.patches.iter().map(|p| p.surface.area()).sum();
-            format!(
-                "blankholder, {} patches [{}], area {} mm², bounds {}",
-                b.patches.len(),
-                b.patches
-                    .iter()
-                    .map(|p| p.name.as_str())
-                    .collect::<Vec<_>>()
-                    .join(", "),
-                round(area),
-                bbox(lo, hi)
-            )
-        }
-        Some(Feature::StepDraw(s)) => {
-            let pts = s.patches.iter().flat_map(|p| sampled_surface(&p.surface));
-            let (lo, hi) = bounds(pts);
-            let area: f64 = s.patches.iter().map(|p| p.surface.area()).sum();
-            format!(
-                "step draw, {} key sections [{}], {} patches, area {} mm², bounds {}",
-                s.key_sections.len(),
-                s.key_sections
-                    .iter()
-                    .map(|(n, _)| n.as_str())
-                    .collect::<Vec<_>>()
-                    .join(", "),
-                s.patches.len(),
-                round(area),
-                bbox(lo, hi)
-            )
-        }
-        Some(Feature::Bead(b)) => {
-            let (lo, hi) = bounds(sampled_surface(&b.surface));
-            let line_bead = match r.get("line_bead").map(|v| &v.data) {
-                Some(Data::Record(lb)) => {
-                    let number = |k: &str| match lb.get(k).map(|v| &v.data) {
-                        Some(Data::Number(q)) => Some(q.value),
-                        _ => None,
-                    };
-                    let spacing = number("spacing")
-                        .map_or(String::new(), |s| format!(" every {} mm", round(s)));
-                    let force = number("force").map_or(", no force".to_string(), |f| {
-                        format!(" at {} N/mm", round(f))
-                    });
-                    format!("{spacing}{force}")
-                }
-                _ => String::new(),
-            };
-            format!(
-                "draw bead, {} mm long, {} key sections ({} skinned), {} line-bead points{}, bounds {}",
-                round(b.quality.length),
-                b.sections.len(),
-                b.quality.sections,
-                b.line_points.len(),
-                line_bead,
-                bbox(lo, hi)
-            )
-        }
-        None => String::new(),
-    }
+    r.feature
+        .as_ref()
+        .map_or_else(String::new, |f| f.kind.summary(r))
 }
 
 /// The quality report of a feature, one line per figure group (empty for other values):

@@ -10,16 +10,13 @@ use std::sync::Arc;
 
 use glam::{DVec2, DVec3};
 
-use crate::die::bead::Bead;
-use crate::die::blankholder::Blankholder;
-use crate::die::punch_opening::PunchOpening;
-use crate::die::step_draw::StepDraw;
 use crate::geom::mesh::Mesh;
 use crate::geom::{Curve2, Curve3, NurbsSurface, Transform, TrimmedSurface};
 use crate::syntax::ast::{Expr, Param};
 use crate::syntax::{FileId, Span};
 
 use super::builtins::Builtin;
+use super::features::Built;
 use super::sketch::{Sketch, View};
 
 /// A number with its dimension, in base units (mm for length, rad for angle).
@@ -235,39 +232,20 @@ pub struct Record {
     pub kind: Option<String>,
     /// Fields in source order.
     pub fields: Vec<(String, Value)>,
-    /// For a die-face feature (`punch_opening`, `blankholder`), the kernel model its
-    /// fields were taken from: what later features build on.
-    pub feature: Option<Feature>,
-}
-
-/// The kernel model behind a feature's record.
-#[derive(Debug, Clone)]
-pub enum Feature {
-    /// A punch opening line.
-    PunchOpening(Arc<PunchOpening>),
-    /// A blankholder.
-    Blankholder(Arc<Blankholder>),
-    /// A step draw.
-    StepDraw(Arc<StepDraw>),
-    /// A draw bead.
-    Bead(Arc<Bead>),
-}
-
-impl Feature {
-    /// Whether the record field `name` is exported as its own scene node. The closed
-    /// `line` of a punch opening repeats its pieces, so only the pieces are exported.
-    pub fn exports_field(&self, name: &str) -> bool {
-        !matches!(
-            (self, name),
-            (Feature::PunchOpening(_), "line") | (Feature::Bead(_), "line_bead")
-        )
-    }
+    /// For a feature, its kind and the kernel model its fields were taken from: what
+    /// later features build on, and what the die model and the exporters ask.
+    pub feature: Option<Built>,
 }
 
 impl Record {
     /// The field named `name`.
     pub fn get(&self, name: &str) -> Option<&Value> {
         self.fields.iter().find(|(n, _)| n == name).map(|(_, v)| v)
+    }
+
+    /// The kernel model of a feature's record, when it is a `T`.
+    pub fn model<T: std::any::Any>(&self) -> Option<&T> {
+        self.feature.as_ref().and_then(|f| f.model::<T>())
     }
 }
 

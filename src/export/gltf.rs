@@ -94,18 +94,6 @@ pub fn to_gltf_direction(n: DVec3) -> [f32; 3] {
     [n.x, n.z, -n.y].map(|c| c as f32 + 0.0)
 }
 
-/// The base colour of a declaration kind's material (linear RGB).
-pub fn kind_color(kind: &str) -> [f64; 3] {
-    match kind {
-        "product" => [0.45, 0.55, 0.70],                // grey-blue
-        "step_draw" => [0.95, 0.50, 0.10],              // orange
-        "blankholder" | "binder" => [0.25, 0.65, 0.30], // green
-        "punch_opening" => [0.85, 0.15, 0.15],          // red
-        "bead" => [0.55, 0.25, 0.75],                   // purple
-        _ => [0.80, 0.80, 0.80],                        // let, param, others: light grey
-    }
-}
-
 /// The glTF document being assembled: JSON arrays and the binary buffer.
 #[derive(Default)]
 struct Document {
@@ -177,7 +165,7 @@ impl Document {
         if geometry.is_empty() {
             return None;
         }
-        let material = self.material(&node.kind);
+        let material = self.material(&node.kind, node.color);
         let mut primitives = Vec::new();
         for g in geometry {
             match g {
@@ -214,12 +202,12 @@ impl Document {
         Some(self.meshes.len() - 1)
     }
 
-    /// The material of a kind, created on first use.
-    fn material(&mut self, kind: &str) -> usize {
+    /// The material of a kind (named by it, in the kind's colour), created on first use.
+    fn material(&mut self, kind: &str, color: [f64; 3]) -> usize {
         if let Some(i) = self.material_kinds.iter().position(|k| k == kind) {
             return i;
         }
-        let [r, g, b] = kind_color(kind);
+        let [r, g, b] = color;
         self.materials.push(json!({
             "name": kind,
             "pbrMetallicRoughness": {

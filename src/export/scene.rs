@@ -1,52 +1,35 @@
-//! Declarations to a scene of named, tessellated nodes.
+//! The die model tessellated: a scene of named nodes, what glTF and OBJ write.
 //!
-//! What becomes a node (everything else, numbers, strings, points, functions, is not
-//! exported):
+//! Each [`Part`] of the [`DieModel`] becomes a [`Node`] with the same name, kind,
+//! colour, line and children; its shape becomes a primitive:
 //!
 //! * a surface: triangles within the chordal tolerance, with the surface normals;
 //! * a trimmed surface (the product trimmed at its outline): the same, cut exactly at
 //!   the outline (its boundary vertices are points of the outline);
 //! * a mesh: its faces as triangles (quads split along the shorter diagonal), with its
 //!   own normals or, when it has none, angle-weighted vertex normals;
-//! * a 3-D curve, a sketch (placed in its view) or a 2-D curve (at z = 0): a line strip
-//!   within the tolerance;
-//! * a list: one child per geometric element, named `name/0`, `name/1`, ... by the
-//!   element's index in the list (so names stay stable when a non-geometric element sits
-//!   in between). Children rather than one node with several primitives, so every part
-//!   can be picked, hidden and traced on its own in a viewer;
-//! * a record (a nested block or a record literal): one child per geometric field, named
-//!   `rec/side-front` (the words of a field name joined by `-`);
-//! * a feature (`punch_opening opening { ... }`, `blankholder binder { ... }`): one child
-//!   per piece, `opening/front`, `opening/front_nose`, `binder/front`; the opening's
-//!   closed `line` is not repeated, its pieces are the line.
+//! * a curve: a line strip within the tolerance.
 //!
-//! A top-level `let` whose surface a `product` trims (`let panel = ...`,
-//! `product fender = trim(panel, outline)`) is not exported: the product is that panel,
-//! cut at its outline.
+//! A part whose tessellation is empty (a mesh without faces) gives no geometry, and a
+//! node left with neither geometry nor children is dropped.
 //!
-//! Node names are full paths from the declaration (`pol/side-front`, `bead_lines/1`), so
-//! they are unique in the scene and an OBJ group keeps the nesting. Children carry the
-//! declaration's kind (so a feature's parts share its material) and the line of the
-//! expression that made them when it lies inside the declaration, else the
-//! declaration's line. A list or record without any geometry gives no node, and a part
-//! whose tessellation is empty (a mesh without faces) gives no geometry.
+//! [`SceneCache`] keeps tessellations between builds by the content of the geometry
+//! ([`Fingerprint`]), so a rebuild after an edit re-tessellates only the pieces whose
+//! geometry changed: what `dieface watch` uses.
 
-use std::cell::RefCell;
 use std::collections::HashMap;
-use std::sync::Arc;
+use std::fmt;
 
 use glam::DVec3;
 
-use crate::diag::{Diagnostic, Sources};
-use crate::die::bead::Bead;
-use crate::eval::value::{Data, Feature, Record, Value};
-use crate::eval::Outcome;
+pub use crate::die::model::LineBead;
+use crate::die::model::{DieModel, Part, Shape};
+use crate::geom::fingerprint::Fingerprint;
 use crate::geom::mesh::Mesh;
 use crate::geom::tessellate::{
     tessellate_curve, tessellate_surface, tessellate_trimmed, SurfaceMesh, Tolerance,
 };
-use crate::geom::{Curve3, GeomError};
-use crate::syntax::Span;
+use crate::geom::GeomError;
 
 /// Tessellated declarations, in press coordinates (millimetres, Z up).
 #[derive(Debug, Clone, PartialEq)]
@@ -66,6 +49,8 @@ pub struct Node {
     pub name: String,
     /// The declaration's kind (`product`, `let`, `punch_opening`, ...); parts inherit it.
     pub kind: String,
+    /// The kind's material colour (linear RGB).
+    pub color: [f64; 3],
     /// 1-based source line of the declaration (or of the part's expression).
     pub line: usize,
     /// Parts of a list or a feature block.
@@ -74,19 +59,6 @@ pub struct Node {
     pub geometry: Vec<Geometry>,
     /// For a draw bead, its line bead for forming simulation (written to glTF extras).
     pub line_bead: Option<LineBead>,
-}
-
-/// A line bead: the bead's centre line on the binder as points every `spacing`, with
-/// the restraining force a forming simulation applies along it (LS-DYNA
-/// `*CONTACT_DRAWBEAD`-style).
-#[derive(Debug, Clone, PartialEq)]
-pub struct LineBead {
-    /// Points in press coordinates (mm).
-    pub points: Vec<DVec3>,
-    /// Distance between the points along the line (mm).
-    pub spacing: f64,
-    /// Restraining force per unit length (N/mm), if the script gives one.
-    pub force: Option<f64>,
 }
 
 /// A primitive, in press coordinates (millimetres).
@@ -143,250 +115,184 @@ impl Scene {
     }
 }
 
-/// Tessellates every declaration whose value is geometry into a node (press coordinates,
-/// mm).
-///
-/// Declarations that failed (no value) are skipped: reporting them is the caller's job.
-/// A tessellation failure (a tolerance far too fine for the geometry) is a
-/// `die::geometry` diagnostic at the declaration.
-pub fn build_scene(
-    outcome: &Outcome,
-    sources: &Sources,
-    tol: &Tolerance,
-) -> Result<Scene, Diagnostic> {
-    build_with_cache(outcome, sources, tol, None)
+/// A piece that could not be tessellated within the tolerance (a tolerance far too fine
+/// for the geometry).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TessellationError {
+    /// The part's full name (`binder/front`): its first segment is the declaration.
+    pub part: String,
+    /// The part's source line.
+    pub line: usize,
+    /// What the kernel said.
+    pub error: GeomError,
+}
+
+impl fmt::Display for TessellationError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "`{}` cannot be tessellated: {}", self.part, self.error)
+    }
+}
+
+/// Tessellates every part of the model into a node (press coordinates, mm).
+pub fn build_scene(model: &DieModel, tol: &Tolerance) -> Result<Scene, TessellationError> {
+    SceneCache::default().build(model, tol)
 }
 
 /// Tessellations kept between builds, so a rebuild after an edit re-tessellates only
-/// the geometry that changed: what `dieface watch` uses with one long-lived engine.
+/// the geometry that changed: what `dieface watch` uses.
 ///
-/// Geometry is recognised by identity: the engine's memo hands back the very same
-/// shared surface, mesh or curve for a declaration it did not re-evaluate, and the
-/// cache holds a reference to each one it stores, so an address cannot be reused by new
-/// geometry while its entry lives. Entries not used by a build are dropped after it, and
-/// a change of tolerance empties the cache.
+/// Geometry is recognised by its content: the cache keys each tessellation on the
+/// geometry's [`Fingerprint`] and keeps the geometry beside it, and reuses the
+/// tessellation only when the new geometry is equal to the kept one. So a piece that a
+/// rebuilt feature made again bit for bit is not tessellated again, and a fingerprint
+/// collision costs a tessellation, never a wrong mesh. Entries not used by a build are
+/// dropped after it, and a change of tolerance empties the cache.
 #[derive(Default)]
 pub struct SceneCache {
     tolerance: Option<(u64, u64)>,
-    entries: RefCell<HashMap<usize, (Data, Geometry, bool)>>,
+    entries: HashMap<u64, Entry>,
+    misses: usize,
+}
+
+/// One cached tessellation: the shape it was made from, the primitive, and whether the
+/// current build used it.
+struct Entry {
+    shape: Shape,
+    geometry: Geometry,
+    used: bool,
 }
 
 impl SceneCache {
     /// Builds the scene like [`build_scene`], reusing cached tessellations.
-    pub fn build(
-        &mut self,
-        outcome: &Outcome,
-        sources: &Sources,
-        tol: &Tolerance,
-    ) -> Result<Scene, Diagnostic> {
+    pub fn build(&mut self, model: &DieModel, tol: &Tolerance) -> Result<Scene, TessellationError> {
         let key = (tol.chordal.to_bits(), tol.angle.to_bits());
         if self.tolerance != Some(key) {
-            self.entries.get_mut().clear();
+            self.entries.clear();
             self.tolerance = Some(key);
         }
-        for entry in self.entries.get_mut().values_mut() {
-            entry.2 = false;
+        for entry in self.entries.values_mut() {
+            entry.used = false;
         }
-        let scene = build_with_cache(outcome, sources, tol, Some(&self.entries));
-        self.entries.get_mut().retain(|_, e| e.2);
-        scene
+        self.misses = 0;
+        let mut nodes = Vec::new();
+        for part in &model.parts {
+            if let Some(node) = self.node(part, tol)? {
+                nodes.push(node);
+            }
+        }
+        self.entries.retain(|_, e| e.used);
+        Ok(Scene {
+            nodes,
+            tolerance_mm: tol.chordal,
+            source_name: model.source_name.clone(),
+        })
     }
 
     /// How many tessellations are cached.
     pub fn len(&self) -> usize {
-        self.entries.borrow().len()
+        self.entries.len()
     }
 
     /// Whether nothing is cached.
     pub fn is_empty(&self) -> bool {
-        self.len() == 0
+        self.entries.is_empty()
     }
-}
 
-type Cache = RefCell<HashMap<usize, (Data, Geometry, bool)>>;
-
-/// The address that identifies shared geometry, for the cache.
-fn identity(data: &Data) -> Option<usize> {
-    match data {
-        Data::Surface(s) => Some(Arc::as_ptr(s) as *const () as usize),
-        Data::Trimmed(t) => Some(Arc::as_ptr(t) as *const () as usize),
-        Data::Mesh(m) => Some(Arc::as_ptr(m) as *const () as usize),
-        Data::Curve3(c) => Some(Arc::as_ptr(c) as *const () as usize),
-        Data::Curve2(c) => Some(Arc::as_ptr(c) as *const () as usize),
-        Data::Sketch(s) => Some(Arc::as_ptr(s) as *const () as usize),
-        _ => None,
+    /// How many pieces the last build tessellated (not found in the cache).
+    pub fn last_misses(&self) -> usize {
+        self.misses
     }
-}
 
-fn build_with_cache(
-    outcome: &Outcome,
-    sources: &Sources,
-    tol: &Tolerance,
-    cache: Option<&Cache>,
-) -> Result<Scene, Diagnostic> {
-    let source_name = sources
-        .get(outcome.file)
-        .map_or_else(String::new, |f| f.name.clone());
-    let trimmed = trimmed_panels(outcome);
-    let mut nodes = Vec::new();
-    for d in &outcome.decls {
-        let Some(value) = &d.value else { continue };
-        if d.kind == "let" && matches!(&value.data, Data::Surface(s) if trimmed.contains(&&**s)) {
-            continue;
-        }
-        let ctx = Ctx {
-            sources,
-            tol,
-            cache,
-            kind: &d.kind,
-            decl: &d.name,
-            decl_span: d.span,
-            decl_line: sources.line_col(d.span).0,
-        };
-        if let Some(node) = ctx.node(d.name.clone(), value)? {
-            nodes.push(node);
-        }
-    }
-    Ok(Scene {
-        nodes,
-        tolerance_mm: tol.chordal,
-        source_name,
-    })
-}
-
-/// The untrimmed surfaces of the products trimmed at their outline: a `let` holding
-/// one of them is the panel the product was cut from, and exporting it too would put
-/// the untrimmed product back over the step draw.
-fn trimmed_panels(outcome: &Outcome) -> Vec<&crate::geom::NurbsSurface> {
-    let mut out = Vec::new();
-    for d in outcome.decls.iter().filter(|d| d.kind == "product") {
-        let Some(value) = &d.value else { continue };
-        let items: Vec<&Value> = match &value.data {
-            Data::List(items) => items.iter().collect(),
-            _ => vec![value],
-        };
-        for v in items {
-            if let Data::Trimmed(t) = &v.data {
-                out.push(t.surface());
-            }
-        }
-    }
-    out
-}
-
-/// What every node of one declaration shares.
-struct Ctx<'a> {
-    sources: &'a Sources,
-    tol: &'a Tolerance,
-    cache: Option<&'a Cache>,
-    kind: &'a str,
-    decl: &'a str,
-    decl_span: Span,
-    decl_line: usize,
-}
-
-impl Ctx<'_> {
-    /// The node for `value` named `name`, or `None` when it holds no geometry.
-    fn node(&self, name: String, value: &Value) -> Result<Option<Node>, Diagnostic> {
+    /// The node of one part, or `None` when it holds nothing to draw.
+    fn node(&mut self, part: &Part, tol: &Tolerance) -> Result<Option<Node>, TessellationError> {
         let mut node = Node {
-            name,
-            kind: self.kind.to_string(),
-            line: self.line_of(value.span),
+            name: part.name.clone(),
+            kind: part.kind.clone(),
+            color: part.color,
+            line: part.line,
             children: Vec::new(),
             geometry: Vec::new(),
-            line_bead: None,
+            line_bead: part.line_bead.clone(),
         };
-        if let (Some(cache), Some(id)) = (self.cache, identity(&value.data)) {
-            if let Some(entry) = cache.borrow_mut().get_mut(&id) {
-                entry.2 = true;
-                node.geometry.push(entry.1.clone());
-                node.geometry.retain(|g| !g.is_empty());
-                return Ok((!node.geometry.is_empty()).then_some(node));
+        if let Some(shape) = &part.shape {
+            let g = self
+                .tessellated(shape, tol)
+                .map_err(|error| TessellationError {
+                    part: part.name.clone(),
+                    line: part.line,
+                    error,
+                })?;
+            if !g.is_empty() {
+                node.geometry.push(g);
             }
         }
-        match &value.data {
-            Data::Surface(s) => {
-                let mesh = tessellate_surface(s, self.tol).map_err(|e| self.error(value, e))?;
-                node.geometry.push(surface_triangles(mesh));
+        for child in &part.children {
+            if let Some(c) = self.node(child, tol)? {
+                node.children.push(c);
             }
-            Data::Trimmed(t) => {
-                let mesh = tessellate_trimmed(t, self.tol).map_err(|e| self.error(value, e))?;
-                node.geometry.push(surface_triangles(mesh));
-            }
-            Data::Mesh(m) => node.geometry.push(mesh_triangles(m)),
-            Data::Curve3(c) => node.geometry.push(self.line_strip(c, value)?),
-            Data::Curve2(c) => {
-                let c3 = c.map_points(|p| p.extend(0.0));
-                node.geometry.push(self.line_strip(&c3, value)?);
-            }
-            Data::Sketch(s) => node.geometry.push(self.line_strip(&s.to_3d(), value)?),
-            Data::List(items) => {
-                for (i, item) in items.iter().enumerate() {
-                    if let Some(child) = self.node(format!("{}/{i}", node.name), item)? {
-                        node.children.push(child);
-                    }
-                }
-            }
-            Data::Record(r) => {
-                if let Some(Feature::Bead(b)) = &r.feature {
-                    node.line_bead = Some(line_bead(b, r));
-                }
-                for (field, v) in &r.fields {
-                    if r.feature.as_ref().is_some_and(|f| !f.exports_field(field)) {
-                        continue;
-                    }
-                    let part = field.split_whitespace().collect::<Vec<_>>().join("-");
-                    if let Some(child) = self.node(format!("{}/{part}", node.name), v)? {
-                        node.children.push(child);
-                    }
-                }
-            }
-            _ => return Ok(None),
         }
-        if let (Some(cache), Some(id), Some(g)) =
-            (self.cache, identity(&value.data), node.geometry.first())
-        {
-            cache
-                .borrow_mut()
-                .insert(id, (value.data.clone(), g.clone(), true));
-        }
-        node.geometry.retain(|g| !g.is_empty());
         if node.geometry.is_empty() && node.children.is_empty() {
             return Ok(None);
         }
         Ok(Some(node))
     }
 
-    /// The line of `span` when it lies in the declaration, else the declaration's line.
-    fn line_of(&self, span: Span) -> usize {
-        let d = self.decl_span;
-        if span.file == d.file && span.start >= d.start && span.end <= d.end {
-            self.sources.line_col(span).0
-        } else {
-            self.decl_line
+    /// The primitive of a shape: from the cache when the same geometry was tessellated
+    /// before, else tessellated now and kept.
+    fn tessellated(&mut self, shape: &Shape, tol: &Tolerance) -> Result<Geometry, GeomError> {
+        let key = fingerprint(shape);
+        if let Some(entry) = self.entries.get_mut(&key) {
+            if same(&entry.shape, shape) {
+                entry.used = true;
+                return Ok(entry.geometry.clone());
+            }
         }
+        self.misses += 1;
+        let geometry = tessellate(shape, tol)?;
+        self.entries.insert(
+            key,
+            Entry {
+                shape: shape.clone(),
+                geometry: geometry.clone(),
+                used: true,
+            },
+        );
+        Ok(geometry)
     }
+}
 
-    fn line_strip(&self, curve: &Curve3, value: &Value) -> Result<Geometry, Diagnostic> {
-        let line = tessellate_curve(curve, self.tol).map_err(|e| self.error(value, e))?;
-        Ok(Geometry::LineStrip {
-            points: line.points,
-        })
+/// The content fingerprint of a shape.
+fn fingerprint(shape: &Shape) -> u64 {
+    match shape {
+        Shape::Surface(s) => s.fingerprint(),
+        Shape::Trimmed(t) => t.fingerprint(),
+        Shape::Mesh(m) => m.fingerprint(),
+        Shape::Curve(c) => c.fingerprint(),
     }
+}
 
-    fn error(&self, value: &Value, err: GeomError) -> Diagnostic {
-        Diagnostic::new(
-            "die::geometry",
-            format!(
-                "`{}` cannot be tessellated for export within {} mm: {err}",
-                self.decl, self.tol.chordal
-            ),
-            value.span,
-            "this geometry",
-        )
-        .with_label(self.decl_span, "in this declaration")
-        .with_help("use a coarser tolerance (`--tolerance`), e.g. 0.01mm or 0.05mm")
+/// Whether two shapes are the same geometry (the same object, or equal content).
+fn same(a: &Shape, b: &Shape) -> bool {
+    use std::sync::Arc;
+    match (a, b) {
+        (Shape::Surface(a), Shape::Surface(b)) => Arc::ptr_eq(a, b) || a == b,
+        (Shape::Trimmed(a), Shape::Trimmed(b)) => Arc::ptr_eq(a, b) || a == b,
+        (Shape::Mesh(a), Shape::Mesh(b)) => Arc::ptr_eq(a, b) || a == b,
+        (Shape::Curve(a), Shape::Curve(b)) => Arc::ptr_eq(a, b) || a == b,
+        _ => false,
     }
+}
+
+/// Tessellates one shape within the tolerance.
+fn tessellate(shape: &Shape, tol: &Tolerance) -> Result<Geometry, GeomError> {
+    Ok(match shape {
+        Shape::Surface(s) => surface_triangles(tessellate_surface(s, tol)?),
+        Shape::Trimmed(t) => surface_triangles(tessellate_trimmed(t, tol)?),
+        Shape::Mesh(m) => mesh_triangles(m),
+        Shape::Curve(c) => Geometry::LineStrip {
+            points: tessellate_curve(c, tol)?.points,
+        },
+    })
 }
 
 /// A surface tessellation as triangles with unit normals.
@@ -432,28 +338,5 @@ fn mesh_triangles(m: &Mesh) -> Geometry {
         positions: tri.positions().to_vec(),
         normals,
         indices,
-    }
-}
-
-/// The line bead of a bead feature's record: its points, and the spacing and force the
-/// record's `line_bead` field holds.
-fn line_bead(bead: &Bead, r: &Record) -> LineBead {
-    let number = |name: &str| -> Option<f64> {
-        let Some(Value {
-            data: Data::Record(lb),
-            ..
-        }) = r.get("line_bead")
-        else {
-            return None;
-        };
-        match lb.get(name).map(|v| &v.data) {
-            Some(Data::Number(q)) => Some(q.value),
-            _ => None,
-        }
-    };
-    LineBead {
-        points: bead.line_points.clone(),
-        spacing: number("spacing").unwrap_or(0.0),
-        force: number("force"),
     }
 }

@@ -33,6 +33,7 @@ pub mod construct;
 pub mod curvature;
 pub mod curve;
 pub mod error;
+pub mod fingerprint;
 pub mod interpolate;
 pub mod intersect;
 pub mod inversion;

@@ -5,7 +5,7 @@
 
 use std::path::Path;
 
-use dieface::eval::value::Feature;
+use dieface::eval::features::Built;
 use dieface::eval::{Data, Engine, Value};
 
 /// Every declaration of `examples/<path>` with its value, in source order; the example
@@ -30,7 +30,7 @@ pub fn example_values(path: &str) -> Vec<(String, Value)> {
 }
 
 /// Every feature among `values`, with its declaration's name, in source order.
-pub fn features(values: &[(String, Value)]) -> Vec<(String, Feature)> {
+pub fn features(values: &[(String, Value)]) -> Vec<(String, Built)> {
     values
         .iter()
         .filter_map(|(name, v)| match &v.data {

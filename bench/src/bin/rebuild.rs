@@ -55,7 +55,9 @@ fn build_file(
     let outcome = engine.evaluate(file, source, Some(dir.to_path_buf()));
     assert!(outcome.diagnostics.is_empty(), "the example builds");
     let evaluated = Instant::now();
-    let scene = cache.build(&outcome, &engine.sources, tol).expect("scene");
+    let scene = cache
+        .build(&engine.die_model(&outcome), tol)
+        .expect("scene");
     let tessellated = Instant::now();
     let bytes = encode(&scene, Format::Glb);
     let done = Instant::now();

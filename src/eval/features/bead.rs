@@ -33,10 +33,12 @@ use crate::syntax::Span;
 
 use super::super::builtins::{as_length, type_error};
 use super::super::sketch::View;
-use super::super::value::{Data, Feature, Quantity, Value};
+use super::super::summary::{bbox, bounds, round, sampled_surface};
+use super::super::value::{Data, Quantity, Record, Value};
+use super::kind::{FeatureKind, FieldNames};
 use super::{check_record, count, feature_error, feature_value, items, mm, record, show, Block};
-
-const KIND: &str = "bead";
+use crate::die::model::{DieFace, LineBead};
+use crate::geom::sew::{Face, Shape};
 
 /// Where each key section came from, for diagnostics.
 struct KeySource {
@@ -51,21 +53,7 @@ struct KeySource {
 }
 
 /// Builds the bead of `block`.
-pub fn build(block: &Block) -> Result<Value, Diagnostic> {
-    block.check_fields(
-        &[
-            "binder",
-            "line",
-            "boundaries",
-            "profile",
-            "rules",
-            "taper",
-            "spacing",
-            "line_spacing",
-            "force",
-        ],
-        &["section"],
-    )?;
+fn build(block: &Block) -> Result<Value, Diagnostic> {
     let units = block.units;
     let binder_field = block.get("binder").ok_or_else(|| {
         block.missing(
@@ -74,8 +62,12 @@ pub fn build(block: &Block) -> Result<Value, Diagnostic> {
         )
     })?;
     let binder = match &binder_field.value.data {
-        Data::Record(r) => match &r.feature {
-            Some(Feature::Blankholder(b)) => b.clone(),
+        Data::Record(r) => match r
+            .feature
+            .as_ref()
+            .and_then(|f| f.shared::<crate::die::blankholder::Blankholder>())
+        {
+            Some(b) => b,
             _ => return Err(not_a_binder(&binder_field.value)),
         },
         _ => return Err(not_a_binder(&binder_field.value)),
@@ -687,5 +679,99 @@ fn output(
             quality.push((key, value));
         }
     }
-    feature_value(KIND, span, fields, quality, Feature::Bead(Arc::new(bead)))
+    feature_value(KIND, span, fields, quality, bead)
+}
+
+/// The `bead` feature kind.
+pub(super) static KIND: &dyn FeatureKind = &BeadKind;
+
+struct BeadKind;
+
+impl FeatureKind for BeadKind {
+    fn name(&self) -> &'static str {
+        "bead"
+    }
+    fn code(&self) -> &'static str {
+        "die::bead"
+    }
+    fn fields(&self) -> FieldNames {
+        FieldNames {
+            single: vec![
+                "binder",
+                "line",
+                "boundaries",
+                "profile",
+                "rules",
+                "taper",
+                "spacing",
+                "line_spacing",
+                "force",
+            ],
+            named: vec!["section"],
+        }
+    }
+    fn build(&self, block: &Block) -> Result<Value, Diagnostic> {
+        build(block)
+    }
+    fn color(&self) -> [f64; 3] {
+        [0.55, 0.25, 0.75] // purple
+    }
+    /// The line bead is simulation data (glTF extras), not a piece to draw.
+    fn exports_field(&self, field: &str) -> bool {
+        field != "line_bead"
+    }
+    fn summary(&self, record: &Record) -> String {
+        let Some(b) = record.model::<bd::Bead>() else {
+            return String::new();
+        };
+        let (lo, hi) = bounds(sampled_surface(&b.surface));
+        let line_bead = match self.line_bead(record) {
+            Some(lb) => {
+                let spacing = format!(" every {} mm", round(lb.spacing));
+                let force = lb.force.map_or(", no force".to_string(), |f| {
+                    format!(" at {} N/mm", round(f))
+                });
+                format!("{spacing}{force}")
+            }
+            None => String::new(),
+        };
+        format!(
+            "draw bead, {} mm long, {} key sections ({} skinned), {} line-bead points{}, bounds {}",
+            round(b.quality.length),
+            b.sections.len(),
+            b.quality.sections,
+            b.line_points.len(),
+            line_bead,
+            bbox(lo, hi)
+        )
+    }
+    /// The bead's centre line with the spacing and force its `line_bead` field holds.
+    fn line_bead(&self, record: &Record) -> Option<LineBead> {
+        let b = record.model::<bd::Bead>()?;
+        let Some(Value {
+            data: Data::Record(lb),
+            ..
+        }) = record.get("line_bead")
+        else {
+            return None;
+        };
+        let number = |name: &str| match lb.get(name).map(|v| &v.data) {
+            Some(Data::Number(q)) => Some(q.value),
+            _ => None,
+        };
+        Some(LineBead {
+            points: b.line_points.clone(),
+            spacing: number("spacing")?,
+            force: number("force"),
+        })
+    }
+    /// A bead's skin is a face of its own, beside the die face.
+    fn die_face(&self, name: &str, record: &Record, out: &mut DieFace) {
+        if let Some(b) = record.model::<bd::Bead>() {
+            out.beads.push(Face {
+                name: name.to_string(),
+                shape: Shape::Patch(b.surface.clone()),
+            });
+        }
+    }
 }

@@ -30,13 +30,15 @@ use crate::geom::GeomError;
 use crate::syntax::Span;
 
 use super::super::builtins::{as_point2, as_point3, type_error};
-use super::super::value::{Data, Feature, Record, Value};
+use super::super::summary::{bbox, bounds, round, sampled_surface};
+use super::super::value::{Data, Record, Value};
+use super::kind::{FeatureKind, FieldNames};
 use super::{
     angle, check_record, feature_error, feature_value, items, join_figures, length, number, record,
     show, show_value, Block,
 };
-
-const KIND: &str = "blankholder";
+use crate::die::model::DieFace;
+use crate::geom::sew::{Face, Shape};
 
 /// Default number of stations along a side when the designer gives no lists.
 const DEFAULT_STATIONS: usize = 5;
@@ -93,11 +95,7 @@ enum Blame {
 }
 
 /// Builds the blankholder of `block`.
-pub fn build(block: &Block) -> Result<Value, Diagnostic> {
-    block.check_fields(
-        &["opening", "width", "angle", "corners", "max_bead_height"],
-        &["side", "corner"],
-    )?;
+fn build(block: &Block) -> Result<Value, Diagnostic> {
     let units = block.units;
     let opening_field = block.get("opening").ok_or_else(|| {
         block.missing(
@@ -291,8 +289,8 @@ pub fn build(block: &Block) -> Result<Value, Diagnostic> {
 /// The punch opening a `opening` field names.
 fn opening_of(v: &Value) -> Result<Arc<PunchOpening>, Diagnostic> {
     match &v.data {
-        Data::Record(r) => match &r.feature {
-            Some(Feature::PunchOpening(p)) => Ok(p.clone()),
+        Data::Record(r) => match r.feature.as_ref().and_then(|f| f.shared::<PunchOpening>()) {
+            Some(p) => Ok(p),
             _ => Err(type_error(
                 v,
                 "`opening` of a blankholder",
@@ -935,11 +933,59 @@ fn output(block: &Block, binder: bh::Blankholder) -> Value {
         patches.map(|p| (p.name.as_str(), &p.surface, &[][..], None)),
         span,
     );
-    feature_value(
-        KIND,
-        span,
-        fields,
-        quality,
-        Feature::Blankholder(Arc::new(binder)),
-    )
+    feature_value(KIND, span, fields, quality, binder)
+}
+
+/// The `blankholder` feature kind.
+pub(super) static KIND: &dyn FeatureKind = &BlankholderKind;
+
+struct BlankholderKind;
+
+impl FeatureKind for BlankholderKind {
+    fn name(&self) -> &'static str {
+        "blankholder"
+    }
+    fn code(&self) -> &'static str {
+        "die::blankholder"
+    }
+    fn fields(&self) -> FieldNames {
+        FieldNames {
+            single: vec!["opening", "width", "angle", "corners", "max_bead_height"],
+            named: vec!["side", "corner"],
+        }
+    }
+    fn build(&self, block: &Block) -> Result<Value, Diagnostic> {
+        build(block)
+    }
+    fn color(&self) -> [f64; 3] {
+        [0.25, 0.65, 0.30] // green
+    }
+    fn summary(&self, record: &Record) -> String {
+        let Some(b) = record.model::<bh::Blankholder>() else {
+            return String::new();
+        };
+        let pts = b.patches.iter().flat_map(|p| sampled_surface(&p.surface));
+        let (lo, hi) = bounds(pts);
+        let area: f64 = b.patches.iter().map(|p| p.surface.area()).sum();
+        format!(
+            "blankholder, {} patches [{}], area {} mm², bounds {}",
+            b.patches.len(),
+            b.patches
+                .iter()
+                .map(|p| p.name.as_str())
+                .collect::<Vec<_>>()
+                .join(", "),
+            round(area),
+            bbox(lo, hi)
+        )
+    }
+    /// The binder's patches are faces of the die face.
+    fn die_face(&self, name: &str, record: &Record, out: &mut DieFace) {
+        if let Some(b) = record.model::<bh::Blankholder>() {
+            out.faces.extend(b.patches.iter().map(|p| Face {
+                name: format!("{name}/{}", p.name),
+                shape: Shape::Patch(p.surface.clone()),
+            }));
+        }
+    }
 }

@@ -15,10 +15,11 @@ use crate::diag::Diagnostic;
 use crate::eval::value::{Data, Record, Value};
 use crate::syntax::Span;
 
+use super::kind::{FeatureKind, FieldNames};
 use super::{angle, deg, items, length, mm, record_value, show, Block, Fields};
 
 /// The declaration kind.
-const KIND: &str = "die_checks";
+const NAME: &str = "die_checks";
 
 /// One limit: its field, the figures it bounds, and whether the figures must stay above
 /// it (`min_*`) or below it (`max_*`).
@@ -225,11 +226,7 @@ fn rounded(x: f64) -> String {
 }
 
 /// Builds a `die_checks` block: reads the limits and the features, checks every figure.
-pub(super) fn build(block: &Block) -> Result<Value, Diagnostic> {
-    let names: Vec<&str> = LIMITS.iter().map(|l| l.field).collect();
-    let mut single = vec!["features"];
-    single.extend(&names);
-    block.check_fields(&single, &[])?;
+fn build(block: &Block) -> Result<Value, Diagnostic> {
     let Some(features) = block.get("features") else {
         return Err(block.missing(
             "features",
@@ -256,7 +253,14 @@ pub(super) fn build(block: &Block) -> Result<Value, Diagnostic> {
             block.head(),
             format!("`{}` checks nothing", block.name),
         )
-        .with_help(format!("set at least one of: {}", names.join(", "))));
+        .with_help(format!(
+            "set at least one of: {}",
+            LIMITS
+                .iter()
+                .map(|l| l.field)
+                .collect::<Vec<_>>()
+                .join(", ")
+        )));
     }
     let span = block.span;
     let mut checked: Fields = Vec::new();
@@ -355,10 +359,36 @@ pub(super) fn build(block: &Block) -> Result<Value, Diagnostic> {
     }
     Ok(Value::new(
         Data::Record(std::sync::Arc::new(Record {
-            kind: Some(KIND.to_string()),
+            kind: Some(NAME.to_string()),
             fields: checked,
             feature: None,
         })),
         span,
     ))
+}
+
+/// The `die_checks` kind: limits on the features' quality figures.
+pub(super) static KIND: &dyn FeatureKind = &DieChecksKind;
+
+struct DieChecksKind;
+
+impl FeatureKind for DieChecksKind {
+    fn name(&self) -> &'static str {
+        NAME
+    }
+    fn code(&self) -> &'static str {
+        "die::die_checks"
+    }
+    /// `features`, then one field per limit.
+    fn fields(&self) -> FieldNames {
+        let mut single = vec!["features"];
+        single.extend(LIMITS.iter().map(|l| l.field));
+        FieldNames {
+            single,
+            named: Vec::new(),
+        }
+    }
+    fn build(&self, block: &Block) -> Result<Value, Diagnostic> {
+        build(block)
+    }
 }

@@ -1,18 +1,23 @@
-//! Die-face feature declarations: `punch_opening name { ... }`, `blankholder name { ... }`.
+//! Feature blocks: `punch_opening`, `blankholder`, `step_draw`, `bead` and `die_checks`.
 //!
 //! A feature is written as a block. The engine evaluates the block's fields like any
-//! record, then hands them here with the spans of their names; each feature reads its
-//! fields (checking types, units and names, with "did you mean"), calls the kernel
-//! feature in [`crate::die`], and turns the result into a record of the feature's kind:
-//! one geometric field per named piece (what `build` exports and scripts reach with
-//! `name.piece`), plus a `quality` record of the figures a reviewer checks. The kernel
-//! model rides along in [`Record::feature`] for the features built on top of it.
+//! record, then hands them here with the spans of their names. Each kind is one module
+//! implementing [`FeatureKind`] ([`kind`]) and one entry in [`Registry::standard`]: it
+//! reads its fields (checking types, units and names, with "did you mean"), calls the
+//! kernel feature in [`crate::die`], and turns the result into a record of the
+//! feature's kind: one geometric field per named piece (what `build` exports and
+//! scripts reach with `name.piece`), plus a `quality` record of the figures a reviewer
+//! checks. The kernel model rides along in [`Record::feature`] ([`Built`]) for the
+//! features built on top of it and for the die model.
 
 mod bead;
 mod blankholder;
 mod die_checks;
+pub mod kind;
 mod punch_opening;
 mod step_draw;
+
+pub use kind::{Built, FeatureKind, FieldNames, Registry};
 
 use std::sync::Arc;
 
@@ -22,16 +27,6 @@ use crate::syntax::Span;
 use super::builtins::{as_angle, as_length, as_number, type_error};
 use super::units::Units;
 use super::value::{Data, Dim, Quantity, Record, Value};
-
-/// Declaration kinds written as feature blocks, built by [`build`]: the die-face
-/// features, and `die_checks` (limits on their figures, `die_checks.rs`).
-pub const FEATURES: &[&str] = &[
-    "punch_opening",
-    "blankholder",
-    "step_draw",
-    "bead",
-    "die_checks",
-];
 
 /// One field of a feature block.
 #[derive(Debug, Clone)]
@@ -191,39 +186,23 @@ impl Block<'_> {
     }
 }
 
-/// Builds the feature `block.kind` from its evaluated block.
-pub fn build(block: &Block) -> Result<Value, Diagnostic> {
-    match block.kind {
-        "punch_opening" => punch_opening::build(block),
-        "blankholder" => blankholder::build(block),
-        "step_draw" => step_draw::build(block),
-        "bead" => bead::build(block),
-        "die_checks" => die_checks::build(block),
-        other => Err(Diagnostic::new(
-            "die::unknown_kind",
-            format!("`{other}` is not a die-face feature"),
-            block.span,
-            "here",
-        )),
-    }
+/// Builds a feature of `kind` from its evaluated block: its fields checked against
+/// the kind's, then the kind's own build.
+pub fn build(kind: &dyn FeatureKind, block: &Block) -> Result<Value, Diagnostic> {
+    let fields = kind.fields();
+    block.check_fields(&fields.single, &fields.named)?;
+    kind.build(block)
 }
 
-/// A `die::<feature>` diagnostic for a bad value.
+/// A diagnostic for a bad value in a feature block, with the kind's code.
 fn feature_error(
-    kind: &str,
+    kind: &dyn FeatureKind,
     message: impl Into<String>,
     span: Span,
     label: impl Into<String>,
     help: impl Into<String>,
 ) -> Diagnostic {
-    let code = match kind {
-        "punch_opening" => "die::punch_opening",
-        "blankholder" => "die::blankholder",
-        "step_draw" => "die::step_draw",
-        "bead" => "die::bead",
-        _ => "die::feature",
-    };
-    Diagnostic::new(code, message, span, label).with_help(help)
+    Diagnostic::new(kind.code(), message, span, label).with_help(help)
 }
 
 /// A value as a list of items (a single value is a list of one).
@@ -360,19 +339,19 @@ fn record_value(fields: Vec<(String, Value)>, span: Span) -> Value {
 
 /// The value of a feature block: its pieces' fields, then `quality` (the overall figures
 /// followed by the per-piece records), with the kernel model attached.
-fn feature_value(
-    kind: &str,
+fn feature_value<T: std::any::Any + Send + Sync>(
+    kind: &'static dyn FeatureKind,
     span: Span,
     mut fields: Vec<(String, Value)>,
     quality: Vec<(String, Value)>,
-    feature: super::value::Feature,
+    model: T,
 ) -> Value {
     fields.push(("quality".into(), record_value(quality, span)));
     Value::new(
         Data::Record(Arc::new(Record {
-            kind: Some(kind.to_string()),
+            kind: Some(kind.name().to_string()),
             fields,
-            feature: Some(feature),
+            feature: Some(Built::new(kind, model)),
         })),
         span,
     )

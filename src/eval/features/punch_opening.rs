@@ -25,20 +25,20 @@ use glam::DVec2;
 
 use crate::diag::{did_you_mean, Diagnostic};
 use crate::die::punch_opening::{
-    self as po, CornerSpec, Magnitude, PieceQuality, PieceSpec, PunchOpeningSpec, SideSpec,
-    SideView,
+    self as po, CornerSpec, Magnitude, PieceKind, PieceQuality, PieceSpec, PunchOpening,
+    PunchOpeningSpec, SideSpec, SideView,
 };
 use crate::geom::GeomError;
 use crate::syntax::Span;
 
 use super::super::sketch::{Sketch, View};
-use super::super::value::{Data, Dim, Feature, Value};
+use super::super::summary::{bbox, bounds, round, sampled_curve};
+use super::super::value::{Data, Dim, Record, Value};
+use super::kind::{FeatureKind, FieldNames};
 use super::{
     check_record, count, deg, feature_error, feature_value, length, mm, record, record_value, show,
     show_value, Block,
 };
-
-const KIND: &str = "punch_opening";
 
 /// The finest tolerance `delta` (mm): finer ones multiply the points of every side and
 /// corner past what the kernel's interpolation can hold.
@@ -69,11 +69,7 @@ struct ViewEnds {
 }
 
 /// Builds the punch opening of `block`.
-pub fn build(block: &Block) -> Result<Value, Diagnostic> {
-    block.check_fields(
-        &["top", "delta", "max_step", "corners"],
-        &["side", "corner"],
-    )?;
+fn build(block: &Block) -> Result<Value, Diagnostic> {
     let units = block.units;
     let top_field = block.get("top").ok_or_else(|| {
         block.missing(
@@ -830,11 +826,55 @@ fn output(block: &Block, opening: po::PunchOpening) -> Value {
         ("corner_tangent_error".to_string(), mm(magnitude, span)),
     ];
     quality.extend(per_piece);
-    feature_value(
-        KIND,
-        span,
-        fields,
-        quality,
-        Feature::PunchOpening(Arc::new(opening)),
-    )
+    feature_value(KIND, span, fields, quality, opening)
+}
+
+/// The `punch_opening` feature kind.
+pub(super) static KIND: &dyn FeatureKind = &PunchOpeningKind;
+
+struct PunchOpeningKind;
+
+impl FeatureKind for PunchOpeningKind {
+    fn name(&self) -> &'static str {
+        "punch_opening"
+    }
+    fn code(&self) -> &'static str {
+        "die::punch_opening"
+    }
+    fn fields(&self) -> FieldNames {
+        FieldNames {
+            single: vec!["top", "delta", "max_step", "corners"],
+            named: vec!["side", "corner"],
+        }
+    }
+    fn build(&self, block: &Block) -> Result<Value, Diagnostic> {
+        build(block)
+    }
+    fn color(&self) -> [f64; 3] {
+        [0.85, 0.15, 0.15] // red
+    }
+    /// The closed `line` repeats the sides and corners: only the pieces are exported.
+    fn exports_field(&self, field: &str) -> bool {
+        field != "line"
+    }
+    fn summary(&self, record: &Record) -> String {
+        let Some(p) = record.model::<PunchOpening>() else {
+            return String::new();
+        };
+        let names = |kind: PieceKind| -> Vec<&str> {
+            p.pieces
+                .iter()
+                .filter(|x| x.kind == kind)
+                .map(|x| x.name.as_str())
+                .collect()
+        };
+        let (lo, hi) = bounds(sampled_curve(&p.line));
+        format!(
+            "punch opening, sides [{}], corners [{}], closed line of {} mm, bounds {}",
+            names(PieceKind::Side).join(", "),
+            names(PieceKind::Corner).join(", "),
+            round(p.line.length()),
+            bbox(lo, hi)
+        )
+    }
 }

@@ -31,10 +31,12 @@ use crate::syntax::Span;
 
 use super::super::builtins::{as_point2, type_error};
 use super::super::sketch::{Sketch, View};
-use super::super::value::{Data, Feature, Value};
+use super::super::summary::{bbox, bounds, round, sampled_surface};
+use super::super::value::{Data, Record, Value};
+use super::kind::{FeatureKind, FieldNames};
 use super::{check_record, feature_error, feature_value, join_figures, mm, record, show, Block};
-
-const KIND: &str = "step_draw";
+use crate::die::model::DieFace;
+use crate::geom::sew::{Face, Shape};
 
 /// A key section as written, with what the diagnostics need to point at it.
 struct SectionSource {
@@ -59,19 +61,7 @@ struct SectionSource {
 }
 
 /// Builds the step draw of `block`.
-pub fn build(block: &Block) -> Result<Value, Diagnostic> {
-    block.check_fields(
-        &[
-            "product",
-            "opening",
-            "binder",
-            "tolerance",
-            "closed",
-            "tangent_product",
-            "tangent_binder",
-        ],
-        &["section"],
-    )?;
+fn build(block: &Block) -> Result<Value, Diagnostic> {
     let units = block.units;
     let product_field = block.get("product").ok_or_else(|| {
         block.missing(
@@ -249,10 +239,12 @@ pub fn build(block: &Block) -> Result<Value, Diagnostic> {
 /// across the punch opening line.
 fn binder_patches(v: &Value) -> Result<Vec<crate::geom::NurbsSurface>, Diagnostic> {
     match &v.data {
-        Data::Record(r) => match &r.feature {
-            Some(Feature::Blankholder(b)) => {
-                Ok(b.patches.iter().map(|p| p.surface.clone()).collect())
-            }
+        Data::Record(r) => match r
+            .feature
+            .as_ref()
+            .and_then(|f| f.model::<crate::die::blankholder::Blankholder>())
+        {
+            Some(b) => Ok(b.patches.iter().map(|p| p.surface.clone()).collect()),
             _ => Err(type_error(
                 v,
                 "`binder` of a step draw",
@@ -312,8 +304,8 @@ fn opening_line(v: &Value) -> Result<Curve3, Diagnostic> {
     const EXPECTED: &str =
         "a punch opening (the name of a `punch_opening` declaration) or a 3-D curve";
     match &v.data {
-        Data::Record(r) => match &r.feature {
-            Some(Feature::PunchOpening(p)) => Ok(p.line.clone()),
+        Data::Record(r) => match r.feature.as_ref().and_then(|f| f.model::<crate::die::punch_opening::PunchOpening>()) {
+            Some(p) => Ok(p.line.clone()),
             _ => Err(type_error(v, "`opening` of a step draw", EXPECTED)),
         },
         Data::Curve3(c) => Ok((**c).clone()),
@@ -1038,11 +1030,68 @@ fn output(block: &Block, sd_result: sd::StepDraw) -> Value {
         }),
         span,
     );
-    feature_value(
-        KIND,
-        span,
-        fields,
-        quality,
-        Feature::StepDraw(Arc::new(sd_result)),
-    )
+    feature_value(KIND, span, fields, quality, sd_result)
+}
+
+/// The `step_draw` feature kind.
+pub(super) static KIND: &dyn FeatureKind = &StepDrawKind;
+
+struct StepDrawKind;
+
+impl FeatureKind for StepDrawKind {
+    fn name(&self) -> &'static str {
+        "step_draw"
+    }
+    fn code(&self) -> &'static str {
+        "die::step_draw"
+    }
+    fn fields(&self) -> FieldNames {
+        FieldNames {
+            single: vec![
+                "product",
+                "opening",
+                "binder",
+                "tolerance",
+                "closed",
+                "tangent_product",
+                "tangent_binder",
+            ],
+            named: vec!["section"],
+        }
+    }
+    fn build(&self, block: &Block) -> Result<Value, Diagnostic> {
+        build(block)
+    }
+    fn color(&self) -> [f64; 3] {
+        [0.95, 0.50, 0.10] // orange
+    }
+    fn summary(&self, record: &Record) -> String {
+        let Some(s) = record.model::<sd::StepDraw>() else {
+            return String::new();
+        };
+        let pts = s.patches.iter().flat_map(|p| sampled_surface(&p.surface));
+        let (lo, hi) = bounds(pts);
+        let area: f64 = s.patches.iter().map(|p| p.surface.area()).sum();
+        format!(
+            "step draw, {} key sections [{}], {} patches, area {} mm², bounds {}",
+            s.key_sections.len(),
+            s.key_sections
+                .iter()
+                .map(|(n, _)| n.as_str())
+                .collect::<Vec<_>>()
+                .join(", "),
+            s.patches.len(),
+            round(area),
+            bbox(lo, hi)
+        )
+    }
+    /// The step draw's patches are faces of the die face.
+    fn die_face(&self, name: &str, record: &Record, out: &mut DieFace) {
+        if let Some(s) = record.model::<sd::StepDraw>() {
+            out.faces.extend(s.patches.iter().map(|p| Face {
+                name: format!("{name}/{}", p.name),
+                shape: Shape::Patch(p.surface.clone()),
+            }));
+        }
+    }
 }
