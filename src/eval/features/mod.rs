@@ -339,7 +339,7 @@ fn record_value(fields: Vec<(String, Value)>, span: Span) -> Value {
 
 /// The value of a feature block: its pieces' fields, then `quality` (the overall figures
 /// followed by the per-piece records), with the kernel model attached.
-fn feature_value<T: std::any::Any + Send + Sync>(
+pub fn feature_value<T: std::any::Any + Send + Sync>(
     kind: &'static dyn FeatureKind,
     span: Span,
     mut fields: Vec<(String, Value)>,
