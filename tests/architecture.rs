@@ -24,7 +24,9 @@ const ALLOWED: &[(&str, &[&str])] = &[
     ),
     (
         "cli",
-        &["diag", "syntax", "eval", "geom", "die", "export", "pipeline"],
+        &[
+            "diag", "syntax", "eval", "geom", "die", "export", "pipeline",
+        ],
     ),
 ];
 
@@ -105,7 +107,10 @@ fn no_module_reaches_back_up_the_pipeline() {
             }
         }
     }
-    assert!(checked > 50, "the scan found the modules' paths ({checked})");
+    assert!(
+        checked > 50,
+        "the scan found the modules' paths ({checked})"
+    );
     assert!(violations.is_empty(), "{}", violations.join("\n"));
 }
 

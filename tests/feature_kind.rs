@@ -54,7 +54,13 @@ impl FeatureKind for FlangeKind {
             "height".to_string(),
             Value::new(Data::Number(Quantity::length(height)), block.span),
         )];
-        Ok(feature_value(&FLANGE, block.span, fields, quality, Flange { wall }))
+        Ok(feature_value(
+            &FLANGE,
+            block.span,
+            fields,
+            quality,
+            Flange { wall },
+        ))
     }
     fn color(&self) -> [f64; 3] {
         COLOUR
@@ -124,7 +130,10 @@ fn an_unregistered_kind_is_refused_and_a_registered_one_checks_its_fields() {
     let d = &outcome.diagnostics[0];
     assert_eq!(d.code, "die::unknown_field");
     assert!(
-        d.help.as_deref().unwrap_or("").contains("did you mean `height`"),
+        d.help
+            .as_deref()
+            .unwrap_or("")
+            .contains("did you mean `height`"),
         "{:?}",
         d.help
     );
