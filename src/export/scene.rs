@@ -151,6 +151,11 @@ pub fn build_scene(model: &DieModel, tol: &Tolerance) -> Result<Scene, Tessellat
 pub struct SceneCache {
     tolerance: Option<(u64, u64)>,
     entries: HashMap<u64, Entry>,
+    /// The fingerprint of each cached shape by the address of its shared geometry: a
+    /// declaration the engine did not re-evaluate hands back the very same geometry,
+    /// found here without hashing it again. The entry holds that geometry, so the
+    /// address cannot be reused by another while it is listed.
+    by_address: HashMap<usize, u64>,
     misses: usize,
 }
 
@@ -168,6 +173,7 @@ impl SceneCache {
         let key = (tol.chordal.to_bits(), tol.angle.to_bits());
         if self.tolerance != Some(key) {
             self.entries.clear();
+            self.by_address.clear();
             self.tolerance = Some(key);
         }
         for entry in self.entries.values_mut() {
@@ -181,6 +187,8 @@ impl SceneCache {
             }
         }
         self.entries.retain(|_, e| e.used);
+        let entries = &self.entries;
+        self.by_address.retain(|_, key| entries.contains_key(key));
         Ok(Scene {
             nodes,
             tolerance_mm: tol.chordal,
@@ -240,6 +248,15 @@ impl SceneCache {
     /// The primitive of a shape: from the cache when the same geometry was tessellated
     /// before, else tessellated now and kept.
     fn tessellated(&mut self, shape: &Shape, tol: &Tolerance) -> Result<Geometry, GeomError> {
+        // The same shared geometry as a cached entry: no hashing needed.
+        if let Some(key) = self.by_address.get(&address(shape)) {
+            if let Some(entry) = self.entries.get_mut(key) {
+                if same(&entry.shape, shape) {
+                    entry.used = true;
+                    return Ok(entry.geometry.clone());
+                }
+            }
+        }
         let key = fingerprint(shape);
         if let Some(entry) = self.entries.get_mut(&key) {
             if same(&entry.shape, shape) {
@@ -249,6 +266,7 @@ impl SceneCache {
         }
         self.misses += 1;
         let geometry = tessellate(shape, tol)?;
+        self.by_address.insert(address(shape), key);
         self.entries.insert(
             key,
             Entry {
@@ -258,6 +276,16 @@ impl SceneCache {
             },
         );
         Ok(geometry)
+    }
+}
+
+/// The address of a shape's shared geometry.
+fn address(shape: &Shape) -> usize {
+    match shape {
+        Shape::Surface(s) => std::sync::Arc::as_ptr(s) as *const () as usize,
+        Shape::Trimmed(t) => std::sync::Arc::as_ptr(t) as *const () as usize,
+        Shape::Mesh(m) => std::sync::Arc::as_ptr(m) as *const () as usize,
+        Shape::Curve(c) => std::sync::Arc::as_ptr(c) as *const () as usize,
     }
 }
 
