@@ -47,6 +47,7 @@ pub mod surface;
 pub mod tessellate;
 pub mod transform;
 pub mod trimmed;
+pub mod union_find;
 
 pub use curve::{Curve2, Curve3, NurbsCurve};
 pub use error::{GeomError, Result};
