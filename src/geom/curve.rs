@@ -11,6 +11,7 @@ use super::error::{GeomError, Result};
 use super::knots::{check_degree, KnotVector};
 use super::ops::{self, Spline};
 use super::point::{Homogeneous, Point};
+use super::quadrature::gauss_legendre_10;
 use super::MAX_DERIVATIVE;
 
 /// A (possibly rational) B-spline curve with clamped knots.
@@ -584,22 +585,6 @@ pub(crate) fn check_weights(weights: &[f64], count: usize) -> Result<()> {
     Ok(())
 }
 
-/// 10-point Gauss-Legendre nodes and weights on [-1, 1].
-const GAUSS_X: [f64; 5] = [
-    0.148_874_338_981_631_21,
-    0.433_395_394_129_247_2,
-    0.679_409_568_299_024_4,
-    0.865_063_366_688_984_5,
-    0.973_906_528_517_171_7,
-];
-const GAUSS_W: [f64; 5] = [
-    0.295_524_224_714_752_9,
-    0.269_266_719_309_996_4,
-    0.219_086_362_515_982,
-    0.149_451_349_150_580_6,
-    0.066_671_344_308_688_1,
-];
-
 /// The root of `excess(t)` (arc length to `t` minus the length asked for, increasing
 /// in `t`) inside `bracket`: Newton from `guess` on the curve's speed, bisection when a
 /// step would leave the shrinking bracket.
@@ -641,15 +626,9 @@ fn invert_length<P: Point>(
     })
 }
 
+/// The arc length on `[a, b]` by one 10-point Gauss-Legendre rule on the speed.
 fn gauss_length<P: Point>(c: &NurbsCurve<P>, a: f64, b: f64) -> f64 {
-    let half = 0.5 * (b - a);
-    let mid = 0.5 * (a + b);
-    let mut s = 0.0;
-    for i in 0..5 {
-        let dx = half * GAUSS_X[i];
-        s += GAUSS_W[i] * (c.derivative_at(mid - dx).length() + c.derivative_at(mid + dx).length());
-    }
-    s * half
+    gauss_legendre_10(|t| c.derivative_at(t).length(), a, b)
 }
 
 fn adaptive_length<P: Point>(c: &NurbsCurve<P>, a: f64, b: f64, depth: usize) -> f64 {

@@ -42,6 +42,7 @@ pub mod mesh;
 pub mod offset;
 pub mod ops;
 pub mod point;
+pub mod quadrature;
 pub mod sew;
 pub mod surface;
 pub mod tessellate;

@@ -43,6 +43,7 @@ use super::error::{GeomError, Result};
 use super::interpolate::{interpolate, parameters, Interpolation, Parametrization};
 use super::inversion::{closest_point_on_curve, project_to_curve_near};
 use super::join::join_curves;
+use super::quadrature::gauss_legendre_10;
 
 /// A turn of the direction larger than this at one point is a sharp corner: 0.5 deg.
 pub const CORNER_ANGLE: f64 = 0.5 * std::f64::consts::PI / 180.0;
@@ -666,12 +667,13 @@ impl<'a> Fitter<'a> {
             let mut turn = 0.0;
             for i in 1..=LENGTH_PIECES {
                 let (u0, u1) = (ts[i - 1], a + (b - a) * i as f64 / LENGTH_PIECES as f64);
-                let (l, r) = gauss(
+                // The offset's length and the turn, integrated at the same nodes.
+                let DVec2 { x: l, y: r } = gauss_legendre_10(
                     |t| {
                         let [_, d1, d2] = c.derivatives::<3>(t);
                         let kappa = signed_curvature(d1, d2);
                         let speed = d1.length();
-                        (
+                        DVec2::new(
                             speed * (1.0 - self.distance * kappa).abs(),
                             speed * kappa.abs(),
                         )
@@ -825,30 +827,4 @@ fn steps(length: f64, turn: f64) -> usize {
     } else {
         MAX_SAMPLES + 1
     }
-}
-
-/// 10-point Gauss-Legendre integrals of two functions on `[a, b]`.
-fn gauss(f: impl Fn(f64) -> (f64, f64), a: f64, b: f64) -> (f64, f64) {
-    const X: [f64; 5] = [
-        0.148_874_338_981_631_21,
-        0.433_395_394_129_247_2,
-        0.679_409_568_299_024_4,
-        0.865_063_366_688_984_5,
-        0.973_906_528_517_171_7,
-    ];
-    const W: [f64; 5] = [
-        0.295_524_224_714_752_9,
-        0.269_266_719_309_996_4,
-        0.219_086_362_515_982,
-        0.149_451_349_150_580_6,
-        0.066_671_344_308_688_1,
-    ];
-    let (half, mid) = (0.5 * (b - a), 0.5 * (a + b));
-    let mut s = (0.0, 0.0);
-    for i in 0..5 {
-        let (p, q) = (f(mid - half * X[i]), f(mid + half * X[i]));
-        s.0 += W[i] * (p.0 + q.0);
-        s.1 += W[i] * (p.1 + q.1);
-    }
-    (s.0 * half, s.1 * half)
 }
