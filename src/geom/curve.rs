@@ -29,6 +29,12 @@ pub type Curve2 = NurbsCurve<DVec2>;
 /// A curve in press coordinates.
 pub type Curve3 = NurbsCurve<DVec3>;
 
+/// Ends this close, relative to a curve's size, are one point: a closed outline, a
+/// sketch drawn back to its start. Far below any drawing accuracy (a nanometre on a
+/// metre-sized die), far above the rounding of the joins and projections that make
+/// closed curves.
+pub const CLOSED_TOLERANCE: f64 = 1e-9;
+
 impl<P: Point> NurbsCurve<P> {
     /// A polynomial B-spline from its degree, flat clamped knot vector and control points.
     pub fn new(degree: usize, knots: Vec<f64>, points: Vec<P>) -> Result<Self> {
@@ -152,6 +158,14 @@ impl<P: Point> NurbsCurve<P> {
     /// Last point, `C(t1)`.
     pub fn end_point(&self) -> P {
         self.points[self.points.len() - 1]
+    }
+
+    /// Whether the curve ends where it starts: its ends closer than [`CLOSED_TOLERANCE`]
+    /// times its size (the control scale, at least 1 mm, so a tiny curve is not held to
+    /// a tolerance below rounding).
+    pub fn is_closed(&self) -> bool {
+        let size = self.control_scale().max(1.0);
+        self.start_point().distance(self.end_point()) <= CLOSED_TOLERANCE * size
     }
 
     /// The point `C(t)`. Parameters outside the domain evaluate the end spans' polynomial
@@ -463,6 +477,49 @@ impl<P: Point> NurbsCurve<P> {
             Self::from_homogeneous(left, rational),
             Self::from_homogeneous(right, rational),
         ))
+    }
+
+    /// The piece of the curve on `[a, b]`, keeping its part of the parameter range: cut
+    /// at `a` unless it is the domain's start, and at `b` unless it is the domain's end
+    /// (so the whole domain gives the curve itself). Wants `t0 <= a < b <= t1`.
+    ///
+    /// Errors: [`GeomError::ParameterOutOfRange`] for a cut outside the open domain, or
+    /// for `b` at or before `a`.
+    pub fn between(&self, a: f64, b: f64) -> Result<Self> {
+        let (t0, t1) = self.domain();
+        let tail = if a > t0 {
+            self.split_at(a)?.1
+        } else {
+            self.clone()
+        };
+        if b < t1 {
+            Ok(tail.split_at(b)?.0)
+        } else {
+            Ok(tail)
+        }
+    }
+
+    /// The curve cut at its C0 knots (multiplicity >= degree: a sketch's corners, the
+    /// joins of joined curves) into pieces that are each smooth, in order, each keeping
+    /// its part of the parameter range. A curve without such knots is one piece.
+    pub fn smooth_pieces(&self) -> Result<Vec<Self>> {
+        let (t0, t1) = self.domain();
+        let cuts: Vec<f64> = self
+            .knots
+            .distinct()
+            .into_iter()
+            .filter(|&(k, m)| k > t0 && k < t1 && m >= self.degree)
+            .map(|(k, _)| k)
+            .collect();
+        let mut pieces = Vec::with_capacity(cuts.len() + 1);
+        let mut rest = self.clone();
+        for k in cuts {
+            let (left, right) = rest.split_at(k)?;
+            pieces.push(left);
+            rest = right;
+        }
+        pieces.push(rest);
+        Ok(pieces)
     }
 
     /// Applies `f` to every control point (weights unchanged). Exact for affine maps,

@@ -101,18 +101,12 @@ pub fn offset_curve2(curve: &Curve2, distance: f64, tolerance: f64) -> Result<Cu
     if let Some(moved) = straight_offset(curve, distance) {
         return Ok(moved);
     }
-    let closed = is_closed(curve);
-    let pieces = smooth_pieces(curve)?;
+    let closed = curve.is_closed();
+    let pieces = curve.smooth_pieces()?;
     let joints = joints(curve, &pieces, closed)?;
     check_folds(&pieces, distance)?;
     let mut fit = Fitter::new(curve, &pieces, &joints, closed, distance, tolerance)?;
     fit.run()
-}
-
-/// Whether a curve ends where it starts (within 1e-9 of its size).
-pub fn is_closed(curve: &Curve2) -> bool {
-    let size = curve.control_scale().max(1.0);
-    curve.start_point().distance(curve.end_point()) <= 1e-9 * size
 }
 
 /// The stretch of `curve` from the point nearest `from` to the point nearest `to`,
@@ -135,7 +129,7 @@ pub fn curve_between(curve: &Curve2, from: DVec2, to: DVec2) -> Result<Curve2> {
             parameter: a.t,
         });
     }
-    let closed = is_closed(curve);
+    let closed = curve.is_closed();
     let (mut ta, mut tb) = (a.t, b.t);
     if closed {
         // The seam is both ends: a stretch starts there at t0 and ends there at t1.
@@ -148,13 +142,13 @@ pub fn curve_between(curve: &Curve2, from: DVec2, to: DVec2) -> Result<Curve2> {
         }
     }
     if ta < tb {
-        return piece(curve, ta, tb);
+        return curve.between(ta, tb);
     }
     if !closed {
         return Err(GeomError::StretchBackwards { from: ta, to: tb });
     }
-    let first = piece(curve, ta, t1)?;
-    let second = piece(curve, t0, tb)?;
+    let first = curve.between(ta, t1)?;
+    let second = curve.between(t0, tb)?;
     let joined = join_curves(&[first, second])?;
     // join_curves puts the pieces on [0, 1] and [1, 2]; map each back to its own
     // parameter speed (affine on each side of the C0 joint, so the shape is unchanged).
@@ -177,21 +171,6 @@ pub fn curve_between(curve: &Curve2, from: DVec2, to: DVec2) -> Result<Curve2> {
     }
 }
 
-/// The piece of `curve` on `[a, b]` (inside its domain, `a < b`).
-fn piece(curve: &Curve2, a: f64, b: f64) -> Result<Curve2> {
-    let (t0, t1) = curve.domain();
-    let tail = if a > t0 {
-        curve.split_at(a)?.1
-    } else {
-        curve.clone()
-    };
-    if b < t1 {
-        Ok(tail.split_at(b)?.0)
-    } else {
-        Ok(tail)
-    }
-}
-
 /// The left unit normal of a direction.
 fn left(d: DVec2) -> DVec2 {
     d.perp()
@@ -211,28 +190,6 @@ fn straight_offset(curve: &Curve2, distance: f64) -> Option<Curve2> {
     }
     let shift = left(u) * distance;
     Some(curve.map_points(|p| p + shift))
-}
-
-/// The curve cut at its C0 knots (multiplicity >= degree), each piece keeping its part
-/// of the parameter range.
-fn smooth_pieces(curve: &Curve2) -> Result<Vec<Curve2>> {
-    let (t0, t1) = curve.domain();
-    let cuts: Vec<f64> = curve
-        .knots()
-        .distinct()
-        .into_iter()
-        .filter(|&(k, m)| k > t0 && k < t1 && m >= curve.degree())
-        .map(|(k, _)| k)
-        .collect();
-    let mut pieces = Vec::with_capacity(cuts.len() + 1);
-    let mut rest = curve.clone();
-    for k in cuts {
-        let (l, r) = rest.split_at(k)?;
-        pieces.push(l);
-        rest = r;
-    }
-    pieces.push(rest);
-    Ok(pieces)
 }
 
 /// The unit direction of travel at the start (`at_end == false`) or end of a piece,
