@@ -44,6 +44,7 @@ pub mod ops;
 pub mod point;
 pub mod quadrature;
 pub mod sew;
+pub mod sketch;
 pub mod surface;
 pub mod tessellate;
 pub mod transform;
