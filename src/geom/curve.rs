@@ -333,17 +333,7 @@ impl<P: Point> NurbsCurve<P> {
 
     /// The same curve on the domain `[a, b]` (linear reparametrization of the knots).
     pub fn reparametrized(&self, a: f64, b: f64) -> Result<Self> {
-        if !(a.is_finite() && b.is_finite()) {
-            return Err(GeomError::NotFinite {
-                what: "domain bound",
-            });
-        }
-        if b <= a {
-            return Err(GeomError::NotPositive {
-                what: "domain length",
-                value: b - a,
-            });
-        }
+        check_domain(a, b)?;
         let knots = super::surface::remap_knots(self.knots.as_slice(), self.degree, a, b);
         Ok(Self::from_parts(
             self.degree,
@@ -353,9 +343,8 @@ impl<P: Point> NurbsCurve<P> {
         ))
     }
 
-    /// Inserts the knot `t` up to `times` times (P&T A5.1); the shape is unchanged.
-    /// Insertion stops at multiplicity = degree (a C0 point).
-    pub fn insert_knot(&self, t: f64, times: usize) -> Result<Self> {
+    /// `t` must lie strictly inside the domain (a knot to insert or remove, a split).
+    fn check_interior(&self, t: f64) -> Result<()> {
         let (a, b) = self.domain();
         if !t.is_finite() || t <= a || t >= b {
             return Err(GeomError::ParameterOutOfRange {
@@ -364,6 +353,13 @@ impl<P: Point> NurbsCurve<P> {
                 max: b,
             });
         }
+        Ok(())
+    }
+
+    /// Inserts the knot `t` up to `times` times (P&T A5.1); the shape is unchanged.
+    /// Insertion stops at multiplicity = degree (a C0 point).
+    pub fn insert_knot(&self, t: f64, times: usize) -> Result<Self> {
+        self.check_interior(t)?;
         Ok(Self::from_homogeneous(
             ops::insert_knot(&self.to_homogeneous(), t, times),
             self.is_rational(),
@@ -414,14 +410,7 @@ impl<P: Point> NurbsCurve<P> {
                 value: tolerance,
             });
         }
-        let (a, b) = self.domain();
-        if !t.is_finite() || t <= a || t >= b {
-            return Err(GeomError::ParameterOutOfRange {
-                value: t,
-                min: a,
-                max: b,
-            });
-        }
+        self.check_interior(t)?;
         if self.knots.multiplicity(t) == 0 {
             return Err(GeomError::KnotVector {
                 reason: format!("{t} is not a knot of the curve, so it cannot be removed"),
@@ -445,14 +434,7 @@ impl<P: Point> NurbsCurve<P> {
     /// Splits at `t` into the pieces on `[t0, t]` and `[t, t1]`, each keeping its part of
     /// the parameter range.
     pub fn split_at(&self, t: f64) -> Result<(Self, Self)> {
-        let (a, b) = self.domain();
-        if !t.is_finite() || t <= a || t >= b {
-            return Err(GeomError::ParameterOutOfRange {
-                value: t,
-                min: a,
-                max: b,
-            });
-        }
+        self.check_interior(t)?;
         let p = self.degree;
         let full = ops::insert_knot(&self.to_homogeneous(), t, p);
         // After insertion t has multiplicity p, so the control point shared by the two
@@ -638,6 +620,23 @@ pub(crate) fn check_weights(weights: &[f64], count: usize) -> Result<()> {
         .find(|(_, w)| !(w.is_finite() && **w > 0.0))
     {
         return Err(GeomError::Weight { index, value });
+    }
+    Ok(())
+}
+
+/// A new domain `[a, b]` (curve or surface reparametrization) must be finite and of
+/// positive length.
+pub(crate) fn check_domain(a: f64, b: f64) -> Result<()> {
+    if !(a.is_finite() && b.is_finite()) {
+        return Err(GeomError::NotFinite {
+            what: "domain bound",
+        });
+    }
+    if b <= a {
+        return Err(GeomError::NotPositive {
+            what: "domain length",
+            value: b - a,
+        });
     }
     Ok(())
 }
