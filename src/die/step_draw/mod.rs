@@ -1110,6 +1110,11 @@ impl Matching {
 }
 
 /// Cumulative chord length of a curve at dense parameters, for arc-length fractions.
+///
+/// Not [`crate::geom::curve::ArcLengths`] (exact lengths, Newton inversion): the step
+/// draw's sections are placed by this chord table and its piecewise-linear inverse.
+/// Measured in issue 13: ArcLengths in its place moves the fender's step-draw vertices
+/// by up to 0.2 um, and the fender's and the outer door's glb and STEP bytes change.
 struct ArcTable {
     ts: Vec<f64>,
     lengths: Vec<f64>,
