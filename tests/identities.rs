@@ -320,6 +320,49 @@ proptest! {
     }
 
     #[test]
+    fn the_piece_between_two_parameters_is_the_curve_there(
+        c in curve3(), f0 in 0.0..1.0f64, f1 in 0.0..1.0f64,
+    ) {
+        let (t0, t1) = c.domain();
+        let (lo, hi) = (f0.min(f1), f0.max(f1));
+        prop_assume!(hi - lo > 0.01);
+        // The whole domain is one of the cases: the ends are kept, not cut.
+        let (a, b) = if hi - lo > 0.98 { (t0, t1) } else { (t0 + (t1 - t0) * lo, t0 + (t1 - t0) * hi) };
+        let piece = c.between(a, b).unwrap();
+        prop_assert_eq!(piece.domain(), (a, b));
+        let scale = c.control_scale().max(1.0);
+        for s in samples((a, b)) {
+            prop_assert!(piece.point_at(s).distance(c.point_at(s)) <= SAME * scale);
+        }
+        prop_assert!(c.between(b, a).is_err());
+    }
+
+    #[test]
+    fn smooth_pieces_cut_exactly_at_the_corners(c in curve3(), f in 0.1..0.9f64) {
+        let (t0, t1) = c.domain();
+        let corner = t0 + (t1 - t0) * f;
+        // Raising a knot to the degree's multiplicity makes a C0 joint there.
+        let already = c.knots().distinct().into_iter().find(|&(k, _)| k == corner).map_or(0, |(_, m)| m);
+        let cornered = c.insert_knot(corner, c.degree().saturating_sub(already)).unwrap();
+        let pieces = cornered.smooth_pieces().unwrap();
+        prop_assert_eq!(pieces[0].domain().0, t0);
+        prop_assert_eq!(pieces[pieces.len() - 1].domain().1, t1);
+        prop_assert!(pieces.iter().any(|p| p.domain().1 == corner));
+        for w in pieces.windows(2) {
+            prop_assert_eq!(w[0].domain().1, w[1].domain().0);
+        }
+        let scale = c.control_scale().max(1.0);
+        for p in &pieces {
+            let (a, b) = p.domain();
+            // Smooth inside: no interior knot as often as the degree.
+            prop_assert!(p.knots().distinct().iter().all(|&(k, m)| k == a || k == b || m < p.degree()));
+            for s in samples(p.domain()) {
+                prop_assert!(p.point_at(s).distance(c.point_at(s)) <= SAME * scale);
+            }
+        }
+    }
+
+    #[test]
     fn two_d_curves_evaluate_like_their_3d_embedding(
         pts in prop::collection::vec((coord(), coord()), 4..8), t in 0.0..1.0f64,
     ) {
@@ -332,6 +375,30 @@ proptest! {
         prop_assert_eq!(d2.extend(0.0), d3);
         prop_assert_eq!(dd2.extend(0.0), dd3);
     }
+}
+
+#[test]
+fn a_curve_is_closed_when_its_ends_meet_within_its_size() {
+    use dieface::geom::curve::CLOSED_TOLERANCE;
+    let square = |gap: f64| {
+        let pts = vec![
+            DVec2::new(0.0, 0.0),
+            DVec2::new(100.0, 0.0),
+            DVec2::new(100.0, 100.0),
+            DVec2::new(0.0, 100.0),
+            DVec2::new(gap, 0.0),
+        ];
+        Curve2::new(1, vec![0.0, 0.0, 1.0, 2.0, 3.0, 4.0, 4.0], pts).unwrap()
+    };
+    // The size is the control scale, 100 * sqrt(2) here.
+    let tolerance = CLOSED_TOLERANCE * 100.0 * 2f64.sqrt();
+    assert!(square(0.0).is_closed());
+    assert!(square(0.9 * tolerance).is_closed());
+    assert!(!square(1.1 * tolerance).is_closed());
+    // A tiny curve is held to the tolerance of a 1 mm one.
+    let tiny = Curve2::line(DVec2::ZERO, DVec2::new(0.5 * CLOSED_TOLERANCE, 0.0)).unwrap();
+    assert!(tiny.is_closed());
+    assert!(!Curve2::line(DVec2::ZERO, DVec2::X).unwrap().is_closed());
 }
 
 /// Largest distance, at the same parameter, between two curves on one domain (sampled).

@@ -11,7 +11,7 @@ use dieface::eval::{Data, Engine};
 use dieface::geom::arc::circular_arc;
 use dieface::geom::interpolate::{interpolate, Interpolation};
 use dieface::geom::inversion::{closest_point_on_curve, project_to_curve_near};
-use dieface::geom::offset::{curve_between, is_closed, offset_curve2, CORNER_ANGLE};
+use dieface::geom::offset::{curve_between, offset_curve2, CORNER_ANGLE};
 use dieface::geom::{Curve2, GeomError};
 use glam::DVec2;
 use proptest::prelude::*;
@@ -229,7 +229,7 @@ fn the_offset_of_an_arc_is_the_concentric_arc() {
     // A full circle: closed in, closed out.
     let circle = evaluate("let c = offset(circle((0, 0), 50 mm), -20 mm)");
     let c = flat(&value(&circle, "c"));
-    assert!(is_closed(&c));
+    assert!(c.is_closed());
     for p in samples(&c, 1000) {
         assert!((p.length() - 70.0).abs() <= TOL);
     }
@@ -240,7 +240,7 @@ fn the_offset_of_an_arc_is_the_concentric_arc() {
 #[test]
 fn the_fender_opening_offset_outside_by_90_mm_stays_90_mm_away_and_closes() {
     let profile = fender_profile();
-    assert!(is_closed(&profile));
+    assert!(profile.is_closed());
     assert!(
         area(&profile) > 0.0,
         "the punch profile is counter-clockwise"
@@ -282,7 +282,7 @@ fn offsetting_by_d_then_minus_d_returns_to_the_original() {
         there <= 2.0 * TOL && and_back <= 2.0 * TOL,
         "{there} {and_back}"
     );
-    assert!(is_closed(&back));
+    assert!(back.is_closed());
 }
 
 #[test]
@@ -482,7 +482,7 @@ fn between_on_a_closed_curve_wraps_over_the_seam() {
     // The other way round: no seam, the rest of the loop.
     let rest = curve_between(&profile, to, from).unwrap();
     assert!((rest.length() + s.length() - profile.length()).abs() < 1e-6);
-    assert!(!is_closed(&rest));
+    assert!(!rest.is_closed());
 
     // A point at the seam starts or ends a stretch there.
     let seam = profile.start_point();

@@ -653,3 +653,53 @@ fn random_command_sequences_never_panic() {
     }
     assert!(ok > 100, "only {ok} sketches built");
 }
+
+/// The kernel's drawing on its own: segments name the command that drew them, and a
+/// fillet that does not fit says which commands and what would fit.
+#[test]
+fn the_kernel_draws_a_profile_and_names_commands() {
+    use dieface::geom::sketch::{draw as kernel_draw, SketchError};
+    let commands = [
+        Command::From(p(0.0, 0.0)),
+        Command::LineTo(p(100.0, 0.0)),
+        Command::Fillet(10.0),
+        Command::LineTo(p(100.0, 50.0)),
+        Command::Close,
+    ];
+    let profile = kernel_draw(&commands).unwrap();
+    assert!(profile.closed);
+    let drawn: Vec<(&str, usize)> = profile
+        .segments
+        .iter()
+        .map(|s| (s.kind, s.command))
+        .collect();
+    assert_eq!(
+        drawn,
+        [("line", 1), ("fillet", 2), ("line", 3), ("line", 4)]
+    );
+    // The fillet is tangent to both lines, 10 mm from the corner (a right angle).
+    let (a, b) = profile.segments[1].range;
+    assert!(profile.curve.point_at(a).distance(p(90.0, 0.0)) < 1e-9);
+    assert!(profile.curve.point_at(b).distance(p(100.0, 10.0)) < 1e-9);
+    let centre = p(90.0, 10.0);
+    for t in samples((a, b), 16) {
+        assert!((profile.curve.point_at(t).distance(centre) - 10.0).abs() < 1e-9);
+    }
+
+    let too_big = [
+        Command::From(p(0.0, 0.0)),
+        Command::LineTo(p(10.0, 0.0)),
+        Command::Fillet(400.0),
+        Command::LineTo(p(10.0, 8.0)),
+    ];
+    match kernel_draw(&too_big) {
+        Err(SketchError::FilletDoesNotFit {
+            fillet: 2,
+            prev: 1,
+            next: 3,
+            largest,
+            ..
+        }) => assert!((largest - 8.0).abs() < 1e-9),
+        other => panic!("expected a fillet that does not fit, got {other:?}"),
+    }
+}

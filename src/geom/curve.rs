@@ -11,6 +11,7 @@ use super::error::{GeomError, Result};
 use super::knots::{check_degree, KnotVector};
 use super::ops::{self, Spline};
 use super::point::{Homogeneous, Point};
+use super::quadrature::gauss_legendre_10;
 use super::MAX_DERIVATIVE;
 
 /// A (possibly rational) B-spline curve with clamped knots.
@@ -27,6 +28,12 @@ pub struct NurbsCurve<P> {
 pub type Curve2 = NurbsCurve<DVec2>;
 /// A curve in press coordinates.
 pub type Curve3 = NurbsCurve<DVec3>;
+
+/// Ends this close, relative to a curve's size, are one point: a closed outline, a
+/// sketch drawn back to its start. Far below any drawing accuracy (a nanometre on a
+/// metre-sized die), far above the rounding of the joins and projections that make
+/// closed curves.
+pub const CLOSED_TOLERANCE: f64 = 1e-9;
 
 impl<P: Point> NurbsCurve<P> {
     /// A polynomial B-spline from its degree, flat clamped knot vector and control points.
@@ -151,6 +158,14 @@ impl<P: Point> NurbsCurve<P> {
     /// Last point, `C(t1)`.
     pub fn end_point(&self) -> P {
         self.points[self.points.len() - 1]
+    }
+
+    /// Whether the curve ends where it starts: its ends closer than [`CLOSED_TOLERANCE`]
+    /// times its size (the control scale, at least 1 mm, so a tiny curve is not held to
+    /// a tolerance below rounding).
+    pub fn is_closed(&self) -> bool {
+        let size = self.control_scale().max(1.0);
+        self.start_point().distance(self.end_point()) <= CLOSED_TOLERANCE * size
     }
 
     /// The point `C(t)`. Parameters outside the domain evaluate the end spans' polynomial
@@ -318,17 +333,7 @@ impl<P: Point> NurbsCurve<P> {
 
     /// The same curve on the domain `[a, b]` (linear reparametrization of the knots).
     pub fn reparametrized(&self, a: f64, b: f64) -> Result<Self> {
-        if !(a.is_finite() && b.is_finite()) {
-            return Err(GeomError::NotFinite {
-                what: "domain bound",
-            });
-        }
-        if b <= a {
-            return Err(GeomError::NotPositive {
-                what: "domain length",
-                value: b - a,
-            });
-        }
+        check_domain(a, b)?;
         let knots = super::surface::remap_knots(self.knots.as_slice(), self.degree, a, b);
         Ok(Self::from_parts(
             self.degree,
@@ -338,9 +343,8 @@ impl<P: Point> NurbsCurve<P> {
         ))
     }
 
-    /// Inserts the knot `t` up to `times` times (P&T A5.1); the shape is unchanged.
-    /// Insertion stops at multiplicity = degree (a C0 point).
-    pub fn insert_knot(&self, t: f64, times: usize) -> Result<Self> {
+    /// `t` must lie strictly inside the domain (a knot to insert or remove, a split).
+    fn check_interior(&self, t: f64) -> Result<()> {
         let (a, b) = self.domain();
         if !t.is_finite() || t <= a || t >= b {
             return Err(GeomError::ParameterOutOfRange {
@@ -349,6 +353,13 @@ impl<P: Point> NurbsCurve<P> {
                 max: b,
             });
         }
+        Ok(())
+    }
+
+    /// Inserts the knot `t` up to `times` times (P&T A5.1); the shape is unchanged.
+    /// Insertion stops at multiplicity = degree (a C0 point).
+    pub fn insert_knot(&self, t: f64, times: usize) -> Result<Self> {
+        self.check_interior(t)?;
         Ok(Self::from_homogeneous(
             ops::insert_knot(&self.to_homogeneous(), t, times),
             self.is_rational(),
@@ -399,14 +410,7 @@ impl<P: Point> NurbsCurve<P> {
                 value: tolerance,
             });
         }
-        let (a, b) = self.domain();
-        if !t.is_finite() || t <= a || t >= b {
-            return Err(GeomError::ParameterOutOfRange {
-                value: t,
-                min: a,
-                max: b,
-            });
-        }
+        self.check_interior(t)?;
         if self.knots.multiplicity(t) == 0 {
             return Err(GeomError::KnotVector {
                 reason: format!("{t} is not a knot of the curve, so it cannot be removed"),
@@ -430,14 +434,7 @@ impl<P: Point> NurbsCurve<P> {
     /// Splits at `t` into the pieces on `[t0, t]` and `[t, t1]`, each keeping its part of
     /// the parameter range.
     pub fn split_at(&self, t: f64) -> Result<(Self, Self)> {
-        let (a, b) = self.domain();
-        if !t.is_finite() || t <= a || t >= b {
-            return Err(GeomError::ParameterOutOfRange {
-                value: t,
-                min: a,
-                max: b,
-            });
-        }
+        self.check_interior(t)?;
         let p = self.degree;
         let full = ops::insert_knot(&self.to_homogeneous(), t, p);
         // After insertion t has multiplicity p, so the control point shared by the two
@@ -462,6 +459,49 @@ impl<P: Point> NurbsCurve<P> {
             Self::from_homogeneous(left, rational),
             Self::from_homogeneous(right, rational),
         ))
+    }
+
+    /// The piece of the curve on `[a, b]`, keeping its part of the parameter range: cut
+    /// at `a` unless it is the domain's start, and at `b` unless it is the domain's end
+    /// (so the whole domain gives the curve itself). Wants `t0 <= a < b <= t1`.
+    ///
+    /// Errors: [`GeomError::ParameterOutOfRange`] for a cut outside the open domain, or
+    /// for `b` at or before `a`.
+    pub fn between(&self, a: f64, b: f64) -> Result<Self> {
+        let (t0, t1) = self.domain();
+        let tail = if a > t0 {
+            self.split_at(a)?.1
+        } else {
+            self.clone()
+        };
+        if b < t1 {
+            Ok(tail.split_at(b)?.0)
+        } else {
+            Ok(tail)
+        }
+    }
+
+    /// The curve cut at its C0 knots (multiplicity >= degree: a sketch's corners, the
+    /// joins of joined curves) into pieces that are each smooth, in order, each keeping
+    /// its part of the parameter range. A curve without such knots is one piece.
+    pub fn smooth_pieces(&self) -> Result<Vec<Self>> {
+        let (t0, t1) = self.domain();
+        let cuts: Vec<f64> = self
+            .knots
+            .distinct()
+            .into_iter()
+            .filter(|&(k, m)| k > t0 && k < t1 && m >= self.degree)
+            .map(|(k, _)| k)
+            .collect();
+        let mut pieces = Vec::with_capacity(cuts.len() + 1);
+        let mut rest = self.clone();
+        for k in cuts {
+            let (left, right) = rest.split_at(k)?;
+            pieces.push(left);
+            rest = right;
+        }
+        pieces.push(rest);
+        Ok(pieces)
     }
 
     /// Applies `f` to every control point (weights unchanged). Exact for affine maps,
@@ -584,21 +624,22 @@ pub(crate) fn check_weights(weights: &[f64], count: usize) -> Result<()> {
     Ok(())
 }
 
-/// 10-point Gauss-Legendre nodes and weights on [-1, 1].
-const GAUSS_X: [f64; 5] = [
-    0.148_874_338_981_631_21,
-    0.433_395_394_129_247_2,
-    0.679_409_568_299_024_4,
-    0.865_063_366_688_984_5,
-    0.973_906_528_517_171_7,
-];
-const GAUSS_W: [f64; 5] = [
-    0.295_524_224_714_752_9,
-    0.269_266_719_309_996_4,
-    0.219_086_362_515_982,
-    0.149_451_349_150_580_6,
-    0.066_671_344_308_688_1,
-];
+/// A new domain `[a, b]` (curve or surface reparametrization) must be finite and of
+/// positive length.
+pub(crate) fn check_domain(a: f64, b: f64) -> Result<()> {
+    if !(a.is_finite() && b.is_finite()) {
+        return Err(GeomError::NotFinite {
+            what: "domain bound",
+        });
+    }
+    if b <= a {
+        return Err(GeomError::NotPositive {
+            what: "domain length",
+            value: b - a,
+        });
+    }
+    Ok(())
+}
 
 /// The root of `excess(t)` (arc length to `t` minus the length asked for, increasing
 /// in `t`) inside `bracket`: Newton from `guess` on the curve's speed, bisection when a
@@ -641,15 +682,9 @@ fn invert_length<P: Point>(
     })
 }
 
+/// The arc length on `[a, b]` by one 10-point Gauss-Legendre rule on the speed.
 fn gauss_length<P: Point>(c: &NurbsCurve<P>, a: f64, b: f64) -> f64 {
-    let half = 0.5 * (b - a);
-    let mid = 0.5 * (a + b);
-    let mut s = 0.0;
-    for i in 0..5 {
-        let dx = half * GAUSS_X[i];
-        s += GAUSS_W[i] * (c.derivative_at(mid - dx).length() + c.derivative_at(mid + dx).length());
-    }
-    s * half
+    gauss_legendre_10(|t| c.derivative_at(t).length(), a, b)
 }
 
 fn adaptive_length<P: Point>(c: &NurbsCurve<P>, a: f64, b: f64, depth: usize) -> f64 {

@@ -87,11 +87,32 @@ impl<P: Point> Interpolation<P> {
 /// Parameters in [0, 1] for `points` (first 0, last 1). Consecutive coincident points
 /// are an error: no parameter step can separate them.
 pub fn parameters<P: Point>(points: &[P], method: Parametrization) -> Result<Vec<f64>> {
-    if points.len() < 2 {
-        return Err(GeomError::TooFewPoints {
-            needed: 2,
-            given: points.len(),
-        });
+    let steps = parameter_steps(points, method, false)?;
+    let total: f64 = steps.iter().sum();
+    let mut t = Vec::with_capacity(points.len());
+    let mut acc = 0.0;
+    t.push(0.0);
+    for s in &steps[..steps.len() - 1] {
+        acc += s;
+        t.push(acc / total);
+    }
+    t.push(1.0);
+    Ok(t)
+}
+
+/// The parameter step from each point to the next by `method` (for a `closed` loop also
+/// from the last point back to the first), after the checks both [`parameters`] and
+/// [`closed_parameters`] make: enough points (2, or 3 for a loop), all finite, no two
+/// neighbours within 1e-14 of the points' size.
+fn parameter_steps<P: Point>(
+    points: &[P],
+    method: Parametrization,
+    closed: bool,
+) -> Result<Vec<f64>> {
+    let n = points.len();
+    let needed = if closed { 3 } else { 2 };
+    if n < needed {
+        return Err(GeomError::TooFewPoints { needed, given: n });
     }
     if points.iter().any(|p| !p.is_finite()) {
         return Err(GeomError::NotFinite {
@@ -103,13 +124,15 @@ pub fn parameters<P: Point>(points: &[P], method: Parametrization) -> Result<Vec
         .map(|p| p.length())
         .fold(0.0, f64::max)
         .max(1e-300);
-    let mut steps = Vec::with_capacity(points.len() - 1);
-    for (i, w) in points.windows(2).enumerate() {
-        let d = w[0].distance(w[1]);
+    let pairs = if closed { n } else { n - 1 };
+    let mut steps = Vec::with_capacity(pairs);
+    for k in 0..pairs {
+        let next = (k + 1) % n;
+        let d = points[k].distance(points[next]);
         if d <= 1e-14 * scale {
             return Err(GeomError::CoincidentPoints {
-                first: i,
-                second: i + 1,
+                first: k,
+                second: next,
             });
         }
         steps.push(match method {
@@ -118,16 +141,7 @@ pub fn parameters<P: Point>(points: &[P], method: Parametrization) -> Result<Vec
             Parametrization::Centripetal => d.sqrt(),
         });
     }
-    let total: f64 = steps.iter().sum();
-    let mut t = Vec::with_capacity(points.len());
-    let mut acc = 0.0;
-    t.push(0.0);
-    for s in &steps[..steps.len() - 1] {
-        acc += s;
-        t.push(acc / total);
-    }
-    t.push(1.0);
-    Ok(t)
+    Ok(steps)
 }
 
 /// The B-spline of `opts.degree` through `points`, with the optional end tangents.
@@ -320,37 +334,7 @@ fn knot_vector<P: Point>(
 /// neighbours (the last and the first included) are an error.
 pub fn closed_parameters<P: Point>(points: &[P], method: Parametrization) -> Result<Vec<f64>> {
     let n = points.len();
-    if n < 3 {
-        return Err(GeomError::TooFewPoints {
-            needed: 3,
-            given: n,
-        });
-    }
-    if points.iter().any(|p| !p.is_finite()) {
-        return Err(GeomError::NotFinite {
-            what: "interpolation point",
-        });
-    }
-    let scale = points
-        .iter()
-        .map(|p| p.length())
-        .fold(0.0, f64::max)
-        .max(1e-300);
-    let mut steps = Vec::with_capacity(n);
-    for k in 0..n {
-        let d = points[k].distance(points[(k + 1) % n]);
-        if d <= 1e-14 * scale {
-            return Err(GeomError::CoincidentPoints {
-                first: k,
-                second: (k + 1) % n,
-            });
-        }
-        steps.push(match method {
-            Parametrization::Uniform => 1.0,
-            Parametrization::ChordLength => d,
-            Parametrization::Centripetal => d.sqrt(),
-        });
-    }
+    let steps = parameter_steps(points, method, true)?;
     let total: f64 = steps.iter().sum();
     let mut t = Vec::with_capacity(n);
     let mut acc = 0.0;

@@ -43,11 +43,14 @@ pub mod mesh;
 pub mod offset;
 pub mod ops;
 pub mod point;
+pub mod quadrature;
 pub mod sew;
+pub mod sketch;
 pub mod surface;
 pub mod tessellate;
 pub mod transform;
 pub mod trimmed;
+pub mod union_find;
 
 pub use curve::{Curve2, Curve3, NurbsCurve};
 pub use error::{GeomError, Result};

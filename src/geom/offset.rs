@@ -43,6 +43,7 @@ use super::error::{GeomError, Result};
 use super::interpolate::{interpolate, parameters, Interpolation, Parametrization};
 use super::inversion::{closest_point_on_curve, project_to_curve_near};
 use super::join::join_curves;
+use super::quadrature::gauss_legendre_10;
 
 /// A turn of the direction larger than this at one point is a sharp corner: 0.5 deg.
 pub const CORNER_ANGLE: f64 = 0.5 * std::f64::consts::PI / 180.0;
@@ -100,18 +101,12 @@ pub fn offset_curve2(curve: &Curve2, distance: f64, tolerance: f64) -> Result<Cu
     if let Some(moved) = straight_offset(curve, distance) {
         return Ok(moved);
     }
-    let closed = is_closed(curve);
-    let pieces = smooth_pieces(curve)?;
+    let closed = curve.is_closed();
+    let pieces = curve.smooth_pieces()?;
     let joints = joints(curve, &pieces, closed)?;
     check_folds(&pieces, distance)?;
     let mut fit = Fitter::new(curve, &pieces, &joints, closed, distance, tolerance)?;
     fit.run()
-}
-
-/// Whether a curve ends where it starts (within 1e-9 of its size).
-pub fn is_closed(curve: &Curve2) -> bool {
-    let size = curve.control_scale().max(1.0);
-    curve.start_point().distance(curve.end_point()) <= 1e-9 * size
 }
 
 /// The stretch of `curve` from the point nearest `from` to the point nearest `to`,
@@ -134,7 +129,7 @@ pub fn curve_between(curve: &Curve2, from: DVec2, to: DVec2) -> Result<Curve2> {
             parameter: a.t,
         });
     }
-    let closed = is_closed(curve);
+    let closed = curve.is_closed();
     let (mut ta, mut tb) = (a.t, b.t);
     if closed {
         // The seam is both ends: a stretch starts there at t0 and ends there at t1.
@@ -147,13 +142,13 @@ pub fn curve_between(curve: &Curve2, from: DVec2, to: DVec2) -> Result<Curve2> {
         }
     }
     if ta < tb {
-        return piece(curve, ta, tb);
+        return curve.between(ta, tb);
     }
     if !closed {
         return Err(GeomError::StretchBackwards { from: ta, to: tb });
     }
-    let first = piece(curve, ta, t1)?;
-    let second = piece(curve, t0, tb)?;
+    let first = curve.between(ta, t1)?;
+    let second = curve.between(t0, tb)?;
     let joined = join_curves(&[first, second])?;
     // join_curves puts the pieces on [0, 1] and [1, 2]; map each back to its own
     // parameter speed (affine on each side of the C0 joint, so the shape is unchanged).
@@ -176,21 +171,6 @@ pub fn curve_between(curve: &Curve2, from: DVec2, to: DVec2) -> Result<Curve2> {
     }
 }
 
-/// The piece of `curve` on `[a, b]` (inside its domain, `a < b`).
-fn piece(curve: &Curve2, a: f64, b: f64) -> Result<Curve2> {
-    let (t0, t1) = curve.domain();
-    let tail = if a > t0 {
-        curve.split_at(a)?.1
-    } else {
-        curve.clone()
-    };
-    if b < t1 {
-        Ok(tail.split_at(b)?.0)
-    } else {
-        Ok(tail)
-    }
-}
-
 /// The left unit normal of a direction.
 fn left(d: DVec2) -> DVec2 {
     d.perp()
@@ -210,28 +190,6 @@ fn straight_offset(curve: &Curve2, distance: f64) -> Option<Curve2> {
     }
     let shift = left(u) * distance;
     Some(curve.map_points(|p| p + shift))
-}
-
-/// The curve cut at its C0 knots (multiplicity >= degree), each piece keeping its part
-/// of the parameter range.
-fn smooth_pieces(curve: &Curve2) -> Result<Vec<Curve2>> {
-    let (t0, t1) = curve.domain();
-    let cuts: Vec<f64> = curve
-        .knots()
-        .distinct()
-        .into_iter()
-        .filter(|&(k, m)| k > t0 && k < t1 && m >= curve.degree())
-        .map(|(k, _)| k)
-        .collect();
-    let mut pieces = Vec::with_capacity(cuts.len() + 1);
-    let mut rest = curve.clone();
-    for k in cuts {
-        let (l, r) = rest.split_at(k)?;
-        pieces.push(l);
-        rest = r;
-    }
-    pieces.push(rest);
-    Ok(pieces)
 }
 
 /// The unit direction of travel at the start (`at_end == false`) or end of a piece,
@@ -666,12 +624,13 @@ impl<'a> Fitter<'a> {
             let mut turn = 0.0;
             for i in 1..=LENGTH_PIECES {
                 let (u0, u1) = (ts[i - 1], a + (b - a) * i as f64 / LENGTH_PIECES as f64);
-                let (l, r) = gauss(
+                // The offset's length and the turn, integrated at the same nodes.
+                let DVec2 { x: l, y: r } = gauss_legendre_10(
                     |t| {
                         let [_, d1, d2] = c.derivatives::<3>(t);
                         let kappa = signed_curvature(d1, d2);
                         let speed = d1.length();
-                        (
+                        DVec2::new(
                             speed * (1.0 - self.distance * kappa).abs(),
                             speed * kappa.abs(),
                         )
@@ -825,30 +784,4 @@ fn steps(length: f64, turn: f64) -> usize {
     } else {
         MAX_SAMPLES + 1
     }
-}
-
-/// 10-point Gauss-Legendre integrals of two functions on `[a, b]`.
-fn gauss(f: impl Fn(f64) -> (f64, f64), a: f64, b: f64) -> (f64, f64) {
-    const X: [f64; 5] = [
-        0.148_874_338_981_631_21,
-        0.433_395_394_129_247_2,
-        0.679_409_568_299_024_4,
-        0.865_063_366_688_984_5,
-        0.973_906_528_517_171_7,
-    ];
-    const W: [f64; 5] = [
-        0.295_524_224_714_752_9,
-        0.269_266_719_309_996_4,
-        0.219_086_362_515_982,
-        0.149_451_349_150_580_6,
-        0.066_671_344_308_688_1,
-    ];
-    let (half, mid) = (0.5 * (b - a), 0.5 * (a + b));
-    let mut s = (0.0, 0.0);
-    for i in 0..5 {
-        let (p, q) = (f(mid - half * X[i]), f(mid + half * X[i]));
-        s.0 += W[i] * (p.0 + q.0);
-        s.1 += W[i] * (p.1 + q.1);
-    }
-    (s.0 * half, s.1 * half)
 }

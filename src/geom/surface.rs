@@ -7,7 +7,7 @@
 
 use glam::DVec3;
 
-use super::curve::{bounds, check_weights, checked_refinement, Curve3};
+use super::curve::{bounds, check_domain, check_weights, checked_refinement, Curve3};
 use super::error::{GeomError, Result};
 use super::knots::{check_degree, KnotVector};
 use super::ops::{self, Spline};
@@ -480,17 +480,7 @@ impl NurbsSurface {
 
     /// The same surface with the domain of `dir` mapped linearly onto `[a, b]`.
     pub fn reparametrized(&self, dir: Direction, a: f64, b: f64) -> Result<Self> {
-        if !(a.is_finite() && b.is_finite()) {
-            return Err(GeomError::NotFinite {
-                what: "domain bound",
-            });
-        }
-        if b <= a {
-            return Err(GeomError::NotPositive {
-                what: "domain length",
-                value: b - a,
-            });
-        }
+        check_domain(a, b)?;
         let (knots, degree) = match dir {
             Dir::U => (&self.knots_u, self.degree_u),
             Dir::V => (&self.knots_v, self.degree_v),

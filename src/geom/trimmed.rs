@@ -23,6 +23,7 @@ use glam::{DVec2, DVec3};
 use super::curve::Curve3;
 use super::error::{GeomError, Result};
 use super::inversion::closest_point_on_surface;
+use super::quadrature::{NODES_8, WEIGHTS_8};
 use super::surface::NurbsSurface;
 use super::tessellate::{tessellate_curve, Tolerance};
 
@@ -32,28 +33,6 @@ const SAMPLE_CHORDAL: f64 = 1e-3;
 
 /// The loop is sampled at least this many times, whatever its shape.
 const MIN_SAMPLES: f64 = 64.0;
-
-/// Gauss-Legendre nodes and weights on [-1, 1], 8 points (exact to degree 15).
-const GAUSS_X: [f64; 8] = [
-    -0.960_289_856_497_536_3,
-    -0.796_666_477_413_626_7,
-    -0.525_532_409_916_329,
-    -0.183_434_642_495_649_8,
-    0.183_434_642_495_649_8,
-    0.525_532_409_916_329,
-    0.796_666_477_413_626_7,
-    0.960_289_856_497_536_3,
-];
-const GAUSS_W: [f64; 8] = [
-    0.101_228_536_290_376_3,
-    0.222_381_034_453_374_5,
-    0.313_706_645_877_887_3,
-    0.362_683_783_378_362,
-    0.362_683_783_378_362,
-    0.313_706_645_877_887_3,
-    0.222_381_034_453_374_5,
-    0.101_228_536_290_376_3,
-];
 
 /// Each knot span is cut into this many pieces for the inner integral `F`.
 const INNER_PIECES: usize = 4;
@@ -195,7 +174,7 @@ impl TrimmedSurface {
         for w in breaks.windows(2) {
             let (a, b) = (w[0], w[1]);
             let h = 0.5 * (b - a);
-            for (x, wt) in GAUSS_X.iter().zip(GAUSS_W) {
+            for (x, wt) in NODES_8.iter().zip(WEIGHTS_8) {
                 let t = a + h * (x + 1.0);
                 let uv = uv_on_loop(s, &self.outer, t);
                 let dv = uv_speed(s, curve, t, uv).y;
@@ -232,7 +211,7 @@ fn inner_integral(s: &NurbsSurface, u_breaks: &[f64], uv: DVec2) -> f64 {
             break;
         }
         let h = 0.5 * (b - a);
-        for (x, wt) in GAUSS_X.iter().zip(GAUSS_W) {
+        for (x, wt) in NODES_8.iter().zip(WEIGHTS_8) {
             let d = s.derivatives::<2>(a + h * (x + 1.0), uv.y);
             total += wt * h * d[1][0].cross(d[0][1]).length();
         }

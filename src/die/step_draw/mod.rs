@@ -953,23 +953,15 @@ fn piece(curve: &Curve3, t0: f64, t1: f64) -> crate::geom::Result<Curve3> {
             .unwrap_or(t)
     };
     let (t0, t1) = (snap(t0), snap(t1));
-    let cut = |c: &Curve3, a: f64, b: f64| -> crate::geom::Result<Curve3> {
-        let tail = if a > lo { c.split_at(a)?.1 } else { c.clone() };
-        if b < hi {
-            Ok(tail.split_at(b)?.0)
-        } else {
-            Ok(tail)
-        }
-    };
     let p = if t1 > t0 {
-        cut(curve, t0, t1)?
+        curve.between(t0, t1)?
     } else if t1 <= lo {
-        cut(curve, t0, hi)?
+        curve.between(t0, hi)?
     } else if t0 >= hi {
-        cut(curve, lo, t1)?
+        curve.between(lo, t1)?
     } else {
-        let first = cut(curve, t0, hi)?;
-        let second = cut(curve, lo, t1)?;
+        let first = curve.between(t0, hi)?;
+        let second = curve.between(lo, t1)?;
         across_seam(&first, &second)?
     };
     p.reparametrized(0.0, 1.0)
@@ -1038,14 +1030,8 @@ fn patch(
     for w in cuts.windows(2) {
         let (i0, i1) = (w[0], w[1]);
         let (v0, v1) = (params[i0], params[i1]);
-        let mut sub_product = product.clone();
-        if v0 > 0.0 {
-            sub_product = sub_product.split_at(v0)?.1;
-        }
-        if v1 < 1.0 {
-            sub_product = sub_product.split_at(v1)?.0;
-        }
-        let sub_product = sub_product.reparametrized(0.0, 1.0)?;
+        // The product piece is on [0, 1] (from `piece`, refined in place).
+        let sub_product = product.between(v0, v1)?.reparametrized(0.0, 1.0)?;
         let sub_params: Vec<f64> = params[i0..=i1]
             .iter()
             .map(|v| (v - v0) / (v1 - v0))
@@ -1124,6 +1110,11 @@ impl Matching {
 }
 
 /// Cumulative chord length of a curve at dense parameters, for arc-length fractions.
+///
+/// Not [`crate::geom::curve::ArcLengths`] (exact lengths, Newton inversion): the step
+/// draw's sections are placed by this chord table and its piecewise-linear inverse.
+/// Measured in issue 13: ArcLengths in its place moves the fender's step-draw vertices
+/// by up to 0.2 um, and the fender's and the outer door's glb and STEP bytes change.
 struct ArcTable {
     ts: Vec<f64>,
     lengths: Vec<f64>,

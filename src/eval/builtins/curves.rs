@@ -22,7 +22,7 @@ use crate::diag::Diagnostic;
 use crate::geom::arc::{arc_through_points, circle as circle_curve, circular_arc};
 use crate::geom::interpolate::{interpolate as interp, Interpolation, Parametrization};
 use crate::geom::join::join_curves;
-use crate::geom::offset::{curve_between, is_closed, offset_curve2};
+use crate::geom::offset::{curve_between, offset_curve2};
 use crate::geom::{Curve2, Curve3, GeomError, KnotVector, NurbsCurve, Point};
 
 use super::super::sketch::Sketch;
@@ -524,7 +524,7 @@ fn near(p: (f64, f64)) -> String {
 /// which side of the outline that is ("(inside this counter-clockwise outline)").
 fn side_words(curve: &Curve2, distance: f64) -> String {
     let side = if distance < 0.0 { "right" } else { "left" };
-    if !is_closed(curve) {
+    if !curve.is_closed() {
         return format!("to the {side}");
     }
     let (t0, t1) = curve.domain();

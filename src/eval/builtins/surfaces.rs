@@ -14,6 +14,7 @@ use crate::geom::construct::{
     coons as coons_patch, coons_triangle, loft as loft_surface, revolve as revolve_surface,
     ruled as ruled_surface, Loft,
 };
+use crate::geom::curve::CLOSED_TOLERANCE;
 use crate::geom::interpolate::{
     closed_parameters, interpolate, interpolate_closed, parameters, Interpolation, Parametrization,
 };
@@ -477,23 +478,8 @@ fn fit(points: &[DVec3], ends: (Option<DVec3>, Option<DVec3>)) -> Result<Curve3,
 /// the same numbers whichever segment the sketch starts with (the cut and the remap are
 /// exact for a sketch's segments on [k, k + 1]), so its samples are the same points.
 fn pieces_between_corners(curve: &Curve3) -> Result<Vec<Curve3>, GeomError> {
-    let (t0, t1) = curve.domain();
-    let cuts: Vec<f64> = curve
-        .knots()
-        .distinct()
-        .into_iter()
-        .filter(|&(k, m)| k > t0 && k < t1 && m >= curve.degree())
-        .map(|(k, _)| k)
-        .collect();
-    let mut pieces = Vec::with_capacity(cuts.len() + 1);
-    let mut rest = curve.clone();
-    for &k in &cuts {
-        let (left, right) = rest.split_at(k)?;
-        pieces.push(left);
-        rest = right;
-    }
-    pieces.push(rest);
-    pieces
+    curve
+        .smooth_pieces()?
         .into_iter()
         .map(|piece| {
             let piece = piece.reparametrized(0.0, 1.0)?;
@@ -543,7 +529,7 @@ fn project(call: &Call) -> Result<Data, Diagnostic> {
     let scale = input.control_scale().max(surface.control_scale());
     let closed = match &call.required("curve")?.data {
         Data::Sketch(s) => s.closed,
-        _ => input.start_point().distance(input.end_point()) <= 1e-9 * scale.max(1.0),
+        _ => input.start_point().distance(input.end_point()) <= CLOSED_TOLERANCE * scale.max(1.0),
     };
     if let Some((p, turn)) = first_corner(&input, dir, closed) {
         return Err(bad_argument(

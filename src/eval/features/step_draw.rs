@@ -88,7 +88,7 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
             "the tolerance is how far a drawn profile's ends may lie from the guides and how closely the surfaces follow the profiles: 0.01 mm (the default) is die-face practice",
         ));
     }
-    let both_closed = is_closed(&product) && is_closed(&opening);
+    let both_closed = product.is_closed() && opening.is_closed();
     let closed = match block.get("closed") {
         Some(f) => match &f.value.data {
             Data::Bool(true) if !both_closed => {
@@ -339,14 +339,10 @@ fn view_name(view: &View) -> String {
     }
 }
 
-fn is_closed(c: &Curve3) -> bool {
-    c.start_point().distance(c.end_point()) <= 1e-9 * (1.0 + c.control_scale())
-}
-
 /// `closed = true` on guides that are not both closed.
 fn not_closed(product: &Curve3, opening: &Curve3, span: Span) -> Diagnostic {
     let gap = |c: &Curve3| num(c.start_point().distance(c.end_point()));
-    let which = match (is_closed(product), is_closed(opening)) {
+    let which = match (product.is_closed(), opening.is_closed()) {
         (false, false) => format!(
             "both guides are open: the product outline's ends are {} mm apart, the punch opening line's {} mm",
             gap(product),

@@ -14,6 +14,7 @@
 
 use super::ids::to_u32;
 use super::{EdgeId, FaceId, HalfEdgeId, Mesh, VertexId};
+use crate::geom::union_find::UnionFind;
 use glam::DVec3;
 
 /// One side of one face, directed along the face's winding.
@@ -389,18 +390,18 @@ impl Topology {
     /// or not) are connected; faces touching only at a vertex are not. Each component
     /// is sorted; components are ordered by their smallest face.
     pub fn connected_components(&self) -> Vec<Vec<FaceId>> {
-        let mut parent: Vec<usize> = (0..self.face_count()).collect();
+        let mut sets = UnionFind::new(self.face_count());
         for e in self.edges() {
             let mut faces = self.edge_faces(e);
             let Some(first) = faces.next() else { continue };
             for other in faces {
-                union(&mut parent, first.index(), other.index());
+                sets.union(first.index(), other.index());
             }
         }
-        let mut component_of_root = vec![usize::MAX; parent.len()];
+        let mut component_of_root = vec![usize::MAX; self.face_count()];
         let mut components: Vec<Vec<FaceId>> = Vec::new();
-        for f in 0..parent.len() {
-            let root = find(&mut parent, f);
+        for f in 0..self.face_count() {
+            let root = sets.find(f);
             if component_of_root[root] == usize::MAX {
                 component_of_root[root] = components.len();
                 components.push(Vec::new());
@@ -504,23 +505,4 @@ fn collect_edges(
     }
     let rows = Rows::from_pairs(edge_vertices.len(), &radial);
     (edge_vertices, rows, half_edges)
-}
-
-/// Union-find root of `x`, halving paths on the way.
-fn find(parent: &mut [usize], mut x: usize) -> usize {
-    while parent[x] != x {
-        parent[x] = parent[parent[x]];
-        x = parent[x];
-    }
-    x
-}
-
-/// Joins the sets of `a` and `b`; the smaller root wins so results are stable.
-fn union(parent: &mut [usize], a: usize, b: usize) {
-    let (ra, rb) = (find(parent, a), find(parent, b));
-    if ra < rb {
-        parent[rb] = ra;
-    } else {
-        parent[ra] = rb;
-    }
 }

@@ -41,6 +41,7 @@ use glam::{DVec2, DVec3};
 use crate::geom::error::{GeomError, Result};
 use crate::geom::knots::KnotVector;
 use crate::geom::surface::NurbsSurface;
+use crate::geom::union_find::UnionFind;
 
 use super::grid::{BasisTable, Net, Row};
 use super::{SurfaceMesh, Tolerance, MAX_VERTICES};
@@ -792,26 +793,16 @@ fn assemble(surface: &NurbsSurface, grid: &Grid, pass: Pass) -> SurfaceMesh {
     let eps = 1e-12 * (1.0 + surface.control_scale());
     let pos = &pass.positions;
 
-    // Union-find over grid edges whose ends coincide; the root is the smallest index.
-    let mut parent: Vec<usize> = Vec::new();
-    let weld = |a: usize, b: usize, parent: &mut Vec<usize>| {
-        if parent.is_empty() {
-            parent.extend(0..count);
-        }
-        let (ra, rb) = (find(parent, a), find(parent, b));
-        if ra != rb {
-            let (lo, hi) = (ra.min(rb), ra.max(rb));
-            parent[hi] = lo;
-        }
-    };
+    // Grid neighbours whose positions coincide, welded; the root is the smallest index.
+    let mut welds = UnionFind::new(count);
     for l in 0..nv {
         for k in 0..nu {
             let a = l * nu + k;
             if k + 1 < nu && pos[a].distance(pos[a + 1]) <= eps {
-                weld(a, a + 1, &mut parent);
+                welds.union(a, a + 1);
             }
             if l + 1 < nv && pos[a].distance(pos[a + nu]) <= eps {
-                weld(a, a + nu, &mut parent);
+                welds.union(a, a + nu);
             }
         }
     }
@@ -819,11 +810,7 @@ fn assemble(surface: &NurbsSurface, grid: &Grid, pass: Pass) -> SurfaceMesh {
     let mut mesh = SurfaceMesh::default();
     let mut index = vec![0u32; count];
     for i in 0..count {
-        let root = if parent.is_empty() {
-            i
-        } else {
-            find(&mut parent, i)
-        };
+        let root = welds.find(i);
         if root == i {
             // Fits: the grid has at most MAX_VERTICES < u32::MAX vertices.
             index[i] = mesh.positions.len() as u32;
@@ -861,14 +848,6 @@ fn assemble(surface: &NurbsSurface, grid: &Grid, pass: Pass) -> SurfaceMesh {
 
     fill_missing_normals(surface, &mut mesh);
     mesh
-}
-
-fn find(parent: &mut [usize], mut i: usize) -> usize {
-    while parent[i] != i {
-        parent[i] = parent[parent[i]];
-        i = parent[i];
-    }
-    i
 }
 
 /// Gives every vertex without a surface normal (a collapsed edge, a cusp) the
