@@ -1,4 +1,4 @@
-//! Draw beads on the blankholder (primer section 5; paper 001 section 5, Fig. 13).
+//! Draw beads on the blankholder (paper 001 section 5, Fig. 13; `docs/methods.md`).
 //!
 //! The designer draws the bead's centre line, or its two boundaries, in the top view
 //! and gives its cross-section at key sections. [`build`] makes the paper's curve net

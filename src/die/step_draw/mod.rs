@@ -1,5 +1,5 @@
 //! The step draw (addendum) between the product outline and the punch opening line
-//! (primer section 4; paper 001 section 4, eq. 5-9, Fig. 9-12).
+//! (paper 001 section 4, eq. 5-9, Fig. 9-12; `docs/methods.md`).
 //!
 //! The two guides are the product outline `G_D`, which the step draw meets exactly, and
 //! the punch opening line `G_U`, which it follows within a reported deviation (the crease
