@@ -351,8 +351,8 @@ impl Engine {
             st.globals.names = items.names.clone();
         }
 
-        let results =
-            self.evaluate_decls(file, text, &items, &import_hashes, units, role, diagnostics);
+        let run = FileRun::new(file, text, &items, role, units, &import_hashes);
+        let results = self.evaluate_decls(run, &items, diagnostics);
         (file, results)
     }
 
@@ -553,40 +553,23 @@ impl Engine {
         Ok((full, text))
     }
 
-    /// Evaluates a file's declarations in dependency order, with the memo: the
-    /// declaration graph and its cycles first, then (for the script) the `-D` names,
-    /// then each declaration in turn.
+    /// Evaluates a file's declarations in dependency order, with the memo: the order
+    /// and the cycles from `run`'s declaration graph first, then (for the script) the
+    /// `-D` names, then each declaration in turn.
     fn evaluate_decls(
         &mut self,
-        file: FileId,
-        text: &str,
+        mut run: FileRun,
         items: &Items,
-        import_hashes: &HashMap<String, u64>,
-        units: Units,
-        role: FileRole,
         diagnostics: &mut Vec<Diagnostic>,
     ) -> Vec<DeclResult> {
-        let graph = DeclGraph::new(items, import_hashes);
-        let (order, in_cycle) = evaluation_order(items, &graph, diagnostics);
-        if role == FileRole::Script {
+        let (order, in_cycle) = evaluation_order(items, &run.graph, diagnostics);
+        if run.role == FileRole::Script {
             self.check_override_names(items, diagnostics);
         }
-        let mut run = FileRun {
-            file,
-            text,
-            role,
-            units,
-            import_hashes,
-            layout: item_layout(items),
-            fn_text: function_texts(items, text),
-            graph,
-            hashes: HashMap::new(),
-            failed: HashSet::new(),
-        };
         for &i in &order {
             self.evaluate_in_turn(&mut run, items.decls[i], in_cycle.contains(&i), diagnostics);
         }
-        self.decl_results(file, items)
+        self.decl_results(run.file, items)
     }
 
     /// CLI hook: each `-D` override must name a `param` of the script.
@@ -1185,7 +1168,31 @@ struct FileRun<'a> {
     failed: HashSet<String>,
 }
 
-impl FileRun<'_> {
+impl<'a> FileRun<'a> {
+    /// The run over `items`, the declarations of `file` (whose source is `text`), with
+    /// its declaration graph; `import_hashes` holds the imports that loaded.
+    fn new(
+        file: FileId,
+        text: &'a str,
+        items: &Items<'a>,
+        role: FileRole,
+        units: Units,
+        import_hashes: &'a HashMap<String, u64>,
+    ) -> Self {
+        FileRun {
+            file,
+            text,
+            role,
+            units,
+            import_hashes,
+            layout: item_layout(items),
+            fn_text: function_texts(items, text),
+            graph: DeclGraph::new(items, import_hashes),
+            hashes: HashMap::new(),
+            failed: HashSet::new(),
+        }
+    }
+
     /// Whether `name` uses a failed import or a declaration that failed or was skipped.
     fn uses_a_failure(&self, name: &str) -> bool {
         self.graph.uses_failed_import(name)
