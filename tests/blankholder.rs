@@ -1,4 +1,4 @@
-//! The blankholder (primer section 3; GitHub issue 5): C1 joins by eq. 4 on the control
+//! The blankholder (paper 001 sections 3.3-3.4; GitHub issue 5): C1 joins by eq. 4 on the control
 //! net and G1 when measured, normals up, outer edges through the designer's stations,
 //! on the fender example through the language and on hand-checkable inputs built with
 //! the kernel API. Run with `--nocapture` to see the measured figures.
@@ -33,7 +33,7 @@ use glam::{DVec2, DVec3};
 use joins::*;
 use square::*;
 
-/// G1 as strict checkers see it (primer section 10).
+/// G1 as strict checkers see it (`docs/methods.md`, "Numbers").
 const MAX_GAP: f64 = 0.001;
 const MAX_NORMAL_ANGLE_DEG: f64 = 0.05;
 /// Eq. 4 on the control net: parallel legs and one ratio, to rounding.

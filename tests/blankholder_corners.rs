@@ -1,4 +1,4 @@
-//! Blankholder corners on ordinary input (primer section 3.4). A flat rectangle with
+//! Blankholder corners on ordinary input (paper 001 section 3.4). A flat rectangle with
 //! fillets of radius about 150 mm and a binder 120 mm or wider was refused as "folds over
 //! itself" in narrow bands of radius (149.8 to 150.05 mm) and corner tangent (99.9 %,
 //! 100.01 %, 101 %): the step rule's last step on the opening corner `g0` was a sliver,

@@ -1,4 +1,4 @@
-//! The corner of the punch opening (primer section 2, "Corners").
+//! The corner of the punch opening (paper 001 section 3.2, eq. 3, Fig. 5).
 
 use std::f64::consts::FRAC_PI_2;
 
@@ -124,11 +124,11 @@ fn zero_tangent_is_rejected() {
     ));
 }
 
-/// Side ends 1 mm off the drawn corner: the primer's `C_R` construction sets the
+/// Side ends 1 mm off the drawn corner: the paper's `C_R` construction sets the
 /// projection directions; the interior points still land on the circle and the corner
 /// still joins the given side ends.
 #[test]
-fn side_ends_off_the_top_view_use_the_primer_directions() {
+fn side_ends_off_the_top_view_use_the_paper_directions() {
     let top = top_corner();
     let mut off = input(&top, (150.0, 150.0));
     off.end_of_previous = DVec3::new(0.0, -101.0, 10.0);

@@ -1,9 +1,9 @@
-//! Issue 12: the die face judged as a die engineer judges it (primer section 11), on the
-//! fender, the door and a hood drawn mirror-symmetric about x = 0: radii as drawn in
-//! every step-draw patch, key sections reproduced, tangent at the trim line and across
-//! the punch opening, no dip below the opening, walls at their drawn draft, and the same
-//! surfaces whatever corner the trim sketch starts at and on both halves of a
-//! symmetric part.
+//! Issue 12: the die face judged as a die engineer judges it (`docs/methods.md`, "What a
+//! die engineer checks"), on the fender, the door and a hood drawn mirror-symmetric
+//! about x = 0: radii as drawn in every step-draw patch, key sections reproduced,
+//! tangent at the trim line and across the punch opening, no dip below the opening,
+//! walls at their drawn draft, and the same surfaces whatever corner the trim sketch
+//! starts at and on both halves of a symmetric part.
 //!
 //! The smallest radius and the draft are measured here independently of `inspect`'s own
 //! figures: the principal curvatures on a grid of every patch (`geom::curvature`) and

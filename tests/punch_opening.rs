@@ -1,4 +1,4 @@
-//! The punch opening line (primer section 2; GitHub issue 5): the figures a reviewer
+//! The punch opening line (paper 001 sections 3.1-3.2; GitHub issue 5): the figures a reviewer
 //! checks, measured on the fender example through the language and on hand-checkable
 //! inputs built with the kernel API.
 //!

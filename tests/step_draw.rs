@@ -1,4 +1,4 @@
-//! The step draw (primer section 4; GitHub issue 6): the product edge on the product
+//! The step draw (paper 001 section 4; GitHub issue 6): the product edge on the product
 //! outline, C1 joins by eq. 4 on the control net and G1 when measured, every section
 //! from the punch opening line to the product outline, the punch-side edge's deviation
 //! from the opening line, normals up; on the fender example through the language and on
@@ -28,12 +28,12 @@ use joins::*;
 
 /// Samples per patch along the outline for the edge figures.
 const EDGE_SAMPLES: usize = 1000;
-/// The step draw meets the product exactly (primer section 4): to rounding, well under
+/// The step draw meets the product exactly (paper 001 section 4.4): to rounding, well under
 /// the 0.001 mm of strict checkers.
 const MAX_PRODUCT_GAP: f64 = 1e-6;
 /// Sections start on the opening line and end on the outline.
 const MAX_END_DISTANCE: f64 = 1e-9;
-/// G1 as strict checkers see it (primer section 10).
+/// G1 as strict checkers see it (`docs/methods.md`, "Numbers").
 const MAX_JOIN_GAP: f64 = 0.001;
 const MAX_NORMAL_ANGLE_DEG: f64 = 0.05;
 /// Eq. 4 on the control net: parallel legs and one ratio, to rounding.

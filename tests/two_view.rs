@@ -1,4 +1,5 @@
-//! The 3-D punch-opening side curve from its top and side views (primer section 2).
+//! The 3-D punch-opening side curve from its top and side views (paper 001 section 3.2,
+//! eq. 1-2).
 
 use std::f64::consts::FRAC_PI_2;
 

@@ -1,5 +1,5 @@
-//! The blankholder (binder) around a punch opening (primer section 3; paper 001
-//! sections 3.3-3.4): a ring of ruled patches, one per side and one per corner, C1
+//! The blankholder (binder) around a punch opening (paper 001 sections 3.3-3.4, eq. 4,
+//! Fig. 6-8): a ring of ruled patches, one per side and one per corner, C1
 //! where they meet.
 //!
 //! **Sides.** At designer-chosen stations `P_i` along a side's punch-opening curve `C_s`

@@ -1,5 +1,5 @@
-//! The corner of a punch opening between two adjacent 3-D side curves (primer section 2,
-//! "Corners"; paper 001 section 3.2).
+//! The corner of a punch opening between two adjacent 3-D side curves (paper 001
+//! section 3.2, eq. 3, Fig. 5; `docs/methods.md`).
 //!
 //! Adjacent sides of the punch opening are joined by a corner curve. The designer gives
 //! the corner in the top view as a 2-D curve `C_TOP` (usually an arc) and, in 3-D, only
@@ -18,14 +18,14 @@
 //! 4. `C_F`: the cubic B-spline through the `X_i` with the end derivatives `m0 T0`,
 //!    `m1 T1` ([`interpolate`], chord-length parameters on [0, 1]).
 //!
-//! The projection direction follows the primer: with `N0 = T0 x punch`, `Nm = Tm x punch`
-//! the lines `P_0 + s N0` and `P_m + s Nm` meet `S` at `A` and `B`; the similarity
-//! transform (translation, rotation, uniform scale) taking `C0`'s ends onto `A`, `B`
-//! gives `C_R`, and `r_i = C_R(t_i) - P_i`. When the sides already end on `C_TOP` (the
-//! usual case: the sides are built from the same top view), `A` and `B` are `C0`'s own
-//! ends, `C_R = C0` and that `r_i` vanishes; then (and wherever its component across the
-//! punch direction is below `1e-3 delta`) the direction is the horizontal normal of
-//! `C0`'s top-view projection, `r_i = C0'(t_i) x punch`.
+//! The projection direction follows the paper (step 2): with `N0 = T0 x punch`,
+//! `Nm = Tm x punch` the lines `P_0 + s N0` and `P_m + s Nm` meet `S` at `A` and `B`;
+//! the similarity transform (translation, rotation, uniform scale) taking `C0`'s ends
+//! onto `A`, `B` gives `C_R`, and `r_i = C_R(t_i) - P_i`. When the sides already end on
+//! `C_TOP` (the usual case: the sides are built from the same top view), `A` and `B` are
+//! `C0`'s own ends, `C_R = C0` and that `r_i` vanishes; then (and wherever its component
+//! across the punch direction is below `1e-3 delta`) the direction is the horizontal
+//! normal of `C0`'s top-view projection, `r_i = C0'(t_i) x punch`.
 //!
 //! The ends of `C_F` are the given side ends exactly (`X_0`, `X_m` are not moved), so the
 //! punch-opening line stays closed even when a side end is slightly off `C_TOP`.
@@ -128,7 +128,7 @@ pub fn build_corner(input: &CornerInput) -> Result<Corner> {
 
     // Step 3: the swept top-view corner, spanning far beyond the corner along the punch.
     let surface = swept_top_view(input.top_view_corner, &initial, punch)?;
-    let projected = primer_projection(&initial, &surface, t0, t1, punch)?;
+    let projected = projection_guide(&initial, &surface, t0, t1, punch)?;
     let last = samples.points.len() - 1;
     let mut corrected_points = Vec::with_capacity(samples.points.len());
     for (i, (&t, &p)) in samples.params.iter().zip(&samples.points).enumerate() {
@@ -184,12 +184,13 @@ fn swept_top_view(top: &Curve2, corner: &Curve3, punch: DVec3) -> Result<NurbsSu
     ruled(&up, &down)
 }
 
-/// `C_R` of the primer: `C0` moved by the similarity that takes its ends onto `A`, `B`,
-/// where the lines `P0 + s (T0 x punch)`, `Pm + s (Tm x punch)` meet the swept `C_TOP`.
+/// `C_R` of the paper (section 3.2, step 2), whose points give the projection
+/// directions: `C0` moved by the similarity that takes its ends onto `A`, `B`, where the
+/// lines `P0 + s (T0 x punch)`, `Pm + s (Tm x punch)` meet the swept `C_TOP`.
 /// `None` when that construction is not available (an end tangent along the punch, a
 /// line missing the surface, or coincident ends): the caller then uses the top-view
 /// normal.
-fn primer_projection(
+fn projection_guide(
     initial: &Curve3,
     surface: &NurbsSurface,
     t0: DVec3,

@@ -1,6 +1,7 @@
-//! Measuring a die face as a die engineer does (primer section 11): the smallest radius
-//! of each patch, the draft of its walls against the press direction, the sag of a
-//! section, and the gap and crease along a seam between two surfaces.
+//! Measuring a die face as a die engineer does (`docs/methods.md`, "What a die engineer
+//! checks"): the smallest radius of each patch, the draft of its walls against the press
+//! direction, the sag of a section, and the gap and crease along a seam between two
+//! surfaces.
 //!
 //! These are pure functions of kernel types (surfaces, curves, points): the features
 //! call them on their own outputs, and `eval` puts the results in the features'

@@ -1,4 +1,4 @@
-//! The punch opening line (primer section 2; paper 001 sections 3.1-3.2): one closed 3-D
+//! The punch opening line (paper 001 sections 3.1-3.2; `docs/methods.md`): one closed 3-D
 //! curve, made of sides and corners, where the punch ends and the blankholder begins.
 //!
 //! The designer draws the opening once in the top view (a closed profile: sides joined

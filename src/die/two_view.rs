@@ -1,5 +1,5 @@
-//! The 3-D side curve of a punch opening from its two views (primer section 2, paper
-//! 001 sections 3.1-3.2).
+//! The 3-D side curve of a punch opening from its two views (paper 001 sections
+//! 3.1-3.2, eq. 1-2, Fig. 3-4; `docs/methods.md`).
 //!
 //! The designer draws each side of the punch opening twice: in the top view (XY) as the
 //! outline of the part, and in the side view (XZ) as the section along which the blank
@@ -7,7 +7,7 @@
 //! views share the x axis, so a point of the 3-D curve is `(x, y_T(x), z_S(x))`.
 //!
 //! Rather than sampling x evenly, the curves are stepped so that every chord stays within
-//! the tolerance `delta` of *both* views (steps 2-6 of the primer):
+//! the tolerance `delta` of *both* views (steps 2-6 of paper 001 section 3.2):
 //!
 //! 1. both views are oriented to run in +x and must be graphs over x;
 //! 2. at the current point of each view the local radius of curvature `rho` gives the
@@ -232,7 +232,7 @@ pub fn parameter_at_x<P: Point>(curve: &NurbsCurve<P>, x: f64, guess: f64) -> Re
 /// located at that x.
 ///
 /// The radius of curvature is taken at the step's start, then at its middle and end, and
-/// the smallest of them is used (up to a few refinements): the primer's local radius at
+/// the smallest of them is used (up to a few refinements): the paper's local radius at
 /// the start alone lets a chord entering a tighter bend (or crossing a knot into one)
 /// exceed `delta`.
 ///

@@ -215,7 +215,14 @@ impl Engine {
         self.last_timings.clear();
         let mut diagnostics = Vec::new();
         let mut stack = Vec::new();
-        let (file, decls) = self.load(name, text, dir, &mut stack, &mut diagnostics, true);
+        let (file, decls) = self.load(
+            name,
+            text,
+            dir,
+            &mut stack,
+            &mut diagnostics,
+            FileRole::Script,
+        );
         // Report in reading order: the script's own problems by position, then those in
         // imported files.
         diagnostics.sort_by_key(|d| {
@@ -267,7 +274,7 @@ impl Engine {
         dir: Option<PathBuf>,
         stack: &mut Vec<FileId>,
         diagnostics: &mut Vec<Diagnostic>,
-        main: bool,
+        role: FileRole,
     ) -> (FileId, Vec<DeclResult>) {
         let file = self.sources.add(name, text);
         let state = FileState {
@@ -339,8 +346,8 @@ impl Engine {
             st.globals.names = items.names.clone();
         }
 
-        let results =
-            self.evaluate_decls(file, text, &items, &import_hashes, units, diagnostics, main);
+        let run = FileRun::new(file, text, &items, role, units, &import_hashes);
+        let results = self.evaluate_decls(run, &items, diagnostics);
         (file, results)
     }
 
@@ -494,7 +501,7 @@ impl Engine {
                 return None;
             }
         }
-        let (file, _) = self.load(&name, &text, mdir, stack, diagnostics, false);
+        let (file, _) = self.load(&name, &text, mdir, stack, diagnostics, FileRole::Import);
         let st = self.files.get(&file)?;
         let mut members: Vec<(String, Value)> = st
             .globals
@@ -541,290 +548,196 @@ impl Engine {
         Ok((full, text))
     }
 
-    /// Evaluates a file's declarations in dependency order, with the memo.
-    #[allow(clippy::too_many_arguments)]
+    /// Evaluates a file's declarations in dependency order, with the memo: the order
+    /// and the cycles from `run`'s declaration graph first, then (for the script) the
+    /// `-D` names, then each declaration in turn.
     fn evaluate_decls(
         &mut self,
-        file: FileId,
-        text: &str,
+        mut run: FileRun,
         items: &Items,
-        import_hashes: &HashMap<String, u64>,
-        units: Units,
         diagnostics: &mut Vec<Diagnostic>,
-        main: bool,
     ) -> Vec<DeclResult> {
-        let decl_names: HashSet<&str> = items.decls.iter().map(|d| d.name.node.as_str()).collect();
-        let fn_names: HashSet<&str> = items
-            .functions
-            .iter()
-            .map(|f| f.name.node.as_str())
-            .collect();
-
-        // What each function uses, closed over the functions it calls.
-        let mut fn_uses: HashMap<&str, BTreeSet<String>> = items
-            .functions
-            .iter()
-            .map(|f| {
-                (
-                    f.name.node.as_str(),
-                    free_names_of_function(&f.params, &f.body),
-                )
-            })
-            .collect();
-        loop {
-            let mut changed = false;
-            let snapshot = fn_uses.clone();
-            for uses in fn_uses.values_mut() {
-                let called: Vec<String> = uses
-                    .iter()
-                    .filter(|n| fn_names.contains(n.as_str()))
-                    .cloned()
-                    .collect();
-                for c in called {
-                    if let Some(more) = snapshot.get(c.as_str()) {
-                        for m in more {
-                            changed |= uses.insert(m.clone());
-                        }
-                    }
-                }
-            }
-            if !changed {
-                break;
-            }
+        let (order, in_cycle) = evaluation_order(items, &run.graph, diagnostics);
+        if run.role == FileRole::Script {
+            self.check_override_names(items, diagnostics);
         }
-        // Each declaration's direct and indirect (through functions) names.
-        let uses: HashMap<&str, BTreeSet<String>> = items
-            .decls
-            .iter()
-            .map(|d| {
-                let mut u = free_names_of_body(&d.body);
-                let via: Vec<String> = u
-                    .iter()
-                    .filter(|n| fn_names.contains(n.as_str()))
-                    .cloned()
-                    .collect();
-                for f in via {
-                    if let Some(more) = fn_uses.get(f.as_str()) {
-                        u.extend(more.iter().cloned());
-                    }
-                }
-                (d.name.node.as_str(), u)
-            })
-            .collect();
-        // Imports that failed were reported; what uses them is skipped without more noise.
-        let failed_imports: HashSet<&str> = items
-            .imports
-            .iter()
-            .map(|i| i.alias.node.as_str())
-            .filter(|a| !import_hashes.contains_key(*a))
-            .collect();
-        let uses_failed_import = |name: &str| {
-            uses.get(name)
-                .is_some_and(|u| u.iter().any(|n| failed_imports.contains(n.as_str())))
-        };
-        let deps = |name: &str| -> Vec<&str> {
-            uses.get(name).map_or_else(Vec::new, |u| {
-                u.iter()
-                    .filter(|n| decl_names.contains(n.as_str()) && n.as_str() != name)
-                    .map(|n| n.as_str())
-                    .collect()
-            })
-        };
-
-        // Cycles, and the evaluation order (depth-first post-order, source order first).
-        let index: HashMap<&str, usize> = items
-            .decls
-            .iter()
-            .enumerate()
-            .map(|(i, d)| (d.name.node.as_str(), i))
-            .collect();
-        let mut order = Vec::new();
-        let mut state = vec![0u8; items.decls.len()]; // 0 new, 1 on stack, 2 done
-        let mut in_cycle: HashSet<usize> = HashSet::new();
-        for start in 0..items.decls.len() {
-            visit(
-                start,
-                &items.decls,
-                &index,
-                &deps,
-                &mut state,
-                &mut Vec::new(),
-                &mut order,
-                &mut in_cycle,
-                &self.sources,
-                diagnostics,
-            );
-        }
-        // A self-reference (`let a = a + 1`) is a cycle of one.
-        for (i, d) in items.decls.iter().enumerate() {
-            if uses
-                .get(d.name.node.as_str())
-                .is_some_and(|u| u.contains(&d.name.node))
-                && !in_cycle.contains(&i)
-            {
-                in_cycle.insert(i);
-                diagnostics.push(
-                    Diagnostic::new("die::cycle", format!("`{}` is defined in terms of itself", d.name.node), d.name.span, "this declaration")
-                        .with_help("a declaration cannot use its own value; give it a value that does not refer to it"),
-                );
-            }
-        }
-
-        // Layout of the file's items, for moving memoized spans.
-        let layout: HashMap<String, (u32, u32)> = items
-            .decls
-            .iter()
-            .map(|d| (d.name.node.clone(), (d.span.start, d.span.end)))
-            .chain(
-                items
-                    .functions
-                    .iter()
-                    .map(|f| (f.name.node.clone(), (f.span.start, f.span.end))),
-            )
-            .collect();
-        let fn_text: HashMap<&str, &str> = items
-            .functions
-            .iter()
-            .map(|f| (f.name.node.as_str(), &text[f.span.range()]))
-            .collect();
-
-        // CLI hook: `-D` overrides must each name a `param` of the main file.
-        if main && !self.overrides.is_empty() {
-            let overrides = self.overrides.clone();
-            diagnostics.extend(super::overrides::check_names(
-                &mut self.sources,
-                &overrides,
-                &items.decls,
-            ));
-        }
-
-        let mut hashes: HashMap<String, u64> = HashMap::new();
-        let mut failed: HashSet<String> = HashSet::new();
         for &i in &order {
-            let d = items.decls[i];
-            let name = d.name.node.clone();
-            if in_cycle.contains(&i)
-                || uses_failed_import(&name)
-                || deps(&name).iter().any(|dep| failed.contains(*dep))
-            {
-                failed.insert(name.clone());
-                self.mark_failed(file, &name);
-                continue;
-            }
-            // The memo key: own text, units, inputs.
-            let mut h = hash_of(&text[d.span.range()]);
-            h = combine(h, hash_of(&(units.length.to_bits(), units.angle.to_bits())));
-            for dep in deps(&name) {
-                h = combine(h, hash_of(&dep));
-                h = combine(h, hashes.get(dep).copied().unwrap_or(0));
-            }
-            if let Some(u) = uses.get(name.as_str()) {
-                for n in u {
-                    if let Some(t) = fn_text.get(n.as_str()) {
-                        h = combine(h, hash_of(t));
-                    }
-                    if let Some(mh) = import_hashes.get(n) {
-                        h = combine(h, *mh);
-                    }
-                }
-            }
-            // CLI hook: a `-D` override's text is part of its param's memo key.
-            let override_text = self.override_for(main, d);
-            if let Some(t) = &override_text {
-                h = combine(h, hash_of(t.as_str()));
-            }
-            hashes.insert(name.clone(), h);
+            self.evaluate_in_turn(&mut run, items.decls[i], in_cycle.contains(&i), diagnostics);
+        }
+        self.decl_results(run.file, items)
+    }
 
-            let key = (file, name.clone());
-            let fresh = |e: &&MemoEntry| {
-                e.hash == h && e.reads.iter().all(|(p, c)| paths::content_hash(p) == *c)
-            };
-            if let Some(entry) = self.memo.get(&key).filter(fresh) {
-                // What the value read is part of what dependents see.
-                for (_, c) in &entry.reads {
-                    hashes.insert(
-                        name.clone(),
-                        combine(hashes.get(&name).copied().unwrap_or(h), *c),
+    /// CLI hook: each `-D` override must name a `param` of the script.
+    fn check_override_names(&mut self, items: &Items, diagnostics: &mut Vec<Diagnostic>) {
+        if self.overrides.is_empty() {
+            return;
+        }
+        let overrides = self.overrides.clone();
+        diagnostics.extend(super::overrides::check_names(
+            &mut self.sources,
+            &overrides,
+            &items.decls,
+        ));
+    }
+
+    /// Evaluates one declaration in its turn: skipped (and marked failed, so what uses
+    /// it is skipped too) when it sits in a cycle or uses a failed import or
+    /// declaration; taken from the memo when its key is unchanged; evaluated otherwise.
+    fn evaluate_in_turn(
+        &mut self,
+        run: &mut FileRun,
+        d: &ast::Decl,
+        in_cycle: bool,
+        diagnostics: &mut Vec<Diagnostic>,
+    ) {
+        let name = d.name.node.as_str();
+        if in_cycle || run.uses_a_failure(name) {
+            run.failed.insert(name.to_string());
+            self.mark_failed(run.file, name);
+            return;
+        }
+        let override_text = self.override_for(run.role, d);
+        let key = run.memo_key(d, override_text.as_deref());
+        run.hashes.insert(name.to_string(), key);
+        if self.reuse_memoized(run, name, key) {
+            return;
+        }
+        self.evaluate_fresh(run, d, key, override_text, diagnostics);
+    }
+
+    /// Takes `name`'s value from the memo when its entry was computed under `key` and
+    /// every file it read is unchanged, its spans moved to where the declarations now
+    /// stand; what it read joins its key, as when it was computed. Whether it did.
+    fn reuse_memoized(&mut self, run: &mut FileRun, name: &str, key: u64) -> bool {
+        let fresh = |e: &&MemoEntry| {
+            e.hash == key && e.reads.iter().all(|(p, c)| paths::content_hash(p) == *c)
+        };
+        let Some(entry) = self.memo.get(&(run.file, name.to_string())).filter(fresh) else {
+            return false;
+        };
+        for (_, c) in &entry.reads {
+            run.fold_read(name, key, *c);
+        }
+        let value = remap(&entry.value, &entry.layout, &run.layout, run.file);
+        self.set_decl(run.file, name, value);
+        true
+    }
+
+    /// Evaluates `d` (from its `-D` override when it has one), counts and times it,
+    /// notes the files it read, and keeps the outcome.
+    fn evaluate_fresh(
+        &mut self,
+        run: &mut FileRun,
+        d: &ast::Decl,
+        key: u64,
+        override_text: Option<String>,
+        diagnostics: &mut Vec<Diagnostic>,
+    ) {
+        let name = d.name.node.as_str();
+        let started = Instant::now();
+        paths::take_reads();
+        let result = self.evaluate_with_override(run.file, d, override_text, run.units);
+        let took = started.elapsed();
+        self.record_evaluation(run, name, took);
+        let reads = self.note_reads(run, name, key);
+        self.keep(run, name, key, result, reads, diagnostics);
+    }
+
+    /// CLI hook: `d`'s value from its `-D` override text (checked against the value
+    /// as written) when it has one, else from its body.
+    fn evaluate_with_override(
+        &mut self,
+        file: FileId,
+        d: &ast::Decl,
+        override_text: Option<String>,
+        units: Units,
+    ) -> Result<Value, Diagnostic> {
+        match override_text {
+            Some(t) => {
+                let src = self
+                    .sources
+                    .add(super::overrides::source_name(&d.name.node), t.as_str());
+                let declared = self.evaluate_decl(file, d);
+                super::overrides::evaluate_override(src, d, &t, units, declared)
+            }
+            None => self.evaluate_decl(file, d),
+        }
+    }
+
+    /// Counts one evaluation of `name` and records it and how long it took, for
+    /// [`Engine::last_evaluated`] and [`Engine::last_timings`] (a module's
+    /// declarations named `file:name`).
+    fn record_evaluation(&mut self, run: &FileRun, name: &str, took: Duration) {
+        self.evaluations += 1;
+        let shown = match run.role {
+            FileRole::Script => name.to_string(),
+            FileRole::Import => format!(
+                "{}:{name}",
+                self.sources.get(run.file).map_or("", |f| f.name.as_str())
+            ),
+        };
+        self.last_evaluated.push(shown.clone());
+        self.last_timings.push((shown, took));
+    }
+
+    /// The files the evaluation of `name` just read (builtins such as `read_obj`), with
+    /// their content hashes: each joins `name`'s key (so dependents see a changed
+    /// file), and new ones are added to [`Engine::read_files`] for `watch`.
+    fn note_reads(&mut self, run: &mut FileRun, name: &str, key: u64) -> Vec<(PathBuf, u64)> {
+        let reads: Vec<(PathBuf, u64)> = paths::take_reads()
+            .into_iter()
+            .map(|p| {
+                let c = paths::content_hash(&p);
+                (p, c)
+            })
+            .collect();
+        for (p, c) in &reads {
+            run.fold_read(name, key, *c);
+            if !self.read_files.contains(p) {
+                self.read_files.push(p.clone());
+            }
+        }
+        reads
+    }
+
+    /// Keeps a fresh evaluation's outcome: the value in the file's globals and, unless
+    /// it holds a function (whose spans cannot be moved), in the memo under `key`; a
+    /// failure reported and marked, so what uses it is skipped.
+    fn keep(
+        &mut self,
+        run: &mut FileRun,
+        name: &str,
+        key: u64,
+        result: Result<Value, Diagnostic>,
+        reads: Vec<(PathBuf, u64)>,
+        diagnostics: &mut Vec<Diagnostic>,
+    ) {
+        match result {
+            Ok(value) => {
+                if !contains_function(&value) {
+                    self.memo.insert(
+                        (run.file, name.to_string()),
+                        MemoEntry {
+                            hash: key,
+                            value: value.clone(),
+                            reads,
+                            layout: run.layout.clone(),
+                        },
                     );
                 }
-                let value = remap(&entry.value, &entry.layout, &layout, file);
-                self.files
-                    .get_mut(&file)
-                    .expect("loaded")
-                    .globals
-                    .decls
-                    .insert(name, value);
-                continue;
+                self.set_decl(run.file, name, value);
             }
-            let started = Instant::now();
-            paths::take_reads();
-            let result = match override_text {
-                // CLI hook: the param's value comes from `-D` (checked against its default).
-                Some(t) => {
-                    let src = self
-                        .sources
-                        .add(super::overrides::source_name(&name), t.as_str());
-                    let declared = self.evaluate_decl(file, d);
-                    super::overrides::evaluate_override(src, d, &t, units, declared)
-                }
-                None => self.evaluate_decl(file, d),
-            };
-            self.evaluations += 1;
-            self.last_evaluated.push(if main {
-                name.clone()
-            } else {
-                format!(
-                    "{}:{name}",
-                    self.sources.get(file).map_or("", |f| f.name.as_str())
-                )
-            });
-            let took = started.elapsed();
-            let reads: Vec<(PathBuf, u64)> = paths::take_reads()
-                .into_iter()
-                .map(|p| {
-                    let c = paths::content_hash(&p);
-                    (p, c)
-                })
-                .collect();
-            for (p, c) in &reads {
-                hashes.insert(
-                    name.clone(),
-                    combine(hashes.get(&name).copied().unwrap_or(h), *c),
-                );
-                if !self.read_files.contains(p) {
-                    self.read_files.push(p.clone());
-                }
-            }
-            if let Some(n) = self.last_evaluated.last() {
-                self.last_timings.push((n.clone(), took));
-            }
-            match result {
-                Ok(value) => {
-                    if !contains_function(&value) {
-                        self.memo.insert(
-                            key,
-                            MemoEntry {
-                                hash: h,
-                                value: value.clone(),
-                                reads,
-                                layout: layout.clone(),
-                            },
-                        );
-                    }
-                    self.files
-                        .get_mut(&file)
-                        .expect("loaded")
-                        .globals
-                        .decls
-                        .insert(name, value);
-                }
-                Err(diag) => {
-                    diagnostics.push(diag);
-                    failed.insert(name.clone());
-                    self.mark_failed(file, &name);
-                }
+            Err(diag) => {
+                diagnostics.push(diag);
+                run.failed.insert(name.to_string());
+                self.mark_failed(run.file, name);
             }
         }
+    }
+
+    /// Each of the file's declarations in source order, with its value (`None` when it
+    /// failed or was skipped).
+    fn decl_results(&self, file: FileId, items: &Items) -> Vec<DeclResult> {
         items
             .decls
             .iter()
@@ -840,14 +753,26 @@ impl Engine {
             .collect()
     }
 
-    /// The `-D` text for `d` if it is a `param` of the main file with an override.
-    fn override_for(&self, main: bool, d: &ast::Decl) -> Option<String> {
-        (main && d.kind.node == "param")
+    /// The `-D` text for `d` if it is a `param` of the script with an override.
+    fn override_for(&self, role: FileRole, d: &ast::Decl) -> Option<String> {
+        (role == FileRole::Script && d.kind.node == "param")
             .then(|| self.overrides.iter().find(|(n, _)| *n == d.name.node))
             .flatten()
             .map(|(_, t)| t.clone())
     }
 
+    /// Stores a declaration's value in its file's globals.
+    fn set_decl(&mut self, file: FileId, name: &str, value: Value) {
+        self.files
+            .get_mut(&file)
+            // `load` inserts the file's state before it evaluates the declarations.
+            .expect("the file's state exists while its declarations are evaluated")
+            .globals
+            .decls
+            .insert(name.to_string(), value);
+    }
+
+    /// Records that a declaration failed (or was skipped): it has no value.
     fn mark_failed(&mut self, file: FileId, name: &str) {
         if let Some(st) = self.files.get_mut(&file) {
             st.globals.failed.insert(name.to_string());
@@ -913,46 +838,7 @@ impl Engine {
             depth: 0,
         };
         if let Some(feature) = feature {
-            let DeclBody::Block(b) = &d.body else {
-                return Err(Diagnostic::new(
-                    "die::feature_block",
-                    format!("a `{kind}` is written as a block of fields"),
-                    d.name.span.to(d.span),
-                    "written with `=`",
-                )
-                .with_help(format!(
-                    "write `{kind} {} {{ field = value ... }}`; see docs/language.md",
-                    d.name.node
-                )));
-            };
-            let rec = block(&ctx, b)?;
-            let fields = b
-                .fields
-                .iter()
-                .zip(rec.fields)
-                .map(|(f, (_, value))| features::Field {
-                    words: f.path.iter().map(|w| w.node.clone()).collect(),
-                    name_span: match (f.path.first(), f.path.last()) {
-                        (Some(a), Some(z)) => a.span.to(z.span),
-                        _ => f.span,
-                    },
-                    value,
-                })
-                .collect();
-            let apply = |g: &Value, args: Vec<Value>, s: Span| ctx.apply(g, args, Vec::new(), s);
-            let text = |s: Span| self.sources.slice(s).to_string();
-            return features::build(
-                feature,
-                &features::Block {
-                    kind,
-                    name: &d.name.node,
-                    span: d.span,
-                    fields,
-                    units: ctx.units(),
-                    apply: &apply,
-                    text: &text,
-                },
-            );
+            return self.evaluate_feature(feature, &ctx, d);
         }
         let value = match &d.body {
             DeclBody::Expr(e) => ctx.eval(e, &Locals::new())?,
@@ -966,6 +852,57 @@ impl Engine {
             check_product(&value)?;
         }
         Ok(value)
+    }
+
+    /// A feature block (`punch_opening`, `step_draw`, ...): its fields evaluated, with
+    /// where each field's name was written, and handed to [`features::build`].
+    fn evaluate_feature(
+        &self,
+        feature: &dyn FeatureKind,
+        ctx: &Ctx,
+        d: &ast::Decl,
+    ) -> Result<Value, Diagnostic> {
+        let kind = d.kind.node.as_str();
+        let DeclBody::Block(b) = &d.body else {
+            return Err(Diagnostic::new(
+                "die::feature_block",
+                format!("a `{kind}` is written as a block of fields"),
+                d.name.span.to(d.span),
+                "written with `=`",
+            )
+            .with_help(format!(
+                "write `{kind} {} {{ field = value ... }}`; see docs/language.md",
+                d.name.node
+            )));
+        };
+        let rec = block(ctx, b)?;
+        let fields = b
+            .fields
+            .iter()
+            .zip(rec.fields)
+            .map(|(f, (_, value))| features::Field {
+                words: f.path.iter().map(|w| w.node.clone()).collect(),
+                name_span: match (f.path.first(), f.path.last()) {
+                    (Some(a), Some(z)) => a.span.to(z.span),
+                    _ => f.span,
+                },
+                value,
+            })
+            .collect();
+        let apply = |g: &Value, args: Vec<Value>, s: Span| ctx.apply(g, args, Vec::new(), s);
+        let text = |s: Span| self.sources.slice(s).to_string();
+        features::build(
+            feature,
+            &features::Block {
+                kind,
+                name: &d.name.node,
+                span: d.span,
+                fields,
+                units: ctx.units(),
+                apply: &apply,
+                text: &text,
+            },
+        )
     }
 }
 
@@ -1046,6 +983,292 @@ struct Items<'a> {
     names: Vec<String>,
 }
 
+/// Which file [`Engine::load`] is evaluating: only the script's `param`s take `-D`
+/// overrides, and only its declarations are listed by their bare names in
+/// [`Engine::last_evaluated`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum FileRole {
+    /// The script given to [`Engine::evaluate`].
+    Script,
+    /// A module the script (or another module) imports.
+    Import,
+}
+
+/// A file's declaration graph: the names each declaration uses, directly or through
+/// the functions it calls, and the imports that failed to load.
+struct DeclGraph<'a> {
+    /// The file's declarations by name.
+    decl_names: HashSet<&'a str>,
+    /// Every name each declaration uses, closed over the functions it calls.
+    uses: HashMap<&'a str, BTreeSet<String>>,
+    /// Imports that failed (already reported): what uses them is skipped quietly.
+    failed_imports: HashSet<&'a str>,
+}
+
+impl<'a> DeclGraph<'a> {
+    /// The graph of `items`; `import_hashes` holds the imports that loaded.
+    fn new(items: &Items<'a>, import_hashes: &HashMap<String, u64>) -> Self {
+        let fn_names: HashSet<&str> = items
+            .functions
+            .iter()
+            .map(|f| f.name.node.as_str())
+            .collect();
+        let fn_uses = function_uses(items, &fn_names);
+        // Each declaration's direct and indirect (through functions) names.
+        let uses = items
+            .decls
+            .iter()
+            .map(|d| {
+                let mut u = free_names_of_body(&d.body);
+                let via: Vec<String> = u
+                    .iter()
+                    .filter(|n| fn_names.contains(n.as_str()))
+                    .cloned()
+                    .collect();
+                for f in via {
+                    if let Some(more) = fn_uses.get(f.as_str()) {
+                        u.extend(more.iter().cloned());
+                    }
+                }
+                (d.name.node.as_str(), u)
+            })
+            .collect();
+        Self {
+            decl_names: items.decls.iter().map(|d| d.name.node.as_str()).collect(),
+            uses,
+            failed_imports: items
+                .imports
+                .iter()
+                .map(|i| i.alias.node.as_str())
+                .filter(|a| !import_hashes.contains_key(*a))
+                .collect(),
+        }
+    }
+
+    /// The other declarations of the file that `name` uses: its edges.
+    fn deps(&self, name: &str) -> Vec<&str> {
+        self.uses.get(name).map_or_else(Vec::new, |u| {
+            u.iter()
+                .filter(|n| self.decl_names.contains(n.as_str()) && n.as_str() != name)
+                .map(|n| n.as_str())
+                .collect()
+        })
+    }
+
+    /// Whether `name` uses an import that failed.
+    fn uses_failed_import(&self, name: &str) -> bool {
+        self.uses
+            .get(name)
+            .is_some_and(|u| u.iter().any(|n| self.failed_imports.contains(n.as_str())))
+    }
+}
+
+/// What each function uses, closed over the functions it calls (a declaration that
+/// calls `f` depends on everything `f` and its callees use).
+fn function_uses<'a>(
+    items: &Items<'a>,
+    fn_names: &HashSet<&str>,
+) -> HashMap<&'a str, BTreeSet<String>> {
+    let mut fn_uses: HashMap<&str, BTreeSet<String>> = items
+        .functions
+        .iter()
+        .map(|f| {
+            (
+                f.name.node.as_str(),
+                free_names_of_function(&f.params, &f.body),
+            )
+        })
+        .collect();
+    loop {
+        let mut changed = false;
+        let snapshot = fn_uses.clone();
+        for uses in fn_uses.values_mut() {
+            let called: Vec<String> = uses
+                .iter()
+                .filter(|n| fn_names.contains(n.as_str()))
+                .cloned()
+                .collect();
+            for c in called {
+                if let Some(more) = snapshot.get(c.as_str()) {
+                    for m in more {
+                        changed |= uses.insert(m.clone());
+                    }
+                }
+            }
+        }
+        if !changed {
+            return fn_uses;
+        }
+    }
+}
+
+/// The order to evaluate the declarations in (depth-first post-order, source order
+/// first: each after what it uses) and those that sit in a cycle, each cycle reported
+/// once; a self-reference (`let a = a + 1`) is a cycle of one.
+fn evaluation_order(
+    items: &Items,
+    graph: &DeclGraph,
+    diagnostics: &mut Vec<Diagnostic>,
+) -> (Vec<usize>, HashSet<usize>) {
+    let index: HashMap<&str, usize> = items
+        .decls
+        .iter()
+        .enumerate()
+        .map(|(i, d)| (d.name.node.as_str(), i))
+        .collect();
+    let deps = |name: &str| graph.deps(name);
+    let mut order = Vec::new();
+    let mut state = vec![0u8; items.decls.len()]; // 0 new, 1 on stack, 2 done
+    let mut in_cycle: HashSet<usize> = HashSet::new();
+    for start in 0..items.decls.len() {
+        visit(
+            start,
+            &items.decls,
+            &index,
+            &deps,
+            &mut state,
+            &mut Vec::new(),
+            &mut order,
+            &mut in_cycle,
+            diagnostics,
+        );
+    }
+    for (i, d) in items.decls.iter().enumerate() {
+        if graph
+            .uses
+            .get(d.name.node.as_str())
+            .is_some_and(|u| u.contains(&d.name.node))
+            && !in_cycle.contains(&i)
+        {
+            in_cycle.insert(i);
+            diagnostics.push(
+                Diagnostic::new("die::cycle", format!("`{}` is defined in terms of itself", d.name.node), d.name.span, "this declaration")
+                    .with_help("a declaration cannot use its own value; give it a value that does not refer to it"),
+            );
+        }
+    }
+    (order, in_cycle)
+}
+
+/// Where each top-level declaration and function stands in the file: a memoized
+/// value's spans move by how far its declaration moved.
+fn item_layout(items: &Items) -> HashMap<String, (u32, u32)> {
+    items
+        .decls
+        .iter()
+        .map(|d| (d.name.node.clone(), (d.span.start, d.span.end)))
+        .chain(
+            items
+                .functions
+                .iter()
+                .map(|f| (f.name.node.clone(), (f.span.start, f.span.end))),
+        )
+        .collect()
+}
+
+/// Each function's source text: part of the memo key of a declaration that calls it.
+fn function_texts<'a>(items: &Items<'a>, text: &'a str) -> HashMap<&'a str, &'a str> {
+    items
+        .functions
+        .iter()
+        .map(|f| (f.name.node.as_str(), &text[f.span.range()]))
+        .collect()
+}
+
+/// One file's declarations being evaluated: what the memo keys are made of, and the
+/// keys and failures so far.
+struct FileRun<'a> {
+    file: FileId,
+    text: &'a str,
+    role: FileRole,
+    units: Units,
+    /// The hash of each import that loaded, by alias.
+    import_hashes: &'a HashMap<String, u64>,
+    /// Where the file's items stand now (see [`item_layout`]).
+    layout: HashMap<String, (u32, u32)>,
+    /// See [`function_texts`].
+    fn_text: HashMap<&'a str, &'a str>,
+    graph: DeclGraph<'a>,
+    /// The memo key of each declaration evaluated so far, with the content of the
+    /// files it read folded in: part of its dependents' keys.
+    hashes: HashMap<String, u64>,
+    /// Declarations that failed or were skipped.
+    failed: HashSet<String>,
+}
+
+impl<'a> FileRun<'a> {
+    /// The run over `items`, the declarations of `file` (whose source is `text`), with
+    /// its declaration graph; `import_hashes` holds the imports that loaded.
+    fn new(
+        file: FileId,
+        text: &'a str,
+        items: &Items<'a>,
+        role: FileRole,
+        units: Units,
+        import_hashes: &'a HashMap<String, u64>,
+    ) -> Self {
+        FileRun {
+            file,
+            text,
+            role,
+            units,
+            import_hashes,
+            layout: item_layout(items),
+            fn_text: function_texts(items, text),
+            graph: DeclGraph::new(items, import_hashes),
+            hashes: HashMap::new(),
+            failed: HashSet::new(),
+        }
+    }
+
+    /// Whether `name` uses a failed import or a declaration that failed or was skipped.
+    fn uses_a_failure(&self, name: &str) -> bool {
+        self.graph.uses_failed_import(name)
+            || self
+                .graph
+                .deps(name)
+                .iter()
+                .any(|dep| self.failed.contains(*dep))
+    }
+
+    /// The memo key of `d`: its own text, the file's units, the name and key of each
+    /// declaration it uses, the text of each function and the hash of each module it
+    /// uses, and its `-D` override's text.
+    fn memo_key(&self, d: &ast::Decl, override_text: Option<&str>) -> u64 {
+        let name = d.name.node.as_str();
+        let mut h = hash_of(&self.text[d.span.range()]);
+        h = combine(
+            h,
+            hash_of(&(self.units.length.to_bits(), self.units.angle.to_bits())),
+        );
+        for dep in self.graph.deps(name) {
+            h = combine(h, hash_of(&dep));
+            h = combine(h, self.hashes.get(dep).copied().unwrap_or(0));
+        }
+        if let Some(u) = self.graph.uses.get(name) {
+            for n in u {
+                if let Some(t) = self.fn_text.get(n.as_str()) {
+                    h = combine(h, hash_of(t));
+                }
+                if let Some(mh) = self.import_hashes.get(n) {
+                    h = combine(h, *mh);
+                }
+            }
+        }
+        // CLI hook: a `-D` override's text is part of its param's memo key.
+        if let Some(t) = override_text {
+            h = combine(h, hash_of(t));
+        }
+        h
+    }
+
+    /// Folds the content hash of a file `name` read into its key (`key` until then).
+    fn fold_read(&mut self, name: &str, key: u64, content: u64) {
+        let folded = combine(self.hashes.get(name).copied().unwrap_or(key), content);
+        self.hashes.insert(name.to_string(), folded);
+    }
+}
+
 /// Depth-first visit for the evaluation order, reporting each cycle once.
 #[allow(clippy::too_many_arguments)]
 fn visit<'a>(
@@ -1057,7 +1280,6 @@ fn visit<'a>(
     path: &mut Vec<usize>,
     order: &mut Vec<usize>,
     in_cycle: &mut HashSet<usize>,
-    sources: &Sources,
     diagnostics: &mut Vec<Diagnostic>,
 ) {
     if state[i] == 2 {
@@ -1088,7 +1310,6 @@ fn visit<'a>(
                 let next = names[(k + 1) % names.len()];
                 d = d.with_label(decls[c].name.span, format!("`{}` uses `{next}`", names[k]));
             }
-            let _ = sources;
             diagnostics.push(
                 d.with_help("break the circle: one of them must be computed without the others"),
             );
@@ -1109,7 +1330,6 @@ fn visit<'a>(
                 path,
                 order,
                 in_cycle,
-                sources,
                 diagnostics,
             );
         }

@@ -29,7 +29,7 @@ pub enum View {
     SideXZ,
     /// The side view along X: sketch (y, z) is press (0, y, z).
     SideYZ,
-    /// A vertical section plane through two top-view points `a` and `b` (primer eq. 5):
+    /// A vertical section plane through two top-view points `a` and `b` (paper 001 eq. 5):
     /// sketch (s, z) is press `a + s (b - a)/|b - a| + z Z`.
     Section {
         /// First top-view point (the sketch origin).

@@ -1,6 +1,6 @@
 //! The views sketches are drawn in: `top`, `side_xz`, `side_yz` are names the evaluator
 //! knows; `section(a, b)` makes the vertical section plane through two top-view points
-//! (primer section 4, eq. 5).
+//! (paper 001 section 4.2, eq. 5).
 
 use crate::diag::Diagnostic;
 

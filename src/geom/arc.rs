@@ -117,7 +117,7 @@ pub struct Circle<P> {
 impl<P: Point> Circle<P> {
     /// The circle through `a`, `b`, `c`; an error when two coincide or all are collinear.
     /// The step draw takes its cross-boundary tangent directions from such circles
-    /// (primer section 4, Fig. 12).
+    /// (paper 001, section 4.4, Fig. 12; `docs/methods.md`).
     pub fn through(a: P, b: P, c: P) -> Result<Self> {
         let (u, v) = (b - a, c - a);
         let (uu, uv, vv) = (u.dot(u), u.dot(v), v.dot(v));

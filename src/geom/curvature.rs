@@ -1,7 +1,7 @@
 //! Surface curvature: principal curvatures from the two fundamental forms, and the
 //! smallest radius of a patch found by sampling every knot span.
 //!
-//! A die engineer judges a die face by its radii (primer section 11): no patch may be
+//! A die engineer judges a die face by its radii (`docs/methods.md`, "What a die engineer checks"): no patch may be
 //! tighter anywhere than the radii the designer drew. [`min_radius`] is the figure that
 //! checks it; it samples each knot span of both directions (a curvature spike sits
 //! inside a span, where the control net gives no hint of it).

@@ -317,148 +317,19 @@ impl Builder {
         out
     }
 
+    /// An expression pair turned into its node: one builder per expression form.
     fn expr_inner(&mut self, pair: Pair<Rule>) -> Res<Expr> {
         let span = self.span(&pair);
-        let rule = pair.as_rule();
-        match rule {
-            Rule::expr => {
-                let mut it = kids(pair);
-                let mut acc = self.expr(it.next().expect("expr has an operand"))?;
-                for target in it {
-                    let call = self.expr(target.into_inner().next().expect("pipe target"))?;
-                    let span = acc.span.to(call.span);
-                    acc = Expr {
-                        kind: ExprKind::Pipe {
-                            input: Box::new(acc),
-                            call: Box::new(call),
-                        },
-                        span,
-                    };
-                }
-                Ok(acc)
-            }
-            Rule::or_expr | Rule::and_expr | Rule::add_expr | Rule::mul_expr | Rule::cmp_expr => {
-                let mut it = pair.into_inner();
-                let mut acc = self.expr(it.next().expect("chain has an operand"))?;
-                let mut first_cmp: Option<Span> = None;
-                while let Some(op) = it.next() {
-                    let op_span = self.span(&op);
-                    let bop = binary_op(op.as_str());
-                    if rule == Rule::cmp_expr {
-                        if let Some(first) = first_cmp {
-                            return Err(chained_comparison(first, op_span));
-                        }
-                        first_cmp = Some(op_span);
-                    }
-                    let rhs = self.expr(it.next().expect("operator has a right operand"))?;
-                    let span = acc.span.to(rhs.span);
-                    acc = Expr {
-                        kind: ExprKind::Binary {
-                            op: Spanned::new(bop, op_span),
-                            lhs: Box::new(acc),
-                            rhs: Box::new(rhs),
-                        },
-                        span,
-                    };
-                }
-                Ok(acc)
-            }
-            Rule::not_expr | Rule::unary => {
-                let mut it = pair.into_inner();
-                let first = it.next().expect("unary has a child");
-                match first.as_rule() {
-                    Rule::kw_not | Rule::neg_op => {
-                        let op = if first.as_rule() == Rule::kw_not {
-                            UnaryOp::Not
-                        } else {
-                            UnaryOp::Neg
-                        };
-                        let op = Spanned::new(op, self.span(&first));
-                        let operand = self.expr(it.next().expect("unary has an operand"))?;
-                        let span = op.span.to(operand.span);
-                        Ok(Expr {
-                            kind: ExprKind::Unary {
-                                op,
-                                operand: Box::new(operand),
-                            },
-                            span,
-                        })
-                    }
-                    _ => self.expr(first),
-                }
-            }
-            Rule::postfix_expr | Rule::pipe_target => {
-                let mut it = pair.into_inner();
-                let mut acc = self.expr(it.next().expect("postfix has a primary"))?;
-                for post in it {
-                    let end = exact_end(&post);
-                    let span = Span::new(self.file, acc.span.start as usize, end);
-                    let kind = match post.as_rule() {
-                        Rule::field_access => {
-                            let name = self.ident(&post.into_inner().next().expect("field name"));
-                            ExprKind::Field {
-                                target: Box::new(acc),
-                                name,
-                            }
-                        }
-                        Rule::index => {
-                            let index = self.expr(kids(post).next().expect("index expression"))?;
-                            ExprKind::Index {
-                                target: Box::new(acc),
-                                index: Box::new(index),
-                            }
-                        }
-                        _ => {
-                            let mut args = Vec::new();
-                            for a in kids(post) {
-                                let mut name = None;
-                                let mut value = None;
-                                for p in kids(a) {
-                                    if p.as_rule() == Rule::arg_name {
-                                        name = Some(self.ident(&p));
-                                    } else {
-                                        value = Some(self.expr(p)?);
-                                    }
-                                }
-                                args.push(Arg {
-                                    name,
-                                    value: value.expect("argument has a value"),
-                                });
-                            }
-                            ExprKind::Call {
-                                callee: Box::new(acc),
-                                args,
-                            }
-                        }
-                    };
-                    acc = Expr { kind, span };
-                }
-                Ok(acc)
-            }
-            Rule::number => {
-                let mut value = 0.0;
-                let mut unit = None;
-                for p in pair.into_inner() {
-                    match p.as_rule() {
-                        Rule::num_lit => {
-                            value = p.as_str().parse::<f64>().unwrap_or(f64::INFINITY);
-                            if !value.is_finite() {
-                                return Err(Diagnostic::new(
-                                    CODE,
-                                    format!("the number `{}` is too large", p.as_str()),
-                                    self.span(&p),
-                                    "too large",
-                                ));
-                            }
-                        }
-                        _ => unit = Some(Spanned::new(unit_of(p.as_str()), self.span(&p))),
-                    }
-                }
-                Ok(Expr {
-                    kind: ExprKind::Number { value, unit },
-                    span,
-                })
-            }
+        match pair.as_rule() {
+            Rule::expr => self.pipe_chain(pair),
+            rule @ (Rule::or_expr
+            | Rule::and_expr
+            | Rule::add_expr
+            | Rule::mul_expr
+            | Rule::cmp_expr) => self.binary_chain(pair, rule),
+            Rule::not_expr | Rule::unary => self.prefixed(pair),
+            Rule::postfix_expr | Rule::pipe_target => self.postfixed(pair),
+            Rule::number => self.number(pair, span),
             Rule::string => {
                 let inner = pair.into_inner().next().map_or("", |p| p.as_str());
                 Ok(Expr {
@@ -474,105 +345,274 @@ impl Builder {
                 kind: ExprKind::Name(pair.as_str().to_string()),
                 span,
             }),
-            Rule::if_expr => {
-                let mut it = kids(pair);
-                let cond = self.expr(it.next().expect("if condition"))?;
-                let then = self.expr(it.next().expect("then branch"))?;
-                let otherwise = self.expr(it.next().expect("else branch"))?;
-                Ok(Expr {
-                    kind: ExprKind::If {
-                        cond: Box::new(cond),
-                        then: Box::new(then),
-                        otherwise: Box::new(otherwise),
-                    },
-                    span,
-                })
-            }
-            Rule::lambda => {
-                let mut it = kids(pair);
-                let params = self.params(it.next().expect("lambda parameters"))?;
-                let body = self.expr(it.next().expect("lambda body"))?;
-                Ok(Expr {
-                    kind: ExprKind::Lambda {
-                        params,
-                        body: Box::new(body),
-                    },
-                    span,
-                })
-            }
-            Rule::list => {
-                let mut items = Vec::new();
-                let mut comp = None;
-                for p in kids(pair) {
-                    if p.as_rule() == Rule::comprehension {
-                        comp = Some(p);
-                    } else {
-                        items.push(self.expr(p)?);
-                    }
-                }
-                let kind = match comp {
-                    None => ExprKind::List(items),
-                    Some(c) => {
-                        let mut it = kids(c);
-                        let var = self.ident(&it.next().expect("loop variable"));
-                        let iter = self.expr(it.next().expect("iterated expression"))?;
-                        let cond = it.next().map(|e| self.expr(e)).transpose()?.map(Box::new);
-                        let body = items.pop().expect("comprehension body");
-                        ExprKind::Comprehension {
-                            body: Box::new(body),
-                            var,
-                            iter: Box::new(iter),
-                            cond,
-                        }
-                    }
-                };
-                Ok(Expr { kind, span })
-            }
-            Rule::paren => {
-                let mut items = kids(pair).map(|p| self.expr(p)).collect::<Res<Vec<_>>>()?;
-                if items.len() == 1 {
-                    // A parenthesised expression keeps its node; its span grows to the
-                    // parentheses so `(a + b) * c` spans from `(`.
-                    let mut inner = items.pop().expect("one element");
-                    inner.span = span;
-                    Ok(inner)
-                } else {
-                    Ok(Expr {
-                        kind: ExprKind::Tuple(items),
-                        span,
-                    })
-                }
-            }
-            Rule::record => {
-                let mut fields = Vec::new();
-                for f in kids(pair) {
-                    let mut it = kids(f);
-                    let key = self.ident(&it.next().expect("record key"));
-                    let value = self.expr(it.next().expect("record value"))?;
-                    fields.push((key, value));
-                }
-                Ok(Expr {
-                    kind: ExprKind::Record(fields),
-                    span,
-                })
-            }
-            Rule::sketch => {
-                let mut it = kids(pair);
-                let view = self.expr(it.next().expect("sketch view"))?;
-                let mut commands = Vec::new();
-                for c in it {
-                    commands.push(self.sketch_command(c)?);
-                }
-                Ok(Expr {
-                    kind: ExprKind::Sketch {
-                        view: Box::new(view),
-                        commands,
-                    },
-                    span,
-                })
-            }
+            Rule::if_expr => self.if_expr(pair, span),
+            Rule::lambda => self.lambda(pair, span),
+            Rule::list => self.list(pair, span),
+            Rule::paren => self.paren(pair, span),
+            Rule::record => self.record(pair, span),
+            Rule::sketch => self.sketch(pair, span),
             other => unreachable!("not an expression rule: {other:?}"),
         }
+    }
+
+    /// `a |> f(x) |> g`: each stage a pipe node whose input is everything before it.
+    fn pipe_chain(&mut self, pair: Pair<Rule>) -> Res<Expr> {
+        let mut it = kids(pair);
+        let mut acc = self.expr(it.next().expect("expr has an operand"))?;
+        for target in it {
+            let call = self.expr(target.into_inner().next().expect("pipe target"))?;
+            let span = acc.span.to(call.span);
+            acc = Expr {
+                kind: ExprKind::Pipe {
+                    input: Box::new(acc),
+                    call: Box::new(call),
+                },
+                span,
+            };
+        }
+        Ok(acc)
+    }
+
+    /// Operands joined by the operators of one precedence level (`rule`), grouped to the
+    /// left; a second comparison in one chain (`a < b < c`) is refused: comparisons do
+    /// not chain, and the message names both.
+    fn binary_chain(&mut self, pair: Pair<Rule>, rule: Rule) -> Res<Expr> {
+        let mut it = pair.into_inner();
+        let mut acc = self.expr(it.next().expect("chain has an operand"))?;
+        let mut first_cmp: Option<Span> = None;
+        while let Some(op) = it.next() {
+            let op_span = self.span(&op);
+            let bop = binary_op(op.as_str());
+            if rule == Rule::cmp_expr {
+                if let Some(first) = first_cmp {
+                    return Err(chained_comparison(first, op_span));
+                }
+                first_cmp = Some(op_span);
+            }
+            let rhs = self.expr(it.next().expect("operator has a right operand"))?;
+            let span = acc.span.to(rhs.span);
+            acc = Expr {
+                kind: ExprKind::Binary {
+                    op: Spanned::new(bop, op_span),
+                    lhs: Box::new(acc),
+                    rhs: Box::new(rhs),
+                },
+                span,
+            };
+        }
+        Ok(acc)
+    }
+
+    /// `not x` or `-x`, or the operand alone when the level has no operator.
+    fn prefixed(&mut self, pair: Pair<Rule>) -> Res<Expr> {
+        let mut it = pair.into_inner();
+        let first = it.next().expect("unary has a child");
+        let op = match first.as_rule() {
+            Rule::kw_not => UnaryOp::Not,
+            Rule::neg_op => UnaryOp::Neg,
+            _ => return self.expr(first),
+        };
+        let op = Spanned::new(op, self.span(&first));
+        let operand = self.expr(it.next().expect("unary has an operand"))?;
+        let span = op.span.to(operand.span);
+        Ok(Expr {
+            kind: ExprKind::Unary {
+                op,
+                operand: Box::new(operand),
+            },
+            span,
+        })
+    }
+
+    /// A primary followed by field accesses, indexes and calls, applied left to right
+    /// (`a.b[0](x)`); each node spans from the primary to its own end.
+    fn postfixed(&mut self, pair: Pair<Rule>) -> Res<Expr> {
+        let mut it = pair.into_inner();
+        let mut acc = self.expr(it.next().expect("postfix has a primary"))?;
+        for post in it {
+            let end = exact_end(&post);
+            let span = Span::new(self.file, acc.span.start as usize, end);
+            let target = Box::new(acc);
+            let kind = match post.as_rule() {
+                Rule::field_access => ExprKind::Field {
+                    target,
+                    name: self.ident(&post.into_inner().next().expect("field name")),
+                },
+                Rule::index => ExprKind::Index {
+                    target,
+                    index: Box::new(self.expr(kids(post).next().expect("index expression"))?),
+                },
+                _ => ExprKind::Call {
+                    callee: target,
+                    args: self.call_args(post)?,
+                },
+            };
+            acc = Expr { kind, span };
+        }
+        Ok(acc)
+    }
+
+    /// A call's arguments, each positional or named (`name: value`).
+    fn call_args(&mut self, pair: Pair<Rule>) -> Res<Vec<Arg>> {
+        let mut args = Vec::new();
+        for a in kids(pair) {
+            let mut name = None;
+            let mut value = None;
+            for p in kids(a) {
+                if p.as_rule() == Rule::arg_name {
+                    name = Some(self.ident(&p));
+                } else {
+                    value = Some(self.expr(p)?);
+                }
+            }
+            args.push(Arg {
+                name,
+                value: value.expect("argument has a value"),
+            });
+        }
+        Ok(args)
+    }
+
+    /// A number with its unit if one is written (`12.5 mm`); one too large for an f64
+    /// is refused rather than read as infinity.
+    fn number(&self, pair: Pair<Rule>, span: Span) -> Res<Expr> {
+        let mut value = 0.0;
+        let mut unit = None;
+        for p in pair.into_inner() {
+            match p.as_rule() {
+                Rule::num_lit => {
+                    value = p.as_str().parse::<f64>().unwrap_or(f64::INFINITY);
+                    if !value.is_finite() {
+                        return Err(Diagnostic::new(
+                            CODE,
+                            format!("the number `{}` is too large", p.as_str()),
+                            self.span(&p),
+                            "too large",
+                        ));
+                    }
+                }
+                _ => unit = Some(Spanned::new(unit_of(p.as_str()), self.span(&p))),
+            }
+        }
+        Ok(Expr {
+            kind: ExprKind::Number { value, unit },
+            span,
+        })
+    }
+
+    /// `if c then a else b`.
+    fn if_expr(&mut self, pair: Pair<Rule>, span: Span) -> Res<Expr> {
+        let mut it = kids(pair);
+        let cond = self.expr(it.next().expect("if condition"))?;
+        let then = self.expr(it.next().expect("then branch"))?;
+        let otherwise = self.expr(it.next().expect("else branch"))?;
+        Ok(Expr {
+            kind: ExprKind::If {
+                cond: Box::new(cond),
+                then: Box::new(then),
+                otherwise: Box::new(otherwise),
+            },
+            span,
+        })
+    }
+
+    /// `fn(x, y = 1) => body`.
+    fn lambda(&mut self, pair: Pair<Rule>, span: Span) -> Res<Expr> {
+        let mut it = kids(pair);
+        let params = self.params(it.next().expect("lambda parameters"))?;
+        let body = self.expr(it.next().expect("lambda body"))?;
+        Ok(Expr {
+            kind: ExprKind::Lambda {
+                params,
+                body: Box::new(body),
+            },
+            span,
+        })
+    }
+
+    /// `[a, b, c]`, or a comprehension `[body for x in xs if c]` (the grammar puts the
+    /// body first, then the `for` part).
+    fn list(&mut self, pair: Pair<Rule>, span: Span) -> Res<Expr> {
+        let mut items = Vec::new();
+        let mut comp = None;
+        for p in kids(pair) {
+            if p.as_rule() == Rule::comprehension {
+                comp = Some(p);
+            } else {
+                items.push(self.expr(p)?);
+            }
+        }
+        let kind = match comp {
+            None => ExprKind::List(items),
+            Some(c) => {
+                let body = items.pop().expect("comprehension body");
+                self.comprehension(c, body)?
+            }
+        };
+        Ok(Expr { kind, span })
+    }
+
+    /// The `for x in xs if c` part of a comprehension, around its `body`.
+    fn comprehension(&mut self, pair: Pair<Rule>, body: Expr) -> Res<ExprKind> {
+        let mut it = kids(pair);
+        let var = self.ident(&it.next().expect("loop variable"));
+        let iter = self.expr(it.next().expect("iterated expression"))?;
+        let cond = it.next().map(|e| self.expr(e)).transpose()?.map(Box::new);
+        Ok(ExprKind::Comprehension {
+            body: Box::new(body),
+            var,
+            iter: Box::new(iter),
+            cond,
+        })
+    }
+
+    /// `(a)`, the expression itself, or `(a, b)`, a tuple.
+    fn paren(&mut self, pair: Pair<Rule>, span: Span) -> Res<Expr> {
+        let mut items = kids(pair).map(|p| self.expr(p)).collect::<Res<Vec<_>>>()?;
+        if items.len() == 1 {
+            // A parenthesised expression keeps its node; its span grows to the
+            // parentheses so `(a + b) * c` spans from `(`.
+            let mut inner = items.pop().expect("one element");
+            inner.span = span;
+            Ok(inner)
+        } else {
+            Ok(Expr {
+                kind: ExprKind::Tuple(items),
+                span,
+            })
+        }
+    }
+
+    /// `{ key: value, ... }`.
+    fn record(&mut self, pair: Pair<Rule>, span: Span) -> Res<Expr> {
+        let mut fields = Vec::new();
+        for f in kids(pair) {
+            let mut it = kids(f);
+            let key = self.ident(&it.next().expect("record key"));
+            let value = self.expr(it.next().expect("record value"))?;
+            fields.push((key, value));
+        }
+        Ok(Expr {
+            kind: ExprKind::Record(fields),
+            span,
+        })
+    }
+
+    /// `sketch(view) { commands }`.
+    fn sketch(&mut self, pair: Pair<Rule>, span: Span) -> Res<Expr> {
+        let mut it = kids(pair);
+        let view = self.expr(it.next().expect("sketch view"))?;
+        let mut commands = Vec::new();
+        for c in it {
+            commands.push(self.sketch_command(c)?);
+        }
+        Ok(Expr {
+            kind: ExprKind::Sketch {
+                view: Box::new(view),
+                commands,
+            },
+            span,
+        })
     }
 
     fn sketch_command(&mut self, pair: Pair<Rule>) -> Res<SketchCommand> {

@@ -1,4 +1,4 @@
-//! Draw beads on the blankholder (primer section 5; paper 001 section 5, Fig. 13).
+//! Draw beads on the blankholder (paper 001 section 5, Fig. 13; `docs/methods.md`).
 //!
 //! The designer draws the bead's centre line, or its two boundaries, in the top view
 //! and gives its cross-section at key sections. [`build`] makes the paper's curve net
@@ -43,7 +43,7 @@ mod runout;
 
 pub use binder::Binder;
 use course::CourseMap;
-use profiles::matched_profiles;
+use profiles::{matched_profiles, MatchedProfiles};
 
 /// Where the bead runs in the top view.
 #[derive(Debug, Clone, PartialEq)]
@@ -365,9 +365,79 @@ const MAX_LINE_POINTS: usize = 100_000;
 pub const FOOT_SAMPLES: usize = 400;
 
 /// Builds a bead on `binder` (module documentation).
+///
+/// The binder remembers where it last found a point (the next search starts there),
+/// so the steps ask it in a fixed order; they are kept in that order here.
 pub fn build(binder: &Binder, spec: &BeadSpec) -> Result<Bead, Problem> {
     check_lengths(spec)?;
     let course = CourseMap::new(&spec.course)?;
+    check_course(spec, &course)?;
+    let ats = key_positions(spec, course.length)?;
+    let profiles = matched_profiles(spec, &ats)?;
+    check_turns(&course, &profiles)?;
+
+    // Step 1: the centre line on the binder.
+    let centre = centre_line(binder, &course)?;
+    // Steps 2-3: a section at any fraction along the bead, from the matched profiles.
+    let maker = SectionMaker {
+        binder,
+        course: &course,
+        profiles: &profiles,
+        taper: spec.taper,
+    };
+    // Step 4: sections along the bead, skinned and refined.
+    let skin = refined_skin(&maker, initial_stations(&course, spec, &ats))?;
+    // The sections run across from the right foot to the left, so S_u x S_v points
+    // down; the skin is turned round in u to face up like the binder under it.
+    let surface = skin.surface.reversed(Direction::U);
+
+    // Quality: the feet on the binder, and every section at the height it should have.
+    let foot_gap = foot_gap(binder, &surface)?;
+    let height = height(binder, &skin.sections, &profiles.params)?;
+    let key_sections = key_sections(&ats, &skin.stations, &skin.sections);
+    let section_error = section_error(&maker, spec, &ats, &skin.stations, &skin.sections)?;
+    let radii = skin_radii(
+        &surface,
+        &skin.sections,
+        &skin.stations,
+        spec.taper / course.length,
+    )?;
+    let drawn_radius = spec
+        .sections
+        .iter()
+        .map(|k| drawn_radius(&k.profile))
+        .fold(f64::INFINITY, f64::min);
+    let rules = profiles
+        .rule_params
+        .iter()
+        .map(|&u| surface.iso_curve(Direction::U, 1.0 - u))
+        .collect();
+    let (line_points, length) = line_bead(&centre, spec.line_spacing)?;
+    Ok(Bead {
+        surface,
+        centre,
+        line_points,
+        sections: key_sections,
+        rules,
+        quality: BeadQuality {
+            foot_gap,
+            section_error,
+            sections: skin.sections.len(),
+            length,
+            height,
+            width: (skin.narrow, skin.wide),
+            min_radius: radii.full,
+            min_radius_at: radii.full_at,
+            end_min_radius: radii.ends,
+            drawn_radius,
+        },
+    })
+}
+
+/// Refuses a course the spec cannot be built on: a taper on a ring bead (it has no
+/// ends), more sections or line-bead points than a bead may take, or tapers longer
+/// together than the bead.
+fn check_course(spec: &BeadSpec, course: &CourseMap) -> Result<(), Problem> {
     if course.closed() && spec.taper > 0.0 {
         return Err(Problem::ClosedTaper);
     }
@@ -389,9 +459,13 @@ pub fn build(binder: &Binder, spec: &BeadSpec) -> Result<Bead, Problem> {
             length: course.length,
         });
     }
-    let ats = key_positions(spec, course.length)?;
-    let profiles = matched_profiles(spec, &ats)?;
-    if let Some(problem) = course.too_tight(&profiles) {
+    Ok(())
+}
+
+/// Refuses a course that turns tighter than the profiles' reach across it (their feet
+/// lines would fold), or kinks.
+fn check_turns(course: &CourseMap, profiles: &MatchedProfiles) -> Result<(), Problem> {
+    if let Some(problem) = course.too_tight(profiles) {
         return Err(problem);
     }
     if let Some(at) = course.kink() {
@@ -407,23 +481,40 @@ pub fn build(binder: &Binder, spec: &BeadSpec) -> Result<Bead, Problem> {
             reach,
         });
     }
+    Ok(())
+}
 
-    // Step 1: the centre line on the binder, sampled about every 2 mm; the course must
-    // stay over the binder and outside the opening.
-    let length2 = course.length;
-    let samples = ((length2 / 2.0).ceil() as usize).clamp(8, 4000);
+/// Step 1: the centre line on the binder, sampled about every 2 mm and interpolated;
+/// the course must stay over the binder and outside the opening.
+fn centre_line(binder: &Binder, course: &CourseMap) -> Result<Curve3, Problem> {
+    let samples = ((course.length / 2.0).ceil() as usize).clamp(8, 4000);
     let mut centre_points = Vec::with_capacity(samples + 1);
     for i in 0..=samples {
         let (c, _) = course.frame(i as f64 / samples as f64)?;
         centre_points.push(binder.base(c, Some(0.0))?);
     }
-    let centre = interpolate(&centre_points, &Interpolation::default())?;
+    Ok(interpolate(&centre_points, &Interpolation::default())?)
+}
 
-    // Steps 2-3: a section at any fraction along the bead, from the matched profiles.
-    let section_at = |along: f64| -> Result<(Curve3, f64), Problem> {
+/// Steps 2-3: makes the bead's section at any fraction along it.
+struct SectionMaker<'a> {
+    binder: &'a Binder<'a>,
+    course: &'a CourseMap,
+    profiles: &'a MatchedProfiles,
+    /// The taper length (mm).
+    taper: f64,
+}
+
+impl SectionMaker<'_> {
+    /// The section at fraction `along` of the bead and its top-view width: the matched
+    /// profiles blended there and run out by the taper, stretched to the boundaries
+    /// when there are two, laid across the course on the binder and raised by the
+    /// profile's heights, interpolated by a quadratic.
+    fn at(&self, along: f64) -> Result<(Curve3, f64), Problem> {
+        let (course, profiles, length) = (self.course, self.profiles, self.course.length);
         let (c, across, turn) = course.frame_and_turn(along)?;
-        let height_factor = taper_factor(along * length2, length2, spec.taper);
-        let rate = taper_rate(along * length2, length2, spec.taper);
+        let height_factor = taper_factor(along * length, length, self.taper);
+        let rate = taper_rate(along * length, length, self.taper);
         let shape = profiles.shape(along, height_factor, rate);
         let (s0, s1) = (shape[0].x, shape[shape.len() - 1].x);
         let stretch = course.feet(c, across)?;
@@ -441,7 +532,7 @@ pub fn build(binder: &Binder, spec: &BeadSpec) -> Result<Bead, Problem> {
                     reach: offset.abs(),
                 });
             }
-            let base = binder.base(c + across * offset, Some(offset))?;
+            let base = self.binder.base(c + across * offset, Some(offset))?;
             points.push(base + DVec3::Z * q.y);
         }
         let width = points[0]
@@ -460,13 +551,14 @@ pub fn build(binder: &Binder, spec: &BeadSpec) -> Result<Bead, Problem> {
             },
         )?;
         Ok((curve, width))
-    };
+    }
+}
 
-    // Step 4: sections every `spacing` and at every key section, then more where the
-    // skinned feet leave the binder by more than FOOT_TOLERANCE, or a rule its place by
-    // more than RULE_TOLERANCE, between two sections.
-    let mut stations = station_fractions(length2, spec.spacing, spec.taper);
-    for &at in &ats {
+/// Where the first sections go, as fractions of the bead: every `spacing` (closer in
+/// the tapered ends, [`station_fractions`]) and at every key section (`ats`).
+fn initial_stations(course: &CourseMap, spec: &BeadSpec, ats: &[f64]) -> Vec<f64> {
+    let mut stations = station_fractions(course.length, spec.spacing, spec.taper);
+    for &at in ats {
         let i = stations.partition_point(|&x| x < at);
         let near = |j: usize| stations.get(j).is_some_and(|&x| (x - at).abs() < 1e-9);
         let present = near(i) || (i > 0 && near(i - 1));
@@ -474,15 +566,36 @@ pub fn build(binder: &Binder, spec: &BeadSpec) -> Result<Bead, Problem> {
             stations.insert(i, at);
         }
     }
+    stations
+}
+
+/// The skinned bead before it is turned to face up.
+struct Skin {
+    /// The sections' fractions along the bead, increasing.
+    stations: Vec<f64>,
+    /// The section at each station.
+    sections: Vec<Curve3>,
+    /// The skin through them (u from the right foot to the left).
+    surface: NurbsSurface,
+    /// The narrowest section's top-view width (mm).
+    narrow: f64,
+    /// The widest section's top-view width (mm).
+    wide: f64,
+}
+
+/// Step 4: sections at `stations`, skinned; then, for up to [`MAX_REFINEMENTS`]
+/// rounds, a section added half-way between two where the skin leaves what the
+/// sections there should be ([`needs_section_between`]), and skinned again.
+fn refined_skin(maker: &SectionMaker, mut stations: Vec<f64>) -> Result<Skin, Problem> {
     let mut sections = Vec::with_capacity(stations.len());
     let (mut narrow, mut wide) = (f64::INFINITY, 0.0f64);
     for &a in &stations {
-        let (s, w) = section_at(a)?;
+        let (s, w) = maker.at(a)?;
         narrow = narrow.min(w);
         wide = wide.max(w);
         sections.push(s);
     }
-    let ring = course.closed();
+    let ring = maker.course.closed();
     let mut surface = skin(&sections, ring)?;
     for _ in 0..MAX_REFINEMENTS {
         let vs = section_parameters(&sections, Loft::default().parametrization)?;
@@ -490,18 +603,7 @@ pub fn build(binder: &Binder, spec: &BeadSpec) -> Result<Bead, Problem> {
         for k in 0..sections.len() - 1 {
             let v = 0.5 * (vs[k] + vs[k + 1]);
             let along = 0.5 * (stations[k] + stations[k + 1]);
-            let mut leaves = foot_gap_at(binder, &surface, v)? > FOOT_TOLERANCE;
-            if !leaves && !profiles.rule_params.is_empty() {
-                // The rules run through the same feature of every section; between
-                // two sections they must not drift off it across the bead.
-                let (_, across) = course.frame(along)?;
-                let (exact, _) = section_at(along)?;
-                leaves = profiles.rule_params.iter().any(|&u| {
-                    let drift = surface.point_at(u, v) - exact.point_at(u);
-                    drift.truncate().dot(across).abs() > RULE_TOLERANCE
-                });
-            }
-            if leaves {
+            if needs_section_between(maker, &surface, v, along)? {
                 inserted.push(along);
             }
         }
@@ -510,7 +612,7 @@ pub fn build(binder: &Binder, spec: &BeadSpec) -> Result<Bead, Problem> {
         }
         for a in inserted {
             let i = stations.partition_point(|&x| x < a);
-            let (s, w) = section_at(a)?;
+            let (s, w) = maker.at(a)?;
             narrow = narrow.min(w);
             wide = wide.max(w);
             stations.insert(i, a);
@@ -518,37 +620,89 @@ pub fn build(binder: &Binder, spec: &BeadSpec) -> Result<Bead, Problem> {
         }
         surface = skin(&sections, ring)?;
     }
+    Ok(Skin {
+        stations,
+        sections,
+        surface,
+        narrow,
+        wide,
+    })
+}
 
-    // The sections run across from the right foot to the left, so S_u x S_v points
-    // down; the skin is turned round in u to face up like the binder under it.
-    let surface = surface.reversed(Direction::U);
+/// Whether the skin needs a section at fraction `along` (skin parameter `v`), half-way
+/// between two: its feet leave the binder there by more than [`FOOT_TOLERANCE`], or a
+/// rule drifts off the feature it runs through, across the bead, by more than
+/// [`RULE_TOLERANCE`].
+fn needs_section_between(
+    maker: &SectionMaker,
+    surface: &NurbsSurface,
+    v: f64,
+    along: f64,
+) -> Result<bool, Problem> {
+    if foot_gap_at(maker.binder, surface, v)? > FOOT_TOLERANCE {
+        return Ok(true);
+    }
+    if maker.profiles.rule_params.is_empty() {
+        return Ok(false);
+    }
+    // The rules run through the same feature of every section; between two sections
+    // they must not drift off it across the bead.
+    let (_, across) = maker.course.frame(along)?;
+    let (exact, _) = maker.at(along)?;
+    Ok(maker.profiles.rule_params.iter().any(|&u| {
+        let drift = surface.point_at(u, v) - exact.point_at(u);
+        drift.truncate().dot(across).abs() > RULE_TOLERANCE
+    }))
+}
 
-    // Quality: the feet on the binder, and every section at the height it should have.
+/// The largest distance along Z between the binder and the skin's feet, at
+/// [`FOOT_SAMPLES`] places along it.
+fn foot_gap(binder: &Binder, surface: &NurbsSurface) -> Result<f64, Problem> {
     let (v0, v1) = surface.domain_v();
     let mut foot_gap = 0.0f64;
     for i in 0..=FOOT_SAMPLES {
         let v = v0 + (v1 - v0) * i as f64 / FOOT_SAMPLES as f64;
-        foot_gap = foot_gap.max(foot_gap_at(binder, &surface, v)?);
+        foot_gap = foot_gap.max(foot_gap_at(binder, surface, v)?);
     }
+    Ok(foot_gap)
+}
+
+/// The tallest point of the sections above the binder, at their interpolated points
+/// (`params`).
+fn height(binder: &Binder, sections: &[Curve3], params: &[f64]) -> Result<f64, Problem> {
     let mut height = 0.0f64;
-    for s in &sections {
-        for &u in &profiles.params {
+    for s in sections {
+        for &u in params {
             let p = s.point_at(u);
             height = height.max(p.z - binder.base(p.truncate(), None)?.z);
         }
     }
-    let key_sections = ats
-        .iter()
+    Ok(height)
+}
+
+/// The sections at the key sections' positions (`ats`), in the order given.
+fn key_sections(ats: &[f64], stations: &[f64], sections: &[Curve3]) -> Vec<Curve3> {
+    ats.iter()
         .map(|&at| {
             let i = stations.partition_point(|&x| x < at - 1e-9);
             sections[i.min(sections.len() - 1)].clone()
         })
-        .collect::<Vec<Curve3>>();
-    // Section conformance: the key sections, and every CONFORMANCE_STRIDE-th skinned
-    // section whose exact profile is known (between two key sections with the same
-    // profile).
+        .collect()
+}
+
+/// Section conformance: the largest [`conformance`] distance of the key sections, and
+/// of every [`CONFORMANCE_STRIDE`]-th skinned section whose exact profile is known
+/// (between two key sections with the same profile).
+fn section_error(
+    maker: &SectionMaker,
+    spec: &BeadSpec,
+    ats: &[f64],
+    stations: &[f64],
+    sections: &[Curve3],
+) -> Result<f64, Problem> {
+    let length = maker.course.length;
     let mut section_error = 0.0f64;
-    for (i, (section, &along)) in sections.iter().zip(&stations).enumerate() {
+    for (i, (section, &along)) in sections.iter().zip(stations).enumerate() {
         let k = ats
             .partition_point(|&a| a < along - 1e-9)
             .min(ats.len() - 1);
@@ -563,57 +717,39 @@ pub fn build(binder: &Binder, spec: &BeadSpec) -> Result<Bead, Problem> {
             (a.profile == b.profile && a.rules == b.rules).then_some(k - 1)
         };
         if let Some(key) = key {
-            let factor = taper_factor(along * course.length, course.length, spec.taper);
+            let factor = taper_factor(along * length, length, spec.taper);
             let exact = if factor >= 1.0 {
                 spec.sections[key].profile.clone()
             } else {
-                let rate = taper_rate(along * course.length, course.length, spec.taper);
-                polyline(&profiles.run_out_of_key(key, factor, rate))?
+                let rate = taper_rate(along * length, length, spec.taper);
+                polyline(&maker.profiles.run_out_of_key(key, factor, rate))?
             };
-            let error = conformance(binder, &course, &spec.sections[key], &exact, along, section)?;
+            let error = conformance(
+                maker.binder,
+                maker.course,
+                &spec.sections[key],
+                &exact,
+                along,
+                section,
+            )?;
             section_error = section_error.max(error);
         }
     }
-    let radii = skin_radii(&surface, &sections, &stations, spec.taper / length2)?;
-    let drawn_radius = spec
-        .sections
-        .iter()
-        .map(|k| drawn_radius(&k.profile))
-        .fold(f64::INFINITY, f64::min);
-    let rules = profiles
-        .rule_params
-        .iter()
-        .map(|&u| surface.iso_curve(Direction::U, 1.0 - u))
-        .collect();
+    Ok(section_error)
+}
 
-    // The line bead.
-    let centre_table = ArcLengths::new(&centre);
-    let length3 = centre_table.total();
-    let n = ((length3 / spec.line_spacing).ceil() as usize).max(1);
+/// The line bead: the centre line resampled every `spacing` (mm, evenly by arc
+/// length, at least one interval), and its length.
+fn line_bead(centre: &Curve3, spacing: f64) -> Result<(Vec<DVec3>, f64), Problem> {
+    let centre_table = ArcLengths::new(centre);
+    let length = centre_table.total();
+    let n = ((length / spacing).ceil() as usize).max(1);
     let mut line_points = Vec::with_capacity(n + 1);
     for i in 0..=n {
         let t = centre_table.parameter_at_fraction(i as f64 / n as f64)?;
         line_points.push(centre.point_at(t));
     }
-    Ok(Bead {
-        surface,
-        centre,
-        line_points,
-        sections: key_sections,
-        rules,
-        quality: BeadQuality {
-            foot_gap,
-            section_error,
-            sections: sections.len(),
-            length: length3,
-            height,
-            width: (narrow, wide),
-            min_radius: radii.full,
-            min_radius_at: radii.full_at,
-            end_min_radius: radii.ends,
-            drawn_radius,
-        },
-    })
+    Ok((line_points, length))
 }
 
 /// Samples across a section for its conformance figure: four between every two

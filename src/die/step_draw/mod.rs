@@ -1,5 +1,5 @@
 //! The step draw (addendum) between the product outline and the punch opening line
-//! (primer section 4; paper 001 section 4, eq. 5-9, Fig. 9-12).
+//! (paper 001 section 4, eq. 5-9, Fig. 9-12; `docs/methods.md`).
 //!
 //! The two guides are the product outline `G_D`, which the step draw meets exactly, and
 //! the punch opening line `G_U`, which it follows within a reported deviation (the crease
@@ -383,139 +383,37 @@ pub fn section_ends(guides: &Guides, a: DVec2, b: DVec2) -> Result<SectionEnds, 
 
 /// Builds the step draw (module documentation).
 pub fn build(guides: &Guides, sections: &[SectionSpec], opts: &Options) -> Result<StepDraw, Error> {
-    let needed = if guides.closed { 3 } else { 2 };
-    if sections.len() < needed {
-        return Err(fail(
-            sections.len().saturating_sub(1),
-            Problem::TooFewSections { needed },
-        ));
-    }
-    let product = &guides.product;
-    if product.degree() != 3 || product.is_rational() {
-        return Err(fail(0, Problem::ProductNotCubic));
-    }
+    check_inputs(guides, sections)?;
     let tol = opts.tolerance;
 
     // Step 1: ends, orientation, folds, placement.
-    let mut ends = Vec::with_capacity(sections.len());
-    let mut key_chains = Vec::with_capacity(sections.len());
-    let mut per_section = Vec::with_capacity(sections.len());
-    let product_knots: Vec<f64> = product.knots().distinct().iter().map(|&(k, _)| k).collect();
-    for (k, s) in sections.iter().enumerate() {
-        let mut e = section_ends(guides, s.a, s.b).map_err(|p| fail(k, p))?;
-        // A cut just beside a knot of the outline would leave a sliver span (a kink in
-        // every row there): the section's product end moves along the outline onto the
-        // knot instead, a fraction of a span away; the move counts in `knot_move`.
-        let snapped = snap_to_knot(&product_knots, e.product_t);
-        let mut knot_move = 0.0;
-        if snapped != e.product_t {
-            knot_move = product
-                .point_at(snapped)
-                .distance(product.point_at(e.product_t));
-            e.product_t = snapped;
-        }
-        let (p0, p1) = (s.profile.start_point(), s.profile.end_point());
-        let forward = p0.distance(e.product) + p1.distance(e.opening);
-        let backward = p1.distance(e.product) + p0.distance(e.opening);
-        // u = 0 at the opening, u = 1 at the product.
-        let profile = if forward <= backward {
-            s.profile.reversed()
-        } else {
-            s.profile.clone()
-        };
-        let gap = profile
-            .start_point()
-            .distance(e.opening)
-            .max(profile.end_point().distance(e.product));
-        if gap > tol {
-            return Err(fail(
-                k,
-                Problem::EndsOffGuides {
-                    product: e.product,
-                    opening: e.opening,
-                    gap,
-                },
-            ));
-        }
-        per_section.push((
-            s.name.clone(),
-            SectionMoves {
-                end_snap: gap,
-                knot_move,
-            },
-        ));
-        check_no_fold(&profile, e).map_err(|p| fail(k, p))?;
-        // The profile from the product to the opening, in (x, z): x = 0 at the
-        // product, growing towards the opening.
-        let sign = if e.opening.x >= e.product.x {
-            1.0
-        } else {
-            -1.0
-        };
-        let drawn = profile
-            .reversed()
-            .map_points(|p: DVec2| DVec2::new((p.x - e.product.x) * sign, p.y));
-        let c = obliquity(
-            (s.b - s.a).normalize_or_zero().extend(0.0),
-            (
-                guides.opening.derivative_at(e.opening_t),
-                product.derivative_at(e.product_t),
-            ),
-        );
-        let mut chain = Chain::from_curve(&drawn);
-        chain.start = DVec2::new(0.0, e.product.y);
-        chain.obliquity = c;
-        ends.push(e);
-        key_chains.push(chain);
-    }
-
-    // Sections in order along both guides.
-    check_order(
-        &ends.iter().map(|e| e.product_t).collect::<Vec<_>>(),
-        guides.closed,
-    )?;
-    check_order(
-        &ends.iter().map(|e| e.opening_t).collect::<Vec<_>>(),
-        guides.closed,
-    )?;
+    let product_knots: Vec<f64> = guides
+        .product
+        .knots()
+        .distinct()
+        .iter()
+        .map(|&(k, _)| k)
+        .collect();
+    let placed = sections
+        .iter()
+        .enumerate()
+        .map(|(k, s)| place_key_section(guides, k, s, &product_knots, tol))
+        .collect::<Result<Vec<_>, _>>()?;
+    let ends: Vec<SectionEnds> = placed.iter().map(|p| p.ends).collect();
+    check_sections_in_order(&ends, guides.closed)?;
 
     // Step 1 (continued): one list of corners for all key sections, one knot vector
     // for every section, and the key sections' runs and corners carried along the
     // outline by their positions on it.
-    let mut aligned = align(&key_chains);
+    let key_chains: Vec<Chain> = placed.iter().map(|p| p.chain.clone()).collect();
     let binder_tangent = opts.tangent_binder && !guides.binder.is_empty();
-    if binder_tangent {
-        // The last run turns onto the binder over its last [`BINDER_BLEND`]: a corner
-        // of no drawn turn whose outgoing run (of no length) takes the binder's slope
-        // at each section.
-        for c in &mut aligned {
-            let last = *c.runs.last().expect("a chain always has a run");
-            c.radii
-                .push(BINDER_BLEND.min(0.4 * last.length) / chain::GENTLE_TURN);
-            c.runs.push(chain::Run {
-                angle: last.angle,
-                length: 0.0,
-            });
-        }
-    }
+    let aligned = aligned_chains(&key_chains, binder_tangent);
     let basis = SectionBasis::new(&aligned).map_err(at(0))?;
-    let outline = ArcTable::new(product);
-    let origin = outline.fraction_at(ends[0].product_t) * outline.total;
-    let positions: Vec<f64> = ends
-        .iter()
-        .map(|e| {
-            let s = outline.fraction_at(e.product_t) * outline.total - origin;
-            if guides.closed {
-                s.rem_euclid(outline.total)
-            } else {
-                s
-            }
-        })
-        .collect();
+    let (positions, outline_length) = outline_positions(&guides.product, &ends, guides.closed);
     let along = Along::new(
         positions.clone(),
         aligned,
-        guides.closed.then_some(outline.total),
+        guides.closed.then_some(outline_length),
     );
     let stations = Stations {
         along: &along,
@@ -527,17 +425,206 @@ pub fn build(guides: &Guides, sections: &[SectionSpec], opts: &Options) -> Resul
             .map(ProductSlope::new),
         binder: binder_tangent.then(|| BinderSlope::new(&guides.binder)),
     };
-    // The key sections themselves, as built, and how closely the cubics follow them.
+    let (key_sections, section_fit) = key_sections(guides, sections, &ends, &positions, &stations)?;
+    let u_knots = key_sections[0].1.knots().as_slice().to_vec();
+
+    // Step 2-3: patches, their guides and sections.
+    let subs = sub_patches(guides, sections, &placed, &positions, &stations, tol)?;
+    // Step 4: rows with the Fig. 12 end derivatives.
+    let patches = interpolate_rows(&subs, &u_knots, guides.closed)?;
+
+    let per_section = sections
+        .iter()
+        .zip(&placed)
+        .map(|(s, p)| (s.name.clone(), p.moves))
+        .collect();
+    let quality = quality(guides, &patches, tol, per_section, section_fit)?;
+    Ok(StepDraw {
+        patches,
+        key_sections,
+        quality,
+    })
+}
+
+/// Refuses what no step draw can be built from: fewer key sections than the outline
+/// needs (two for an open one, three for a closed one), or a product outline that is
+/// not a non-rational cubic (its knots become the patches' knots along the outline).
+fn check_inputs(guides: &Guides, sections: &[SectionSpec]) -> Result<(), Error> {
+    let needed = if guides.closed { 3 } else { 2 };
+    if sections.len() < needed {
+        return Err(fail(
+            sections.len().saturating_sub(1),
+            Problem::TooFewSections { needed },
+        ));
+    }
+    let product = &guides.product;
+    if product.degree() != 3 || product.is_rational() {
+        return Err(fail(0, Problem::ProductNotCubic));
+    }
+    Ok(())
+}
+
+/// A key section placed on the guides.
+struct PlacedSection {
+    /// Where its plane meets the guides (the product end moved onto a nearby knot).
+    ends: SectionEnds,
+    /// Its drawing as runs and corners from the product end, x = 0 there and growing
+    /// towards the opening, with the plane's obliquity.
+    chain: Chain,
+    /// How far its ends were moved.
+    moves: SectionMoves,
+}
+
+/// Places key section `k` (`s`) on the guides (step 1): where its plane meets them,
+/// its product end moved onto a knot of the outline a sliver away (`product_knots`),
+/// its profile turned to run from the opening to the product, checked to reach both
+/// guides within `tol` and never to fold back, and drawn as a chain from the product.
+fn place_key_section(
+    guides: &Guides,
+    k: usize,
+    s: &SectionSpec,
+    product_knots: &[f64],
+    tol: f64,
+) -> Result<PlacedSection, Error> {
+    let product = &guides.product;
+    let mut e = section_ends(guides, s.a, s.b).map_err(|p| fail(k, p))?;
+    // A cut just beside a knot of the outline would leave a sliver span (a kink in
+    // every row there): the section's product end moves along the outline onto the
+    // knot instead, a fraction of a span away; the move counts in `knot_move`.
+    let snapped = snap_to_knot(product_knots, e.product_t);
+    let mut knot_move = 0.0;
+    if snapped != e.product_t {
+        knot_move = product
+            .point_at(snapped)
+            .distance(product.point_at(e.product_t));
+        e.product_t = snapped;
+    }
+    let (p0, p1) = (s.profile.start_point(), s.profile.end_point());
+    let forward = p0.distance(e.product) + p1.distance(e.opening);
+    let backward = p1.distance(e.product) + p0.distance(e.opening);
+    // u = 0 at the opening, u = 1 at the product.
+    let profile = if forward <= backward {
+        s.profile.reversed()
+    } else {
+        s.profile.clone()
+    };
+    let gap = profile
+        .start_point()
+        .distance(e.opening)
+        .max(profile.end_point().distance(e.product));
+    if gap > tol {
+        return Err(fail(
+            k,
+            Problem::EndsOffGuides {
+                product: e.product,
+                opening: e.opening,
+                gap,
+            },
+        ));
+    }
+    let moves = SectionMoves {
+        end_snap: gap,
+        knot_move,
+    };
+    check_no_fold(&profile, e).map_err(|p| fail(k, p))?;
+    // The profile from the product to the opening, in (x, z): x = 0 at the
+    // product, growing towards the opening.
+    let sign = if e.opening.x >= e.product.x {
+        1.0
+    } else {
+        -1.0
+    };
+    let drawn = profile
+        .reversed()
+        .map_points(|p: DVec2| DVec2::new((p.x - e.product.x) * sign, p.y));
+    let c = obliquity(
+        (s.b - s.a).normalize_or_zero().extend(0.0),
+        (
+            guides.opening.derivative_at(e.opening_t),
+            product.derivative_at(e.product_t),
+        ),
+    );
+    let mut chain = Chain::from_curve(&drawn);
+    chain.start = DVec2::new(0.0, e.product.y);
+    chain.obliquity = c;
+    Ok(PlacedSection {
+        ends: e,
+        chain,
+        moves,
+    })
+}
+
+/// The key sections must come in order along both guides (cyclically on closed ones).
+fn check_sections_in_order(ends: &[SectionEnds], closed: bool) -> Result<(), Error> {
+    check_order(
+        &ends.iter().map(|e| e.product_t).collect::<Vec<_>>(),
+        closed,
+    )?;
+    check_order(
+        &ends.iter().map(|e| e.opening_t).collect::<Vec<_>>(),
+        closed,
+    )
+}
+
+/// The key sections' chains with one list of corners for all ([`align`]); with
+/// `binder_tangent`, each gets a last corner that turns its last run onto the binder
+/// over its last [`BINDER_BLEND`] (a corner of no drawn turn whose outgoing run, of no
+/// length, takes the binder's slope at each section).
+fn aligned_chains(key_chains: &[Chain], binder_tangent: bool) -> Vec<Chain> {
+    let mut aligned = align(key_chains);
+    if binder_tangent {
+        for c in &mut aligned {
+            let last = *c.runs.last().expect("a chain always has a run");
+            c.radii
+                .push(BINDER_BLEND.min(0.4 * last.length) / chain::GENTLE_TURN);
+            c.runs.push(chain::Run {
+                angle: last.angle,
+                length: 0.0,
+            });
+        }
+    }
+    aligned
+}
+
+/// Each key section's position along the product outline (mm from the first key
+/// section, modulo the outline's length when `closed`), and that length: where
+/// [`Along`] carries the runs and corners from.
+fn outline_positions(product: &Curve3, ends: &[SectionEnds], closed: bool) -> (Vec<f64>, f64) {
+    let outline = ArcTable::new(product);
+    let origin = outline.fraction_at(ends[0].product_t) * outline.total;
+    let positions = ends
+        .iter()
+        .map(|e| {
+            let s = outline.fraction_at(e.product_t) * outline.total - origin;
+            if closed {
+                s.rem_euclid(outline.total)
+            } else {
+                s
+            }
+        })
+        .collect();
+    (positions, outline.total)
+}
+
+/// The key sections themselves, as built by `stations` (named, in 3-D), and how closely
+/// their cubics follow the exact runs and corners (the largest distance).
+fn key_sections(
+    guides: &Guides,
+    sections: &[SectionSpec],
+    ends: &[SectionEnds],
+    positions: &[f64],
+    stations: &Stations,
+) -> Result<(Vec<(String, Curve3)>, f64), Error> {
     let mut key_sections = Vec::with_capacity(sections.len());
     let mut section_fit: f64 = 0.0;
     for (k, e) in ends.iter().enumerate() {
         let (a, b) = (
             guides.opening.point_at(e.opening_t),
-            product.point_at(e.product_t),
+            guides.product.point_at(e.product_t),
         );
         let tangents = (
             guides.opening.derivative_at(e.opening_t),
-            product.derivative_at(e.product_t),
+            guides.product.derivative_at(e.product_t),
         );
         let (curve, error) = stations
             .section_with_error(positions[k], (a, b), tangents)
@@ -545,9 +632,21 @@ pub fn build(guides: &Guides, sections: &[SectionSpec], opts: &Options) -> Resul
         section_fit = section_fit.max(error);
         key_sections.push((sections[k].name.clone(), curve));
     }
-    let u_knots = key_sections[0].1.knots().as_slice().to_vec();
+    Ok((key_sections, section_fit))
+}
 
-    // Step 2-3: patches, their guides and sections.
+/// Steps 2-3: the sub-patches between each key section and the next (round to the
+/// first on a closed outline), in order along it, named `<left>_to_<right>` (`_2`,
+/// `_3` for a patch split at a joint of the outline), each with the smaller drawn
+/// radius of its two key sections.
+fn sub_patches(
+    guides: &Guides,
+    sections: &[SectionSpec],
+    placed: &[PlacedSection],
+    positions: &[f64],
+    stations: &Stations,
+    tol: f64,
+) -> Result<Vec<SubPatch>, Error> {
     let n = sections.len();
     let patch_count = if guides.closed { n } else { n - 1 };
     let mut chain: Vec<SubPatch> = Vec::new();
@@ -555,14 +654,14 @@ pub fn build(guides: &Guides, sections: &[SectionSpec], opts: &Options) -> Resul
         let next = (k + 1) % n;
         let subs = patch(
             guides,
-            (&ends[k], &ends[next]),
+            (&placed[k].ends, &placed[next].ends),
             positions[k],
-            &stations,
+            stations,
             tol,
         )
         .map_err(|p| fail(next, p))?;
         let base = format!("{}_to_{}", sections[k].name, sections[next].name);
-        let drawn = drawn_radius(&key_chains[k]).min(drawn_radius(&key_chains[next]));
+        let drawn = drawn_radius(&placed[k].chain).min(drawn_radius(&placed[next].chain));
         let count = subs.len();
         for (i, mut s) in subs.into_iter().enumerate() {
             s.drawn_radius = drawn;
@@ -574,23 +673,32 @@ pub fn build(guides: &Guides, sections: &[SectionSpec], opts: &Options) -> Resul
             chain.push(s);
         }
     }
+    Ok(chain)
+}
 
-    // Step 4: rows with the Fig. 12 end derivatives.
+/// Step 4: each sub-patch's surface, its rows of section control points interpolated
+/// along it with the Fig. 12 end derivatives shared with its neighbours (free ends at
+/// the ends of an open outline), turned so its normal points up.
+fn interpolate_rows(
+    chain: &[SubPatch],
+    u_knots: &[f64],
+    closed: bool,
+) -> Result<Vec<Patch>, Error> {
     let m = u_knots.len() - 4;
-    let nodes = greville(&u_knots, m);
+    let nodes = greville(u_knots, m);
     let count = chain.len();
     let mut patches = Vec::with_capacity(count);
     for (c, sub) in chain.iter().enumerate() {
         let prev = if c > 0 {
             Some(&chain[c - 1])
-        } else if guides.closed {
+        } else if closed {
             chain.last()
         } else {
             None
         };
         let next = if c + 1 < count {
             Some(&chain[c + 1])
-        } else if guides.closed {
+        } else if closed {
             chain.first()
         } else {
             None
@@ -607,7 +715,7 @@ pub fn build(guides: &Guides, sections: &[SectionSpec], opts: &Options) -> Resul
         } else {
             start
         };
-        let surface = rows_to_surface(sub, &u_knots, &start, &end).map_err(at(0))?;
+        let surface = rows_to_surface(sub, u_knots, &start, &end).map_err(at(0))?;
         let (surface, reversed) = upward(surface);
         patches.push(Patch {
             name: sub.name.clone(),
@@ -617,9 +725,45 @@ pub fn build(guides: &Guides, sections: &[SectionSpec], opts: &Options) -> Resul
             drawn_radius: sub.drawn_radius,
         });
     }
+    Ok(patches)
+}
 
-    // Quality. The opening deviation is measured to the opening line tessellated to a
-    // hundredth of the tolerance (its chords are that close to it).
+/// The step draw's quality figures: its edges against the guides, the joins between
+/// neighbouring patches, the seams with the product and the binder, and the key
+/// sections' moves (`per_section`) and fit (`section_fit`).
+fn quality(
+    guides: &Guides,
+    patches: &[Patch],
+    tol: f64,
+    per_section: Vec<(String, SectionMoves)>,
+    section_fit: f64,
+) -> Result<Quality, Error> {
+    let (product_gap, opening_deviation) = edge_deviations(guides, patches, tol)?;
+    let joins = joins(patches, guides.closed);
+    let (trim, opening_seam) = seams(guides, patches)?;
+    Ok(Quality {
+        product_gap,
+        opening_deviation,
+        section_fit,
+        end_snap: per_section
+            .iter()
+            .map(|(_, m)| m.end_snap)
+            .fold(0.0, f64::max),
+        knot_move: per_section
+            .iter()
+            .map(|(_, m)| m.knot_move)
+            .fold(0.0, f64::max),
+        per_section,
+        joins,
+        trim,
+        opening_seam,
+    })
+}
+
+/// The largest distance from the patches' product edges to the product outline, and
+/// from their punch edges to the opening line. The latter is measured to the opening
+/// line tessellated to a hundredth of `tol` (its chords are that close to it).
+fn edge_deviations(guides: &Guides, patches: &[Patch], tol: f64) -> Result<(f64, f64), Error> {
     let opening_polyline = tessellate_curve(
         &guides.opening,
         &Tolerance::new(tol / 100.0).map_err(at(0))?,
@@ -628,22 +772,36 @@ pub fn build(guides: &Guides, sections: &[SectionSpec], opts: &Options) -> Resul
     .points;
     let mut product_gap: f64 = 0.0;
     let mut opening_deviation: f64 = 0.0;
-    for p in &patches {
+    for p in patches {
         let (pv, ov) = if p.reversed { (0.0, 1.0) } else { (1.0, 0.0) };
-        product_gap = product_gap.max(edge_distance(&p.surface, pv, product).map_err(at(0))?);
+        product_gap =
+            product_gap.max(edge_distance(&p.surface, pv, &guides.product).map_err(at(0))?);
         let od = edge_to_polyline(&p.surface, ov, &opening_polyline);
         opening_deviation = opening_deviation.max(od);
     }
-    let mut joins = Vec::new();
-    let pairs = if guides.closed { count } else { count - 1 };
-    for c in 0..pairs {
-        let (a, b) = (&patches[c], &patches[(c + 1) % count]);
-        joins.push((
-            a.name.clone(),
-            b.name.clone(),
-            measure_join(&a.surface, &b.surface, JOIN_SAMPLES),
-        ));
-    }
+    Ok((product_gap, opening_deviation))
+}
+
+/// Every join between neighbouring patches (the last with the first on a closed
+/// outline), measured at [`JOIN_SAMPLES`] points.
+fn joins(patches: &[Patch], closed: bool) -> Vec<(String, String, JoinQuality)> {
+    let count = patches.len();
+    let pairs = if closed { count } else { count - 1 };
+    (0..pairs)
+        .map(|c| {
+            let (a, b) = (&patches[c], &patches[(c + 1) % count]);
+            (
+                a.name.clone(),
+                b.name.clone(),
+                measure_join(&a.surface, &b.surface, JOIN_SAMPLES),
+            )
+        })
+        .collect()
+}
+
+/// The worst gap and crease along the trim line (against the product surface, when
+/// given) and along the punch opening line (against the binder, when given).
+fn seams(guides: &Guides, patches: &[Patch]) -> Result<(Option<Seam>, Option<Seam>), Error> {
     let surfaces_edge = |p: &Patch, product_edge: bool| {
         let edge = match (product_edge, p.reversed) {
             (true, false) | (false, true) => Edge::V1,
@@ -654,7 +812,7 @@ pub fn build(guides: &Guides, sections: &[SectionSpec], opts: &Options) -> Resul
     let mut trim: Option<Seam> = None;
     let mut opening_seam: Option<Seam> = None;
     let binder: Vec<&NurbsSurface> = guides.binder.iter().collect();
-    for p in &patches {
+    for p in patches {
         if let Some(product_surface) = &guides.product_surface {
             let s = seam(&p.surface, &surfaces_edge(p, true), &[product_surface]).map_err(at(0))?;
             trim = Some(worse_seam(trim, s));
@@ -664,27 +822,7 @@ pub fn build(guides: &Guides, sections: &[SectionSpec], opts: &Options) -> Resul
             opening_seam = Some(worse_seam(opening_seam, s));
         }
     }
-    Ok(StepDraw {
-        patches,
-        key_sections,
-        quality: Quality {
-            product_gap,
-            opening_deviation,
-            section_fit,
-            end_snap: per_section
-                .iter()
-                .map(|(_, m)| m.end_snap)
-                .fold(0.0, f64::max),
-            knot_move: per_section
-                .iter()
-                .map(|(_, m)| m.knot_move)
-                .fold(0.0, f64::max),
-            per_section,
-            joins,
-            trim,
-            opening_seam,
-        },
-    })
+    Ok((trim, opening_seam))
 }
 
 /// The worse of two seams' figures, each figure on its own.

@@ -3,10 +3,10 @@
 //! plane.
 //!
 //! A die face is G1 from product to binder where the designer has not asked for a
-//! crease (primer section 11): the addendum leaves the product tangentially and runs
-//! into the binder tangentially. The slope at a point is where the surface's tangent
-//! plane cuts the section plane, as an angle from the horizontal, positive upwards,
-//! measured towards the opening.
+//! crease (`docs/methods.md`, "What a die engineer checks"): the addendum leaves the
+//! product tangentially and runs into the binder tangentially. The slope at a point is
+//! where the surface's tangent plane cuts the section plane, as an angle from the
+//! horizontal, positive upwards, measured towards the opening.
 
 use std::cell::Cell;
 

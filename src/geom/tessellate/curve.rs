@@ -26,7 +26,7 @@ const MIN_RELATIVE_STEP: f64 = 1e-12;
 ///
 /// The vertices always include both ends and every knot of multiplicity >= degree (the
 /// C0 points where the curve may kink, so corners stay exact). Between those breaks the
-/// curve is marched with the step rule of the primer, `L = 2 sqrt(2 rho delta - delta^2)`
+/// curve is marched with the step rule of paper 001 (section 3.2, eq. 1), `L = 2 sqrt(2 rho delta - delta^2)`
 /// for the radius of curvature `rho` at the current vertex (`L = L_max` where the curve
 /// is straight), limited by the angle (`L <= angle * rho`) and by `tol.max_edge`; the
 /// chord length is turned into a parameter step through the speed `|C'|`.

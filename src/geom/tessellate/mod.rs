@@ -2,7 +2,7 @@
 //! within a chordal tolerance.
 //!
 //! Both tessellators follow the same pattern: a *first guess* from local differential
-//! geometry (the step rule of the primer, section 2, `L = 2 sqrt(2 rho delta - delta^2)`
+//! geometry (the step rule of paper 001, section 3.2, eq. 1, `L = 2 sqrt(2 rho delta - delta^2)`
 //! for a chord `L` on a radius of curvature `rho` at tolerance `delta`, or its surface
 //! analogue from second-derivative bounds), then a *verification* that measures the
 //! actual deviation between the true geometry and the piecewise-linear approximation and
