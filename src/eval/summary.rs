@@ -166,6 +166,16 @@ pub(crate) fn sampled_surface(s: &crate::geom::NurbsSurface) -> impl Iterator<It
     })
 }
 
+/// The total area (mm², rounded) and the bounds (as [`bbox`] writes them) of a
+/// feature's patches: the extent a summary line gives.
+pub(crate) fn patches_extent<'s>(
+    surfaces: impl Iterator<Item = &'s crate::geom::NurbsSurface> + Clone,
+) -> (f64, String) {
+    let (lo, hi) = bounds(surfaces.clone().flat_map(sampled_surface));
+    let area: f64 = surfaces.map(|s| s.area()).sum();
+    (round(area), bbox(lo, hi))
+}
+
 /// Bounds as `(x, y, z)..(x, y, z)`, rounded.
 pub(crate) fn bbox(lo: DVec3, hi: DVec3) -> String {
     let f = |p: DVec3| format!("({}, {}, {})", round(p.x), round(p.y), round(p.z));

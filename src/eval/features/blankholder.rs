@@ -30,7 +30,7 @@ use crate::geom::GeomError;
 use crate::syntax::Span;
 
 use super::super::builtins::{as_point2, as_point3, type_error};
-use super::super::summary::{bbox, bounds, round, sampled_surface};
+use super::super::summary::patches_extent;
 use super::super::value::{Data, Record, Value};
 use super::kind::{FeatureKind, FieldNames};
 use super::{
@@ -964,9 +964,7 @@ impl FeatureKind for BlankholderKind {
         let Some(b) = record.model::<bh::Blankholder>() else {
             return String::new();
         };
-        let pts = b.patches.iter().flat_map(|p| sampled_surface(&p.surface));
-        let (lo, hi) = bounds(pts);
-        let area: f64 = b.patches.iter().map(|p| p.surface.area()).sum();
+        let (area, extent) = patches_extent(b.patches.iter().map(|p| &p.surface));
         format!(
             "blankholder, {} patches [{}], area {} mm², bounds {}",
             b.patches.len(),
@@ -975,8 +973,8 @@ impl FeatureKind for BlankholderKind {
                 .map(|p| p.name.as_str())
                 .collect::<Vec<_>>()
                 .join(", "),
-            round(area),
-            bbox(lo, hi)
+            area,
+            extent
         )
     }
     /// The binder's patches are faces of the die face.

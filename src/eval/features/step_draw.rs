@@ -31,7 +31,7 @@ use crate::syntax::Span;
 
 use super::super::builtins::{as_point2, type_error};
 use super::super::sketch::{Sketch, View};
-use super::super::summary::{bbox, bounds, round, sampled_surface};
+use super::super::summary::patches_extent;
 use super::super::value::{Data, Record, Value};
 use super::kind::{FeatureKind, FieldNames};
 use super::{check_record, feature_error, feature_value, join_figures, mm, record, show, Block};
@@ -1065,9 +1065,7 @@ impl FeatureKind for StepDrawKind {
         let Some(s) = record.model::<sd::StepDraw>() else {
             return String::new();
         };
-        let pts = s.patches.iter().flat_map(|p| sampled_surface(&p.surface));
-        let (lo, hi) = bounds(pts);
-        let area: f64 = s.patches.iter().map(|p| p.surface.area()).sum();
+        let (area, extent) = patches_extent(s.patches.iter().map(|p| &p.surface));
         format!(
             "step draw, {} key sections [{}], {} patches, area {} mm², bounds {}",
             s.key_sections.len(),
@@ -1077,8 +1075,8 @@ impl FeatureKind for StepDrawKind {
                 .collect::<Vec<_>>()
                 .join(", "),
             s.patches.len(),
-            round(area),
-            bbox(lo, hi)
+            area,
+            extent
         )
     }
     /// The step draw's patches are faces of the die face.
