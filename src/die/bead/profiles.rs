@@ -2,6 +2,9 @@
 //! in every piece between rule points, so sections blend point by point and each rule
 //! is one parameter across every section.
 
+use std::cell::RefCell;
+use std::collections::HashMap;
+
 use glam::DVec2;
 
 use super::runout::{resampled, run_out, smoothed};
@@ -40,6 +43,10 @@ pub(super) struct MatchedProfiles {
     counts: Vec<usize>,
     /// Each key section's radii at its left and right foot (0 for a sharp foot).
     feet: Vec<(f64, f64)>,
+    /// The shapes made so far, by the bits of (along, factor, rate): the refinement
+    /// asks again for the same sections (the exact section half-way between two
+    /// skinned ones, each round, and then the one it inserts there).
+    shapes: RefCell<HashMap<[u64; 3], Vec<DVec2>>>,
 }
 
 impl MatchedProfiles {
@@ -60,6 +67,17 @@ impl MatchedProfiles {
     /// blended foot radii ([`lowered`]), resampled at corresponding points; the blend
     /// itself at full height.
     pub(super) fn shape(&self, along: f64, factor: f64, rate: f64) -> Vec<DVec2> {
+        let key = [along.to_bits(), factor.to_bits(), rate.to_bits()];
+        if let Some(shape) = self.shapes.borrow().get(&key) {
+            return shape.clone();
+        }
+        let shape = self.make_shape(along, factor, rate);
+        self.shapes.borrow_mut().insert(key, shape.clone());
+        shape
+    }
+
+    /// [`MatchedProfiles::shape`], made.
+    fn make_shape(&self, along: f64, factor: f64, rate: f64) -> Vec<DVec2> {
         let dense = blend_of(&self.dense, &self.at, along);
         let (k, w) = weights(&self.at, along);
         let (a, b) = (
@@ -268,6 +286,7 @@ pub(super) fn matched_profiles(spec: &BeadSpec, ats: &[f64]) -> Result<MatchedPr
         dense,
         counts,
         feet,
+        shapes: RefCell::new(HashMap::new()),
     })
 }
 
