@@ -158,7 +158,7 @@ const BLOCK: usize = 8;
 /// segments near a point are found without measuring the far ones: the foot circle
 /// only ever comes near the few segments around the crossing, and each of its
 /// [`BISECTIONS`] steps asks again.
-struct Segments<'a> {
+pub(super) struct Segments<'a> {
     points: &'a [DVec2],
     /// (lower corner, upper corner) of segments `k * BLOCK ..` up to `BLOCK` of them.
     boxes: Vec<(DVec2, DVec2)>,
@@ -166,7 +166,7 @@ struct Segments<'a> {
 
 impl<'a> Segments<'a> {
     /// The segments of `points`, boxed.
-    fn new(points: &'a [DVec2]) -> Self {
+    pub(super) fn new(points: &'a [DVec2]) -> Self {
         let count = points.len().saturating_sub(1);
         let boxes = (0..count)
             .step_by(BLOCK)
@@ -231,6 +231,18 @@ impl<'a> Segments<'a> {
             consider(&mut best, i);
         }
         (best.1, best.2)
+    }
+
+    /// The distance from `p` to the polyline (infinite for a single point), found
+    /// starting from the segment `hint`, which becomes the nearest segment: callers
+    /// marching along the polyline pass the same `hint` again.
+    pub(super) fn distance_from(&self, p: DVec2, hint: &mut usize) -> f64 {
+        let (i, q) = self.nearest(p, *hint);
+        *hint = i;
+        if self.points.len() < 2 {
+            return f64::INFINITY;
+        }
+        q.distance(p)
     }
 }
 
@@ -416,6 +428,9 @@ mod tests {
             let hint = (next() * 203.0) as usize;
             let (d, i, q) = brute_nearest(&points, p);
             assert_eq!(segments.nearest(p, hint), (i, q));
+            let mut marching = hint;
+            assert_eq!(segments.distance_from(p, &mut marching), d);
+            assert_eq!(marching, i);
             assert_eq!(
                 segments.within(p, radius, hint).is_some(),
                 d - radius <= 0.0
