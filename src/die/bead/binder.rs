@@ -93,16 +93,16 @@ impl<'a> Binder<'a> {
 }
 
 /// Height bands of the opening's outline.
-const OPENING_BANDS: usize = 64;
+const OPENING_BANDS: usize = 256;
 
 /// The punch opening's outline with its edges sorted into bands of height (top-view
 /// y), so the inside test of every bead point (every section point asks) reads only
 /// the edges that reach its band, not the whole outline.
 struct Opening<'a> {
     outline: &'a [DVec2],
-    /// Lowest y and band height of the bands.
-    low: f64,
-    step: f64,
+    /// Lowest and highest y of the outline, and the bands' height (`None` for an
+    /// outline without height, which is tested whole).
+    range: Option<(f64, f64, f64)>,
     /// Per band, the indices (in outline order) of the edges whose y-range meets it.
     bands: Vec<Vec<usize>>,
 }
@@ -116,17 +116,12 @@ impl<'a> Opening<'a> {
                 (lo.min(p.y), hi.max(p.y))
             });
         let step = (high - low) / OPENING_BANDS as f64;
+        let range = (step.is_finite() && step > 0.0).then_some((low, high, step));
         let mut bands = vec![Vec::new(); OPENING_BANDS];
-        let usable = n > 0 && step.is_finite() && step > 0.0;
-        if usable {
+        if let Some(range) = range {
             for k in 0..n {
                 let (a, b) = (outline[k], outline[(k + 1) % n]);
-                let first = ((a.y.min(b.y) - low) / step).floor();
-                let last = ((a.y.max(b.y) - low) / step).floor();
-                // One band of slack either side: the band of a point is found by the
-                // same rounding, but an edge's end on a band boundary belongs to both.
-                let first = (first as usize).saturating_sub(1);
-                let last = (last as usize + 1).min(OPENING_BANDS - 1);
+                let (first, last) = (band(range, a.y.min(b.y)), band(range, a.y.max(b.y)));
                 for band in &mut bands[first..=last] {
                     band.push(k);
                 }
@@ -134,25 +129,26 @@ impl<'a> Opening<'a> {
         }
         Self {
             outline,
-            low,
-            step: if usable { step } else { f64::NAN },
+            range,
             bands,
         }
     }
 
     /// [`inside_outline`]: whether `p` lies inside the outline (even-odd rule). Only
-    /// edges with one end above `p.y` and one not can flip the answer, and those all
-    /// reach `p`'s band; they are read in the outline's order, with the same test.
+    /// edges with one end above `p.y` and one not (`y_min <= p.y < y_max`) can flip
+    /// the answer: none when `p.y` is outside the outline's heights, otherwise edges
+    /// that all reach `p`'s band (the band is monotone in y); they are read in the
+    /// outline's order, with the same test.
     fn contains(&self, p: DVec2) -> bool {
-        let band = (p.y - self.low) / self.step;
-        if !(band >= 0.0 && band < OPENING_BANDS as f64) {
-            // Outside the outline's heights (or no bands): no edge crosses p's height
-            // unless on the outline's extreme; the whole test answers.
+        let Some(range) = self.range else {
             return inside_outline(self.outline, p);
+        };
+        if !(p.y >= range.0 && p.y < range.1) {
+            return false;
         }
         let n = self.outline.len();
         let mut inside = false;
-        for &k in &self.bands[band as usize] {
+        for &k in &self.bands[band(range, p.y)] {
             let (a, b) = (self.outline[k], self.outline[(k + 1) % n]);
             if (a.y > p.y) != (b.y > p.y) {
                 let x = a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x);
@@ -163,6 +159,11 @@ impl<'a> Opening<'a> {
         }
         inside
     }
+}
+
+/// The band of height `y` (within the outline's heights) of `range` (low, high, step).
+fn band(range: (f64, f64, f64), y: f64) -> usize {
+    (((y - range.0) / range.2).max(0.0) as usize).min(OPENING_BANDS - 1)
 }
 
 /// Newton on `S(u, v).xy = p` from `(u, v)`, inside the domain; the point if it
@@ -234,6 +235,9 @@ mod tests {
             }
             if i % 7 == 0 {
                 p = outline[i % outline.len()];
+            }
+            if i % 11 == 0 {
+                p.y = if i % 2 == 0 { -120.0 } else { 120.0 };
             }
             assert_eq!(opening.contains(p), inside_outline(&outline, p), "{p}");
         }
