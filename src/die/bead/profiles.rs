@@ -230,22 +230,32 @@ pub(super) fn matched_profiles(spec: &BeadSpec, ats: &[f64]) -> Result<MatchedPr
         .map(|s| ((s / total_share * SECTION_INTERVALS as f64).round() as usize).max(2))
         .collect();
 
-    let mut points = Vec::with_capacity(spec.sections.len());
-    let mut dense = Vec::with_capacity(spec.sections.len());
+    let mut points: Vec<Vec<DVec2>> = Vec::with_capacity(spec.sections.len());
+    let mut dense: Vec<Vec<DVec2>> = Vec::with_capacity(spec.sections.len());
     let mut feet = Vec::with_capacity(spec.sections.len());
-    for ((key, table), lengths) in spec.sections.iter().zip(&tables).zip(&piece_lengths) {
-        for (density, out) in [(1, &mut points), (RUN_OUT_DENSITY, &mut dense)] {
-            let mut section = Vec::new();
-            for j in 0..pieces {
-                let first = if j == 0 { 0 } else { 1 };
-                let n = counts[j] * density;
-                for i in first..=n {
-                    let l = lengths[j] + (lengths[j + 1] - lengths[j]) * i as f64 / n as f64;
-                    section.push(key.profile.point_at(table.parameter_at(l)?));
-                }
-            }
-            out.push(section);
+    for (k, ((key, table), lengths)) in spec
+        .sections
+        .iter()
+        .zip(&tables)
+        .zip(&piece_lengths)
+        .enumerate()
+    {
+        // A key section with the profile and pieces of an earlier one (a bead's start
+        // and end, say) has its points.
+        let same = (0..k)
+            .find(|&j| spec.sections[j].profile == key.profile && piece_lengths[j] == *lengths);
+        if let Some(j) = same {
+            points.push(points[j].clone());
+            dense.push(dense[j].clone());
+            feet.push(feet[j]);
+            continue;
         }
+        let section = dense_points(&key.profile, table, lengths, &counts)?;
+        // The matched points are every RUN_OUT_DENSITY-th dense point: in piece j the
+        // i-th of `c` steps lies at `d * i / c` along it, the dense one at
+        // `d * (16 i) / (16 c)`, the same number (scaling by a power of two is exact).
+        points.push(section.iter().step_by(RUN_OUT_DENSITY).copied().collect());
+        dense.push(section);
         let (t0, t1) = key.profile.domain();
         let radius = |t: f64| {
             let k = key.profile.curvature(t);
@@ -288,6 +298,28 @@ pub(super) fn matched_profiles(spec: &BeadSpec, ats: &[f64]) -> Result<MatchedPr
         feet,
         shapes: RefCell::new(HashMap::new()),
     })
+}
+
+/// A key profile's points [`RUN_OUT_DENSITY`] times finer than the matched ones: in each
+/// piece between the arc `lengths` of its rule points, `RUN_OUT_DENSITY` times the
+/// piece's `counts` equal steps of arc length (`table`).
+fn dense_points(
+    profile: &Curve2,
+    table: &ArcLengths<DVec2>,
+    lengths: &[f64],
+    counts: &[usize],
+) -> Result<Vec<DVec2>, Problem> {
+    const { assert!(RUN_OUT_DENSITY.is_power_of_two()) };
+    let mut section = Vec::new();
+    for (j, &count) in counts.iter().enumerate() {
+        let first = if j == 0 { 0 } else { 1 };
+        let n = count * RUN_OUT_DENSITY;
+        for i in first..=n {
+            let l = lengths[j] + (lengths[j + 1] - lengths[j]) * i as f64 / n as f64;
+            section.push(profile.point_at(table.parameter_at(l)?));
+        }
+    }
+    Ok(section)
 }
 
 /// The parameter where a profile that never runs backwards reaches `s` across, from its
