@@ -9,6 +9,8 @@
 //! circle tangent to the binder line and to the lowered profile), as a die maker would
 //! sink the bead into the binder.
 
+use std::cmp::Ordering;
+
 use glam::DVec2;
 
 /// Points on each rounded new foot.
@@ -198,7 +200,8 @@ impl<'a> Segments<'a> {
             .enumerate()
             .filter(move |(_, (lo, hi))| {
                 let outside = (*lo - p).max(p - *hi).max(DVec2::ZERO);
-                !(outside.length() > reach + margin)
+                // Kept unless surely beyond reach (a NaN distance is kept).
+                outside.length().partial_cmp(&(reach + margin)) != Some(Ordering::Greater)
             })
             .flat_map(move |(k, _)| k * BLOCK..(k * BLOCK + BLOCK).min(count))
     }
