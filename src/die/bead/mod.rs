@@ -44,7 +44,6 @@ mod runout;
 pub use binder::Binder;
 use course::CourseMap;
 use profiles::matched_profiles;
-use runout::Segments;
 
 /// Where the bead runs in the top view.
 #[derive(Debug, Clone, PartialEq)]
@@ -661,7 +660,7 @@ fn conformance(
     let mut worst = 0.0f64;
     let mut guess = exact.domain().0;
     // A run-out profile is a polyline: measured segment by segment.
-    let polyline = (exact.degree() == 1).then(|| Segments::new(exact.control_points()));
+    let polyline = (exact.degree() == 1).then(|| runout::Segments::new(exact.control_points()));
     let mut segment = 0;
     for i in 0..=CONFORMANCE_SAMPLES {
         let p = section.point_at(t0 + (t1 - t0) * i as f64 / CONFORMANCE_SAMPLES as f64);
