@@ -222,6 +222,91 @@ impl KnotVector {
         order: usize,
         out: &mut [BasisRow; MAX_DERIVATIVE + 1],
     ) {
+        match degree {
+            1 => self.basis_derivatives_fixed::<2>(span, u, order, out),
+            2 => self.basis_derivatives_fixed::<3>(span, u, order, out),
+            3 => self.basis_derivatives_fixed::<4>(span, u, order, out),
+            4 => self.basis_derivatives_fixed::<5>(span, u, order, out),
+            5 => self.basis_derivatives_fixed::<6>(span, u, order, out),
+            _ => self.basis_derivatives_general(span, degree, u, order, out),
+        }
+    }
+
+    /// [`KnotVector::basis_derivatives`] for degree `O - 1` with its work arrays sized at
+    /// compile time: the same arithmetic in the same order (so the same numbers), without
+    /// clearing and copying rows of [`MAX_DEGREE`] + 1 entries at every step, which took
+    /// most of the time of a surface's derivatives (a binder look-up, a curvature).
+    fn basis_derivatives_fixed<const O: usize>(
+        &self,
+        span: usize,
+        u: f64,
+        order: usize,
+        out: &mut [BasisRow; MAX_DERIVATIVE + 1],
+    ) {
+        let degree = O - 1;
+        let d = order.min(MAX_DERIVATIVE).min(degree);
+        // lower[k]: the basis of degree p - k, as in basis_with_lower.
+        let mut lower = [[0.0; O]; MAX_DERIVATIVE + 1];
+        let mut n = [0.0; O];
+        let mut left = [0.0; O];
+        let mut right = [0.0; O];
+        n[0] = 1.0;
+        if degree <= d {
+            lower[degree] = n;
+        }
+        for j in 1..=degree {
+            raise_basis_degree(&self.knots, span, u, j, &mut n, &mut left, &mut right);
+            if degree - j <= d {
+                lower[degree - j] = n;
+            }
+        }
+        *out = [[0.0; MAX_DEGREE + 1]; MAX_DERIVATIVE + 1];
+        out[0][..O].copy_from_slice(&lower[0]);
+        let k = &self.knots;
+        for j in 1..=d {
+            let mut cur = lower[j];
+            for step in 0..j {
+                let q = degree - j + step + 1; // degree after this step
+                let mut next = [0.0; O];
+                for r in 0..=q {
+                    let i = span + r - q; // global index of N_{i,q}
+                    let left = if r >= 1 {
+                        let den = k[i + q] - k[i];
+                        if den != 0.0 {
+                            cur[r - 1] / den
+                        } else {
+                            0.0
+                        }
+                    } else {
+                        0.0
+                    };
+                    let right = if r < q {
+                        let den = k[i + q + 1] - k[i + 1];
+                        if den != 0.0 {
+                            cur[r] / den
+                        } else {
+                            0.0
+                        }
+                    } else {
+                        0.0
+                    };
+                    next[r] = q as f64 * (left - right);
+                }
+                cur = next;
+            }
+            out[j][..O].copy_from_slice(&cur);
+        }
+    }
+
+    /// [`KnotVector::basis_derivatives`] for any degree.
+    fn basis_derivatives_general(
+        &self,
+        span: usize,
+        degree: usize,
+        u: f64,
+        order: usize,
+        out: &mut [BasisRow; MAX_DERIVATIVE + 1],
+    ) {
         let order = order.min(MAX_DERIVATIVE);
         let d = order.min(degree);
         // lower[k] holds the basis of degree p - k (k = 0..=d), index r -> N_{span-(p-k)+r, p-k}.
@@ -329,4 +414,42 @@ pub(crate) fn check_degree(degree: usize) -> Result<()> {
         });
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fixed_size_basis_derivatives_are_the_general_ones_bit_for_bit() {
+        for degree in 1..=5 {
+            // Clamped, uneven, with a double interior knot from degree 2.
+            let mut knots = vec![0.0; degree + 1];
+            knots.extend([0.3, 0.71, 1.9, 2.0]);
+            if degree > 1 {
+                knots.push(2.0);
+            }
+            knots.extend(vec![3.5; degree + 1]);
+            let count = knots.len() - degree - 1;
+            let kv = KnotVector::new(knots, degree, count).expect("a valid clamped knot vector");
+            for i in 0..=200 {
+                let u = 3.5 * i as f64 / 200.0;
+                let span = kv.span(degree, u);
+                for order in 0..=4 {
+                    let mut fixed = [[f64::NAN; MAX_DEGREE + 1]; MAX_DERIVATIVE + 1];
+                    let mut general = [[f64::NAN; MAX_DEGREE + 1]; MAX_DERIVATIVE + 1];
+                    kv.basis_derivatives(span, degree, u, order, &mut fixed);
+                    kv.basis_derivatives_general(span, degree, u, order, &mut general);
+                    let bits = |rows: &[BasisRow]| -> Vec<u64> {
+                        rows.iter().flatten().map(|x| x.to_bits()).collect()
+                    };
+                    assert_eq!(
+                        bits(&fixed),
+                        bits(&general),
+                        "degree {degree} u {u} order {order}"
+                    );
+                }
+            }
+        }
+    }
 }

@@ -2,6 +2,9 @@
 //! between two boundaries), the frame across it, where a section meets the boundaries,
 //! and the checks that it does not turn tighter than the bead or cross itself.
 
+use std::cell::RefCell;
+use std::collections::HashMap;
+
 use glam::DVec2;
 
 use super::profiles::MatchedProfiles;
@@ -32,6 +35,9 @@ pub(super) struct CourseMap {
     /// Whether the first boundary lies to the left of the centre line (it must stay
     /// there: boundaries that swap sides cross).
     first_left: bool,
+    /// The frames asked for so far, by the bits of the fraction: the refinement asks
+    /// again for the same sections.
+    frames: RefCell<HashMap<u64, (DVec2, DVec2, f64)>>,
 }
 
 /// A boundary line with samples to find crossings from.
@@ -70,6 +76,7 @@ impl CourseMap {
             length,
             boundaries,
             first_left: true,
+            frames: RefCell::new(HashMap::new()),
         };
         // Which side the first boundary is on, read where the bead is widest of five
         // places along it (boundaries that cross are caught at the sections).
@@ -98,6 +105,16 @@ impl CourseMap {
     /// [`CourseMap::frame`] and the centre line's signed curvature there (1/mm,
     /// positive turning left).
     pub(super) fn frame_and_turn(&self, f: f64) -> Result<(DVec2, DVec2, f64), Problem> {
+        if let Some(&frame) = self.frames.borrow().get(&f.to_bits()) {
+            return Ok(frame);
+        }
+        let frame = self.frame_and_turn_once(f)?;
+        self.frames.borrow_mut().insert(f.to_bits(), frame);
+        Ok(frame)
+    }
+
+    /// [`CourseMap::frame_and_turn`], worked out (not kept).
+    fn frame_and_turn_once(&self, f: f64) -> Result<(DVec2, DVec2, f64), Problem> {
         let t = self.parameter(f)?;
         let [c, d, dd] = self.line().derivatives::<3>(t);
         let across = d.normalize_or_zero().perp();
@@ -122,7 +139,7 @@ impl CourseMap {
         let right = all().map(|q| -q.x).fold(0.0, f64::max);
         let n = ((self.length / TURN_SAMPLE_STEP).ceil() as usize).clamp(64, 100_000);
         (0..=n).find_map(|i| {
-            let (c, _, turn) = self.frame_and_turn(i as f64 / n as f64).ok()?;
+            let (c, _, turn) = self.frame_and_turn_once(i as f64 / n as f64).ok()?;
             let reach = if turn > 0.0 { left } else { right };
             (reach * turn.abs() >= 1.0).then(|| Problem::TooTight {
                 at: c,

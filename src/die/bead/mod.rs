@@ -795,6 +795,9 @@ fn conformance(
     let (t0, t1) = section.domain();
     let mut worst = 0.0f64;
     let mut guess = exact.domain().0;
+    // A run-out profile is a polyline: measured segment by segment.
+    let polyline = (exact.degree() == 1).then(|| runout::Segments::new(exact.control_points()));
+    let mut segment = 0;
     for i in 0..=CONFORMANCE_SAMPLES {
         let p = section.point_at(t0 + (t1 - t0) * i as f64 / CONFORMANCE_SAMPLES as f64);
         let offset = (p.truncate() - c).dot(across);
@@ -803,9 +806,17 @@ fn conformance(
             Some((low, high)) => s0 + (offset - low) / (high - low) * (s1 - s0),
         };
         let h = p.z - binder.base(p.truncate(), None)?.z;
-        let hit = project_to_curve_near(exact, DVec2::new(s, h), guess)?;
-        guess = hit.t;
-        worst = worst.max(hit.distance);
+        let target = DVec2::new(s, h);
+        match &polyline {
+            Some(segments) if target.is_finite() => {
+                worst = worst.max(segments.distance_from(target, &mut segment));
+            }
+            _ => {
+                let hit = project_to_curve_near(exact, target, guess)?;
+                guess = hit.t;
+                worst = worst.max(hit.distance);
+            }
+        }
     }
     Ok(worst)
 }

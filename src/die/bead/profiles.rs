@@ -2,6 +2,9 @@
 //! in every piece between rule points, so sections blend point by point and each rule
 //! is one parameter across every section.
 
+use std::cell::RefCell;
+use std::collections::HashMap;
+
 use glam::DVec2;
 
 use super::runout::{resampled, run_out, smoothed};
@@ -40,6 +43,10 @@ pub(super) struct MatchedProfiles {
     counts: Vec<usize>,
     /// Each key section's radii at its left and right foot (0 for a sharp foot).
     feet: Vec<(f64, f64)>,
+    /// The shapes made so far, by the bits of (along, factor, rate): the refinement
+    /// asks again for the same sections (the exact section half-way between two
+    /// skinned ones, each round, and then the one it inserts there).
+    shapes: RefCell<HashMap<[u64; 3], Vec<DVec2>>>,
 }
 
 impl MatchedProfiles {
@@ -60,6 +67,17 @@ impl MatchedProfiles {
     /// blended foot radii ([`lowered`]), resampled at corresponding points; the blend
     /// itself at full height.
     pub(super) fn shape(&self, along: f64, factor: f64, rate: f64) -> Vec<DVec2> {
+        let key = [along.to_bits(), factor.to_bits(), rate.to_bits()];
+        if let Some(shape) = self.shapes.borrow().get(&key) {
+            return shape.clone();
+        }
+        let shape = self.make_shape(along, factor, rate);
+        self.shapes.borrow_mut().insert(key, shape.clone());
+        shape
+    }
+
+    /// [`MatchedProfiles::shape`], made.
+    fn make_shape(&self, along: f64, factor: f64, rate: f64) -> Vec<DVec2> {
         let dense = blend_of(&self.dense, &self.at, along);
         let (k, w) = weights(&self.at, along);
         let (a, b) = (
@@ -212,22 +230,32 @@ pub(super) fn matched_profiles(spec: &BeadSpec, ats: &[f64]) -> Result<MatchedPr
         .map(|s| ((s / total_share * SECTION_INTERVALS as f64).round() as usize).max(2))
         .collect();
 
-    let mut points = Vec::with_capacity(spec.sections.len());
-    let mut dense = Vec::with_capacity(spec.sections.len());
+    let mut points: Vec<Vec<DVec2>> = Vec::with_capacity(spec.sections.len());
+    let mut dense: Vec<Vec<DVec2>> = Vec::with_capacity(spec.sections.len());
     let mut feet = Vec::with_capacity(spec.sections.len());
-    for ((key, table), lengths) in spec.sections.iter().zip(&tables).zip(&piece_lengths) {
-        for (density, out) in [(1, &mut points), (RUN_OUT_DENSITY, &mut dense)] {
-            let mut section = Vec::new();
-            for j in 0..pieces {
-                let first = if j == 0 { 0 } else { 1 };
-                let n = counts[j] * density;
-                for i in first..=n {
-                    let l = lengths[j] + (lengths[j + 1] - lengths[j]) * i as f64 / n as f64;
-                    section.push(key.profile.point_at(table.parameter_at(l)?));
-                }
-            }
-            out.push(section);
+    for (k, ((key, table), lengths)) in spec
+        .sections
+        .iter()
+        .zip(&tables)
+        .zip(&piece_lengths)
+        .enumerate()
+    {
+        // A key section with the profile and pieces of an earlier one (a bead's start
+        // and end, say) has its points.
+        let same = (0..k)
+            .find(|&j| spec.sections[j].profile == key.profile && piece_lengths[j] == *lengths);
+        if let Some(j) = same {
+            points.push(points[j].clone());
+            dense.push(dense[j].clone());
+            feet.push(feet[j]);
+            continue;
         }
+        let section = dense_points(&key.profile, table, lengths, &counts)?;
+        // The matched points are every RUN_OUT_DENSITY-th dense point: in piece j the
+        // i-th of `c` steps lies at `d * i / c` along it, the dense one at
+        // `d * (16 i) / (16 c)`, the same number (scaling by a power of two is exact).
+        points.push(section.iter().step_by(RUN_OUT_DENSITY).copied().collect());
+        dense.push(section);
         let (t0, t1) = key.profile.domain();
         let radius = |t: f64| {
             let k = key.profile.curvature(t);
@@ -268,7 +296,30 @@ pub(super) fn matched_profiles(spec: &BeadSpec, ats: &[f64]) -> Result<MatchedPr
         dense,
         counts,
         feet,
+        shapes: RefCell::new(HashMap::new()),
     })
+}
+
+/// A key profile's points [`RUN_OUT_DENSITY`] times finer than the matched ones: in each
+/// piece between the arc `lengths` of its rule points, `RUN_OUT_DENSITY` times the
+/// piece's `counts` equal steps of arc length (`table`).
+fn dense_points(
+    profile: &Curve2,
+    table: &ArcLengths<DVec2>,
+    lengths: &[f64],
+    counts: &[usize],
+) -> Result<Vec<DVec2>, Problem> {
+    const { assert!(RUN_OUT_DENSITY.is_power_of_two()) };
+    let mut section = Vec::new();
+    for (j, &count) in counts.iter().enumerate() {
+        let first = if j == 0 { 0 } else { 1 };
+        let n = count * RUN_OUT_DENSITY;
+        for i in first..=n {
+            let l = lengths[j] + (lengths[j + 1] - lengths[j]) * i as f64 / n as f64;
+            section.push(profile.point_at(table.parameter_at(l)?));
+        }
+    }
+    Ok(section)
 }
 
 /// The parameter where a profile that never runs backwards reaches `s` across, from its

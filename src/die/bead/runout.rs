@@ -9,6 +9,8 @@
 //! circle tangent to the binder line and to the lowered profile), as a die maker would
 //! sink the bead into the binder.
 
+use std::cmp::Ordering;
+
 use glam::DVec2;
 
 /// Points on each rounded new foot.
@@ -89,29 +91,21 @@ fn rounded_foot(half: &[DVec2], foot: f64, radius: f64) -> (Vec<DVec2>, f64) {
     // `radius` from it while c is left of the crossing by `radius` (nothing of the
     // profile is left of its foot, nothing below height 0 comes nearer than `radius`),
     // and within `radius` at the crossing itself.
-    let gap = |c: f64| -> (f64, usize, DVec2) {
-        let centre = DVec2::new(c, radius);
-        let mut best = (f64::INFINITY, 0, DVec2::ZERO);
-        for (i, w) in half.windows(2).enumerate() {
-            let q = nearest_on_segment(w[0], w[1], centre);
-            let d = q.distance(centre);
-            if d < best.0 {
-                best = (d, i, q);
-            }
-        }
-        (best.0 - radius, best.1, best.2)
-    };
+    let segments = Segments::new(half);
+    let mut last_touch = up.saturating_sub(1);
     let (mut lo, mut hi) = (crossing.x - radius, crossing.x);
     for _ in 0..BISECTIONS {
         let mid = 0.5 * (lo + hi);
-        if gap(mid).0 > 0.0 {
-            lo = mid;
-        } else {
-            hi = mid;
+        match segments.within(DVec2::new(mid, radius), radius, last_touch) {
+            Some(i) => {
+                last_touch = i;
+                hi = mid;
+            }
+            None => lo = mid,
         }
     }
     let c = 0.5 * (lo + hi);
-    let (_, segment, touch) = gap(c);
+    let (segment, touch) = segments.nearest(DVec2::new(c, radius), last_touch);
     let centre = DVec2::new(c, radius);
     if c > foot {
         out.push(DVec2::new(c, 0.0));
@@ -157,6 +151,102 @@ pub(super) fn run_out(dense: &[DVec2], factor: f64, feet: (f64, f64), rate: f64)
         );
     }
     lowered(dense, factor, radii).0
+}
+
+/// Segments of a half profile per block: a block's bounding box.
+const BLOCK: usize = 8;
+
+/// A polyline's segments with the bounding box of every [`BLOCK`] of them, so the
+/// segments near a point are found without measuring the far ones: the foot circle
+/// only ever comes near the few segments around the crossing, and each of its
+/// [`BISECTIONS`] steps asks again.
+pub(super) struct Segments<'a> {
+    points: &'a [DVec2],
+    /// (lower corner, upper corner) of segments `k * BLOCK ..` up to `BLOCK` of them.
+    boxes: Vec<(DVec2, DVec2)>,
+}
+
+impl<'a> Segments<'a> {
+    /// The segments of `points`, boxed.
+    pub(super) fn new(points: &'a [DVec2]) -> Self {
+        let count = points.len().saturating_sub(1);
+        let boxes = (0..count)
+            .step_by(BLOCK)
+            .map(|first| {
+                let block = &points[first..=(first + BLOCK).min(count)];
+                block
+                    .iter()
+                    .fold((block[0], block[0]), |(lo, hi), &p| (lo.min(p), hi.max(p)))
+            })
+            .collect();
+        Self { points, boxes }
+    }
+
+    /// Segment `i`'s distance from `p`, and its point nearest `p`.
+    fn distance(&self, i: usize, p: DVec2) -> (f64, DVec2) {
+        let q = nearest_on_segment(self.points[i], self.points[i + 1], p);
+        (q.distance(p), q)
+    }
+
+    /// The segments of the blocks whose box may come within `reach` of `p`. The box
+    /// distance is a lower bound of every distance in the block; the margin covers the
+    /// rounding in the nearest point, so no block is passed over that holds a segment
+    /// whose computed distance is at most `reach`.
+    fn candidates(&self, p: DVec2, reach: f64) -> impl Iterator<Item = usize> + '_ {
+        let margin = 1e-9 * (1.0 + p.abs().max_element() + reach.abs());
+        let count = self.points.len().saturating_sub(1);
+        self.boxes
+            .iter()
+            .enumerate()
+            .filter(move |(_, (lo, hi))| {
+                let outside = (*lo - p).max(p - *hi).max(DVec2::ZERO);
+                // Kept unless surely beyond reach (a NaN distance is kept).
+                outside.length().partial_cmp(&(reach + margin)) != Some(Ordering::Greater)
+            })
+            .flat_map(move |(k, _)| k * BLOCK..(k * BLOCK + BLOCK).min(count))
+    }
+
+    /// A segment at most `radius` from `p`, trying segment `hint` first (the one the
+    /// last step touched); `None` if every segment lies farther (or is not a number).
+    fn within(&self, p: DVec2, radius: f64, hint: usize) -> Option<usize> {
+        if hint + 1 < self.points.len() && self.distance(hint, p).0 <= radius {
+            return Some(hint);
+        }
+        self.candidates(p, radius)
+            .find(|&i| self.distance(i, p).0 <= radius)
+    }
+
+    /// The segment nearest `p` (the first of equally near ones) and its point nearest
+    /// `p`, starting from segment `hint` for the bound.
+    fn nearest(&self, p: DVec2, hint: usize) -> (usize, DVec2) {
+        let count = self.points.len().saturating_sub(1);
+        let mut best = (f64::INFINITY, 0, DVec2::ZERO);
+        let consider = |best: &mut (f64, usize, DVec2), i: usize| {
+            let (d, q) = self.distance(i, p);
+            if d < best.0 || (d == best.0 && i < best.1) {
+                *best = (d, i, q);
+            }
+        };
+        if hint < count {
+            consider(&mut best, hint);
+        }
+        for i in self.candidates(p, best.0) {
+            consider(&mut best, i);
+        }
+        (best.1, best.2)
+    }
+
+    /// The distance from `p` to the polyline (infinite for a single point), found
+    /// starting from the segment `hint`, which becomes the nearest segment: callers
+    /// marching along the polyline pass the same `hint` again.
+    pub(super) fn distance_from(&self, p: DVec2, hint: &mut usize) -> f64 {
+        let (i, q) = self.nearest(p, *hint);
+        *hint = i;
+        if self.points.len() < 2 {
+            return f64::INFINITY;
+        }
+        q.distance(p)
+    }
 }
 
 /// The point of the segment from `a` to `b` nearest to `p`.
@@ -297,4 +387,61 @@ pub(super) fn smoothed(line: &[DVec2], width: f64) -> Vec<DVec2> {
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every segment measured, the first nearest kept: what [`Segments`] must answer.
+    fn brute_nearest(points: &[DVec2], p: DVec2) -> (f64, usize, DVec2) {
+        let mut best = (f64::INFINITY, 0, DVec2::ZERO);
+        for (i, w) in points.windows(2).enumerate() {
+            let q = nearest_on_segment(w[0], w[1], p);
+            let d = q.distance(p);
+            if d < best.0 {
+                best = (d, i, q);
+            }
+        }
+        best
+    }
+
+    #[test]
+    fn boxed_segments_answer_as_measuring_every_segment() {
+        // A lowered half profile: sunk below 0, rising through it to a crest, with a
+        // run of repeated points (equally near segments) in between.
+        let mut points: Vec<DVec2> = (0..=200)
+            .map(|i| {
+                let x = -10.0 + 0.05 * i as f64;
+                DVec2::new(x, 6.0 * (1.0 - (x / 10.0).powi(2)) - 2.5)
+            })
+            .collect();
+        points.splice(100..100, [points[100]; 3]);
+        let segments = Segments::new(&points);
+        let mut seed = 12345u64;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for _ in 0..2000 {
+            let p = DVec2::new(-12.0 + 14.0 * next(), 8.0 * next());
+            let radius = 6.0 * next();
+            let hint = (next() * 203.0) as usize;
+            let (d, i, q) = brute_nearest(&points, p);
+            assert_eq!(segments.nearest(p, hint), (i, q));
+            let mut marching = hint;
+            assert_eq!(segments.distance_from(p, &mut marching), d);
+            assert_eq!(marching, i);
+            assert_eq!(
+                segments.within(p, radius, hint).is_some(),
+                d - radius <= 0.0
+            );
+        }
+        let single = [DVec2::new(1.0, 2.0)];
+        let one = Segments::new(&single);
+        assert_eq!(one.nearest(DVec2::ZERO, 0), (0, DVec2::ZERO));
+        assert_eq!(one.within(DVec2::ZERO, 1.0, 0), None);
+    }
 }
