@@ -14,6 +14,7 @@ use std::time::{Duration, Instant};
 
 use indicatif::ProgressBar;
 
+use crate::export::atomic::Durability;
 use crate::pipeline::{parse_tolerance, write_outputs, Output, Pipeline, Stage};
 
 use super::{ms, progress, OutputArgs, ScriptArgs, SCRIPT_ERROR, USAGE_ERROR};
@@ -26,6 +27,9 @@ pub(crate) struct Plan {
     pub tolerance: Option<f64>,
     /// Colour diagnostics.
     pub color: bool,
+    /// `build` flushes its outputs to disk before renaming them into place; `watch`
+    /// only renames ([`Durability`]).
+    pub durability: Durability,
 }
 
 /// How one build went.
@@ -80,6 +84,7 @@ impl Plan {
             outputs,
             tolerance,
             color: script.color(),
+            durability: Durability::Flushed,
         })
     }
 
@@ -129,7 +134,7 @@ impl Plan {
                     .file
                     .file_stem()
                     .map_or_else(|| "die_face".into(), |s| s.to_string_lossy().into_owned());
-                match write_outputs(&b, &self.outputs, &stem, &mut stage) {
+                match write_outputs(&b, &self.outputs, &stem, self.durability, &mut stage) {
                     Ok(files) => Ok(Built::Written {
                         files,
                         took: started.elapsed(),

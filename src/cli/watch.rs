@@ -44,7 +44,11 @@ enum Msg {
 /// `dieface watch`.
 pub(crate) fn run(script: &ScriptArgs, out: &OutputArgs) -> ExitCode {
     let plan = match Plan::new(script, out) {
-        Ok(p) => p,
+        // Previews are rewritten at every save: renamed into place, not flushed.
+        Ok(p) => Plan {
+            durability: crate::export::atomic::Durability::Renamed,
+            ..p
+        },
         Err(code) => return code,
     };
     let mut pipeline = match script.engine() {

@@ -18,11 +18,32 @@ static COUNTER: AtomicU64 = AtomicU64::new(0);
 /// On any error the temporary file is removed and `path` is untouched. A directory that
 /// does not exist is an error (nothing is created).
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
+    write_atomic_with(path, bytes, Durability::Flushed)
+}
+
+/// Whether an atomic write waits for the disk before the rename.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Durability {
+    /// The new file is flushed to disk (fsync) before it replaces the old one: a power
+    /// loss right after the build leaves the old file or the new one. What `build` does.
+    Flushed,
+    /// The rename happens without waiting for the disk: readers still see the old file
+    /// or the new one whole, and a crash of the program never leaves a part; only a
+    /// power loss in the seconds after a write could lose it. What `watch` does for its
+    /// previews, which the next save rewrites anyway (the fsync of a 5 MB GLB is about
+    /// half of a small rebuild).
+    Renamed,
+}
+
+/// [`write_atomic`] with a choice of [`Durability`].
+pub fn write_atomic_with(path: &Path, bytes: &[u8], durability: Durability) -> io::Result<()> {
     let tmp = temp_path(path)?;
     let result = (|| {
         let mut file = OpenOptions::new().write(true).create_new(true).open(&tmp)?;
         file.write_all(bytes)?;
-        file.sync_all()?;
+        if durability == Durability::Flushed {
+            file.sync_all()?;
+        }
         drop(file);
         fs::rename(&tmp, path)
     })();

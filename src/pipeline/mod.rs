@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 use crate::diag::Diagnostic;
 use crate::die::model::DieModel;
 use crate::eval::{Engine, Outcome};
-use crate::export::atomic::write_atomic;
+use crate::export::atomic::{write_atomic_with, Durability};
 use crate::export::scene::{Scene, SceneCache, TessellationError};
 use crate::export::step::{encode_step, StepModel};
 use crate::export::{encode, Format};
@@ -153,19 +153,21 @@ pub fn encode_output(build: &Build, output: Output, name: &str) -> Result<Vec<u8
 }
 
 /// Encodes and writes every output of a clean build atomically (a failed write leaves
-/// the previous file whole), in order; stops at the first that fails. Returns each
-/// written path with its size, or the path that failed and why.
+/// the previous file whole), in order, with the given [`Durability`]; stops at the
+/// first that fails. Returns each written path with its size, or the path that failed
+/// and why.
 pub fn write_outputs(
     build: &Build,
     outputs: &[(PathBuf, Output)],
     name: &str,
+    durability: Durability,
     stage: &mut dyn FnMut(Stage),
 ) -> Result<Vec<(PathBuf, usize)>, (PathBuf, String)> {
     let mut written = Vec::new();
     for (path, output) in outputs {
         stage(Stage::Writing(path));
         let bytes = encode_output(build, *output, name).map_err(|e| (path.clone(), e))?;
-        write_atomic(path, &bytes).map_err(|e| (path.clone(), e.to_string()))?;
+        write_atomic_with(path, &bytes, durability).map_err(|e| (path.clone(), e.to_string()))?;
         written.push((path.clone(), bytes.len()));
     }
     Ok(written)

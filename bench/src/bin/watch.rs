@@ -1,6 +1,7 @@
 //! Rebuild times of the real `dieface watch`, as a designer sees them.
 //!
 //! `cargo build --release && cargo run -p dieface-bench --release --bin watch`
+//! (`DIEFACE=/path/to/other/dieface` measures another build the same way)
 //!
 //! Copies the fender example to a temporary folder, starts `target/release/dieface
 //! watch fender.die -o fender.glb` on it, and saves edits to the script the way an
@@ -44,7 +45,12 @@ const EDITS: &[Edit] = &[
     },
 ];
 
+/// The binary under test: `$DIEFACE` (another build, for a before/after), else this
+/// checkout's release build.
 fn binary() -> PathBuf {
+    if let Some(p) = std::env::var_os("DIEFACE") {
+        return PathBuf::from(p);
+    }
     let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../target/release/dieface");
     assert!(
         p.is_file(),
