@@ -709,3 +709,72 @@ fn the_fender_exports_product_opening_pieces_and_binder_patches() {
         "blankholder"
     );
 }
+
+/// The scene cache knows geometry by its content: an edit that makes a feature run
+/// again but rebuild the very same pieces (here the bead's `force` changes: only its
+/// line bead's data, not its skin) tessellates nothing, and the rebuilt scene gives the
+/// bytes a fresh build gives.
+#[test]
+fn a_rebuilt_feature_with_the_same_pieces_is_not_tessellated_again() {
+    use dieface::export::scene::SceneCache;
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("examples/fender")
+        .canonicalize()
+        .unwrap();
+    let text = std::fs::read_to_string(dir.join("fender.die")).unwrap();
+    let edited = text.replacen("force = 250 ", "force = 260 ", 1);
+    assert_ne!(text, edited, "the example's wheel-arch bead force");
+    let tol = dieface::geom::tessellate::Tolerance::new(0.05).unwrap();
+
+    let mut engine = dieface::eval::Engine::new(Some(dir.clone()));
+    let mut cache = SceneCache::default();
+    let first = engine.evaluate("fender.die", &text, Some(dir.clone()));
+    cache.build(&engine.die_model(&first), &tol).unwrap();
+    assert!(
+        cache.last_misses() > 10,
+        "a cold build tessellates every piece"
+    );
+    let second = engine.evaluate("fender.die", &edited, Some(dir.clone()));
+    assert!(
+        engine.last_evaluated().iter().any(|n| n == "wheel_arch"),
+        "the bead ran again: {:?}",
+        engine.last_evaluated()
+    );
+    let warm = cache.build(&engine.die_model(&second), &tol).unwrap();
+    assert_eq!(cache.last_misses(), 0, "its skin and sections are the same");
+    let bead = warm.find("wheel_arch").expect("the bead's node");
+    assert_eq!(bead.line_bead.as_ref().and_then(|l| l.force), Some(260.0));
+
+    let mut fresh_engine = dieface::eval::Engine::new(Some(dir.clone()));
+    let fresh = fresh_engine.evaluate("fender.die", &edited, Some(dir));
+    let cold = dieface::export::build_scene(&fresh_engine.die_model(&fresh), &tol).unwrap();
+    let glb = |s: &Scene| dieface::export::encode(s, dieface::export::Format::Glb);
+    assert!(
+        glb(&warm) == glb(&cold),
+        "cached and fresh builds give the same bytes"
+    );
+}
+
+/// A fingerprint is the same for equal geometry built twice and differs when one control
+/// point moves by the smallest step a double can take.
+#[test]
+fn fingerprints_follow_the_geometry_bits() {
+    use dieface::geom::fingerprint::Fingerprint;
+    use dieface::geom::interpolate::interpolate;
+    use glam::DVec3;
+    let points = |dz: f64| {
+        vec![
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(10.0, 2.0, 1.0),
+            DVec3::new(20.0, -1.0, 2.0 + dz),
+            DVec3::new(30.0, 0.0, 0.5),
+        ]
+    };
+    let opts = dieface::geom::interpolate::Interpolation::default();
+    let a = interpolate(&points(0.0), &opts).unwrap();
+    let b = interpolate(&points(0.0), &opts).unwrap();
+    let c = interpolate(&points(f64::EPSILON * 2.0), &opts).unwrap();
+    assert_eq!(a.fingerprint(), b.fingerprint());
+    assert_ne!(a, c);
+    assert_ne!(a.fingerprint(), c.fingerprint());
+}
