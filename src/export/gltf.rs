@@ -175,10 +175,9 @@ impl Document {
                     indices,
                 } => {
                     let pos = self.positions(positions);
-                    let dirs: Vec<[f32; 3]> = (0..positions.len())
-                        .map(|i| to_gltf_direction(normals.get(i).copied().unwrap_or(DVec3::Z)))
-                        .collect();
-                    let nrm = self.vec3(&dirs, false);
+                    let dirs = (0..positions.len())
+                        .map(|i| to_gltf_direction(normals.get(i).copied().unwrap_or(DVec3::Z)));
+                    let nrm = self.vec3(dirs, false);
                     let idx = self.indices(indices, positions.len());
                     primitives.push(json!({
                         "attributes": { "POSITION": pos, "NORMAL": nrm },
@@ -223,33 +222,32 @@ impl Document {
 
     /// A position accessor (converted to glTF metres, with min and max).
     fn positions(&mut self, points: &[DVec3]) -> usize {
-        let converted: Vec<[f32; 3]> = points.iter().map(|&p| to_gltf_position(p)).collect();
-        self.vec3(&converted, true)
+        self.vec3(points.iter().map(|&p| to_gltf_position(p)), true)
     }
 
-    /// A `VEC3` float accessor, with `min`/`max` when asked.
-    fn vec3(&mut self, data: &[[f32; 3]], bounds: bool) -> usize {
-        let view = self.view_with(data.len() * 12, ARRAY_BUFFER, |buffer| {
+    /// A `VEC3` float accessor of the vectors `data` yields (converted and written
+    /// straight into the buffer in one pass), with `min`/`max` when asked.
+    fn vec3(&mut self, data: impl ExactSizeIterator<Item = [f32; 3]>, bounds: bool) -> usize {
+        let count = data.len();
+        let mut lo = [f32::INFINITY; 3];
+        let mut hi = [f32::NEG_INFINITY; 3];
+        let view = self.view_with(count * 12, ARRAY_BUFFER, |buffer| {
             for v in data {
-                for c in v {
-                    buffer.extend_from_slice(&c.to_le_bytes());
+                let mut bytes = [0u8; 12];
+                for k in 0..3 {
+                    bytes[4 * k..4 * k + 4].copy_from_slice(&v[k].to_le_bytes());
+                    lo[k] = lo[k].min(v[k]);
+                    hi[k] = hi[k].max(v[k]);
                 }
+                buffer.extend_from_slice(&bytes);
             }
         });
         let mut acc = Map::new();
         acc.insert("bufferView".into(), json!(view));
         acc.insert("componentType".into(), json!(FLOAT));
-        acc.insert("count".into(), json!(data.len()));
+        acc.insert("count".into(), json!(count));
         acc.insert("type".into(), json!("VEC3"));
         if bounds {
-            let mut lo = [f32::INFINITY; 3];
-            let mut hi = [f32::NEG_INFINITY; 3];
-            for v in data {
-                for k in 0..3 {
-                    lo[k] = lo[k].min(v[k]);
-                    hi[k] = hi[k].max(v[k]);
-                }
-            }
             let as_json = |a: [f32; 3]| json!(a.map(f64::from));
             acc.insert("min".into(), as_json(lo));
             acc.insert("max".into(), as_json(hi));
