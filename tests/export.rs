@@ -176,7 +176,7 @@ fn normals_turn_with_the_axes() {
     let scene = scene_of(
         "product p = nurbs_surface(degree: (1, 1), points: [[(0, 0, 5), (0, 100, 5)], [(100, 0, 5), (100, 100, 5)]])",
     );
-    let Geometry::Triangles { normals, .. } = &scene.nodes[0].geometry[0] else {
+    let Geometry::Triangles { normals, .. } = &*scene.nodes[0].geometry[0] else {
         panic!("a surface gives triangles");
     };
     let press = normals[0];
@@ -346,7 +346,7 @@ fn sketches_are_line_strips() {
     let profile = scene
         .find("punch_profile")
         .expect("the punch profile is exported");
-    let Geometry::LineStrip { points } = &profile.geometry[0] else {
+    let Geometry::LineStrip { points } = &*profile.geometry[0] else {
         panic!("a sketch is a line strip");
     };
     assert!(
@@ -375,7 +375,7 @@ fn sketches_are_line_strips() {
 #[test]
 fn a_two_d_curve_lies_at_z_zero() {
     let scene = scene_of("let c = interpolate([(0, 0), (50, 20), (100, 0)], degree: 2)");
-    let Geometry::LineStrip { points } = &scene.nodes[0].geometry[0] else {
+    let Geometry::LineStrip { points } = &*scene.nodes[0].geometry[0] else {
         panic!("a curve is a line strip");
     };
     assert!(points.len() > 2);
@@ -411,7 +411,7 @@ fn obj_has_groups_normals_faces_and_polylines() {
         .all_nodes()
         .iter()
         .flat_map(|n| &n.geometry)
-        .map(|g| match g {
+        .map(|g| match &**g {
             Geometry::Triangles { positions, .. } => positions.len(),
             Geometry::LineStrip { points } => points.len(),
         })
@@ -452,7 +452,7 @@ fn empty_geometry_writes_no_accessor() {
         color: dieface::die::model::PLAIN_COLOR,
         line: 1,
         children: Vec::new(),
-        geometry,
+        geometry: geometry.into_iter().map(std::sync::Arc::new).collect(),
         line_bead: None,
     };
     let scene = Scene {
@@ -539,7 +539,7 @@ fn large_meshes_use_u32_indices_small_ones_u16() {
                 color: dieface::die::model::PLAIN_COLOR,
                 line: 1,
                 children: Vec::new(),
-                geometry: vec![triangles(n)],
+                geometry: vec![std::sync::Arc::new(triangles(n))],
                 line_bead: None,
             }],
             tolerance_mm: 0.01,
@@ -649,7 +649,7 @@ fn cached_rebuild_equals_a_fresh_build() {
 fn the_fender_exports_product_opening_pieces_and_binder_patches() {
     let scene = scene_of_path(&root().join("examples/fender/fender.die"));
     let product = scene.find("fender").expect("the product is a node");
-    assert!(matches!(product.geometry[0], Geometry::Triangles { .. }));
+    assert!(matches!(*product.geometry[0], Geometry::Triangles { .. }));
     assert_eq!(product.kind, "product");
 
     let pieces = [
@@ -671,13 +671,13 @@ fn the_fender_exports_product_opening_pieces_and_binder_patches() {
     );
     for child in &opening.children {
         assert_eq!(child.kind, "punch_opening");
-        assert!(matches!(child.geometry[0], Geometry::LineStrip { .. }));
+        assert!(matches!(*child.geometry[0], Geometry::LineStrip { .. }));
     }
     // The pieces chain end to end into one closed line.
     let ends: Vec<(DVec3, DVec3)> = opening
         .children
         .iter()
-        .map(|c| match &c.geometry[0] {
+        .map(|c| match &*c.geometry[0] {
             Geometry::LineStrip { points } => (points[0], points[points.len() - 1]),
             Geometry::Triangles { .. } => unreachable!("checked above"),
         })
@@ -693,7 +693,7 @@ fn the_fender_exports_product_opening_pieces_and_binder_patches() {
     assert_eq!(names, expected, "one surface patch per piece");
     for child in &binder.children {
         assert_eq!(child.kind, "blankholder");
-        assert!(matches!(child.geometry[0], Geometry::Triangles { .. }));
+        assert!(matches!(*child.geometry[0], Geometry::Triangles { .. }));
     }
 
     let (json, _) = parse_glb(&encode(&scene, Format::Glb));

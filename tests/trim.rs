@@ -65,7 +65,7 @@ fn the_export_carries_the_product_cut_at_the_outline_and_not_the_panel() {
     assert_eq!(part.kind, "product");
     let Geometry::Triangles {
         positions, indices, ..
-    } = &part.geometry[0]
+    } = &*part.geometry[0]
     else {
         panic!("the product is triangles")
     };

@@ -161,7 +161,12 @@ impl Document {
 
     /// The mesh of `node`'s own primitives, or `None` when it has none to draw.
     fn mesh(&mut self, node: &Node) -> Option<usize> {
-        let geometry: Vec<&Geometry> = node.geometry.iter().filter(|g| !g.is_empty()).collect();
+        let geometry: Vec<&Geometry> = node
+            .geometry
+            .iter()
+            .map(|g| &**g)
+            .filter(|g| !g.is_empty())
+            .collect();
         if geometry.is_empty() {
             return None;
         }

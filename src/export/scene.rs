@@ -19,6 +19,7 @@
 
 use std::collections::HashMap;
 use std::fmt;
+use std::sync::Arc;
 
 use glam::DVec3;
 
@@ -56,7 +57,7 @@ pub struct Node {
     /// Parts of a list or a feature block.
     pub children: Vec<Node>,
     /// The node's own primitives (none for a pure group).
-    pub geometry: Vec<Geometry>,
+    pub geometry: Vec<Arc<Geometry>>,
     /// For a draw bead, its line bead for forming simulation (written to glTF extras).
     pub line_bead: Option<LineBead>,
 }
@@ -163,7 +164,7 @@ pub struct SceneCache {
 /// current build used it.
 struct Entry {
     shape: Shape,
-    geometry: Geometry,
+    geometry: Arc<Geometry>,
     used: bool,
 }
 
@@ -247,7 +248,7 @@ impl SceneCache {
 
     /// The primitive of a shape: from the cache when the same geometry was tessellated
     /// before, else tessellated now and kept.
-    fn tessellated(&mut self, shape: &Shape, tol: &Tolerance) -> Result<Geometry, GeomError> {
+    fn tessellated(&mut self, shape: &Shape, tol: &Tolerance) -> Result<Arc<Geometry>, GeomError> {
         // The same shared geometry as a cached entry: no hashing needed.
         if let Some(key) = self.by_address.get(&address(shape)) {
             if let Some(entry) = self.entries.get_mut(key) {
@@ -265,7 +266,7 @@ impl SceneCache {
             }
         }
         self.misses += 1;
-        let geometry = tessellate(shape, tol)?;
+        let geometry = Arc::new(tessellate(shape, tol)?);
         self.by_address.insert(address(shape), key);
         self.entries.insert(
             key,
@@ -282,10 +283,10 @@ impl SceneCache {
 /// The address of a shape's shared geometry.
 fn address(shape: &Shape) -> usize {
     match shape {
-        Shape::Surface(s) => std::sync::Arc::as_ptr(s) as *const () as usize,
-        Shape::Trimmed(t) => std::sync::Arc::as_ptr(t) as *const () as usize,
-        Shape::Mesh(m) => std::sync::Arc::as_ptr(m) as *const () as usize,
-        Shape::Curve(c) => std::sync::Arc::as_ptr(c) as *const () as usize,
+        Shape::Surface(s) => Arc::as_ptr(s) as *const () as usize,
+        Shape::Trimmed(t) => Arc::as_ptr(t) as *const () as usize,
+        Shape::Mesh(m) => Arc::as_ptr(m) as *const () as usize,
+        Shape::Curve(c) => Arc::as_ptr(c) as *const () as usize,
     }
 }
 
@@ -301,7 +302,6 @@ fn fingerprint(shape: &Shape) -> u64 {
 
 /// Whether two shapes are the same geometry (the same object, or equal content).
 fn same(a: &Shape, b: &Shape) -> bool {
-    use std::sync::Arc;
     match (a, b) {
         (Shape::Surface(a), Shape::Surface(b)) => Arc::ptr_eq(a, b) || a == b,
         (Shape::Trimmed(a), Shape::Trimmed(b)) => Arc::ptr_eq(a, b) || a == b,
