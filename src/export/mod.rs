@@ -1,9 +1,11 @@
-//! Export: evaluated declarations to files a viewer or a mesher reads.
+//! Export: the die model to files a viewer, a mesher or CAD/CAM reads.
 //!
-//! The pipeline is two steps. [`build_scene`] tessellates every declaration whose value is
-//! geometry into a [`Scene`] of named [`Node`]s (press coordinates, millimetres, one node
-//! per declaration, children for the parts of lists and feature blocks). [`encode`] then
-//! writes the scene in a [`Format`]:
+//! Export reads [`crate::die::model::DieModel`], never a language value. For the mesh
+//! formats it is two steps: [`build_scene`] tessellates every part of the model into a
+//! [`Scene`] of named [`Node`]s (press coordinates, millimetres, one node per
+//! declaration, children for the pieces of lists and feature blocks; `scene::SceneCache`
+//! keeps tessellations between builds), and [`encode`] writes the scene in a
+//! [`Format`]:
 //!
 //! * glTF 2.0 (`.glb` binary, `.gltf` JSON with the buffer embedded as a data URI): metres
 //!   and +Y up as the glTF spec requires, so press `(x, y, z)` mm becomes glTF
@@ -11,6 +13,9 @@
 //!   see [`gltf`].
 //! * Wavefront OBJ: millimetres in press coordinates (OBJ has no unit or axis
 //!   convention), one group per node; see [`obj`].
+//!
+//! STEP ([`step`]) writes the exact B-spline faces of the model's die face, sewn into
+//! shells (`crate::pipeline::step_bytes`).
 //!
 //! Every encoder is deterministic: the same scene gives the same bytes (no hash-map
 //! order, stable float formatting, little-endian buffers). [`atomic::write_atomic`]
