@@ -161,12 +161,7 @@ impl Document {
 
     /// The mesh of `node`'s own primitives, or `None` when it has none to draw.
     fn mesh(&mut self, node: &Node) -> Option<usize> {
-        let geometry: Vec<&Geometry> = node
-            .geometry
-            .iter()
-            .map(|g| &**g)
-            .filter(|g| !g.is_empty())
-            .collect();
+        let geometry = node.primitives();
         if geometry.is_empty() {
             return None;
         }

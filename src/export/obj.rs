@@ -29,12 +29,7 @@ pub fn encode_obj(scene: &Scene) -> Vec<u8> {
     // OBJ indices are 1-based and global to the file.
     let mut next_vertex = 1usize;
     for node in scene.all_nodes() {
-        let geometry: Vec<&Geometry> = node
-            .geometry
-            .iter()
-            .map(|g| &**g)
-            .filter(|g| !g.is_empty())
-            .collect();
+        let geometry = node.primitives();
         if geometry.is_empty() {
             continue;
         }

@@ -94,6 +94,15 @@ impl Geometry {
 }
 
 impl Node {
+    /// The node's own primitives that have something to draw (what an encoder writes).
+    pub fn primitives(&self) -> Vec<&Geometry> {
+        self.geometry
+            .iter()
+            .map(|g| &**g)
+            .filter(|g| !g.is_empty())
+            .collect()
+    }
+
     /// This node and all its descendants, depth first, parents before children.
     pub fn walk(&self) -> Vec<&Node> {
         let mut out = vec![self];
