@@ -15,7 +15,7 @@
 //!   convention), one group per node; see [`obj`].
 //!
 //! STEP ([`step`]) writes the exact B-spline faces of the model's die face, sewn into
-//! shells (`crate::pipeline::step_bytes`).
+//! shells (the build pipeline's `step_bytes` calls it).
 //!
 //! Every encoder is deterministic: the same scene gives the same bytes (no hash-map
 //! order, stable float formatting, little-endian buffers). [`atomic::write_atomic`]
