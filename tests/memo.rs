@@ -155,3 +155,54 @@ fn editing_a_file_read_by_a_builtin_reevaluates_its_readers() {
     ran.sort();
     assert_eq!(ran, ["mesh", "part"]);
 }
+
+/// Inside a feature, pieces are memoized by their inputs: editing the front binder
+/// wrap of the fender re-runs the punch opening, which makes the front side's two-view
+/// curve again and takes the other three sides from the memo; the result is the same
+/// opening a fresh engine builds. An edit the opening does not see keeps its pieces.
+#[test]
+fn a_wrap_edit_rebuilds_only_that_side_of_the_opening() {
+    use dieface::die::punch_opening::PunchOpening;
+    use dieface::eval::Data;
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("examples/fender")
+        .canonicalize()
+        .unwrap();
+    let text = std::fs::read_to_string(dir.join("fender.die")).unwrap();
+    let rewrapped = text.replacen("(0, -78)", "(0, -76)", 1);
+    let unrelated = text.replacen("1700 mm, 1400 mm, 80 mm", "1720 mm, 1400 mm, 80 mm", 1);
+    assert!(
+        rewrapped != text && unrelated != text,
+        "the example's wrap and blank"
+    );
+    let opening = |outcome: &dieface::eval::Outcome| -> PunchOpening {
+        let d = outcome.decls.iter().find(|d| d.name == "opening").unwrap();
+        match &d.value.as_ref().unwrap().data {
+            Data::Record(r) => r.model::<PunchOpening>().unwrap().clone(),
+            _ => panic!("`opening` is a punch opening"),
+        }
+    };
+
+    let mut engine = Engine::new(Some(dir.clone()));
+    engine.evaluate("fender.die", &text, Some(dir.clone()));
+    assert_eq!(
+        engine.piece_counts(),
+        (4, 0),
+        "a cold build makes the four sides"
+    );
+
+    engine.evaluate("fender.die", &unrelated, Some(dir.clone()));
+    assert_eq!(engine.piece_counts(), (0, 0), "the opening did not run");
+
+    let edited = engine.evaluate("fender.die", &rewrapped, Some(dir.clone()));
+    assert!(engine.last_evaluated().iter().any(|n| n == "opening"));
+    assert_eq!(
+        engine.piece_counts(),
+        (1, 3),
+        "the front side again, three kept"
+    );
+
+    let mut fresh = Engine::new(Some(dir.clone()));
+    let cold = fresh.evaluate("fender.die", &rewrapped, Some(dir));
+    assert_eq!(opening(&edited), opening(&cold));
+}

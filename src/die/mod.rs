@@ -26,6 +26,7 @@ pub mod blankholder;
 pub mod continuity;
 pub mod corner;
 pub mod figures;
+pub mod memo;
 pub mod model;
 pub mod punch_opening;
 pub mod step_draw;

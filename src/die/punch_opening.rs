@@ -21,6 +21,8 @@
 //! [`PunchOpening::quality`] holds the figures a reviewer checks: how far each side
 //! strays from its two drawings, and whether corners are G1 with the asked magnitudes.
 
+use super::memo::Pieces;
+use crate::geom::fingerprint::Fingerprint;
 use glam::{DVec2, DVec3};
 
 use super::corner::{build_corner, CornerInput};
@@ -308,6 +310,12 @@ fn at(piece: usize) -> impl Fn(GeomError) -> Error {
 
 /// Builds the punch opening line (the steps of the module documentation).
 pub fn build(spec: &PunchOpeningSpec) -> Result<PunchOpening, Error> {
+    build_with(spec, Pieces::none())
+}
+
+/// [`build`], keeping each side's two-view curve in `pieces`: an edit of one side's
+/// views re-runs the two-view stepping of that side only.
+pub fn build_with(spec: &PunchOpeningSpec, pieces: Pieces) -> Result<PunchOpening, Error> {
     let n = spec.pieces.len();
     if !spec.pieces.iter().any(|p| matches!(p, PieceSpec::Side(_))) {
         return Err(Error {
@@ -334,7 +342,11 @@ pub fn build(spec: &PunchOpeningSpec) -> Result<PunchOpening, Error> {
     let mut sides: Vec<Option<SideBuild>> = vec![None; n];
     for (k, piece) in spec.pieces.iter().enumerate() {
         if let PieceSpec::Side(s) = piece {
-            sides[k] = Some(side_points(s, &opts).map_err(at(k))?);
+            let inputs = (s.clone(), opts);
+            let side = pieces.piece("side", side_key(s, &opts), &inputs, || {
+                side_points(s, &opts)
+            });
+            sides[k] = Some(side.map_err(at(k))?);
         }
     }
 
@@ -499,6 +511,20 @@ impl SideBuild {
             &Interpolation::cubic_with_tangents(self.start_dir * length, self.end_dir * length),
         )
     }
+}
+
+/// The fingerprint of one side's inputs to [`side_points`], for the piece memo.
+fn side_key(side: &SideSpec, opts: &TwoView) -> u64 {
+    use std::hash::{Hash, Hasher};
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    side.top.fingerprint().hash(&mut h);
+    side.view.curve.fingerprint().hash(&mut h);
+    for c in [side.view.origin, side.view.axis] {
+        (c.x.to_bits(), c.y.to_bits()).hash(&mut h);
+    }
+    opts.delta.to_bits().hash(&mut h);
+    opts.max_step.map(f64::to_bits).hash(&mut h);
+    h.finish()
 }
 
 /// Step 1 for one side: the two-view points in press coordinates, in the top view's

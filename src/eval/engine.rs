@@ -116,6 +116,8 @@ pub struct Engine {
     last_timings: Vec<(String, Duration)>,
     /// The feature kinds blocks are built by.
     registry: Registry,
+    /// Pieces of features kept between evaluations (a side, a patch), by their inputs.
+    pieces: crate::die::memo::PieceMemo,
 }
 
 impl World for Engine {
@@ -146,6 +148,7 @@ impl Engine {
             overrides: Vec::new(),
             last_timings: Vec::new(),
             registry: Registry::standard(),
+            pieces: Default::default(),
         }
     }
 
@@ -213,6 +216,7 @@ impl Engine {
     fn evaluate_here(&mut self, name: &str, text: &str, dir: Option<PathBuf>) -> Outcome {
         self.last_evaluated.clear();
         self.last_timings.clear();
+        self.pieces.begin();
         let mut diagnostics = Vec::new();
         let mut stack = Vec::new();
         let (file, decls) = self.load(
@@ -232,6 +236,7 @@ impl Engine {
                 d.primary.span.start,
             )
         });
+        self.pieces.finish(&self.last_evaluated);
         Outcome {
             file,
             decls,
@@ -780,6 +785,12 @@ impl Engine {
         }
     }
 
+    /// How many feature pieces the last evaluation built and how many it reused from
+    /// earlier ones ([`crate::die::memo`]).
+    pub fn piece_counts(&self) -> (usize, usize) {
+        self.pieces.counts()
+    }
+
     /// The feature kinds this engine builds blocks with.
     pub fn registry(&self) -> &Registry {
         &self.registry
@@ -901,6 +912,7 @@ impl Engine {
                 units: ctx.units(),
                 apply: &apply,
                 text: &text,
+                pieces: self.pieces.for_owner(&d.name.node),
             },
         )
     }

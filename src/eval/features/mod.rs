@@ -79,6 +79,9 @@ pub struct Block<'a> {
     /// The source text at a span: a feature's name as written in `die_checks`'
     /// `features` list.
     pub text: &'a dyn Fn(Span) -> String,
+    /// The engine's piece memo for this declaration: pieces whose inputs did not change
+    /// since the last evaluation are taken from it.
+    pub pieces: crate::die::memo::Pieces<'a>,
 }
 
 impl Block<'_> {

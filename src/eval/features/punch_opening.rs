@@ -314,7 +314,8 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
         delta,
         max_step,
     };
-    let opening = po::build(&spec).map_err(|e| build_error(block, &spec, &sources, e))?;
+    let opening =
+        po::build_with(&spec, block.pieces).map_err(|e| build_error(block, &spec, &sources, e))?;
     Ok(output(block, opening))
 }
 
