@@ -266,39 +266,13 @@ impl KnotVector {
         for j in 1..=d {
             let mut cur = lower[j];
             for step in 0..j {
-                let q = degree - j + step + 1; // degree after this step
-                let mut next = [0.0; O];
-                for r in 0..=q {
-                    let i = span + r - q; // global index of N_{i,q}
-                    let left = if r >= 1 {
-                        let den = k[i + q] - k[i];
-                        if den != 0.0 {
-                            cur[r - 1] / den
-                        } else {
-                            0.0
-                        }
-                    } else {
-                        0.0
-                    };
-                    let right = if r < q {
-                        let den = k[i + q + 1] - k[i + 1];
-                        if den != 0.0 {
-                            cur[r] / den
-                        } else {
-                            0.0
-                        }
-                    } else {
-                        0.0
-                    };
-                    next[r] = q as f64 * (left - right);
-                }
-                cur = next;
+                cur = raise_differentiated(k, span, degree - j + step + 1, &cur);
             }
             out[j][..O].copy_from_slice(&cur);
         }
     }
 
-    /// [`KnotVector::basis_derivatives`] for any degree.
+    /// [`KnotVector::basis_derivatives`] for any degree (up to [`MAX_DEGREE`]).
     fn basis_derivatives_general(
         &self,
         span: usize,
@@ -322,33 +296,7 @@ impl KnotVector {
         for j in 1..=d {
             let mut cur = lower[j];
             for step in 0..j {
-                let q = degree - j + step + 1; // degree after this step
-                let mut next = [0.0; MAX_DEGREE + 1];
-                for r in 0..=q {
-                    let i = span + r - q; // global index of N_{i,q}
-                    let left = if r >= 1 {
-                        let den = k[i + q] - k[i];
-                        if den != 0.0 {
-                            cur[r - 1] / den
-                        } else {
-                            0.0
-                        }
-                    } else {
-                        0.0
-                    };
-                    let right = if r < q {
-                        let den = k[i + q + 1] - k[i + 1];
-                        if den != 0.0 {
-                            cur[r] / den
-                        } else {
-                            0.0
-                        }
-                    } else {
-                        0.0
-                    };
-                    next[r] = q as f64 * (left - right);
-                }
-                cur = next;
+                cur = raise_differentiated(k, span, degree - j + step + 1, &cur);
             }
             out[j] = cur;
         }
@@ -414,6 +362,44 @@ pub(crate) fn check_degree(degree: usize) -> Result<()> {
         });
     }
     Ok(())
+}
+
+/// One step of the derivative recurrence (P&T eq. 2.9): from the `q - 1`-degree values
+/// `cur` (already differentiated some times) at `span`, the values of degree `q`
+/// differentiated once more. Shared by the fixed-size and the general basis
+/// derivatives, so both do the same arithmetic in the same order.
+fn raise_differentiated<const W: usize>(
+    k: &[f64],
+    span: usize,
+    q: usize,
+    cur: &[f64; W],
+) -> [f64; W] {
+    let mut next = [0.0; W];
+    for r in 0..=q {
+        let i = span + r - q; // global index of N_{i,q}
+        let left = if r >= 1 {
+            let den = k[i + q] - k[i];
+            if den != 0.0 {
+                cur[r - 1] / den
+            } else {
+                0.0
+            }
+        } else {
+            0.0
+        };
+        let right = if r < q {
+            let den = k[i + q + 1] - k[i + 1];
+            if den != 0.0 {
+                cur[r] / den
+            } else {
+                0.0
+            }
+        } else {
+            0.0
+        };
+        next[r] = q as f64 * (left - right);
+    }
+    next
 }
 
 #[cfg(test)]
