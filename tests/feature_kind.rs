@@ -17,6 +17,9 @@ use dieface::geom::tessellate::Tolerance;
 use dieface::geom::NurbsSurface;
 use glam::DVec3;
 
+#[path = "common/script.rs"]
+mod script;
+
 /// The kernel model of a flange: its wall.
 struct Flange {
     wall: NurbsSurface,
@@ -84,17 +87,10 @@ fn a_registered_kind_is_built_summarised_and_exported() {
     let mut engine = Engine::new(None);
     engine.register(&FLANGE);
     let outcome = engine.evaluate("lip.die", SCRIPT, None);
-    let rendered: Vec<String> = outcome
-        .diagnostics
+    let values = script::clean_values(&engine, &outcome);
+    let (_, lip) = values
         .iter()
-        .map(|d| engine.sources.render(d, false))
-        .collect();
-    assert!(rendered.is_empty(), "{}", rendered.join("\n"));
-    let lip = outcome
-        .decls
-        .iter()
-        .find(|d| d.name == "lip")
-        .and_then(|d| d.value.as_ref())
+        .find(|(n, _)| n == "lip")
         .expect("the flange has a value");
     assert_eq!(summarize(lip), "flange, area 2000 mm²");
 
