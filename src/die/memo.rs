@@ -3,18 +3,19 @@
 //! edited, not the other three).
 //!
 //! The engine owns one [`PieceMemo`] for its lifetime (what `watch` keeps) and hands
-//! each feature a [`Pieces`] handle named after the declaration that builds. A piece is
+//! each feature a [`Pieces`] handle named after the declaration that builds (an owner
+//! name unique in the engine: its file and its name). A piece is
 //! found by a 64-bit fingerprint of its inputs and reused only when the kept inputs are
 //! equal to the new ones, so a collision rebuilds and never returns a wrong piece. The
 //! pieces are pure functions of their inputs, so a reused piece is the very value a
 //! rebuild would make, and outputs stay byte-identical.
 //!
-//! After a build, the engine drops the pieces that a declaration which ran did not use
+//! After a build, the pieces that a declaration which ran did not use are dropped
 //! ([`PieceMemo::finish`]); a declaration that did not run keeps its pieces for the next
 //! edit that touches it.
 
 use std::any::Any;
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::sync::{Arc, Mutex};
 
 /// The pieces kept, by owner (declaration), kind of piece and input fingerprint.
@@ -26,6 +27,8 @@ pub struct PieceMemo {
 #[derive(Default)]
 struct State {
     entries: HashMap<(String, &'static str, u64), Entry>,
+    /// The owners that built in this build (asked for a handle).
+    ran: HashSet<String>,
     built: usize,
     reused: usize,
 }
@@ -43,16 +46,17 @@ impl PieceMemo {
         for e in s.entries.values_mut() {
             e.used = false;
         }
+        s.ran.clear();
         s.built = 0;
         s.reused = 0;
     }
 
-    /// Ends a build: the pieces of the declarations in `ran` that this build did not
-    /// use are dropped (their inputs changed); other declarations keep theirs.
-    pub fn finish(&self, ran: &[String]) {
+    /// Ends a build: the pieces of the owners that built in it but did not use them
+    /// are dropped (their inputs changed); owners that did not build keep theirs.
+    pub fn finish(&self) {
         let mut s = self.lock();
-        s.entries
-            .retain(|(owner, _, _), e| e.used || !ran.iter().any(|r| r == owner));
+        let State { entries, ran, .. } = &mut *s;
+        entries.retain(|(owner, _, _), e| e.used || !ran.contains(owner));
     }
 
     /// How many pieces the last build made, and how many it reused.
@@ -61,8 +65,10 @@ impl PieceMemo {
         (s.built, s.reused)
     }
 
-    /// The handle a declaration's feature builds its pieces through.
-    pub fn for_owner<'a>(&'a self, owner: &'a str) -> Pieces<'a> {
+    /// The handle a declaration's feature builds its pieces through; `owner` names
+    /// the declaration uniquely in the engine, and counts as having built.
+    pub fn for_owner(&self, owner: String) -> Pieces<'_> {
+        self.lock().ran.insert(owner.clone());
         Pieces {
             memo: Some(self),
             owner,
@@ -77,10 +83,10 @@ impl PieceMemo {
 }
 
 /// A feature's access to the memo: its pieces are kept under its declaration's name.
-#[derive(Clone, Copy)]
+#[derive(Clone)]
 pub struct Pieces<'a> {
     memo: Option<&'a PieceMemo>,
-    owner: &'a str,
+    owner: String,
 }
 
 impl Pieces<'_> {
@@ -88,7 +94,7 @@ impl Pieces<'_> {
     pub fn none() -> Pieces<'static> {
         Pieces {
             memo: None,
-            owner: "",
+            owner: String::new(),
         }
     }
 
@@ -108,7 +114,7 @@ impl Pieces<'_> {
         let Some(memo) = self.memo else {
             return build();
         };
-        let id = (self.owner.to_string(), what, key);
+        let id = (self.owner.clone(), what, key);
         {
             let mut s = memo.lock();
             let found = s.entries.get_mut(&id).and_then(|e| {

@@ -310,12 +310,12 @@ fn at(piece: usize) -> impl Fn(GeomError) -> Error {
 
 /// Builds the punch opening line (the steps of the module documentation).
 pub fn build(spec: &PunchOpeningSpec) -> Result<PunchOpening, Error> {
-    build_with(spec, Pieces::none())
+    build_with(spec, &Pieces::none())
 }
 
 /// [`build`], keeping each side's two-view curve in `pieces`: an edit of one side's
 /// views re-runs the two-view stepping of that side only.
-pub fn build_with(spec: &PunchOpeningSpec, pieces: Pieces) -> Result<PunchOpening, Error> {
+pub fn build_with(spec: &PunchOpeningSpec, pieces: &Pieces) -> Result<PunchOpening, Error> {
     let n = spec.pieces.len();
     if !spec.pieces.iter().any(|p| matches!(p, PieceSpec::Side(_))) {
         return Err(Error {

@@ -236,7 +236,7 @@ impl Engine {
                 d.primary.span.start,
             )
         });
-        self.pieces.finish(&self.last_evaluated);
+        self.pieces.finish();
         Outcome {
             file,
             decls,
@@ -912,7 +912,9 @@ impl Engine {
                 units: ctx.units(),
                 apply: &apply,
                 text: &text,
-                pieces: self.pieces.for_owner(&d.name.node),
+                pieces: self
+                    .pieces
+                    .for_owner(format!("{}:{}", ctx.file.0, d.name.node)),
             },
         )
     }

@@ -315,7 +315,7 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
         max_step,
     };
     let opening =
-        po::build_with(&spec, block.pieces).map_err(|e| build_error(block, &spec, &sources, e))?;
+        po::build_with(&spec, &block.pieces).map_err(|e| build_error(block, &spec, &sources, e))?;
     Ok(output(block, opening))
 }
 
