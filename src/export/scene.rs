@@ -22,6 +22,7 @@ use std::fmt;
 use std::sync::Arc;
 
 use glam::DVec3;
+use rayon::prelude::*;
 
 pub use crate::die::model::LineBead;
 use crate::die::model::{DieModel, Part, Shape};
@@ -179,6 +180,11 @@ struct Entry {
 
 impl SceneCache {
     /// Builds the scene like [`build_scene`], reusing cached tessellations.
+    ///
+    /// Three passes: every shape is looked up in the cache (in part order), the shapes
+    /// not found are tessellated in parallel (each on its own, so the meshes do not
+    /// depend on the number of threads), and the nodes are put together. When several
+    /// pieces fail, the error is the first part's in model order.
     pub fn build(&mut self, model: &DieModel, tol: &Tolerance) -> Result<Scene, TessellationError> {
         let key = (tol.chordal.to_bits(), tol.angle.to_bits());
         if self.tolerance != Some(key) {
@@ -189,13 +195,44 @@ impl SceneCache {
         for entry in self.entries.values_mut() {
             entry.used = false;
         }
-        self.misses = 0;
-        let mut nodes = Vec::new();
+        let mut found = HashMap::new();
+        let mut missing = Missing::default();
         for part in &model.parts {
-            if let Some(node) = self.node(part, tol)? {
-                nodes.push(node);
-            }
+            self.look_up(part, &mut found, &mut missing);
         }
+        let Missing { unique, all } = missing;
+        let missing = unique;
+        self.misses = missing.len();
+        let made: Vec<Result<Geometry, GeomError>> = missing
+            .par_iter()
+            .map(|(_, _, shape)| tessellate(shape, tol))
+            .collect();
+        let mut made_here = Vec::with_capacity(made.len());
+        for ((key, part, shape), geometry) in missing.into_iter().zip(made) {
+            let geometry = Arc::new(geometry.map_err(|error| TessellationError {
+                part: part.name.clone(),
+                line: part.line,
+                error,
+            })?);
+            made_here.push(geometry.clone());
+            self.by_address.insert(address(shape), key);
+            self.entries.insert(
+                key,
+                Entry {
+                    shape: shape.clone(),
+                    geometry,
+                    used: true,
+                },
+            );
+        }
+        for (at, k) in all {
+            found.insert(at, made_here[k].clone());
+        }
+        let nodes = model
+            .parts
+            .iter()
+            .filter_map(|part| node(part, &found))
+            .collect();
         self.entries.retain(|_, e| e.used);
         let entries = &self.entries;
         self.by_address.retain(|_, key| entries.contains_key(key));
@@ -221,43 +258,33 @@ impl SceneCache {
         self.misses
     }
 
-    /// The node of one part, or `None` when it holds nothing to draw.
-    fn node(&mut self, part: &Part, tol: &Tolerance) -> Result<Option<Node>, TessellationError> {
-        let mut node = Node {
-            name: part.name.clone(),
-            kind: part.kind.clone(),
-            color: part.color,
-            line: part.line,
-            children: Vec::new(),
-            geometry: Vec::new(),
-            line_bead: part.line_bead.clone(),
-        };
+    /// Looks up the shapes of `part` and its children: those in the cache go into
+    /// `found` by address, the others into `missing`.
+    fn look_up<'m>(
+        &mut self,
+        part: &'m Part,
+        found: &mut HashMap<usize, Arc<Geometry>>,
+        missing: &mut Missing<'m>,
+    ) {
         if let Some(shape) = &part.shape {
-            let g = self
-                .tessellated(shape, tol)
-                .map_err(|error| TessellationError {
-                    part: part.name.clone(),
-                    line: part.line,
-                    error,
-                })?;
-            if !g.is_empty() {
-                node.geometry.push(g);
+            let at = address(shape);
+            if !found.contains_key(&at) && !missing.all.iter().any(|&(a, _)| a == at) {
+                match self.cached(shape) {
+                    Ok(geometry) => {
+                        found.insert(at, geometry);
+                    }
+                    Err(key) => missing.add(key, part, shape),
+                }
             }
         }
         for child in &part.children {
-            if let Some(c) = self.node(child, tol)? {
-                node.children.push(c);
-            }
+            self.look_up(child, found, missing);
         }
-        if node.geometry.is_empty() && node.children.is_empty() {
-            return Ok(None);
-        }
-        Ok(Some(node))
     }
 
-    /// The primitive of a shape: from the cache when the same geometry was tessellated
-    /// before, else tessellated now and kept.
-    fn tessellated(&mut self, shape: &Shape, tol: &Tolerance) -> Result<Arc<Geometry>, GeomError> {
+    /// The cached primitive of a shape (marked used), or the shape's fingerprint when
+    /// it is not cached.
+    fn cached(&mut self, shape: &Shape) -> Result<Arc<Geometry>, u64> {
         // The same shared geometry as a cached entry: no hashing needed.
         if let Some(key) = self.by_address.get(&address(shape)) {
             if let Some(entry) = self.entries.get_mut(key) {
@@ -268,25 +295,70 @@ impl SceneCache {
             }
         }
         let key = fingerprint(shape);
-        if let Some(entry) = self.entries.get_mut(&key) {
-            if same(&entry.shape, shape) {
+        match self.entries.get_mut(&key) {
+            Some(entry) if same(&entry.shape, shape) => {
                 entry.used = true;
-                return Ok(entry.geometry.clone());
+                Ok(entry.geometry.clone())
             }
+            _ => Err(key),
         }
-        self.misses += 1;
-        let geometry = Arc::new(tessellate(shape, tol)?);
-        self.by_address.insert(address(shape), key);
-        self.entries.insert(
-            key,
-            Entry {
-                shape: shape.clone(),
-                geometry: geometry.clone(),
-                used: true,
-            },
-        );
-        Ok(geometry)
     }
+}
+
+/// The shapes of a build not found in the cache.
+#[derive(Default)]
+struct Missing<'m> {
+    /// One shape per content, with its fingerprint and the first part that holds it:
+    /// what is tessellated.
+    unique: Vec<(u64, &'m Part, &'m Shape)>,
+    /// Every missing shape's address, with the index of its content in `unique`.
+    all: Vec<(usize, usize)>,
+}
+
+impl<'m> Missing<'m> {
+    /// Notes a shape not in the cache, tessellated once however many parts hold it.
+    fn add(&mut self, key: u64, part: &'m Part, shape: &'m Shape) {
+        let k = match self
+            .unique
+            .iter()
+            .position(|(k, _, other)| *k == key && same(other, shape))
+        {
+            Some(k) => k,
+            None => {
+                self.unique.push((key, part, shape));
+                self.unique.len() - 1
+            }
+        };
+        self.all.push((address(shape), k));
+    }
+}
+
+/// The node of one part, with its primitive from `found` (by the address of its
+/// shape), or `None` when it holds nothing to draw.
+fn node(part: &Part, found: &HashMap<usize, Arc<Geometry>>) -> Option<Node> {
+    let mut out = Node {
+        name: part.name.clone(),
+        kind: part.kind.clone(),
+        color: part.color,
+        line: part.line,
+        children: Vec::new(),
+        geometry: Vec::new(),
+        line_bead: part.line_bead.clone(),
+    };
+    if let Some(g) = part.shape.as_ref().and_then(|s| found.get(&address(s))) {
+        if !g.is_empty() {
+            out.geometry.push(g.clone());
+        }
+    }
+    out.children = part
+        .children
+        .iter()
+        .filter_map(|child| node(child, found))
+        .collect();
+    if out.geometry.is_empty() && out.children.is_empty() {
+        return None;
+    }
+    Some(out)
 }
 
 /// The address of a shape's shared geometry.
