@@ -99,6 +99,27 @@ pub fn up_sign(s: &NurbsSurface) -> f64 {
     }
 }
 
+/// A surface with its [`up_sign`], worked out once: what [`seam`] compares, so a
+/// surface met along many seams (a binder patch against every step-draw patch) is not
+/// sampled again for each.
+#[derive(Debug, Clone, Copy)]
+pub struct Facing<'s> {
+    /// The surface.
+    pub surface: &'s NurbsSurface,
+    /// `+1` when its mean normal points up or lies level, `-1` when down.
+    pub up: f64,
+}
+
+impl<'s> Facing<'s> {
+    /// The surface with its up sign.
+    pub fn new(surface: &'s NurbsSurface) -> Self {
+        Facing {
+            surface,
+            up: up_sign(surface),
+        }
+    }
+}
+
 /// The draft (degrees) of a unit normal turned by `sign`.
 fn draft_of(normal: DVec3, sign: f64) -> f64 {
     (sign * normal.z).clamp(-1.0, 1.0).asin().to_degrees()
@@ -399,18 +420,15 @@ fn box_distance(lo: DVec3, hi: DVec3, p: DVec3) -> f64 {
 /// box lies farther than the best found skipped; a surface whose inversion does not
 /// converge skipped for that sample),
 /// the distance to it, and the angle between the two tangent planes there. Both normals
-/// are turned up by their patch's mean normal ([`up_sign`]), so a crease is the angle
+/// are turned up by their patch's mean normal ([`Facing::up`]), so a crease is the angle
 /// between the up-facing normals: 0 for a tangent seam, whichever way each surface is
 /// parametrized.
 ///
 /// Errors: the inversion's, for non-finite geometry.
-pub fn seam(
-    a: &NurbsSurface,
-    along: &[(f64, f64)],
-    b: &[&NurbsSurface],
-) -> Result<Seam, GeomError> {
-    let sign_a = up_sign(a);
-    let signs: Vec<f64> = b.iter().map(|s| up_sign(s)).collect();
+pub fn seam(a: Facing, along: &[(f64, f64)], b: &[Facing]) -> Result<Seam, GeomError> {
+    let (sign_a, a) = (a.up, a.surface);
+    let signs: Vec<f64> = b.iter().map(|f| f.up).collect();
+    let b: Vec<&NurbsSurface> = b.iter().map(|f| f.surface).collect();
     let boxes: Vec<(DVec3, DVec3)> = b.iter().map(|s| s.control_bounds()).collect();
     let mut guesses: Vec<Option<(f64, f64)>> = vec![None; b.len()];
     let mut out = Seam {

@@ -32,6 +32,7 @@
 //! into sub-patches whose shared section is computed like an intermediate one.
 
 use glam::{DVec2, DVec3};
+use rayon::prelude::*;
 
 mod along;
 mod chain;
@@ -44,7 +45,7 @@ use fit::SectionBasis;
 use slopes::{BinderSlope, ProductSlope};
 
 use super::continuity::{measure_join, JoinQuality};
-use super::figures::{edge_samples, seam, Edge, Seam};
+use super::figures::{edge_samples, seam, Edge, Facing, Seam};
 use crate::geom::interpolate::{interpolate_at, Interpolation, KnotPlacement};
 use crate::geom::intersect::{intersect_curve_plane, Plane};
 use crate::geom::inversion::{closest_point_on_curve, project_to_curve_near};
@@ -770,14 +771,20 @@ fn edge_deviations(guides: &Guides, patches: &[Patch], tol: f64) -> Result<(f64,
     )
     .map_err(at(0))?
     .points;
+    // Each patch on its own (in parallel); the largest of each is the same in any order.
+    let per_patch: Vec<_> = patches
+        .par_iter()
+        .map(|p| {
+            let (pv, ov) = if p.reversed { (0.0, 1.0) } else { (1.0, 0.0) };
+            let product = edge_distance(&p.surface, pv, &guides.product);
+            (product, edge_to_polyline(&p.surface, ov, &opening_polyline))
+        })
+        .collect();
     let mut product_gap: f64 = 0.0;
     let mut opening_deviation: f64 = 0.0;
-    for p in patches {
-        let (pv, ov) = if p.reversed { (0.0, 1.0) } else { (1.0, 0.0) };
-        product_gap =
-            product_gap.max(edge_distance(&p.surface, pv, &guides.product).map_err(at(0))?);
-        let od = edge_to_polyline(&p.surface, ov, &opening_polyline);
-        opening_deviation = opening_deviation.max(od);
+    for (product, opening) in per_patch {
+        product_gap = product_gap.max(product.map_err(at(0))?);
+        opening_deviation = opening_deviation.max(opening);
     }
     Ok((product_gap, opening_deviation))
 }
@@ -788,6 +795,7 @@ fn joins(patches: &[Patch], closed: bool) -> Vec<(String, String, JoinQuality)> 
     let count = patches.len();
     let pairs = if closed { count } else { count - 1 };
     (0..pairs)
+        .into_par_iter()
         .map(|c| {
             let (a, b) = (&patches[c], &patches[(c + 1) % count]);
             (
@@ -809,16 +817,29 @@ fn seams(guides: &Guides, patches: &[Patch]) -> Result<(Option<Seam>, Option<Sea
         };
         edge_samples(&p.surface, edge, 4)
     };
+    let product: Vec<Facing> = guides.product_surface.iter().map(Facing::new).collect();
+    let binder: Vec<Facing> = guides.binder.par_iter().map(Facing::new).collect();
+    // Each patch's two seams on their own (in parallel), then the worst in patch order.
+    let per_patch: Vec<_> = patches
+        .par_iter()
+        .map(|p| {
+            let patch = Facing::new(&p.surface);
+            let trim = (!product.is_empty())
+                .then(|| seam(patch, &surfaces_edge(p, true), &product))
+                .transpose();
+            let opening = (!binder.is_empty())
+                .then(|| seam(patch, &surfaces_edge(p, false), &binder))
+                .transpose();
+            (trim, opening)
+        })
+        .collect();
     let mut trim: Option<Seam> = None;
     let mut opening_seam: Option<Seam> = None;
-    let binder: Vec<&NurbsSurface> = guides.binder.iter().collect();
-    for p in patches {
-        if let Some(product_surface) = &guides.product_surface {
-            let s = seam(&p.surface, &surfaces_edge(p, true), &[product_surface]).map_err(at(0))?;
+    for (t, o) in per_patch {
+        if let Some(s) = t.map_err(at(0))? {
             trim = Some(worse_seam(trim, s));
         }
-        if !binder.is_empty() {
-            let s = seam(&p.surface, &surfaces_edge(p, false), &binder).map_err(at(0))?;
+        if let Some(s) = o.map_err(at(0))? {
             opening_seam = Some(worse_seam(opening_seam, s));
         }
     }

@@ -421,6 +421,7 @@ fn surface_figures<'p>(
 ) {
     use crate::die::figures::{section_sag, surface_figures as measure, SectionEnd};
     use glam::DVec3;
+    use rayon::prelude::*;
     let point = |p: DVec3| Value::point3(p, span);
     let mut per_patch = Vec::new();
     // (value, where) of the worst so far.
@@ -428,8 +429,10 @@ fn surface_figures<'p>(
     let mut draft = (f64::INFINITY, DVec3::ZERO);
     let mut sag: Option<((f64, DVec3), (f64, DVec3))> = None;
     let mut drawn_min = f64::INFINITY;
-    for (name, surface, sections, drawn) in patches {
-        let f = measure(surface);
+    // The surfaces measured on their own, in parallel; the worst taken in patch order.
+    let patches: Vec<_> = patches.into_iter().collect();
+    let measured: Vec<_> = patches.par_iter().map(|p| measure(p.1)).collect();
+    for ((name, _, sections, drawn), f) in patches.into_iter().zip(measured) {
         let mut fields = vec![
             ("min_radius".to_string(), mm(f.min_radius, span)),
             ("min_radius_at".to_string(), point(f.min_radius_at)),
