@@ -19,6 +19,8 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
+use rayon::prelude::*;
+
 use crate::diag::{did_you_mean, Diagnostic, Sources};
 use crate::syntax::ast::{self, Block, DeclBody, FieldValue, Item};
 use crate::syntax::incremental::reparse;
@@ -32,8 +34,29 @@ use super::stdlib;
 use super::units::{self, Units};
 use super::value::{Closure, Data, Module, Record, Value};
 
-/// Stack size of the evaluation thread.
+/// Stack size of each evaluation thread.
 const EVAL_STACK_BYTES: usize = 512 << 20;
+
+/// The threads declarations are evaluated on, one per core, made once per process.
+///
+/// Evaluation recurses with the script's nesting (calls, comprehensions); threads with
+/// a large stack keep the 200-call recursion limit reachable in debug builds and in test
+/// threads, whose default stacks are small. Declarations that do not depend on each
+/// other run on them side by side, and features spread their own work over them.
+/// `None` when no thread can be had.
+fn evaluation_pool() -> Option<&'static rayon::ThreadPool> {
+    static POOL: std::sync::OnceLock<Option<rayon::ThreadPool>> = std::sync::OnceLock::new();
+    POOL.get_or_init(|| {
+        rayon::ThreadPoolBuilder::new()
+            .thread_name(|i| format!("dieface-eval-{i}"))
+            .stack_size(EVAL_STACK_BYTES)
+            // Each thread's stack is far larger than the parser needs.
+            .start_handler(|_| crate::syntax::parse::mark_large_stack())
+            .build()
+            .ok()
+    })
+    .as_ref()
+}
 
 /// Declaration kinds written with `=` that every engine knows; the feature kinds come
 /// from its [`Registry`].
@@ -190,27 +213,12 @@ impl Engine {
     /// Evaluates the file `name` with contents `text`; `dir` is its directory (relative
     /// imports and `read_obj` start there).
     pub fn evaluate(&mut self, name: &str, text: &str, dir: Option<PathBuf>) -> Outcome {
-        // Evaluation recurses with the script's nesting (calls, comprehensions); a thread
-        // with a large stack keeps the 200-call recursion limit reachable in debug
-        // builds and in test threads, whose default stacks are small.
-        let on_big_stack = std::thread::scope(|scope| {
-            let spawned = std::thread::Builder::new()
-                .name("dieface-eval".into())
-                .stack_size(EVAL_STACK_BYTES)
-                .spawn_scoped(scope, || {
-                    // This thread's stack is far larger than the parser needs.
-                    crate::syntax::parse::mark_large_stack();
-                    self.evaluate_here(name, text, dir.clone())
-                });
-            // A panic inside is a bug: pass it on rather than hide it.
-            spawned.ok().map(|handle| {
-                handle
-                    .join()
-                    .unwrap_or_else(|payload| std::panic::resume_unwind(payload))
-            })
-        });
-        // No thread to be had: evaluate here, with the caller's stack.
-        on_big_stack.unwrap_or_else(|| self.evaluate_here(name, text, dir))
+        match evaluation_pool() {
+            // A panic inside is a bug: `install` passes it on rather than hide it.
+            Some(pool) => pool.install(|| self.evaluate_here(name, text, dir)),
+            // No threads to be had: evaluate here, with the caller's stack.
+            None => self.evaluate_here(name, text, dir),
+        }
     }
 
     fn evaluate_here(&mut self, name: &str, text: &str, dir: Option<PathBuf>) -> Outcome {
@@ -566,10 +574,57 @@ impl Engine {
         if run.role == FileRole::Script {
             self.check_override_names(items, diagnostics);
         }
-        for &i in &order {
-            self.evaluate_in_turn(&mut run, items.decls[i], in_cycle.contains(&i), diagnostics);
+        for wave in waves(&order, items, &run.graph) {
+            self.evaluate_wave(&mut run, items, &wave, &in_cycle, diagnostics);
         }
         self.decl_results(run.file, items)
+    }
+
+    /// Evaluates one wave of declarations (none uses another of the same wave; see
+    /// [`waves`]): each is skipped, taken from the memo or evaluated fresh in its turn
+    /// (see [`Engine::turn_key`]), but the fresh ones without a `-D` override
+    /// are evaluated side by side first. Their outcomes are then kept in wave order, so
+    /// the memo, the diagnostics and [`Engine::last_evaluated`] are as if evaluated one
+    /// after the other.
+    fn evaluate_wave(
+        &mut self,
+        run: &mut FileRun,
+        items: &Items,
+        wave: &[usize],
+        in_cycle: &HashSet<usize>,
+        diagnostics: &mut Vec<Diagnostic>,
+    ) {
+        let mut turns = Vec::with_capacity(wave.len());
+        for &i in wave {
+            let d = items.decls[i];
+            if let Some(key) = self.turn_key(run, d, in_cycle.contains(&i)) {
+                turns.push((d, key, self.override_for(run.role, d)));
+            }
+        }
+        let plain: Vec<&ast::Decl> = turns
+            .iter()
+            .filter(|(_, _, o)| o.is_none())
+            .map(|(d, _, _)| *d)
+            .collect();
+        let file = run.file;
+        let mut evaluated = if plain.len() > 1 {
+            let engine: &Engine = self;
+            plain
+                .par_iter()
+                .map(|d| engine.evaluate_alone(file, d))
+                .collect::<Vec<_>>()
+        } else {
+            plain.iter().map(|d| self.evaluate_alone(file, d)).collect()
+        }
+        .into_iter();
+        for (d, key, override_text) in turns {
+            let fresh = match override_text {
+                Some(text) => self.evaluate_overridden(file, d, text, run.units),
+                // One per declaration without an override, in the same order.
+                None => evaluated.next().expect("one evaluation per plain turn"),
+            };
+            self.settle(run, d.name.node.as_str(), key, fresh, diagnostics);
+        }
     }
 
     /// CLI hook: each `-D` override must name a `param` of the script.
@@ -585,29 +640,21 @@ impl Engine {
         ));
     }
 
-    /// Evaluates one declaration in its turn: skipped (and marked failed, so what uses
-    /// it is skipped too) when it sits in a cycle or uses a failed import or
-    /// declaration; taken from the memo when its key is unchanged; evaluated otherwise.
-    fn evaluate_in_turn(
-        &mut self,
-        run: &mut FileRun,
-        d: &ast::Decl,
-        in_cycle: bool,
-        diagnostics: &mut Vec<Diagnostic>,
-    ) {
+    /// Where one declaration stands at its turn: `None` when it is skipped (and marked
+    /// failed, so what uses it is skipped too) because it sits in a cycle or uses a
+    /// failed import or declaration, or taken from the memo because its key is
+    /// unchanged; else its memo key, to be evaluated fresh.
+    fn turn_key(&mut self, run: &mut FileRun, d: &ast::Decl, in_cycle: bool) -> Option<u64> {
         let name = d.name.node.as_str();
         if in_cycle || run.uses_a_failure(name) {
             run.failed.insert(name.to_string());
             self.mark_failed(run.file, name);
-            return;
+            return None;
         }
         let override_text = self.override_for(run.role, d);
         let key = run.memo_key(d, override_text.as_deref());
         run.hashes.insert(name.to_string(), key);
-        if self.reuse_memoized(run, name, key) {
-            return;
-        }
-        self.evaluate_fresh(run, d, key, override_text, diagnostics);
+        (!self.reuse_memoized(run, name, key)).then_some(key)
     }
 
     /// Takes `name`'s value from the memo when its entry was computed under `key` and
@@ -628,45 +675,54 @@ impl Engine {
         true
     }
 
-    /// Evaluates `d` (from its `-D` override when it has one), counts and times it,
-    /// notes the files it read, and keeps the outcome.
-    fn evaluate_fresh(
-        &mut self,
-        run: &mut FileRun,
-        d: &ast::Decl,
-        key: u64,
-        override_text: Option<String>,
-        diagnostics: &mut Vec<Diagnostic>,
-    ) {
-        let name = d.name.node.as_str();
-        let started = Instant::now();
+    /// Evaluates `d` from its body, timed, with the files it read: what may run beside
+    /// other declarations of its wave (the engine is only read).
+    fn evaluate_alone(&self, file: FileId, d: &ast::Decl) -> Fresh {
         paths::take_reads();
-        let result = self.evaluate_with_override(run.file, d, override_text, run.units);
-        let took = started.elapsed();
-        self.record_evaluation(run, name, took);
-        let reads = self.note_reads(run, name, key);
-        self.keep(run, name, key, result, reads, diagnostics);
+        let started = Instant::now();
+        let result = self.evaluate_decl(file, d);
+        Fresh {
+            took: started.elapsed(),
+            reads: paths::take_reads(),
+            result,
+        }
     }
 
-    /// CLI hook: `d`'s value from its `-D` override text (checked against the value
-    /// as written) when it has one, else from its body.
-    fn evaluate_with_override(
+    /// CLI hook: `d` from its `-D` override text, checked against the value as written.
+    fn evaluate_overridden(
         &mut self,
         file: FileId,
         d: &ast::Decl,
-        override_text: Option<String>,
+        text: String,
         units: Units,
-    ) -> Result<Value, Diagnostic> {
-        match override_text {
-            Some(t) => {
-                let src = self
-                    .sources
-                    .add(super::overrides::source_name(&d.name.node), t.as_str());
-                let declared = self.evaluate_decl(file, d);
-                super::overrides::evaluate_override(src, d, &t, units, declared)
-            }
-            None => self.evaluate_decl(file, d),
+    ) -> Fresh {
+        paths::take_reads();
+        let started = Instant::now();
+        let src = self
+            .sources
+            .add(super::overrides::source_name(&d.name.node), text.as_str());
+        let declared = self.evaluate_decl(file, d);
+        let result = super::overrides::evaluate_override(src, d, &text, units, declared);
+        Fresh {
+            took: started.elapsed(),
+            reads: paths::take_reads(),
+            result,
         }
+    }
+
+    /// Counts and records a fresh evaluation of `name`, notes the files it read, and
+    /// keeps the outcome.
+    fn settle(
+        &mut self,
+        run: &mut FileRun,
+        name: &str,
+        key: u64,
+        fresh: Fresh,
+        diagnostics: &mut Vec<Diagnostic>,
+    ) {
+        self.record_evaluation(run, name, fresh.took);
+        let reads = self.note_reads(run, name, key, fresh.reads);
+        self.keep(run, name, key, fresh.result, reads, diagnostics);
     }
 
     /// Counts one evaluation of `name` and records it and how long it took, for
@@ -688,8 +744,14 @@ impl Engine {
     /// The files the evaluation of `name` just read (builtins such as `read_obj`), with
     /// their content hashes: each joins `name`'s key (so dependents see a changed
     /// file), and new ones are added to [`Engine::read_files`] for `watch`.
-    fn note_reads(&mut self, run: &mut FileRun, name: &str, key: u64) -> Vec<(PathBuf, u64)> {
-        let reads: Vec<(PathBuf, u64)> = paths::take_reads()
+    fn note_reads(
+        &mut self,
+        run: &mut FileRun,
+        name: &str,
+        key: u64,
+        read: Vec<PathBuf>,
+    ) -> Vec<(PathBuf, u64)> {
+        let reads: Vec<(PathBuf, u64)> = read
             .into_iter()
             .map(|p| {
                 let c = paths::content_hash(&p);
@@ -1187,6 +1249,37 @@ fn function_texts<'a>(items: &Items<'a>, text: &'a str) -> HashMap<&'a str, &'a 
         .iter()
         .map(|f| (f.name.node.as_str(), &text[f.span.range()]))
         .collect()
+}
+
+/// A declaration evaluated fresh: its outcome, how long it took and the files it read.
+struct Fresh {
+    result: Result<Value, Diagnostic>,
+    took: Duration,
+    reads: Vec<PathBuf>,
+}
+
+/// The evaluation order cut into waves: each declaration goes one wave after the
+/// latest of the declarations of this file it uses, so no declaration uses another of
+/// its own wave and a wave's declarations can be evaluated side by side. Within a wave,
+/// declarations keep their order in `order`.
+fn waves(order: &[usize], items: &Items, graph: &DeclGraph) -> Vec<Vec<usize>> {
+    let mut wave_of: HashMap<&str, usize> = HashMap::new();
+    let mut waves: Vec<Vec<usize>> = Vec::new();
+    for &i in order {
+        let name = items.decls[i].name.node.as_str();
+        let wave = graph
+            .deps(name)
+            .into_iter()
+            .filter_map(|dep| wave_of.get(dep).map(|w| w + 1))
+            .max()
+            .unwrap_or(0);
+        wave_of.insert(name, wave);
+        if waves.len() <= wave {
+            waves.resize_with(wave + 1, Vec::new);
+        }
+        waves[wave].push(i);
+    }
+    waves
 }
 
 /// One file's declarations being evaluated: what the memo keys are made of, and the
