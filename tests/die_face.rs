@@ -17,7 +17,7 @@ mod example;
 #[path = "common/script.rs"]
 mod script;
 
-use dieface::die::figures::{edge_samples, seam, Edge};
+use dieface::die::figures::{edge_samples, seam, Edge, Facing};
 use dieface::die::step_draw::StepDraw;
 use dieface::eval::Data;
 use dieface::geom::curvature::min_radius;
@@ -234,7 +234,8 @@ fn radii_as_drawn(label: &str, sd: &StepDraw) {
 /// Items 2 and 3: tangent at the trim line and across the punch opening, measured
 /// along each patch's edges against the product surface and the binder's patches.
 fn tangent_seams(label: &str, sd: &StepDraw, binder: &[NurbsSurface], product: &NurbsSurface) {
-    let binder: Vec<&NurbsSurface> = binder.iter().collect();
+    let binder: Vec<Facing> = binder.iter().map(Facing::new).collect();
+    let product = Facing::new(product);
     let (mut trim, mut opening): ((f64, f64), (f64, f64)) = ((0.0, 0.0), (0.0, 0.0));
     for p in &sd.patches {
         let (product_edge, opening_edge) = if p.reversed {
@@ -243,13 +244,13 @@ fn tangent_seams(label: &str, sd: &StepDraw, binder: &[NurbsSurface], product: &
             (Edge::V1, Edge::V0)
         };
         let t = seam(
-            &p.surface,
+            Facing::new(&p.surface),
             &edge_samples(&p.surface, product_edge, 6),
             &[product],
         )
         .expect("trim seam");
         let o = seam(
-            &p.surface,
+            Facing::new(&p.surface),
             &edge_samples(&p.surface, opening_edge, 6),
             &binder,
         )

@@ -5,7 +5,7 @@
 use std::f64::consts::FRAC_PI_2;
 
 use dieface::die::figures::{
-    edge_samples, seam, section_sag, surface_figures, Edge, SectionEnd, UNDERCUT_TOLERANCE,
+    edge_samples, seam, section_sag, surface_figures, Edge, Facing, SectionEnd, UNDERCUT_TOLERANCE,
 };
 use dieface::geom::arc::circular_arc;
 use dieface::geom::construct::{revolve, ruled};
@@ -176,7 +176,7 @@ fn two_planes_meet_at_their_angle_with_no_gap() {
     let (a, b) = hinge(angle, 0.0, false);
     let along = edge_samples(&a, Edge::U1, 8);
     assert!(along.iter().all(|&(u, _)| u == 1.0));
-    let s = seam(&a, &along, &[&b]).expect("finite");
+    let s = seam(Facing::new(&a), &along, &[Facing::new(&b)]).expect("finite");
     assert!((s.crease - 12.0).abs() < 1e-9, "{s:?}");
     assert!(s.gap < 1e-12, "{s:?}");
     assert!((s.crease_at.x - 10.0).abs() < 1e-12, "on A's edge: {s:?}");
@@ -185,7 +185,12 @@ fn two_planes_meet_at_their_angle_with_no_gap() {
 #[test]
 fn a_lifted_plane_leaves_its_lift_as_the_gap() {
     let (a, b) = hinge(0.0, 0.3, false);
-    let s = seam(&a, &edge_samples(&a, Edge::U1, 4), &[&b]).expect("finite");
+    let s = seam(
+        Facing::new(&a),
+        &edge_samples(&a, Edge::U1, 4),
+        &[Facing::new(&b)],
+    )
+    .expect("finite");
     assert!((s.gap - 0.3).abs() < 1e-12, "{s:?}");
     assert!(s.crease < 1e-9, "{s:?}");
 }
@@ -200,9 +205,9 @@ fn the_nearest_of_several_surfaces_answers() {
     let decoy = square(DVec3::new(100.0, 0.0, 50.0), DVec3::X, DVec3::Y);
     let a = square(DVec3::ZERO, DVec3::X * 10.0, DVec3::Y * 10.0);
     let s = seam(
-        &a,
+        Facing::new(&a),
         &edge_samples(&a, Edge::U1, 16),
-        &[&decoy, &upper, &lower],
+        &[decoy, upper, lower].each_ref().map(Facing::new),
     )
     .expect("finite");
     assert!(s.gap < 1e-12 && (s.crease - 7.0).abs() < 1e-9, "{s:?}");
@@ -215,7 +220,7 @@ proptest! {
     #[test]
     fn crease_is_the_hinge_angle(deg in -80.0f64..80.0, flip in any::<bool>()) {
         let (a, b) = hinge(deg.to_radians(), 0.0, flip);
-        let s = seam(&a, &edge_samples(&a, Edge::U1, 3), &[&b]).expect("finite");
+        let s = seam(Facing::new(&a), &edge_samples(&a, Edge::U1, 3), &[Facing::new(&b)]).expect("finite");
         prop_assert!((s.crease - deg.abs()).abs() < 1e-8, "{:?} vs {}", s, deg);
         prop_assert!(s.gap < 1e-9);
     }
