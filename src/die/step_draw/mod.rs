@@ -426,11 +426,17 @@ pub fn build(guides: &Guides, sections: &[SectionSpec], opts: &Options) -> Resul
             .map(ProductSlope::new),
         binder: binder_tangent.then(|| BinderSlope::new(&guides.binder)),
     };
-    let (key_sections, section_fit) = key_sections(guides, sections, &ends, &positions, &stations)?;
+    let KeySections {
+        curves: key_sections,
+        section_fit,
+        starts,
+    } = key_sections(guides, sections, &ends, &positions, &stations)?;
     let u_knots = key_sections[0].1.knots().as_slice().to_vec();
 
     // Step 2-3: patches, their guides and sections.
-    let subs = sub_patches(guides, sections, &placed, &positions, &stations, tol)?;
+    let subs = sub_patches(
+        guides, sections, &placed, &positions, &stations, &starts, tol,
+    )?;
     // Step 4: rows with the Fig. 12 end derivatives.
     let patches = interpolate_rows(&subs, &u_knots, guides.closed)?;
 
@@ -615,8 +621,9 @@ fn key_sections(
     ends: &[SectionEnds],
     positions: &[f64],
     stations: &Stations,
-) -> Result<(Vec<(String, Curve3)>, f64), Error> {
+) -> Result<KeySections, Error> {
     let mut key_sections = Vec::with_capacity(sections.len());
+    let mut starts = Vec::with_capacity(sections.len());
     let mut section_fit: f64 = 0.0;
     for (k, e) in ends.iter().enumerate() {
         let (a, b) = (
@@ -632,8 +639,23 @@ fn key_sections(
             .map_err(|p| fail(k, p))?;
         section_fit = section_fit.max(error);
         key_sections.push((sections[k].name.clone(), curve));
+        starts.push(SlopeStart::of(stations));
     }
-    Ok((key_sections, section_fit))
+    Ok(KeySections {
+        curves: key_sections,
+        section_fit,
+        starts,
+    })
+}
+
+/// The key sections built as their stations, in order.
+struct KeySections {
+    /// Each key section's name and curve.
+    curves: Vec<(String, Curve3)>,
+    /// The largest distance of a key section from its exact runs and corners.
+    section_fit: f64,
+    /// Where the slopes' look-ups ended at each key section.
+    starts: Vec<SlopeStart>,
 }
 
 /// Steps 2-3: the sub-patches between each key section and the next (round to the
@@ -646,21 +668,31 @@ fn sub_patches(
     placed: &[PlacedSection],
     positions: &[f64],
     stations: &Stations,
+    starts: &[SlopeStart],
     tol: f64,
 ) -> Result<Vec<SubPatch>, Error> {
     let n = sections.len();
     let patch_count = if guides.closed { n } else { n - 1 };
+    let inputs = StationInputs::of(stations);
+    // Each patch on its own (side by side), with its own slope look-ups.
+    let built: Vec<Result<Vec<SubPatch>, Error>> = (0..patch_count)
+        .into_par_iter()
+        .map(|k| {
+            let next = (k + 1) % n;
+            patch(
+                guides,
+                (&placed[k].ends, &placed[next].ends),
+                positions[k],
+                &inputs.stations(starts[k]),
+                tol,
+            )
+            .map_err(|p| fail(next, p))
+        })
+        .collect();
     let mut chain: Vec<SubPatch> = Vec::new();
-    for k in 0..patch_count {
+    for (k, subs) in built.into_iter().enumerate() {
         let next = (k + 1) % n;
-        let subs = patch(
-            guides,
-            (&placed[k].ends, &placed[next].ends),
-            positions[k],
-            stations,
-            tol,
-        )
-        .map_err(|p| fail(next, p))?;
+        let subs = subs?;
         let base = format!("{}_to_{}", sections[k].name, sections[next].name);
         let drawn = drawn_radius(&placed[k].chain).min(drawn_radius(&placed[next].chain));
         let count = subs.len();
@@ -885,6 +917,62 @@ struct Stations<'a> {
     basis: &'a SectionBasis,
     product: Option<ProductSlope<'a>>,
     binder: Option<BinderSlope<'a>>,
+}
+
+/// What [`Stations`] are made of, without the slopes' last foot points: shared by the
+/// patches built side by side, each making its own [`Stations`] from it, with look-ups
+/// that start where its first key section's ended, so a patch does not depend on the
+/// patches built before it.
+#[derive(Clone, Copy)]
+struct StationInputs<'a> {
+    along: &'a Along,
+    basis: &'a SectionBasis,
+    product: Option<&'a NurbsSurface>,
+    binder: Option<&'a [NurbsSurface]>,
+}
+
+impl<'a> StationInputs<'a> {
+    /// The inputs of `stations`.
+    fn of(stations: &Stations<'a>) -> Self {
+        StationInputs {
+            along: stations.along,
+            basis: stations.basis,
+            product: stations.product.as_ref().map(ProductSlope::surface),
+            binder: stations.binder.as_ref().map(BinderSlope::patches),
+        }
+    }
+
+    /// Stations whose slope look-ups start from the feet `start`.
+    fn stations(&self, start: SlopeStart) -> Stations<'a> {
+        Stations {
+            along: self.along,
+            basis: self.basis,
+            product: self
+                .product
+                .map(|s| ProductSlope::starting_at(s, start.product)),
+            binder: self
+                .binder
+                .map(|b| BinderSlope::starting_at(b, start.binder)),
+        }
+    }
+}
+
+/// Where the slopes' look-ups ended at a key section: where those of the patch that
+/// starts there start.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+struct SlopeStart {
+    product: Option<(f64, f64)>,
+    binder: Option<(usize, f64, f64)>,
+}
+
+impl SlopeStart {
+    /// Where the look-ups of `stations` stand now.
+    fn of(stations: &Stations) -> Self {
+        SlopeStart {
+            product: stations.product.as_ref().and_then(ProductSlope::last),
+            binder: stations.binder.as_ref().and_then(BinderSlope::last),
+        }
+    }
 }
 
 impl Stations<'_> {

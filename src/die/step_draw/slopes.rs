@@ -49,6 +49,24 @@ impl<'a> ProductSlope<'a> {
         }
     }
 
+    /// Slopes of `surface`, whose first look-up starts from the foot point `last`.
+    pub fn starting_at(surface: &'a NurbsSurface, last: Option<(f64, f64)>) -> Self {
+        Self {
+            surface,
+            last: Cell::new(last),
+        }
+    }
+
+    /// The product surface.
+    pub fn surface(&self) -> &'a NurbsSurface {
+        self.surface
+    }
+
+    /// The foot point of the last look-up, `(u, v)`.
+    pub fn last(&self) -> Option<(f64, f64)> {
+        self.last.get()
+    }
+
     /// The product's slope at the outline point `p`, along `h` (towards the opening).
     pub fn at(&self, p: DVec3, h: DVec3) -> Option<f64> {
         let hit = match self.last.get() {
@@ -77,6 +95,25 @@ impl<'a> BinderSlope<'a> {
             patches,
             last: Cell::new(None),
         }
+    }
+
+    /// Slopes of the binder made of `patches`, whose first look-up starts from the
+    /// patch and foot point `last`, `(patch, u, v)`.
+    pub fn starting_at(patches: &'a [NurbsSurface], last: Option<(usize, f64, f64)>) -> Self {
+        Self {
+            patches,
+            last: Cell::new(last),
+        }
+    }
+
+    /// The binder's patches.
+    pub fn patches(&self) -> &'a [NurbsSurface] {
+        self.patches
+    }
+
+    /// The patch and foot point of the last look-up, `(patch, u, v)`.
+    pub fn last(&self) -> Option<(usize, f64, f64)> {
+        self.last.get()
     }
 
     /// The binder's slope at the opening point `p`, along `h` (outwards).
