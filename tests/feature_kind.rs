@@ -7,7 +7,8 @@
 use std::sync::Arc;
 
 use dieface::diag::Diagnostic;
-use dieface::eval::features::{feature_value, Block, FeatureKind, FieldNames};
+use dieface::eval::features::explain::diagnostic;
+use dieface::eval::features::{feature_value, Blame, Block, Explanation, FeatureKind, FieldNames};
 use dieface::eval::summary::summarize;
 use dieface::eval::value::{Data, Quantity, Record, Value};
 use dieface::eval::Engine;
@@ -47,6 +48,22 @@ impl FeatureKind for FlangeKind {
             _ => return Err(block.missing("edge", "give the flange's edge as a 3-D curve")),
         };
         let height = block.length_or("height", 10.0)?;
+        if height > edge.length() {
+            // A problem told as data: the inputs it blames, resolved by the shared
+            // `diagnostic` (a flange has no parts of its own to resolve).
+            let explanation = Explanation::<()>::new(
+                format!(
+                    "the flange `{}` hangs lower than its edge is long",
+                    block.name
+                ),
+                Blame::Field("height"),
+                "this height",
+                "give a height shorter than the edge",
+            )
+            .also(Blame::Field("edge"), "this edge")
+            .also(Blame::Block, "this flange");
+            return Err(diagnostic(self, block, explanation, |_| None));
+        }
         let foot = edge.map_points(|p| p - DVec3::Z * height);
         let wall = ruled(&edge, &foot).expect("two compatible curves");
         let fields = vec![(
@@ -132,5 +149,58 @@ fn an_unregistered_kind_is_refused_and_a_registered_one_checks_its_fields() {
             .contains("did you mean `height`"),
         "{:?}",
         d.help
+    );
+}
+
+#[test]
+fn a_kinds_problem_told_as_data_points_at_the_inputs_it_blames() {
+    let mut engine = Engine::new(None);
+    engine.register(&FLANGE);
+    let mut places = |script: &str| {
+        let outcome = engine.evaluate("lip.die", script, None);
+        assert_eq!(outcome.diagnostics.len(), 1, "{:?}", outcome.diagnostics);
+        let d = &outcome.diagnostics[0];
+        assert_eq!(d.code, "die::feature", "the kind's code");
+        assert_eq!(
+            d.help.as_deref(),
+            Some("give a height shorter than the edge")
+        );
+        let mut places = vec![(
+            engine.sources.slice(d.primary.span).to_string(),
+            d.primary.message.clone(),
+        )];
+        places.extend(
+            d.secondary
+                .iter()
+                .map(|l| (engine.sources.slice(l.span).to_string(), l.message.clone())),
+        );
+        places
+    };
+    let text = |pairs: &[(&str, &str)]| -> Vec<(String, String)> {
+        pairs
+            .iter()
+            .map(|(a, b)| (a.to_string(), b.to_string()))
+            .collect()
+    };
+    // The blamed height was written: the primary label is at it.
+    assert_eq!(
+        places(&SCRIPT.replace("20 mm", "200 mm")),
+        text(&[
+            ("200 mm", "this height"),
+            ("edge", "this edge"),
+            ("flange", "this flange")
+        ])
+    );
+    // No height written (the default is too long): the primary label falls back to the
+    // block's head, and the head's own label is not repeated.
+    let short = "
+let edge = interpolate([(0, 0, 0), (1, 0, 0), (2, 0, 0), (3, 0, 0), (4, 0, 0)])
+flange lip {
+    edge = edge
+}
+";
+    assert_eq!(
+        places(short),
+        text(&[("flange", "this height"), ("edge", "this edge")])
     );
 }

@@ -35,6 +35,7 @@ use super::super::builtins::{as_length, type_error};
 use super::super::sketch::View;
 use super::super::summary::{bbox, bounds, round, sampled_surface};
 use super::super::value::{Data, Quantity, Record, Value};
+use super::explain::{diagnostic, Blame, Explanation};
 use super::kind::{FeatureKind, FieldNames};
 use super::{check_record, count, feature_error, feature_value, items, mm, record, show, Block};
 use crate::die::model::{DieFace, LineBead};
@@ -72,7 +73,7 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
         },
         _ => return Err(not_a_binder(&binder_field.value)),
     };
-    let (course, course_span) = course(block)?;
+    let course = course(block)?;
 
     // Key sections: the bead's own profile at the ends, the `section` blocks between.
     let mut keys: Vec<KeySection> = Vec::new();
@@ -187,8 +188,11 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
         line_spacing,
         max_height: binder.max_bead_height,
     };
-    let bead = bd::build(&map, &spec)
-        .map_err(|p| problem_diag(block, &p, course_span, &sources, binder_field.value.span))?;
+    let bead = bd::build(&map, &spec).map_err(|p| {
+        diagnostic(KIND, block, explain(block, &p, &sources), |part| {
+            resolve(block, &sources, part)
+        })
+    })?;
     let names: Vec<String> = sources
         .iter()
         .enumerate()
@@ -203,7 +207,7 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
 
 /// The course of the bead: `line` (the centre line) or `boundaries` (its two feet
 /// lines), exactly one of them, in the top view.
-fn course(block: &Block) -> Result<(Course, Span), Diagnostic> {
+fn course(block: &Block) -> Result<Course, Diagnostic> {
     match (block.get("line"), block.get("boundaries")) {
         (Some(l), Some(b)) => Err(feature_error(
             KIND,
@@ -216,10 +220,7 @@ fn course(block: &Block) -> Result<(Course, Span), Diagnostic> {
             "give one: the centre line (the profile keeps its width) or the two boundaries (the profile stretches between them)",
         )
         .with_label(l.value.span, "and this centre line")),
-        (Some(l), None) => Ok((
-            Course::Centre(top_curve(&l.value, "`line` of a bead")?),
-            l.value.span,
-        )),
+        (Some(l), None) => Ok(Course::Centre(top_curve(&l.value, "`line` of a bead")?)),
         (None, Some(b)) => {
             let lines = items(&b.value);
             if lines.len() != 2 {
@@ -235,9 +236,9 @@ fn course(block: &Block) -> Result<(Course, Span), Diagnostic> {
                 ));
             }
             let what = "`boundaries` of a bead";
-            Ok((
-                Course::Boundaries(top_curve(&lines[0], what)?, top_curve(&lines[1], what)?),
-                b.value.span,
+            Ok(Course::Boundaries(
+                top_curve(&lines[0], what)?,
+                top_curve(&lines[1], what)?,
             ))
         }
         (None, None) => Err(block.missing(
@@ -349,65 +350,72 @@ fn section_name(sources: &[KeySource], k: usize) -> String {
     }
 }
 
-fn problem_diag(
-    block: &Block,
-    p: &Problem,
-    course: Span,
-    sources: &[KeySource],
-    binder: Span,
-) -> Diagnostic {
-    let taper_span = block.get("taper").map_or(block.head(), |f| f.value.span);
-    let course_label = if block.get("boundaries").is_some() {
+/// The parts of a bead block a problem is blamed on.
+enum Part {
+    /// The course: the centre `line`, or the `boundaries`.
+    Course,
+    /// A key section's profile.
+    Profile(usize),
+    /// A key section's rule points (its profile when it gives none).
+    Rules(usize),
+    /// A key section's position `at` (the block's head for the bead's own profile).
+    At(usize),
+}
+
+/// Where the part of `block` `part` was written (`sources`: the key sections').
+fn resolve(block: &Block, sources: &[KeySource], part: &Part) -> Option<Span> {
+    let source = |k: usize| sources.get(k.min(sources.len().saturating_sub(1)));
+    match *part {
+        Part::Course => block
+            .get("line")
+            .or_else(|| block.get("boundaries"))
+            .map(|f| f.value.span),
+        Part::Profile(k) => source(k).map(|s| s.profile),
+        Part::Rules(k) => source(k).map(|s| s.rules),
+        Part::At(k) => source(k).map(|s| s.at),
+    }
+}
+
+/// What the designer reads about the kernel's problem `p` with the bead of `block`,
+/// whose key sections are `sources`.
+fn explain(block: &Block, p: &Problem, sources: &[KeySource]) -> Explanation<Part> {
+    let bead = block.name;
+    let course = if block.get("boundaries").is_some() {
         "these boundaries"
     } else {
         "this centre line"
     };
-    let source = |k: usize| &sources[k.min(sources.len() - 1)];
-    let name = |k: usize| section_name(sources, k.min(sources.len() - 1));
+    let name = |k: usize| section_name(sources, k.min(sources.len().saturating_sub(1)));
     match p {
-        Problem::LeavesBinder { at, offset } => {
-            let (message, help) = match offset {
-                Some(o) if o.abs() > 1e-9 => (
-                    format!(
-                        "the bead `{}` is too wide here: its side, {} mm from the centre line, leaves the binder near ({:.1}, {:.1})",
-                        block.name,
-                        show(o.abs()),
-                        at.x,
-                        at.y
-                    ),
+        Problem::LeavesBinder { at, offset } | Problem::CrossesOpening { at, offset } => {
+            // What the bead's side does, what the whole bead does, and the help for each.
+            let [side, whole, side_help, whole_help] = if matches!(p, Problem::LeavesBinder { .. }) {
+                [
+                    "leaves the binder",
+                    "leaves the binder",
                     "move the centre line away from the binder's outer edge, or narrow the profile",
-                ),
-                _ => (
-                    format!(
-                        "the bead `{}` leaves the binder near ({:.1}, {:.1})",
-                        block.name, at.x, at.y
-                    ),
                     "keep the centre line, and the bead's width around it, over the blankholder in the top view",
-                ),
+                ]
+            } else {
+                [
+                    "reaches into the punch opening",
+                    "runs inside the punch opening",
+                    "move the centre line out from the opening by at least the bead's half width, or narrow the profile",
+                    "a bead runs on the binder, outside the punch opening: draw the centre line outside the opening's top view",
+                ]
             };
-            feature_error(KIND, message, course, course_label, help)
-        }
-        Problem::CrossesOpening { at, offset } => {
+            let near = format!("near ({:.1}, {:.1})", at.x, at.y);
             let (message, help) = match offset {
                 Some(o) if o.abs() > 1e-9 => (
                     format!(
-                        "the bead `{}` is too wide here: its side, {} mm from the centre line, reaches into the punch opening near ({:.1}, {:.1})",
-                        block.name,
-                        show(o.abs()),
-                        at.x,
-                        at.y
+                        "the bead `{bead}` is too wide here: its side, {} mm from the centre line, {side} {near}",
+                        show(o.abs())
                     ),
-                    "move the centre line out from the opening by at least the bead's half width, or narrow the profile",
+                    side_help,
                 ),
-                _ => (
-                    format!(
-                        "the bead `{}` runs inside the punch opening near ({:.1}, {:.1})",
-                        block.name, at.x, at.y
-                    ),
-                    "a bead runs on the binder, outside the punch opening: draw the centre line outside the opening's top view",
-                ),
+                _ => (format!("the bead `{bead}` {whole} {near}"), whole_help),
             };
-            feature_error(KIND, message, course, course_label, help)
+            Explanation::new(message, Part::Course, course, help)
         }
         Problem::TooTight { at, radius, reach } => {
             let turn = if *radius == 0.0 {
@@ -415,97 +423,79 @@ fn problem_diag(
             } else {
                 format!("turns with a radius of {} mm", show(*radius))
             };
-            feature_error(
-                KIND,
+            Explanation::new(
                 format!(
-                    "the centre line of the bead `{}` {turn} near ({:.1}, {:.1}), but the bead reaches {} mm to the inside of the turn: it would fold over itself",
-                    block.name,
+                    "the centre line of the bead `{bead}` {turn} near ({:.1}, {:.1}), but the bead reaches {} mm to the inside of the turn: it would fold over itself",
                     at.x,
                     at.y,
                     show(*reach)
                 ),
+                Part::Course,
                 course,
-                course_label,
                 format!(
                     "round the turn with a `fillet` larger than {} mm (the bead's reach), or narrow the profile",
                     show(*reach)
                 ),
             )
         }
-        Problem::BelowBinder { section, s } => feature_error(
-            KIND,
+        Problem::BelowBinder { section, s } => Explanation::new(
             format!(
                 "the cross-section of {} is not above the binder at s = {} mm",
                 name(*section),
                 show(*s)
             ),
-            source(*section).profile,
+            Part::Profile(*section),
             "this profile",
             "a draw bead is a ridge standing on the binder: its heights are 0 at the feet and positive between (the groove in the other binder half is made from it)",
         ),
-        Problem::ClosedTaper => feature_error(
-            KIND,
-            format!("the bead `{}` is a closed ring, which has no ends to taper", block.name),
-            taper_span,
+        Problem::ClosedTaper => Explanation::new(
+            format!("the bead `{bead}` is a closed ring, which has no ends to taper"),
+            Blame::Field("taper"),
             "this taper",
             "remove `taper` for a ring bead, or draw an open centre line",
         )
-        .with_label(course, "a closed centre line"),
-        Problem::TooFine { what, count } => {
-            let field = if *what == "section spacing" { "spacing" } else { "line_spacing" };
-            let span = block.get(field).map_or(block.head(), |f| f.value.span);
-            feature_error(
-                KIND,
-                format!(
-                    "the bead's {what} is so fine that it would take {} sections or points",
-                    if *count > 1_000_000_000 { "more than a billion".to_string() } else { count.to_string() }
-                ),
-                span,
-                "too fine",
-                "sections every 5-10 mm follow any bead profile within 0.01 mm; line beads every 10-20 mm are what forming simulation uses",
-            )
-        }
-        Problem::ProfileFeet { section } => feature_error(
-            KIND,
+        .also(Part::Course, "a closed centre line"),
+        Problem::TooFine { what, count } => Explanation::new(
+            format!(
+                "the bead's {what} is so fine that it would take {} sections or points",
+                if *count > 1_000_000_000 { "more than a billion".to_string() } else { count.to_string() }
+            ),
+            Blame::Field(if *what == "section spacing" { "spacing" } else { "line_spacing" }),
+            "too fine",
+            "sections every 5-10 mm follow any bead profile within 0.01 mm; line beads every 10-20 mm are what forming simulation uses",
+        ),
+        Problem::ProfileFeet { section } => Explanation::new(
             format!("the cross-section of {} must start and end on the binder, at height 0", name(*section)),
-            source(*section).profile,
+            Part::Profile(*section),
             "this profile",
             "draw the cross-section from (-w, 0) over the crest to (w, 0), or use `std/beads`",
         ),
-        Problem::ProfileFolds { section, s } => feature_error(
-            KIND,
+        Problem::ProfileFolds { section, s } => Explanation::new(
             format!("the cross-section of {} runs backwards across the bead at s = {} mm", name(*section), show(*s)),
-            source(*section).profile,
+            Part::Profile(*section),
             "this profile",
             "a bead's cross-section must run one way across the bead (from one foot to the other): a wall that leans back would be an undercut the press cannot form",
         ),
-        Problem::TooTall { section, height, limit } => feature_error(
-            KIND,
+        Problem::TooTall { section, height, limit } => Explanation::new(
             format!(
                 "{} is {} mm tall, but the binder allows beads up to {} mm",
                 name(*section),
                 show(*height),
                 show(*limit)
             ),
-            source(*section).profile,
+            Part::Profile(*section),
             "this cross-section",
             format!("lower the bead, or, for a special die, raise the blankholder's `max_bead_height` (now {} mm)", show(*limit)),
         )
-        .with_label(binder, "on this binder"),
-        Problem::RuleCount { section, expected, given } => feature_error(
-            KIND,
-            format!(
-                "{} has {given} rule points, but {} has {expected}",
-                name(*section),
-                name(0)
-            ),
-            source(*section).rules,
+        .also(Blame::Field("binder"), "on this binder"),
+        Problem::RuleCount { section, expected, given } => Explanation::new(
+            format!("{} has {given} rule points, but {} has {expected}", name(*section), name(0)),
+            Part::Rules(*section),
             format!("{given} rule points"),
             "rules tie the same feature of every key section together (a crest, a step): give each key section the same number, in the same order across",
         )
-        .with_label(source(0).rules, format!("{expected} here")),
-        Problem::RuleOutside { section, s, feet } => feature_error(
-            KIND,
+        .also(Part::Rules(0), format!("{expected} here")),
+        Problem::RuleOutside { section, s, feet } => Explanation::new(
             format!(
                 "the rule point {} mm of {} is not between its feet ({} mm, {} mm) in order",
                 show(*s),
@@ -513,92 +503,75 @@ fn problem_diag(
                 show(feet.0),
                 show(feet.1)
             ),
-            source(*section).rules,
+            Part::Rules(*section),
             "these rule points",
             "rule points are positions across the profile, strictly between its feet and increasing",
         ),
-        Problem::SectionOrder { section } => feature_error(
-            KIND,
+        Problem::SectionOrder { section } => Explanation::new(
             format!("{} is not on the bead after the one before it", name(*section)),
-            source(*section).at,
+            Part::At(*section),
             "this position",
             "key sections go in order along the centre line, from 0 % to 100 % of its length",
         ),
-        Problem::BoundariesCross { at } => feature_error(
-            KIND,
+        Problem::BoundariesCross { at } => Explanation::new(
             format!(
-                "the boundaries of the bead `{}` cross or run closer than 1 mm near ({:.1}, {:.1})",
-                block.name, at.x, at.y
+                "the boundaries of the bead `{bead}` cross or run closer than 1 mm near ({:.1}, {:.1})",
+                at.x, at.y
             ),
-            course,
+            Part::Course,
             "these boundaries",
             "the two boundaries are the bead's feet: draw them side by side, apart over the whole bead",
         ),
-        Problem::MissesBoundary { boundary, at } => feature_error(
-            KIND,
+        Problem::MissesBoundary { boundary, at } => Explanation::new(
             format!(
-                "the section across the bead `{}` near ({:.1}, {:.1}) does not meet boundary {}",
-                block.name,
+                "the section across the bead `{bead}` near ({:.1}, {:.1}) does not meet boundary {}",
                 at.x,
                 at.y,
                 boundary + 1
             ),
-            course,
+            Part::Course,
             "these boundaries",
             "the two boundaries must run side by side over the whole bead: draw them the same length, from the same end",
         ),
-        Problem::TaperTooLong { taper, length } => feature_error(
-            KIND,
+        Problem::TaperTooLong { taper, length } => Explanation::new(
             format!(
-                "the bead `{}` tapers over {} mm at both ends, more than half its {} mm",
-                block.name,
+                "the bead `{bead}` tapers over {} mm at both ends, more than half its {} mm",
                 show(*taper),
                 show(*length)
             ),
-            taper_span,
+            Blame::Field("taper"),
             "this taper",
             format!(
                 "the bead would never reach its full height: keep `taper` below {} mm, half the centre line",
                 show(length / 2.0)
             ),
         )
-        .with_label(course, "this centre line"),
+        .also(Part::Course, "this centre line"),
         Problem::BadLength(what) => {
-            let field = match *what {
-                "section spacing" => Some("spacing"),
-                "line-bead spacing" => Some("line_spacing"),
-                "taper length" => Some("taper"),
-                _ => None,
+            let (field, must, help) = match *what {
+                "taper length" => (Blame::Field("taper"), "a length of 0 mm or more", "the taper is the length over which the bead's height runs out at each end: `0 mm` for none, 20-50 mm is common"),
+                "section spacing" => (Blame::Field("spacing"), "a positive length", SPACING_HELP),
+                "line-bead spacing" => (Blame::Field("line_spacing"), "a positive length", SPACING_HELP),
+                _ => (Blame::Block, "a positive length", SPACING_HELP),
             };
-            let span = field
-                .and_then(|f| block.get(f))
-                .map_or(block.head(), |f| f.value.span);
-            let help = match field {
-                Some("taper") => "the taper is the length over which the bead's height runs out at each end: `0 mm` for none, 20-50 mm is common",
-                _ => "sections every 10 mm and line-bead points every 15 mm are common",
-            };
-            let must = if field == Some("taper") {
-                "a length of 0 mm or more"
-            } else {
-                "a positive length"
-            };
-            feature_error(
-                KIND,
+            Explanation::new(
                 format!("the bead's {what} must be {must}"),
-                span,
+                field,
                 "not a usable length",
                 help,
             )
         }
-        Problem::Kernel(e) => feature_error(
-            KIND,
-            format!("the bead `{}` cannot be built: {e}", block.name),
-            course,
+        Problem::Kernel(e) => Explanation::new(
+            format!("the bead `{bead}` cannot be built: {e}"),
+            Part::Course,
             "this bead",
             "check the centre line for a doubling back and the profile for degenerate input",
         ),
     }
 }
+
+/// The help for a spacing that is not a usable length.
+const SPACING_HELP: &str = "sections every 10 mm and line-bead points every 15 mm are common";
 
 /// The feature record: `surface`, `centre` (on the binder), one `section NAME` per key
 /// section (`start` and `end` for the bead's own profile at its ends), `rules`,

@@ -32,10 +32,11 @@ use crate::syntax::Span;
 use super::super::builtins::{as_point2, as_point3, type_error};
 use super::super::summary::patches_extent;
 use super::super::value::{Data, Record, Value};
+use super::explain::{diagnostic, Explanation};
 use super::kind::{FeatureKind, FieldNames};
 use super::{
-    angle, check_record, feature_error, feature_value, items, join_figures, length, number, record,
-    show, show_value, Block,
+    angle, check_record, feature_error, feature_value, items, join_figures, length, number,
+    ordinal, record, show, show_value, Block,
 };
 use crate::die::model::DieFace;
 use crate::geom::sew::{Face, Shape};
@@ -54,11 +55,9 @@ const SIDE_FIELDS: &[&str] = &[
 ];
 
 /// Where one side's values were written, for the kernel's diagnostics.
-struct SideBlame {
+struct SideSpans {
     /// The side's own block, or the blankholder's `width` (its head) when it has none.
     block: Span,
-    /// Whether the side has a block of its own.
-    own: bool,
     /// Per station: where its width was written.
     width: Vec<Span>,
     /// Per station: where its direction was written, if it was.
@@ -67,7 +66,7 @@ struct SideBlame {
     end_tangent: Option<Span>,
 }
 
-impl SideBlame {
+impl SideSpans {
     /// What places the outer point of station `i`: its direction if given, else its width.
     fn station(&self, i: usize) -> Span {
         self.direction
@@ -88,8 +87,8 @@ impl SideBlame {
 }
 
 /// Where each piece's values were written.
-enum Blame {
-    Side(SideBlame),
+enum PieceSpans {
+    Side(SideSpans),
     /// A corner's own field, or `corners`, or the block's head.
     Corner(Span),
 }
@@ -219,7 +218,7 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
     }
 
     let mut spec = Vec::with_capacity(opening.pieces.len());
-    let mut blame = Vec::with_capacity(opening.pieces.len());
+    let mut written = Vec::with_capacity(opening.pieces.len());
     for piece in &opening.pieces {
         match piece.kind {
             PieceKind::Side => {
@@ -229,7 +228,7 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
                     .map(|(_, f)| *f);
                 let (side, b) = side_spec(block, own, default_width, default_angle, &piece.name)?;
                 spec.push(PieceSpec::Side(side));
-                blame.push(Blame::Side(b));
+                written.push(PieceSpans::Side(b));
             }
             PieceKind::Corner => {
                 let own = corner_fields
@@ -261,12 +260,14 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
                     ),
                 };
                 spec.push(PieceSpec::Corner { tautness: t });
-                blame.push(Blame::Corner(span));
+                written.push(PieceSpans::Corner(span));
             }
         }
     }
-    let mut binder =
-        bh::build(&opening, &spec).map_err(|e| build_error(block, &opening, &spec, &blame, e))?;
+    let mut binder = bh::build(&opening, &spec).map_err(|e| {
+        let explanation = explain(block, &opening, &spec, &e);
+        diagnostic(KIND, block, explanation, |p| resolve(&written, p))
+    })?;
     if let Some(f) = block.get("max_bead_height") {
         let limit = length(&f.value, units, "`max_bead_height`")?;
         if !(limit.is_finite() && limit > 0.0) {
@@ -360,18 +361,6 @@ fn check_angle(a: f64, span: Span, what: &str) -> Result<(), Diagnostic> {
     ))
 }
 
-/// `1st`, `2nd`, `3rd`, `4th`, ...
-fn ordinal(n: usize) -> String {
-    let suffix = match (n % 10, n % 100) {
-        (_, 11..=13) => "th",
-        (1, _) => "st",
-        (2, _) => "nd",
-        (3, _) => "rd",
-        _ => "th",
-    };
-    format!("{n}{suffix}")
-}
-
 /// A top-view direction in words: `(0, -1)`.
 fn show2(v: DVec2) -> String {
     format!("({}, {})", show(v.x), show(v.y))
@@ -385,7 +374,7 @@ fn side_spec(
     default_width: Option<(f64, Span)>,
     default_angle: f64,
     name: &str,
-) -> Result<(SideSpec, SideBlame), Diagnostic> {
+) -> Result<(SideSpec, SideSpans), Diagnostic> {
     let units = block.units;
     let empty = Record::default();
     let default_span = default_width.map_or(block.head(), |(_, s)| s);
@@ -549,9 +538,8 @@ fn side_spec(
             start_tangent: start_tangent.map(|(t, _)| t),
             end_tangent: end_tangent.map(|(t, _)| t),
         },
-        SideBlame {
+        SideSpans {
             block: span,
-            own: own.is_some(),
             width: width_spans,
             direction: direction_spans,
             start_tangent: start_tangent.map(|(_, s)| s),
@@ -636,70 +624,104 @@ fn outward_at(opening: &PunchOpening, k: usize, at: f64) -> Option<DVec2> {
     Some(opening.outward(d))
 }
 
-fn build_error(
+/// The parts of a blankholder block a problem is blamed on, by piece index.
+enum Part {
+    /// A piece's values: a side's block (the blankholder's `width` when it has none), a
+    /// corner's tautness.
+    Piece(usize),
+    /// What places the outer point of a side's first or last station.
+    End { side: usize, last: bool },
+    /// The `direction` of one station of a side.
+    Direction { side: usize, station: usize },
+    /// Every `direction` of a side, when it gives any.
+    Directions(usize),
+    /// A side's `start_tangent` or `end_tangent`.
+    Tangent { side: usize, end: bool },
+}
+
+/// Where the part of the block `part` was written.
+fn resolve(written: &[PieceSpans], part: &Part) -> Option<Span> {
+    let side = |k: usize| match written.get(k) {
+        Some(PieceSpans::Side(b)) => Some(b),
+        _ => None,
+    };
+    match *part {
+        Part::Piece(k) => match written.get(k)? {
+            PieceSpans::Side(b) => Some(b.block),
+            PieceSpans::Corner(s) => Some(*s),
+        },
+        Part::End { side: k, last } => side(k).map(|b| if last { b.last() } else { b.first() }),
+        Part::Direction { side: k, station } => side(k)?.direction.get(station).copied().flatten(),
+        Part::Directions(k) => {
+            let mut spans = side(k)?.direction.iter().flatten().copied();
+            let first = spans.next()?;
+            Some(spans.fold(first, |all, s| all.to(s)))
+        }
+        Part::Tangent { side: k, end } => {
+            let b = side(k)?;
+            if end {
+                b.end_tangent
+            } else {
+                b.start_tangent
+            }
+        }
+    }
+}
+
+/// What the designer reads about the kernel's error `e` in the blankholder of `block`
+/// around `opening`, built from `spec`.
+fn explain(
     block: &Block,
     opening: &PunchOpening,
     spec: &[PieceSpec],
-    blame: &[Blame],
-    e: bh::Error,
-) -> Diagnostic {
+    e: &bh::Error,
+) -> Explanation<Part> {
     let n = opening.pieces.len().max(1);
+    let k = e.piece;
     let name_of = |k: usize| opening.pieces.get(k).map_or("?", |p| p.name.as_str());
-    let name = name_of(e.piece);
-    let (before, after) = ((e.piece + n - 1) % n, (e.piece + 1) % n);
-    let side_blame = |k: usize| match blame.get(k) {
-        Some(Blame::Side(b)) => Some(b),
-        _ => None,
-    };
+    let name = name_of(k);
+    let (before, after) = ((k + n - 1) % n, (k + 1) % n);
     let side_of = |k: usize| match spec.get(k) {
         Some(PieceSpec::Side(s)) => Some(s),
         _ => None,
     };
-    let span = match blame.get(e.piece) {
-        Some(Blame::Side(b)) => b.block,
-        Some(Blame::Corner(s)) => *s,
-        None => block.head(),
+    // A side the designer set apart with a block of its own.
+    let own = |k: usize| {
+        side_of(k).is_some() && block.named("side").iter().any(|(s, _)| *s == name_of(k))
     };
-    let what = match opening.pieces.get(e.piece).map(|p| p.kind) {
-        Some(PieceKind::Corner) => "corner",
-        _ => "side",
-    };
+    let corner = opening.pieces.get(k).map(|p| p.kind) == Some(PieceKind::Corner);
+    let what = if corner { "corner" } else { "side" };
+    let (prev, next) = (name_of(before), name_of(after));
     match &e.problem {
         bh::Problem::Direction => {
             // Find the station the kernel refused, to point at its direction.
-            let found = side_of(e.piece).and_then(|s| {
+            let found = side_of(k).and_then(|s| {
                 s.stations.iter().enumerate().find_map(|(i, st)| {
                     let dir = st.direction?;
-                    let out = outward_at(opening, e.piece, st.at)?;
+                    let out = outward_at(opening, k, st.at)?;
                     let u = dir.normalize_or_zero();
                     (u == DVec2::ZERO || u.dot(out) <= 0.0).then_some((i, st.at, dir, out))
                 })
             });
             match found {
-                Some((i, at, dir, out)) => {
-                    let at_span = side_blame(e.piece)
-                        .and_then(|b| b.direction.get(i).copied().flatten())
-                        .unwrap_or(span);
-                    feature_error(
-                        KIND,
-                        format!(
-                            "the `direction` {} of `side {name}` points into the punch opening at its {} station ({} % along the side)",
-                            show2(dir),
-                            ordinal(i + 1),
-                            show(at * 100.0)
-                        ),
-                        at_span,
-                        "into the opening",
-                        format!(
-                            "a station's direction points from the punch opening out to the binder's outer edge; out of the opening there is {}, and any direction less than 90 deg from it will do",
-                            show2(DVec2::new((out.x * 100.0).round() / 100.0, (out.y * 100.0).round() / 100.0))
-                        ),
-                    )
-                }
-                None => feature_error(
-                    KIND,
+                Some((i, at, dir, out)) => Explanation::new(
+                    format!(
+                        "the `direction` {} of `side {name}` points into the punch opening at its {} station ({} % along the side)",
+                        show2(dir),
+                        ordinal(i + 1),
+                        show(at * 100.0)
+                    ),
+                    Part::Direction { side: k, station: i },
+                    "into the opening",
+                    format!(
+                        "a station's direction points from the punch opening out to the binder's outer edge; out of the opening there is {}, and any direction less than 90 deg from it will do",
+                        show2(DVec2::new((out.x * 100.0).round() / 100.0, (out.y * 100.0).round() / 100.0))
+                    ),
+                )
+                .or(Part::Piece(k)),
+                None => Explanation::new(
                     format!("a station `direction` of `side {name}` does not point out of the punch opening"),
-                    span,
+                    Part::Piece(k),
                     format!("the side `{name}`"),
                     "a station's direction points from the punch opening out to the binder's outer edge",
                 ),
@@ -707,203 +729,156 @@ fn build_error(
         }
         bh::Problem::CrossesOpening { at } => {
             let near = format!("({:.1}, {:.1})", at.x, at.y);
-            if what == "corner" {
-                let (prev, next) = (name_of(before), name_of(after));
+            if corner {
                 return corner_ends(
-                    blame,
+                    spec,
+                    k,
                     (before, prev),
                     (after, next),
-                    span,
                     format!("the binder's outer edge at the corner `{name}` crosses into the punch opening near {near}"),
                     format!("a corner's outer edge runs from the outer end of `{prev}` to the outer start of `{next}`, shaped like the opening's corner: place those two ends (their `direction` and `width`) so that the edge between them stays outside the opening"),
                 );
             }
-            let own = side_blame(e.piece)
-                .is_some_and(|b| !block.get("width").is_some_and(|f| f.value.span == b.block));
-            let label = if own {
+            let label = if own(k) {
                 format!("the binder of `{name}`")
             } else {
                 format!("this width puts the outer edge of `{name}` inside the opening")
             };
-            feature_error(
-                KIND,
+            Explanation::new(
                 format!("the binder's outer edge along the side `{name}` crosses into the punch opening near {near}"),
-                span,
+                Part::Piece(k),
                 label,
                 format!("the outer edge must stay outside the opening in the top view: where the opening curves in, as at a notch, the binder must be narrower than the gap across it; make the binder narrower here with `side {name} {{ width = ... }}`, or turn its `direction` away from the opening"),
             )
         }
         bh::Problem::Kernel(GeomError::Singular { what: why }) if why.contains("fold") => {
-            if what == "corner" {
-                let (prev, next) = (name_of(before), name_of(after));
+            if corner {
                 return corner_ends(
-                    blame,
+                    spec,
+                    k,
                     (before, prev),
                     (after, next),
-                    span,
                     format!("the binder at the corner `{name}` folds over itself: its outer edge runs back against the punch opening"),
                     format!("a corner's outer edge runs from the outer end of `{prev}` to the outer start of `{next}`, turning the same way as the opening's corner: place those two ends (their `direction` and `width`) so that it can, or make the binder narrower or the punch-opening corner fuller here"),
                 );
             }
             // Point at what steers the outer edge: directions, then end tangents.
-            let (primary, label) = match side_blame(e.piece) {
-                Some(b) => match (
-                    own_directions(side_of(e.piece), b),
-                    b.start_tangent.or(b.end_tangent),
-                ) {
-                    (Some(s), _) => (s, "these directions turn the outer edge back".to_string()),
-                    (None, Some(s)) => {
-                        (s, "this end tangent turns the outer edge back".to_string())
-                    }
-                    (None, None) => (b.block, format!("the binder of `{name}`")),
-                },
-                None => (span, format!("the binder of `{name}`")),
-            };
-            feature_error(
-                KIND,
+            Explanation::new(
                 format!("the binder along the side `{name}` folds over itself: its outer edge runs back against the punch opening"),
-                primary,
-                label,
+                Part::Directions(k),
+                "these directions turn the outer edge back",
                 "the outer edge must run along the side the same way as the opening: point each station's `direction` squarely out of the opening rather than along it, keep end tangents along the side, and avoid large changes of width between close stations",
             )
+            .or_labelled(Part::Tangent { side: k, end: false }, "this end tangent turns the outer edge back")
+            .or(Part::Tangent { side: k, end: true })
+            .or_labelled(Part::Piece(k), format!("the binder of `{name}`"))
         }
         bh::Problem::OuterEndsDisagree { gap } => {
-            let prev = name_of(before);
-            let start = side_blame(e.piece).map_or(span, SideBlame::first);
-            let end = side_blame(before).map(SideBlame::last);
-            let start_label = format!("places the outer start of `{name}`");
-            let end_label = format!("places the outer end of `{prev}`");
+            let [end, start] = outer_ends((before, prev), (k, name));
+            let message = format!("the sides `{prev}` and `{name}` meet without a corner, but their binder outer edges end {gap:.1} mm apart there");
+            let help = format!("sides that meet without a corner share their end station: give `{prev}` and `{name}` the same `width`, `angle` and `direction` where they meet");
             // Blame the side the designer set apart with a block of its own.
-            let before_own = side_blame(before).is_some_and(|b| b.own);
-            let this_own = side_blame(e.piece).is_some_and(|b| b.own);
-            let (primary, label, other) = match end {
-                Some(end) if before_own && !this_own => {
-                    (end, end_label, Some((start, start_label)))
-                }
-                _ => (start, start_label, end.map(|s| (s, end_label))),
-            };
-            let d = feature_error(
-                KIND,
-                format!("the sides `{prev}` and `{name}` meet without a corner, but their binder outer edges end {gap:.1} mm apart there"),
-                primary,
-                label,
-                format!("sides that meet without a corner share their end station: give `{prev}` and `{name}` the same `width`, `angle` and `direction` where they meet"),
-            );
-            match other {
-                Some((s, m)) if s != primary => d.with_label(s, m),
-                _ => d,
+            if own(before) && !own(k) {
+                Explanation::new(message, end.0, end.1, help).also(start.0, start.1)
+            } else {
+                Explanation::new(message, start.0, start.1, help)
+                    .or(Part::Piece(k))
+                    .also(end.0, end.1)
             }
         }
         bh::Problem::TangentAtSideJoin => {
             // The kernel refuses the end tangent of the side before a join first.
-            let this = side_of(e.piece);
+            let this = side_of(k);
             let end_case =
                 side_of(after).is_some() && this.is_some_and(|s| s.end_tangent.is_some());
             let start_case =
                 side_of(before).is_some() && this.is_some_and(|s| s.start_tangent.is_some());
             // The kernel checks each join in order, the one before piece 0 last.
-            let end = end_case && (!start_case || e.piece == 0);
-            let (key, other, tangent_span) = if end {
-                (
-                    "end_tangent",
-                    name_of(after),
-                    side_blame(e.piece).and_then(|b| b.end_tangent),
-                )
+            let end = end_case && (!start_case || k == 0);
+            let (key, other) = if end {
+                ("end_tangent", next)
             } else {
-                (
-                    "start_tangent",
-                    name_of(before),
-                    side_blame(e.piece).and_then(|b| b.start_tangent),
-                )
+                ("start_tangent", prev)
             };
-            feature_error(
-                KIND,
+            Explanation::new(
                 format!("`{key}` of `side {name}` is given where `{name}` meets `{other}` without a corner"),
-                tangent_span.unwrap_or(span),
+                Part::Tangent { side: k, end },
                 "not allowed where two sides meet",
                 format!("remove `{key}`: where two sides meet without a corner the binder's outer edge runs on smoothly from one to the other, with the tangent the opening gives it (eq. 4); end tangents are for ends at a corner"),
             )
+            .or(Part::Piece(k))
         }
-        problem => {
-            let help = match problem {
+        problem => Explanation::new(
+            format!(
+                "the blankholder {what} `{name}` cannot be built: {problem} (in `{}`)",
+                block.name
+            ),
+            Part::Piece(k),
+            format!("the {what} `{name}`"),
+            match problem {
                 bh::Problem::Stations => "stations run from 0 to 1 and increase",
                 bh::Problem::Width(_) => "give a positive width",
                 bh::Problem::Tautness(_) => "tautness lies between 0 and 1",
                 bh::Problem::Mismatch => "this is a bug in dieface: please report it",
                 _ => "check this piece's widths, angles and tangents for degenerate input",
-            };
-            feature_error(
-                KIND,
-                format!(
-                    "the blankholder {what} `{name}` cannot be built: {problem} (in `{}`)",
-                    block.name
-                ),
-                span,
-                format!("the {what} `{name}`"),
-                help,
-            )
-        }
+            },
+        ),
     }
 }
 
-/// The span of a side's `direction` value, when the designer gave directions.
-fn own_directions(side: Option<&SideSpec>, b: &SideBlame) -> Option<Span> {
-    side?
-        .stations
-        .iter()
-        .any(|st| st.direction.is_some())
-        .then_some(())?;
-    let spans: Vec<Span> = b.direction.iter().flatten().copied().collect();
-    let first = *spans.first()?;
-    Some(spans.iter().fold(first, |all, s| all.to(*s)))
-}
-
-/// A corner's problem blamed on the outer ends of its sides, `(index, name)` before and
-/// after it: the end whose direction the designer set, else the end before.
+/// A corner's problem (the corner is piece `k`) blamed on the outer ends of its sides,
+/// `(index, name)` before and after it: the end whose direction the designer set, else
+/// the end before.
 fn corner_ends(
-    blame: &[Blame],
+    spec: &[PieceSpec],
+    k: usize,
     (before, prev): (usize, &str),
     (after, next): (usize, &str),
-    fallback: Span,
     message: String,
     help: String,
-) -> Diagnostic {
-    let side = |k: usize| match blame.get(k) {
-        Some(Blame::Side(b)) => Some(b),
-        _ => None,
-    };
-    let steered = |k: usize, last: bool| {
-        side(k).is_some_and(|s| {
+) -> Explanation<Part> {
+    let steered = |k: usize, last: bool| match spec.get(k) {
+        Some(PieceSpec::Side(s)) => {
             let i = if last {
-                s.width.len().saturating_sub(1)
+                s.stations.len().saturating_sub(1)
             } else {
                 0
             };
-            s.direction.get(i).copied().flatten().is_some()
-        })
+            s.stations.get(i).is_some_and(|st| st.direction.is_some())
+        }
+        _ => false,
     };
-    let end = side(before).map(SideBlame::last);
-    let start = side(after).map(SideBlame::first);
-    let end_label = format!("places the outer end of `{prev}`");
-    let start_label = format!("places the outer start of `{next}`");
-    let (primary, label, other) = if steered(before, true) || !steered(after, false) {
-        (
-            end.unwrap_or(fallback),
-            end_label,
-            start.map(|s| (s, start_label)),
-        )
+    let [end, start] = outer_ends((before, prev), (after, next));
+    let (primary, other) = if steered(before, true) || !steered(after, false) {
+        (end, start)
     } else {
-        (
-            start.unwrap_or(fallback),
-            start_label,
-            end.map(|s| (s, end_label)),
-        )
+        (start, end)
     };
-    let d = feature_error(KIND, message, primary, label, help);
-    match other {
-        Some((s, m)) if s != primary => d.with_label(s, m),
-        _ => d,
-    }
+    Explanation::new(message, primary.0, primary.1, help)
+        .or(Part::Piece(k))
+        .also(other.0, other.1)
+}
+
+/// The outer end of side `a` and the outer start of side `b` (`(index, name)` each),
+/// with their labels: where two sides' outer edges meet, with a corner between them or
+/// without one.
+fn outer_ends((a, a_name): (usize, &str), (b, b_name): (usize, &str)) -> [(Part, String); 2] {
+    [
+        (
+            Part::End {
+                side: a,
+                last: true,
+            },
+            format!("places the outer end of `{a_name}`"),
+        ),
+        (
+            Part::End {
+                side: b,
+                last: false,
+            },
+            format!("places the outer start of `{b_name}`"),
+        ),
+    ]
 }
 
 /// The feature record: one surface per patch and `quality`.

@@ -13,10 +13,12 @@
 mod bead;
 mod blankholder;
 mod die_checks;
+pub mod explain;
 pub mod kind;
 mod punch_opening;
 mod step_draw;
 
+pub use explain::{Blame, Explanation};
 pub use kind::{Built, FeatureKind, FieldNames, Registry};
 
 use std::sync::Arc;
@@ -265,6 +267,18 @@ fn check_record(r: &Record, at: Span, what: &str, allowed: &[&str]) -> Result<()
         });
     }
     Ok(())
+}
+
+/// `1st`, `2nd`, `3rd`, `4th`, ...
+fn ordinal(n: usize) -> String {
+    let suffix = match (n % 10, n % 100) {
+        (_, 11..=13) => "th",
+        (1, _) => "st",
+        (2, _) => "nd",
+        (3, _) => "rd",
+        _ => "th",
+    };
+    format!("{n}{suffix}")
 }
 
 /// A number as a designer reads it: at most six decimals, no trailing zeros.

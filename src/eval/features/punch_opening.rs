@@ -34,10 +34,11 @@ use crate::syntax::Span;
 use super::super::sketch::{Sketch, View};
 use super::super::summary::{bbox, bounds, round, sampled_curve};
 use super::super::value::{Data, Dim, Record, Value};
+use super::explain::{diagnostic, Blame, Explanation};
 use super::kind::{FeatureKind, FieldNames};
 use super::{
-    check_record, count, deg, feature_error, feature_value, length, mm, record, record_value, show,
-    show_value, Block,
+    check_record, count, deg, feature_error, feature_value, length, mm, ordinal, record,
+    record_value, show, show_value, Block,
 };
 
 /// The finest tolerance `delta` (mm): finer ones multiply the points of every side and
@@ -314,8 +315,11 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
         delta,
         max_step,
     };
-    let opening =
-        po::build_with(&spec, &block.pieces).map_err(|e| build_error(block, &spec, &sources, e))?;
+    let opening = po::build_with(&spec, &block.pieces).map_err(|e| {
+        diagnostic(KIND, block, explain(block.name, &spec, &e), |p| {
+            resolve(&sources, p)
+        })
+    })?;
     Ok(output(block, opening))
 }
 
@@ -477,18 +481,6 @@ fn magnitude(
     Ok(m)
 }
 
-/// `1st`, `2nd`, `3rd`, `4th`, ...
-fn ordinal(n: usize) -> String {
-    let suffix = match (n % 10, n % 100) {
-        (_, 11..=13) => "th",
-        (1, _) => "st",
-        (2, _) => "nd",
-        (3, _) => "rd",
-        _ => "th",
-    };
-    format!("{n}{suffix}")
-}
-
 fn side_count_error(
     top: &Sketch,
     top_value: &Value,
@@ -585,28 +577,48 @@ fn runs(chord: DVec2) -> (String, &'static str) {
     }
 }
 
-fn build_error(
-    block: &Block,
-    spec: &PunchOpeningSpec,
-    sources: &[PieceSource],
-    e: po::Error,
-) -> Diagnostic {
+/// The parts of a punch-opening block a problem is blamed on, by piece index.
+enum Part {
+    /// The piece's segment of the top view.
+    Segment(usize),
+    /// The piece's own field (a side's view, a corner's tangent), else its segment.
+    Field(usize),
+    /// The drawn end of a side's view at the low or the high end of its axis.
+    ViewEnd { piece: usize, high: bool },
+}
+
+/// Where the part of the block `part` was written.
+fn resolve(sources: &[PieceSource], part: &Part) -> Option<Span> {
+    match *part {
+        Part::Segment(k) => sources.get(k).map(|s| s.segment),
+        Part::Field(k) => sources.get(k).map(|s| s.field.unwrap_or(s.segment)),
+        Part::ViewEnd { piece, high } => {
+            let ends = sources.get(piece)?.view_ends?;
+            let (lo, hi) = if ends.start <= ends.end {
+                (ends.first, ends.last)
+            } else {
+                (ends.last, ends.first)
+            };
+            Some(if high { hi } else { lo })
+        }
+    }
+}
+
+/// What the designer reads about the kernel's error `e` in the punch opening `name`,
+/// built from `spec`.
+fn explain(name_of_block: &str, spec: &PunchOpeningSpec, e: &po::Error) -> Explanation<Part> {
     let names = po::piece_names(spec);
     let n = names.len().max(1);
-    let name = names.get(e.piece).copied().unwrap_or("?");
-    let before = (e.piece + n - 1) % n;
+    let k = e.piece;
+    let name = names.get(k).copied().unwrap_or("?");
+    let before = (k + n - 1) % n;
     let prev = names.get(before).copied().unwrap_or("?");
-    let source = sources.get(e.piece);
-    let segment = source.map_or(block.head(), |s| s.segment);
-    let field = source.and_then(|s| s.field).unwrap_or(segment);
-    let side = match spec.pieces.get(e.piece) {
+    let side = match spec.pieces.get(k) {
         Some(PieceSpec::Side(s)) => Some(s),
         _ => None,
     };
     let what = if side.is_some() { "side" } else { "corner" };
-    // Secondary labels, in order; any on the primary span are dropped.
-    let mut extra: Vec<(Span, String)> = Vec::new();
-    let d = match &e.problem {
+    match &e.problem {
         po::Problem::Kernel(GeomError::ViewsDoNotOverlap { top, side: drawn }) => {
             let (t0, t1) = (top.0.min(top.1), top.0.max(top.1));
             let (v0, v1) = (drawn.0.min(drawn.1), drawn.0.max(drawn.1));
@@ -624,153 +636,102 @@ fn build_error(
                     format!("{v1:.1}"),
                 ),
             };
-            if let Some(ends) = source.and_then(|s| s.view_ends) {
-                let (lo, hi) = if ends.start <= ends.end {
-                    (ends.first, ends.last)
-                } else {
-                    (ends.last, ends.first)
-                };
-                let tol = 1e-6 * (1.0 + t0.abs().max(t1.abs()));
-                if v1 < t1 - tol {
-                    extra.push((hi, format!("the view ends at {at_hi}")));
-                }
-                if v0 > t0 + tol {
-                    extra.push((lo, format!("the view starts at {at_lo}")));
-                }
-            }
-            extra.push((segment, format!("the side `{name}` runs from {range_top}")));
-            feature_error(
-                KIND,
+            let mut x = Explanation::new(
                 format!("the side view of `{name}` does not reach past both ends of the side: the side runs from {range_top}, its view only from {range_view}"),
-                field,
+                Part::Field(k),
                 "this side view is too short",
                 "extend the side view past both ends of the side: the side's height is read from it at every point of the side (drawing it as long as the whole edge of the opening is enough)",
-            )
+            );
+            let tol = 1e-6 * (1.0 + t0.abs().max(t1.abs()));
+            if v1 < t1 - tol {
+                x = x.also(Part::ViewEnd { piece: k, high: true }, format!("the view ends at {at_hi}"));
+            }
+            if v0 > t0 + tol {
+                x = x.also(Part::ViewEnd { piece: k, high: false }, format!("the view starts at {at_lo}"));
+            }
+            x.also(Part::Segment(k), format!("the side `{name}` runs from {range_top}"))
         }
         po::Problem::Kernel(GeomError::Singular { what: why }) if why.contains("top view") => {
-            let chord = side.map(|s| s.top.end_point() - s.top.start_point());
-            let across = match (side, chord) {
-                (Some(s), Some(c)) => c.dot(s.view.axis).abs() < c.dot(s.view.axis.perp()).abs(),
-                _ => false,
-            };
-            match (side, chord) {
-                (Some(s), Some(c)) if across => {
+            let across = side.and_then(|s| {
+                let c = s.top.end_point() - s.top.start_point();
+                (c.dot(s.view.axis).abs() < c.dot(s.view.axis.perp()).abs()).then_some((s, c))
+            });
+            match across {
+                Some((s, c)) => {
                     let (way, fix) = runs(c);
                     let drawn = view_words(&s.view);
-                    extra.push((segment, format!("`{name}` runs {way} in the top view")));
-                    feature_error(
-                        KIND,
+                    Explanation::new(
                         format!("the side `{name}` runs {way} in the top view, but its side view is drawn in {drawn}"),
-                        field,
+                        Part::Field(k),
                         format!("drawn in {drawn}"),
                         format!("the side's height is read from its side view along the view's axis, so the side must advance along that axis: draw the binder wrap of `{name}` in {fix}"),
                     )
+                    .also(Part::Segment(k), format!("`{name}` runs {way} in the top view"))
                 }
-                _ => {
-                    extra.push((field, format!("the side view of `{name}`")));
-                    feature_error(
-                        KIND,
-                        format!("the side `{name}` cannot be built from its views: {why}"),
-                        segment,
-                        "this top-view side",
-                        "a side must advance steadily along its side view's axis: draw sides running along X in `side_xz`, sides along Y in `side_yz`, slanted ones in `section(a, b)` along them, and split a side that turns back with a fillet",
-                    )
-                }
+                None => Explanation::new(
+                    format!("the side `{name}` cannot be built from its views: {why}"),
+                    Part::Segment(k),
+                    "this top-view side",
+                    "a side must advance steadily along its side view's axis: draw sides running along X in `side_xz`, sides along Y in `side_yz`, slanted ones in `section(a, b)` along them, and split a side that turns back with a fillet",
+                )
+                .also(Part::Field(k), format!("the side view of `{name}`")),
             }
         }
-        po::Problem::Kernel(GeomError::Singular { what: why }) => {
-            extra.push((segment, format!("the side `{name}` in the top view")));
-            feature_error(
-                KIND,
-                format!("the side `{name}` cannot be built from its views: {why}"),
-                field,
-                "this side view",
-                "the side view must be a graph over its axis: one height per position, never turning back or standing vertical",
-            )
-        }
-        po::Problem::Kernel(GeomError::NotPositive { what: w, value })
-            if w.contains("magnitude") =>
-        {
-            extra.push((segment, format!("the corner `{name}` in the top view")));
-            feature_error(
-                KIND,
+        po::Problem::Kernel(GeomError::Singular { what: why }) => Explanation::new(
+            format!("the side `{name}` cannot be built from its views: {why}"),
+            Part::Field(k),
+            "this side view",
+            "the side view must be a graph over its axis: one height per position, never turning back or standing vertical",
+        )
+        .also(Part::Segment(k), format!("the side `{name}` in the top view")),
+        po::Problem::Kernel(GeomError::NotPositive { what: w, value }) if w.contains("magnitude") => {
+            Explanation::new(
                 format!("the tangent magnitude of the corner `{name}` must be positive, but it comes to {} mm", show(*value)),
-                field,
+                Part::Field(k),
                 "this magnitude",
                 "give a positive length such as `120 mm` or a ratio such as `100 %`",
             )
+            .also(Part::Segment(k), format!("the corner `{name}` in the top view"))
         }
-        po::Problem::SharpJoin { angle_deg } => {
-            if let Some(s) = sources.get(before) {
-                extra.push((s.segment, format!("`{prev}` ends here")));
-            }
-            feature_error(
-                KIND,
-                format!("the sides `{prev}` and `{name}` meet at a {angle_deg:.2} deg kink in the top view, with no corner between them"),
-                segment,
-                format!("`{name}` starts at a kink"),
-                format!("put a `fillet R` between the two segments in the top view (it becomes a corner), or draw `{name}` on from `{prev}` without a kink (`tangent arc to ...`, `spline tangent through [...]`); sides may meet without a corner only where they turn by less than {} deg", po::MAX_SIDE_JOIN_ANGLE_DEG),
-            )
-        }
-        po::Problem::SidesDisagree { gap } => {
-            if let Some(f) = sources.get(before).and_then(|s| s.field) {
-                extra.push((f, format!("the side view of `{prev}`")));
-            }
-            extra.push((
-                segment,
-                format!("`{name}` starts where `{prev}` ends, without a corner"),
-            ));
-            feature_error(
-                KIND,
-                format!("the sides `{prev}` and `{name}` meet without a corner, but their side views put the shared point {gap:.3} mm apart"),
-                field,
-                format!("the side view of `{name}`"),
-                format!("make both side views give the same height where the sides meet (within delta = {} mm), or put a fillet between them in the top view", show(spec.delta)),
-            )
-        }
-        po::Problem::NoSides => feature_error(
-            KIND,
+        po::Problem::SharpJoin { angle_deg } => Explanation::new(
+            format!("the sides `{prev}` and `{name}` meet at a {angle_deg:.2} deg kink in the top view, with no corner between them"),
+            Part::Segment(k),
+            format!("`{name}` starts at a kink"),
+            format!("put a `fillet R` between the two segments in the top view (it becomes a corner), or draw `{name}` on from `{prev}` without a kink (`tangent arc to ...`, `spline tangent through [...]`); sides may meet without a corner only where they turn by less than {} deg", po::MAX_SIDE_JOIN_ANGLE_DEG),
+        )
+        .also(Part::Segment(before), format!("`{prev}` ends here")),
+        po::Problem::SidesDisagree { gap } => Explanation::new(
+            format!("the sides `{prev}` and `{name}` meet without a corner, but their side views put the shared point {gap:.3} mm apart"),
+            Part::Field(k),
+            format!("the side view of `{name}`"),
+            format!("make both side views give the same height where the sides meet (within delta = {} mm), or put a fillet between them in the top view", show(spec.delta)),
+        )
+        .also(Part::Field(before), format!("the side view of `{prev}`"))
+        .also(Part::Segment(k), format!("`{name}` starts where `{prev}` ends, without a corner")),
+        po::Problem::NoSides => Explanation::new(
             "the top view has no side: every segment is a fillet",
-            block.head(),
+            Blame::Block,
             "this punch opening",
             "draw the sides as lines or splines, joined by `fillet R`",
         ),
-        po::Problem::CornerAfterCorner => feature_error(
-            KIND,
+        po::Problem::CornerAfterCorner => Explanation::new(
             format!("the corner `{name}` follows another corner"),
-            segment,
+            Part::Segment(k),
             "two fillets in a row",
             "put a side between the two fillets",
         ),
-        po::Problem::Kernel(err) => {
-            let help = if side.is_some() {
+        po::Problem::Kernel(err) => Explanation::new(
+            format!("the {what} `{name}` of `{name_of_block}` cannot be built: {err}"),
+            Part::Field(k),
+            format!("this {what}"),
+            if side.is_some() {
                 "check this side's top view and side view for degenerate input (zero-length or self-overlapping segments)"
             } else {
                 "a tangent magnitude far from the corner's size makes it loop or collapse: try a ratio near `100 %`"
-            };
-            extra.push((segment, format!("the {what} `{name}` in the top view")));
-            feature_error(
-                KIND,
-                format!(
-                    "the {what} `{name}` of `{}` cannot be built: {err}",
-                    block.name
-                ),
-                field,
-                format!("this {what}"),
-                help,
-            )
-        }
-    };
-    let primary = d.primary.span;
-    let mut seen = vec![primary];
-    extra.into_iter().fold(d, |d, (span, message)| {
-        if seen.contains(&span) {
-            d
-        } else {
-            seen.push(span);
-            d.with_label(span, message)
-        }
-    })
+            },
+        )
+        .also(Part::Segment(k), format!("the {what} `{name}` in the top view")),
+    }
 }
 
 /// The feature record: one 3-D curve per piece, the closed `line`, and `quality`.

@@ -26,13 +26,14 @@ use glam::DVec2;
 
 use crate::diag::Diagnostic;
 use crate::die::step_draw::{self as sd, Guides, Options, Problem, SectionEnds, SectionSpec};
-use crate::geom::{Curve2, Curve3, GeomError};
+use crate::geom::{Curve2, Curve3};
 use crate::syntax::Span;
 
 use super::super::builtins::{as_point2, type_error};
 use super::super::sketch::{Sketch, View};
 use super::super::summary::patches_extent;
 use super::super::value::{Data, Record, Value};
+use super::explain::{diagnostic, Blame, Explanation};
 use super::kind::{FeatureKind, FieldNames};
 use super::{check_record, feature_error, feature_value, join_figures, mm, record, show, Block};
 use crate::die::model::DieFace;
@@ -106,7 +107,7 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
         None => both_closed,
     };
     if product.degree() != 3 || product.is_rational() {
-        return Err(not_cubic(&product, product_field.value.span));
+        return Err(diagnostic(KIND, block, not_cubic(&product), |_| None));
     }
     let binder = match block.get("binder") {
         Some(f) => binder_patches(&f.value)?,
@@ -150,7 +151,8 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
         }
         let ends = sd::section_ends(&guides, a, b).map_err(|p| match p {
             Problem::MissesGuide { product } => {
-                misses_guide(&guides, product, name, at_value.span, a, b)
+                let x = misses_guide(&guides, product, name, sources.len(), a, b);
+                diagnostic(KIND, block, x, |_| Some(at_value.span))
             }
             p => feature_error(
                 KIND,
@@ -367,17 +369,16 @@ fn not_closed(product: &Curve3, opening: &Curve3, span: Span) -> Diagnostic {
 }
 
 /// A product outline that is not a non-rational cubic.
-fn not_cubic(product: &Curve3, span: Span) -> Diagnostic {
+fn not_cubic(product: &Curve3) -> Explanation<Part> {
     let what = match (product.degree(), product.is_rational()) {
         (1, _) => "a polyline (degree 1)".to_string(),
         (2, true) => "a curve of exact arcs (degree 2, rational)".to_string(),
         (d, true) => format!("a rational curve of degree {d}"),
         (d, false) => format!("a curve of degree {d}"),
     };
-    feature_error(
-        KIND,
+    Explanation::new(
         format!("the product outline must be a cubic B-spline (degree 3, not rational), but this is {what}"),
-        span,
+        Blame::Field("product"),
         "this outline",
         "the step draw's product edge takes the outline's own control points, so it must be a cubic: project the trim line onto the product with `project(trim, panel)`, or fit a cubic through points of it with `interpolate(points)` (degree 3 by default)",
     )
@@ -511,15 +512,15 @@ fn function_returns(out: &Value, function: &str, name: &str, span: Span) -> Diag
     )
 }
 
-/// The plane of section `name` misses a guide.
+/// The plane of section `name` (the `k`th, through `a` and `b`) misses a guide.
 fn misses_guide(
     guides: &Guides,
     product: bool,
     name: &str,
-    at: Span,
+    k: usize,
     a: DVec2,
     b: DVec2,
-) -> Diagnostic {
+) -> Explanation<Part> {
     let (curve, what) = if product {
         (&guides.product, "product outline")
     } else {
@@ -531,10 +532,9 @@ fn misses_guide(
     } else {
         " between the guides' ends"
     };
-    feature_error(
-        KIND,
+    Explanation::new(
         format!("the plane of section `{name}` does not cross the {what}"),
-        at,
+        Part::At(k),
         format!(
             "the vertical plane through {} and {} misses the {what}",
             p2(a),
@@ -576,6 +576,22 @@ fn p2(p: DVec2) -> String {
 /// runs along the outline rather than across it.
 const GRAZING: f64 = 20.0;
 
+/// The parts of a step-draw block a problem is blamed on, by key-section index.
+enum Part {
+    /// The section's name in `section NAME`.
+    Name(usize),
+    /// The section's `at` points.
+    At(usize),
+    /// The section's `profile`.
+    Profile(usize),
+    /// The first or last segment of the section's profile sketch, when it is written in
+    /// this file.
+    ProfileEnd { section: usize, first: bool },
+    /// The segment of the section's profile sketch nearest a point (s, z), when it is
+    /// written in this file.
+    SegmentNear { section: usize, at: DVec2 },
+}
+
 /// What the kernel's problems are told with.
 struct Context<'a, 'b> {
     block: &'a Block<'b>,
@@ -585,14 +601,58 @@ struct Context<'a, 'b> {
 }
 
 impl Context<'_, '_> {
+    /// The diagnostic of the kernel's problem `p` at key section `k`.
     fn diagnose(&self, k: usize, p: &Problem) -> Diagnostic {
+        diagnostic(KIND, self.block, self.explain(k, p), |part| {
+            self.resolve(part)
+        })
+    }
+
+    /// Where the part of the block `part` was written.
+    fn resolve(&self, part: &Part) -> Option<Span> {
+        let file = self.block.span.file;
+        let here = |s: Span| (s.file == file).then_some(s);
+        match *part {
+            Part::Name(k) => self.sections.get(k).map(|s| s.name_span),
+            Part::At(k) => self.sections.get(k).map(|s| s.at),
+            Part::Profile(k) => self.sections.get(k).map(|s| s.profile),
+            Part::ProfileEnd { section, first } => {
+                let segments = &self.sections.get(section)?.sketch.as_ref()?.segments;
+                let seg = if first {
+                    segments.first()?
+                } else {
+                    segments.last()?
+                };
+                here(seg.span)
+            }
+            Part::SegmentNear { section, at } => {
+                let sketch = self.sections.get(section)?.sketch.as_ref()?;
+                let (t0, t1) = sketch.curve.domain();
+                let n = 2000;
+                let t = (0..=n)
+                    .map(|i| t0 + (t1 - t0) * i as f64 / n as f64)
+                    .min_by(|x, y| {
+                        let dx = sketch.curve.point_at(*x).distance(at);
+                        let dy = sketch.curve.point_at(*y).distance(at);
+                        dx.total_cmp(&dy)
+                    })?;
+                let seg = sketch
+                    .segments
+                    .iter()
+                    .find(|s| s.range.0 <= t && t <= s.range.1)?;
+                here(seg.span)
+            }
+        }
+    }
+
+    /// What the designer reads about the kernel's problem `p` at key section `k`.
+    fn explain(&self, k: usize, p: &Problem) -> Explanation<Part> {
         let Some(src) = self.sections.get(k) else {
             return match p {
                 Problem::TooFewSections { needed } => self.too_few(*needed),
-                p => feature_error(
-                    KIND,
+                p => Explanation::new(
                     format!("the step draw `{}` cannot be built: {p}", self.block.name),
-                    self.block.head(),
+                    Blame::Block,
                     "this step draw",
                     "check the sections' `at` points and profiles",
                 ),
@@ -601,33 +661,40 @@ impl Context<'_, '_> {
         match p {
             Problem::TooFewSections { needed } => self.too_few(*needed),
             Problem::MissesGuide { product } => {
-                misses_guide(self.guides, *product, &src.name, src.at, src.a, src.b)
+                misses_guide(self.guides, *product, &src.name, k, src.a, src.b)
             }
             Problem::EndsOffGuides {
                 product, opening, ..
             } => self
-                .grazing(src)
-                .unwrap_or_else(|| self.ends_off(src, *product, *opening)),
+                .grazing(k, src)
+                .unwrap_or_else(|| self.ends_off(k, src, *product, *opening)),
             Problem::FoldsBack { at } => self
-                .grazing(src)
-                .unwrap_or_else(|| self.folds_back(src, *at)),
+                .grazing(k, src)
+                .unwrap_or_else(|| self.folds_back(k, src, *at)),
             Problem::WrongOrder => self.wrong_order(k),
-            Problem::ProductNotCubic => not_cubic(&self.guides.product, self.block.head()),
-            Problem::CannotReach { at } => feature_error(
-                KIND,
+            Problem::ProductNotCubic => not_cubic(&self.guides.product),
+            Problem::CannotReach { at } => Explanation::new(
                 format!(
                     "between section `{}` and the one before it, the section at ({:.2}, {:.2}, {:.2}) cannot reach the punch opening with the key sections' runs and corners",
                     src.name, at.x, at.y, at.z
                 ),
-                src.profile,
+                Part::Profile(k),
                 "the profile carried here",
                 "the opening comes too close to the product there for the walls and radii of the neighbouring key sections: add a key section there with a profile that fits, or move the opening out",
             ),
-            Problem::Kernel(e) => self.grazing(src).unwrap_or_else(|| self.kernel(src, e)),
+            Problem::Kernel(e) => self.grazing(k, src).unwrap_or_else(|| {
+                Explanation::new(
+                    format!("the step draw `{}` cannot be built at section `{}`: {e}", self.block.name, src.name),
+                    Part::Name(k),
+                    "cannot be built here",
+                    "check this section's `at` points and profile, and its neighbours': sections very close together, or planes crossing inside the addendum, leave no room for a patch",
+                )
+                .also(Part::Profile(k), "this profile")
+            }),
         }
     }
 
-    fn too_few(&self, needed: usize) -> Diagnostic {
+    fn too_few(&self, needed: usize) -> Explanation<Part> {
         let n = self.sections.len();
         let has = match n {
             0 => "none".to_string(),
@@ -644,22 +711,17 @@ impl Context<'_, '_> {
                 "an open step draw runs from its first section to its last: add `section NAME { at = ((x1, y1), (x2, y2)); profile = ... }` blocks in order along the outline, one near each end of it and one where the profile changes",
             )
         };
-        feature_error(
-            KIND,
-            message,
-            self.block.head(),
-            match n {
-                0 => "no sections".to_string(),
-                1 => "1 section".to_string(),
-                n => format!("{n} sections"),
-            },
-            help,
-        )
+        let label = match n {
+            0 => "no sections".to_string(),
+            1 => "1 section".to_string(),
+            n => format!("{n} sections"),
+        };
+        Explanation::new(message, Blame::Block, label, help)
     }
 
-    /// When the plane of `src` runs along the product outline rather than across it,
-    /// that is the problem to report.
-    fn grazing(&self, src: &SectionSource) -> Option<Diagnostic> {
+    /// When the plane of section `k` runs along the product outline rather than across
+    /// it, that is the problem to report.
+    fn grazing(&self, k: usize, src: &SectionSource) -> Option<Explanation<Part>> {
         let tangent = self
             .guides
             .product
@@ -672,49 +734,22 @@ impl Context<'_, '_> {
         }
         let angle = tangent.dot(d).abs().min(1.0).acos().to_degrees();
         (angle < GRAZING).then(|| {
-            feature_error(
-                KIND,
+            Explanation::new(
                 format!("the plane of section `{}` runs along the product outline instead of across it", src.name),
-                src.at,
+                Part::At(k),
                 format!("crosses the outline at {} deg", num(angle)),
                 "place the two `at` points on a line across the addendum, roughly square to the outline: the first inside the product outline, the second beyond the punch opening",
             )
         })
     }
 
-    /// The span of the sketch segment of `src`'s profile nearest to `p`, when the sketch
-    /// is written in this file.
-    fn segment_near(&self, src: &SectionSource, p: DVec2) -> Option<Span> {
-        let sketch = src.sketch.as_ref()?;
-        let (t0, t1) = sketch.curve.domain();
-        let n = 2000;
-        let t = (0..=n)
-            .map(|i| t0 + (t1 - t0) * i as f64 / n as f64)
-            .min_by(|x, y| {
-                let dx = sketch.curve.point_at(*x).distance(p);
-                let dy = sketch.curve.point_at(*y).distance(p);
-                dx.total_cmp(&dy)
-            })?;
-        let seg = sketch
-            .segments
-            .iter()
-            .find(|s| s.range.0 <= t && t <= s.range.1)?;
-        (seg.span.file == self.block.span.file).then_some(seg.span)
-    }
-
-    /// The span of the first or last sketch segment of `src`'s profile, when the sketch
-    /// is written in this file.
-    fn end_segment(&self, src: &SectionSource, first: bool) -> Option<Span> {
-        let sketch = src.sketch.as_ref()?;
-        let seg = if first {
-            sketch.segments.first()?
-        } else {
-            sketch.segments.last()?
-        };
-        (seg.span.file == self.block.span.file).then_some(seg.span)
-    }
-
-    fn ends_off(&self, src: &SectionSource, product: DVec2, opening: DVec2) -> Diagnostic {
+    fn ends_off(
+        &self,
+        k: usize,
+        src: &SectionSource,
+        product: DVec2,
+        opening: DVec2,
+    ) -> Explanation<Part> {
         let tol = self.tolerance;
         let (p0, p1) = (src.curve.start_point(), src.curve.end_point());
         // The kernel's pairing: the profile may run either way.
@@ -752,28 +787,6 @@ impl Context<'_, '_> {
             "the profile of section `{}` does not reach {reach}",
             src.name
         );
-        let segments: Vec<(Span, String)> = off
-            .iter()
-            .filter_map(|x| self.end_segment(src, x.1).map(|s| (s, says(x))))
-            .collect();
-        let mut d = if segments.len() == off.len() && !segments.is_empty() {
-            let mut d = feature_error(KIND, message, segments[0].0, segments[0].1.clone(), "");
-            for (span, label) in &segments[1..] {
-                d = d.with_label(*span, label.clone());
-            }
-            d.with_label(
-                src.profile,
-                format!("the profile of section `{}`", src.name),
-            )
-        } else {
-            let label = off.iter().map(|x| says(x)).collect::<Vec<_>>().join("; ");
-            let label = if label.is_empty() {
-                "this profile".to_string()
-            } else {
-                format!("it {label}")
-            };
-            feature_error(KIND, message, src.profile, label, "")
-        };
         let view_note = match src.sketch.as_ref().map(|s| s.view) {
             Some(View::Section { a, b })
                 if a.distance(src.a) > 1e-6
@@ -795,25 +808,41 @@ impl Context<'_, '_> {
             ),
             _ => String::new(),
         };
-        d.help = Some(format!(
+        let help = format!(
             "in this section plane, s from {} towards {} and z up, the product outline is at {} and the punch opening at {}: start and end the profile there (within the tolerance, {} mm), or give a profile function, which is handed both points (`profile = add.wall`){view_note}",
             p2(src.a),
             p2(src.b),
             p2(product),
             p2(opening),
             num(tol),
-        ));
-        d
+        );
+        let end = |x: &(DVec2, bool, DVec2, &str)| Part::ProfileEnd {
+            section: k,
+            first: x.1,
+        };
+        // Point at the profile's ends that miss, when it is drawn here; else at the profile.
+        let Some((first, rest)) = off.split_first() else {
+            return Explanation::new(message, Part::Profile(k), "this profile", help);
+        };
+        let all = off.iter().map(|x| says(x)).collect::<Vec<_>>().join("; ");
+        let mut x = Explanation::new(message, end(first), says(first), help)
+            .or_labelled(Part::Profile(k), format!("it {all}"));
+        for r in rest {
+            x = x.also(end(r), says(r));
+        }
+        x.also(
+            Part::Profile(k),
+            format!("the profile of section `{}`", src.name),
+        )
     }
 
-    fn folds_back(&self, src: &SectionSource, at: DVec2) -> Diagnostic {
+    fn folds_back(&self, k: usize, src: &SectionSource, at: DVec2) -> Explanation<Part> {
         let (product, opening) = (src.ends.product, src.ends.opening);
         if let Some(f) = &src.function {
             if opening.x < product.x {
-                return feature_error(
-                    KIND,
+                return Explanation::new(
                     format!("the `at` points of section `{}` run from the punch opening inwards, so its profile `{f}` folds back", src.name),
-                    src.at,
+                    Part::At(k),
                     format!("from the outside in: the punch opening is at s {}, the product outline at s {}", num(opening.x), num(product.x)),
                     format!(
                         "s runs from the first `at` point towards the second, and profile functions draw outwards along s: swap the points, `at = ({}, {})`",
@@ -821,9 +850,28 @@ impl Context<'_, '_> {
                         p2(src.a)
                     ),
                 )
-                .with_label(src.profile, format!("`{f}` draws from the product outwards"));
+                .also(Part::Profile(k), format!("`{f}` draws from the product outwards"));
             }
         }
+        let message = format!(
+            "the profile of section `{}` folds back on itself near {}",
+            src.name,
+            p2(at)
+        );
+        // Where the profile is drawn here, the segment that runs back says it all.
+        let near = Part::SegmentNear { section: k, at };
+        if self.resolve(&near).is_some() {
+            return Explanation::new(message, near, "runs back towards the product here", "a step-draw profile runs outwards from the product outline to the punch opening, every point at least as far out as the ones before it (a vertical wall is allowed, an undercut is not): move this point outwards, or draw the profile again")
+                .also(Part::Profile(k), format!("the profile of section `{}`", src.name));
+        }
+        let Some(f) = &src.function else {
+            return Explanation::new(
+                message,
+                Part::Profile(k),
+                "this profile folds back",
+                "a step-draw profile runs outwards from the product outline to the punch opening, every point at least as far out as the ones before it (a vertical wall is allowed, an undercut is not)",
+            );
+        };
         let across = (opening.x - product.x).abs();
         let dz = opening.y - product.y;
         let height = if dz.abs() < 1e-6 {
@@ -835,43 +883,25 @@ impl Context<'_, '_> {
                 if dz < 0.0 { "lower" } else { "higher" }
             )
         };
-        let message = format!(
-            "the profile of section `{}` folds back on itself near {}",
-            src.name,
-            p2(at)
-        );
-        match (&src.function, self.segment_near(src, at)) {
-            (_, Some(seg)) => feature_error(KIND, message, seg, "runs back towards the product here", "a step-draw profile runs outwards from the product outline to the punch opening, every point at least as far out as the ones before it (a vertical wall is allowed, an undercut is not): move this point outwards, or draw the profile again")
-                .with_label(src.profile, format!("the profile of section `{}`", src.name)),
-            (Some(f), None) => feature_error(
-                KIND,
-                format!("{message}: `{f}` does not fit between the product outline and the punch opening"),
-                src.profile,
-                format!("`{f}` folds back here"),
-                format!(
-                    "here the punch opening is {} mm out from the product outline and {height}: the profile's runs, radii and walls (at their draft) must fit in those {} mm; shorten the runs, make the radii or the draft smaller, or move the section to where the opening is further out",
-                    num(across),
-                    num(across)
-                ),
+        Explanation::new(
+            format!("{message}: `{f}` does not fit between the product outline and the punch opening"),
+            Part::Profile(k),
+            format!("`{f}` folds back here"),
+            format!(
+                "here the punch opening is {} mm out from the product outline and {height}: the profile's runs, radii and walls (at their draft) must fit in those {} mm; shorten the runs, make the radii or the draft smaller, or move the section to where the opening is further out",
+                num(across),
+                num(across)
             ),
-            (None, None) => feature_error(
-                KIND,
-                message,
-                src.profile,
-                "this profile folds back",
-                "a step-draw profile runs outwards from the product outline to the punch opening, every point at least as far out as the ones before it (a vertical wall is allowed, an undercut is not)",
-            ),
-        }
+        )
     }
 
-    fn wrong_order(&self, k: usize) -> Diagnostic {
+    fn wrong_order(&self, k: usize) -> Explanation<Part> {
         let n = self.sections.len();
         let prev_k = if k == 0 { n.saturating_sub(1) } else { k - 1 };
         let (Some(src), Some(prev)) = (self.sections.get(k), self.sections.get(prev_k)) else {
-            return feature_error(
-                KIND,
+            return Explanation::new(
                 "the sections are not in order along the outline",
-                self.block.head(),
+                Blame::Block,
                 "in this step draw",
                 "list the sections in order along the outline",
             );
@@ -880,14 +910,13 @@ impl Context<'_, '_> {
         let here = product.point_at(src.ends.product_t);
         let there = product.point_at(prev.ends.product_t);
         if here.distance(there) < 1e-3 {
-            return feature_error(
-                KIND,
+            return Explanation::new(
                 format!("sections `{}` and `{}` cut the product outline at the same place", prev.name, src.name),
-                src.name_span,
+                Part::Name(k),
                 format!("at the same place as `{}`", prev.name),
                 "two sections at one place leave nothing between them: remove one, or move its `at` points along the outline",
             )
-            .with_label(prev.name_span, format!("`{}` is here", prev.name));
+            .also(Part::Name(prev_k), format!("`{}` is here", prev.name));
         }
         let ts: Vec<f64> = self.sections.iter().map(|s| s.ends.product_t).collect();
         let order = along(&ts, self.guides.closed);
@@ -901,41 +930,28 @@ impl Context<'_, '_> {
             } else {
                 ("along the outline", "from its start")
             };
-            return feature_error(
-                KIND,
+            return Explanation::new(
                 format!(
                     "section `{}` is listed after `{}`, but comes before it {way}",
                     src.name, prev.name
                 ),
-                src.name_span,
+                Part::Name(k),
                 "out of order",
                 format!(
                     "list the sections in order {way}, {from}: {}",
                     names.join(", ")
                 ),
             )
-            .with_label(prev.name_span, format!("listed before `{}`", src.name));
+            .also(Part::Name(prev_k), format!("listed before `{}`", src.name));
         }
         // In order along the product outline, not along the opening: the planes cross.
-        feature_error(
-            KIND,
+        Explanation::new(
             format!("the planes of sections `{}` and `{}` cross between the product outline and the punch opening", prev.name, src.name),
-            src.at,
+            Part::At(k),
             format!("`{}` comes after `{}` along the product outline, before it along the punch opening", src.name, prev.name),
             "turn the `at` points so that neighbouring planes do not cross inside the addendum: each roughly square to the outline",
         )
-        .with_label(prev.at, format!("the plane of `{}`", prev.name))
-    }
-
-    fn kernel(&self, src: &SectionSource, e: &GeomError) -> Diagnostic {
-        feature_error(
-            KIND,
-            format!("the step draw `{}` cannot be built at section `{}`: {e}", self.block.name, src.name),
-            src.name_span,
-            "cannot be built here",
-            "check this section's `at` points and profile, and its neighbours': sections very close together, or planes crossing inside the addendum, leave no room for a patch",
-        )
-        .with_label(src.profile, "this profile")
+        .also(Part::At(prev_k), format!("the plane of `{}`", prev.name))
     }
 }
 
