@@ -603,11 +603,14 @@ fn atomic_write_replaces_or_leaves_alone() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// The scene cache (what `watch` uses) gives the same bytes as a fresh build after an
-/// edit, and keeps the tessellations of what the edit did not touch.
+/// The scene cache and the glTF buffer cache (what `watch` uses) give the same bytes
+/// as a fresh build after an edit, and keep the tessellations of what the edit did not
+/// touch.
 #[test]
 fn cached_rebuild_equals_a_fresh_build() {
+    use dieface::export::gltf::GltfCache;
     use dieface::export::scene::SceneCache;
+    use dieface::export::{encode_with, Format};
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("examples/fender")
         .canonicalize()
@@ -619,14 +622,15 @@ fn cached_rebuild_equals_a_fresh_build() {
 
     let mut engine = dieface::eval::Engine::new(Some(dir.clone()));
     let mut cache = SceneCache::default();
+    let mut encoded = GltfCache::default();
     let first = engine.evaluate("fender.die", &text, Some(dir.clone()));
-    cache.build(&engine.die_model(&first), &tol).unwrap();
+    let first_scene = cache.build(&engine.die_model(&first), &tol).unwrap();
+    encode_with(&first_scene, Format::Glb, &mut encoded);
     let cached_before = cache.len();
     let second = engine.evaluate("fender.die", &edited, Some(dir.clone()));
-    let warm = dieface::export::encode(
-        &cache.build(&engine.die_model(&second), &tol).unwrap(),
-        dieface::export::Format::Glb,
-    );
+    let second_scene = cache.build(&engine.die_model(&second), &tol).unwrap();
+    let warm = encode_with(&second_scene, Format::Glb, &mut encoded);
+    let warm_gltf = encode_with(&second_scene, Format::Gltf, &mut encoded);
     assert_eq!(
         cache.len(),
         cached_before,
@@ -635,11 +639,11 @@ fn cached_rebuild_equals_a_fresh_build() {
 
     let mut fresh_engine = dieface::eval::Engine::new(Some(dir.clone()));
     let fresh = fresh_engine.evaluate("fender.die", &edited, Some(dir));
-    let cold = dieface::export::encode(
-        &dieface::export::build_scene(&fresh_engine.die_model(&fresh), &tol).unwrap(),
-        dieface::export::Format::Glb,
-    );
+    let cold_scene = dieface::export::build_scene(&fresh_engine.die_model(&fresh), &tol).unwrap();
+    let cold = dieface::export::encode(&cold_scene, Format::Glb);
     assert!(warm == cold, "cached and fresh builds give the same bytes");
+    let cold_gltf = dieface::export::encode(&cold_scene, Format::Gltf);
+    assert!(warm_gltf == cold_gltf, "and the same glTF");
 }
 
 /// The fender die exports its product, every piece of the punch opening line (as line

@@ -15,7 +15,7 @@ use std::time::{Duration, Instant};
 use indicatif::ProgressBar;
 
 use crate::export::atomic::Durability;
-use crate::pipeline::{parse_tolerance, write_outputs, Output, Pipeline, Stage};
+use crate::pipeline::{parse_tolerance, Output, Pipeline, Stage};
 
 use super::{ms, progress, OutputArgs, ScriptArgs, SCRIPT_ERROR, USAGE_ERROR};
 
@@ -134,7 +134,8 @@ impl Plan {
                     .file
                     .file_stem()
                     .map_or_else(|| "die_face".into(), |s| s.to_string_lossy().into_owned());
-                match write_outputs(&b, &self.outputs, &stem, self.durability, &mut stage) {
+                match pipeline.write_outputs(&b, &self.outputs, &stem, self.durability, &mut stage)
+                {
                     Ok(files) => Ok(Built::Written {
                         files,
                         took: started.elapsed(),

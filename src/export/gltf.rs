@@ -19,6 +19,9 @@
 //! Every node has `extras` { name, kind, line, tolerance_mm, source }; a draw bead's node
 //! also has `line_bead` { points_mm (press coordinates, Z up), spacing_mm, force_n_per_mm }.
 
+use std::collections::HashMap;
+use std::sync::Arc;
+
 use glam::DVec3;
 use serde_json::{json, Map, Value};
 
@@ -44,7 +47,13 @@ const CHUNK_BIN: u32 = 0x004E_4942; // "BIN\0"
 /// The scene as a binary glTF (`.glb`): 12-byte header, a JSON chunk padded with
 /// spaces, and a BIN chunk padded with zeros (absent when there is no geometry).
 pub fn encode_glb(scene: &Scene) -> Vec<u8> {
-    let doc = Document::build(scene);
+    encode_glb_with(scene, &mut GltfCache::default())
+}
+
+/// [`encode_glb`], taking the buffer bytes of tessellations encoded before from `cache`
+/// (what `dieface watch` keeps between saves).
+pub fn encode_glb_with(scene: &Scene, cache: &mut GltfCache) -> Vec<u8> {
+    let doc = Document::build(scene, cache);
     let mut json = serde_json::to_vec(&doc.json(None)).expect("a JSON value always serializes");
     pad(&mut json, b' ');
     let mut bin = doc.buffer;
@@ -71,7 +80,13 @@ pub fn encode_glb(scene: &Scene) -> Vec<u8> {
 /// The scene as a JSON glTF (`.gltf`), pretty-printed, with the buffer embedded as a
 /// base64 data URI so the file stands alone.
 pub fn encode_gltf(scene: &Scene) -> Vec<u8> {
-    let doc = Document::build(scene);
+    encode_gltf_with(scene, &mut GltfCache::default())
+}
+
+/// [`encode_gltf`], taking the buffer bytes of tessellations encoded before from
+/// `cache`.
+pub fn encode_gltf_with(scene: &Scene, cache: &mut GltfCache) -> Vec<u8> {
+    let doc = Document::build(scene, cache);
     let uri = format!(
         "data:application/octet-stream;base64,{}",
         base64(&doc.buffer)
@@ -94,6 +109,116 @@ pub fn to_gltf_direction(n: DVec3) -> [f32; 3] {
     [n.x, n.z, -n.y].map(|c| c as f32 + 0.0)
 }
 
+/// The buffer bytes of tessellations already encoded, kept between encodings by the
+/// tessellation they were made from (the scene cache hands back the same shared
+/// tessellation for a piece that did not change): a rebuild that changed one piece
+/// converts only that piece's vertices. Each entry holds its tessellation, so its
+/// address cannot be reused while it is listed; entries an encoding did not use are
+/// dropped after it.
+#[derive(Default)]
+pub struct GltfCache {
+    entries: EncodedMap,
+}
+
+impl GltfCache {
+    /// The encoded bytes of `g`, from the cache or converted now; kept in `used`.
+    fn encoded(&self, g: &Arc<Geometry>, used: &mut EncodedMap) -> Arc<Encoded> {
+        let at = Arc::as_ptr(g) as usize;
+        let encoded = match self.entries.get(&at) {
+            Some((kept, e)) if Arc::ptr_eq(kept, g) => e.clone(),
+            _ => Arc::new(Encoded::of(g)),
+        };
+        used.insert(at, (g.clone(), encoded.clone()));
+        encoded
+    }
+}
+
+/// One tessellation's buffer bytes, as the glTF accessors hold them: positions in glTF
+/// metres with their exact `f32` bounds, unit normals (triangles only) and indices
+/// (`u16` when every index fits, else `u32`; triangles only).
+struct Encoded {
+    positions: Vec<u8>,
+    vertex_count: usize,
+    lo: [f32; 3],
+    hi: [f32; 3],
+    normals: Vec<u8>,
+    indices: Vec<u8>,
+    index_count: usize,
+    small_indices: bool,
+}
+
+impl Encoded {
+    /// Converts a tessellation's vertices (and normals and indices) to buffer bytes.
+    fn of(g: &Geometry) -> Encoded {
+        match g {
+            Geometry::Triangles {
+                positions,
+                normals,
+                indices,
+            } => {
+                let (bytes, lo, hi) = vec3_bytes(positions.iter().map(|&p| to_gltf_position(p)));
+                let dirs = (0..positions.len())
+                    .map(|i| to_gltf_direction(normals.get(i).copied().unwrap_or(DVec3::Z)));
+                let small = positions.len() < usize::from(u16::MAX);
+                Encoded {
+                    positions: bytes,
+                    vertex_count: positions.len(),
+                    lo,
+                    hi,
+                    normals: vec3_bytes(dirs).0,
+                    indices: index_bytes(indices, small),
+                    index_count: indices.len(),
+                    small_indices: small,
+                }
+            }
+            Geometry::LineStrip { points } => {
+                let (bytes, lo, hi) = vec3_bytes(points.iter().map(|&p| to_gltf_position(p)));
+                Encoded {
+                    positions: bytes,
+                    vertex_count: points.len(),
+                    lo,
+                    hi,
+                    normals: Vec::new(),
+                    indices: Vec::new(),
+                    index_count: 0,
+                    small_indices: true,
+                }
+            }
+        }
+    }
+}
+
+/// `VEC3` floats as little-endian bytes, with their bounds.
+fn vec3_bytes(data: impl ExactSizeIterator<Item = [f32; 3]>) -> (Vec<u8>, [f32; 3], [f32; 3]) {
+    let mut lo = [f32::INFINITY; 3];
+    let mut hi = [f32::NEG_INFINITY; 3];
+    let mut bytes = Vec::with_capacity(data.len() * 12);
+    for v in data {
+        for k in 0..3 {
+            bytes.extend_from_slice(&v[k].to_le_bytes());
+            lo[k] = lo[k].min(v[k]);
+            hi[k] = hi[k].max(v[k]);
+        }
+    }
+    (bytes, lo, hi)
+}
+
+/// Indices as little-endian `u16` (`small`) or `u32`.
+fn index_bytes(indices: &[u32], small: bool) -> Vec<u8> {
+    let mut bytes = Vec::with_capacity(indices.len() * if small { 2 } else { 4 });
+    for &i in indices {
+        if small {
+            bytes.extend_from_slice(&(i as u16).to_le_bytes());
+        } else {
+            bytes.extend_from_slice(&i.to_le_bytes());
+        }
+    }
+    bytes
+}
+
+/// The encoded tessellations an encoding used, by address.
+type EncodedMap = HashMap<usize, (Arc<Geometry>, Arc<Encoded>)>;
+
 /// The glTF document being assembled: JSON arrays and the binary buffer.
 #[derive(Default)]
 struct Document {
@@ -110,29 +235,35 @@ struct Document {
 }
 
 impl Document {
-    fn build(scene: &Scene) -> Document {
+    fn build(scene: &Scene, cache: &mut GltfCache) -> Document {
         let mut doc = Document {
             tolerance_mm: scene.tolerance_mm,
             source: scene.source_name.clone(),
             ..Document::default()
         };
+        let mut used = HashMap::new();
         for node in &scene.nodes {
-            let i = doc.node(node);
+            let i = doc.node(node, cache, &mut used);
             doc.roots.push(i);
         }
+        cache.entries = used;
         doc
     }
 
     /// Adds `node` and its descendants (parents first); returns its index.
-    fn node(&mut self, node: &Node) -> usize {
+    fn node(&mut self, node: &Node, cache: &GltfCache, used: &mut EncodedMap) -> usize {
         let index = self.nodes.len();
         self.nodes.push(Value::Null);
         let mut obj = Map::new();
         obj.insert("name".into(), json!(node.name));
-        if let Some(mesh) = self.mesh(node) {
+        if let Some(mesh) = self.mesh(node, cache, used) {
             obj.insert("mesh".into(), json!(mesh));
         }
-        let children: Vec<usize> = node.children.iter().map(|c| self.node(c)).collect();
+        let children: Vec<usize> = node
+            .children
+            .iter()
+            .map(|c| self.node(c, cache, used))
+            .collect();
         if !children.is_empty() {
             obj.insert("children".into(), json!(children));
         }
@@ -160,25 +291,21 @@ impl Document {
     }
 
     /// The mesh of `node`'s own primitives, or `None` when it has none to draw.
-    fn mesh(&mut self, node: &Node) -> Option<usize> {
-        let geometry = node.primitives();
+    fn mesh(&mut self, node: &Node, cache: &GltfCache, used: &mut EncodedMap) -> Option<usize> {
+        let geometry: Vec<&Arc<Geometry>> =
+            node.geometry.iter().filter(|g| !g.is_empty()).collect();
         if geometry.is_empty() {
             return None;
         }
         let material = self.material(&node.kind, node.color);
         let mut primitives = Vec::new();
         for g in geometry {
-            match g {
-                Geometry::Triangles {
-                    positions,
-                    normals,
-                    indices,
-                } => {
-                    let pos = self.positions(positions);
-                    let dirs = (0..positions.len())
-                        .map(|i| to_gltf_direction(normals.get(i).copied().unwrap_or(DVec3::Z)));
-                    let nrm = self.vec3(dirs, false);
-                    let idx = self.indices(indices, positions.len());
+            let e = cache.encoded(g, used);
+            let pos = self.vec3(&e.positions, e.vertex_count, Some((e.lo, e.hi)));
+            match &**g {
+                Geometry::Triangles { .. } => {
+                    let nrm = self.vec3(&e.normals, e.vertex_count, None);
+                    let idx = self.indices(&e);
                     primitives.push(json!({
                         "attributes": { "POSITION": pos, "NORMAL": nrm },
                         "indices": idx,
@@ -186,8 +313,7 @@ impl Document {
                         "mode": MODE_TRIANGLES,
                     }));
                 }
-                Geometry::LineStrip { points } => {
-                    let pos = self.positions(points);
+                Geometry::LineStrip { .. } => {
                     primitives.push(json!({
                         "attributes": { "POSITION": pos },
                         "material": material,
@@ -220,34 +346,18 @@ impl Document {
         self.materials.len() - 1
     }
 
-    /// A position accessor (converted to glTF metres, with min and max).
-    fn positions(&mut self, points: &[DVec3]) -> usize {
-        self.vec3(points.iter().map(|&p| to_gltf_position(p)), true)
-    }
-
-    /// A `VEC3` float accessor of the vectors `data` yields (converted and written
-    /// straight into the buffer in one pass), with `min`/`max` when asked.
-    fn vec3(&mut self, data: impl ExactSizeIterator<Item = [f32; 3]>, bounds: bool) -> usize {
-        let count = data.len();
-        let mut lo = [f32::INFINITY; 3];
-        let mut hi = [f32::NEG_INFINITY; 3];
-        let view = self.view_with(count * 12, ARRAY_BUFFER, |buffer| {
-            for v in data {
-                let mut bytes = [0u8; 12];
-                for k in 0..3 {
-                    bytes[4 * k..4 * k + 4].copy_from_slice(&v[k].to_le_bytes());
-                    lo[k] = lo[k].min(v[k]);
-                    hi[k] = hi[k].max(v[k]);
-                }
-                buffer.extend_from_slice(&bytes);
-            }
+    /// A `VEC3` float accessor of `count` vectors over `bytes`, with `min`/`max` when
+    /// given.
+    fn vec3(&mut self, bytes: &[u8], count: usize, bounds: Option<([f32; 3], [f32; 3])>) -> usize {
+        let view = self.view_with(bytes.len(), ARRAY_BUFFER, |buffer| {
+            buffer.extend_from_slice(bytes);
         });
         let mut acc = Map::new();
         acc.insert("bufferView".into(), json!(view));
         acc.insert("componentType".into(), json!(FLOAT));
         acc.insert("count".into(), json!(count));
         acc.insert("type".into(), json!("VEC3"));
-        if bounds {
+        if let Some((lo, hi)) = bounds {
             let as_json = |a: [f32; 3]| json!(a.map(f64::from));
             acc.insert("min".into(), as_json(lo));
             acc.insert("max".into(), as_json(hi));
@@ -256,23 +366,15 @@ impl Document {
         self.accessors.len() - 1
     }
 
-    /// An index accessor: `u16` when every index is below 65535, else `u32`.
-    fn indices(&mut self, indices: &[u32], vertex_count: usize) -> usize {
-        let small = vertex_count < usize::from(u16::MAX);
-        let len = indices.len() * if small { 2 } else { 4 };
-        let view = self.view_with(len, ELEMENT_ARRAY_BUFFER, |buffer| {
-            for &i in indices {
-                if small {
-                    buffer.extend_from_slice(&(i as u16).to_le_bytes());
-                } else {
-                    buffer.extend_from_slice(&i.to_le_bytes());
-                }
-            }
+    /// The index accessor of an encoded tessellation.
+    fn indices(&mut self, e: &Encoded) -> usize {
+        let view = self.view_with(e.indices.len(), ELEMENT_ARRAY_BUFFER, |buffer| {
+            buffer.extend_from_slice(&e.indices);
         });
         self.accessors.push(json!({
             "bufferView": view,
-            "componentType": if small { UNSIGNED_SHORT } else { UNSIGNED_INT },
-            "count": indices.len(),
+            "componentType": if e.small_indices { UNSIGNED_SHORT } else { UNSIGNED_INT },
+            "count": e.index_count,
             "type": "SCALAR",
         }));
         self.accessors.len() - 1

@@ -67,9 +67,15 @@ impl Format {
 
 /// Encodes a scene in a format (deterministic bytes).
 pub fn encode(scene: &Scene, format: Format) -> Vec<u8> {
+    encode_with(scene, format, &mut gltf::GltfCache::default())
+}
+
+/// [`encode`], with glTF buffer bytes of unchanged tessellations from `cache` (the
+/// same bytes, converted once).
+pub fn encode_with(scene: &Scene, format: Format, cache: &mut gltf::GltfCache) -> Vec<u8> {
     match format {
-        Format::Glb => gltf::encode_glb(scene),
-        Format::Gltf => gltf::encode_gltf(scene),
+        Format::Glb => gltf::encode_glb_with(scene, cache),
+        Format::Gltf => gltf::encode_gltf_with(scene, cache),
         Format::Obj => obj::encode_obj(scene),
     }
 }

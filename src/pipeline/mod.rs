@@ -2,8 +2,9 @@
 //! script, make the die model, tessellate it with a cache, encode the outputs.
 //!
 //! [`Pipeline`] keeps one [`Engine`] (whose memo re-evaluates only the declarations an
-//! edit touched) and one [`SceneCache`] (which re-tessellates only the pieces whose
-//! geometry changed) across builds. It prints nothing: the commands in `cli` report
+//! edit touched), one [`SceneCache`] (which re-tessellates only the pieces whose
+//! geometry changed) and one [`GltfCache`] (which converts only their vertices to glTF
+//! buffer bytes) across builds. It prints nothing: the commands in `cli` report
 //! what it returns, and follow its stages through [`Stage`] for their progress line.
 
 pub mod report;
@@ -15,9 +16,10 @@ use crate::diag::Diagnostic;
 use crate::die::model::DieModel;
 use crate::eval::{Engine, Outcome};
 use crate::export::atomic::{write_atomic_with, Durability};
+use crate::export::gltf::GltfCache;
 use crate::export::scene::{Scene, SceneCache, TessellationError};
 use crate::export::step::{encode_step, StepModel};
-use crate::export::{encode, Format};
+use crate::export::{encode_with, Format};
 use crate::geom::sew::sew;
 use crate::geom::tessellate::Tolerance;
 
@@ -81,6 +83,7 @@ pub struct Pipeline {
     /// The engine: its memo, its sources (for rendering diagnostics).
     pub engine: Engine,
     cache: SceneCache,
+    encoded: GltfCache,
 }
 
 impl Pipeline {
@@ -89,6 +92,7 @@ impl Pipeline {
         Pipeline {
             engine,
             cache: SceneCache::default(),
+            encoded: GltfCache::default(),
         }
     }
 
@@ -137,12 +141,17 @@ impl Pipeline {
     }
 }
 
-/// The bytes of one output of a clean build: the scene encoded, or the die face as
-/// STEP (named `name`).
-pub fn encode_output(build: &Build, output: Output, name: &str) -> Result<Vec<u8>, String> {
+/// The bytes of one output of a clean build: the scene encoded (glTF buffer bytes of
+/// unchanged tessellations from `cache`), or the die face as STEP (named `name`).
+pub fn encode_output(
+    build: &Build,
+    output: Output,
+    name: &str,
+    cache: &mut GltfCache,
+) -> Result<Vec<u8>, String> {
     match output {
         Output::Scene(f) => match &build.scene {
-            Some(scene) => Ok(encode(scene, f)),
+            Some(scene) => Ok(encode_with(scene, f, cache)),
             None => Err("the build has problems; nothing to write".into()),
         },
         Output::Step => match &build.model {
@@ -152,25 +161,30 @@ pub fn encode_output(build: &Build, output: Output, name: &str) -> Result<Vec<u8
     }
 }
 
-/// Encodes and writes every output of a clean build atomically (a failed write leaves
-/// the previous file whole), in order, with the given [`Durability`]; stops at the
-/// first that fails. Returns each written path with its size, or the path that failed
-/// and why.
-pub fn write_outputs(
-    build: &Build,
-    outputs: &[(PathBuf, Output)],
-    name: &str,
-    durability: Durability,
-    stage: &mut dyn FnMut(Stage),
-) -> Result<Vec<(PathBuf, usize)>, (PathBuf, String)> {
-    let mut written = Vec::new();
-    for (path, output) in outputs {
-        stage(Stage::Writing(path));
-        let bytes = encode_output(build, *output, name).map_err(|e| (path.clone(), e))?;
-        write_atomic_with(path, &bytes, durability).map_err(|e| (path.clone(), e.to_string()))?;
-        written.push((path.clone(), bytes.len()));
+impl Pipeline {
+    /// Encodes and writes every output of a clean build atomically (a failed write
+    /// leaves the previous file whole), in order, with the given [`Durability`]; stops
+    /// at the first that fails. Returns each written path with its size, or the path
+    /// that failed and why.
+    pub fn write_outputs(
+        &mut self,
+        build: &Build,
+        outputs: &[(PathBuf, Output)],
+        name: &str,
+        durability: Durability,
+        stage: &mut dyn FnMut(Stage),
+    ) -> Result<Vec<(PathBuf, usize)>, (PathBuf, String)> {
+        let mut written = Vec::new();
+        for (path, output) in outputs {
+            stage(Stage::Writing(path));
+            let bytes = encode_output(build, *output, name, &mut self.encoded)
+                .map_err(|e| (path.clone(), e))?;
+            write_atomic_with(path, &bytes, durability)
+                .map_err(|e| (path.clone(), e.to_string()))?;
+            written.push((path.clone(), bytes.len()));
+        }
+        Ok(written)
     }
-    Ok(written)
 }
 
 /// The STEP bytes of a die model's die face: the product, step draw and binder faces
