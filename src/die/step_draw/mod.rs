@@ -46,6 +46,7 @@ use slopes::{BinderSlope, ProductSlope};
 
 use super::continuity::{measure_join, JoinQuality};
 use super::figures::{edge_samples, seam, Edge, Facing, Seam};
+use crate::geom::curve::ArcLengths;
 use crate::geom::interpolate::{interpolate_at, Interpolation, KnotPlacement};
 use crate::geom::intersect::{intersect_curve_plane, Plane};
 use crate::geom::inversion::{closest_point_on_curve, project_to_curve_near};
@@ -597,7 +598,7 @@ fn aligned_chains(key_chains: &[Chain], binder_tangent: bool) -> Vec<Chain> {
 /// section, modulo the outline's length when `closed`), and that length: where
 /// [`Along`] carries the runs and corners from.
 fn outline_positions(product: &Curve3, ends: &[SectionEnds], closed: bool) -> (Vec<f64>, f64) {
-    let outline = ArcTable::new(product);
+    let outline = ArcFractions::new(product);
     let origin = outline.fraction_at(ends[0].product_t) * outline.total;
     let positions = ends
         .iter()
@@ -1315,19 +1316,19 @@ fn patch(
 }
 
 /// The correspondence between a patch's product piece and its opening piece by
-/// arc-length fraction, from tables of both curves' lengths (dense enough that the
-/// linear interpolation between entries is smooth; the points taken on the opening are
-/// always exactly on it).
-struct Matching {
-    product: ArcTable,
-    opening: ArcTable,
+/// arc-length fraction (exact lengths, so the matching is as smooth as the curves and
+/// its derivative is the one [`Matching::opening_derivative`] works out; the points
+/// taken on the opening are always exactly on it).
+struct Matching<'a> {
+    product: ArcFractions<'a>,
+    opening: ArcFractions<'a>,
 }
 
-impl Matching {
-    fn new(product: &Curve3, opening: &Curve3) -> Self {
+impl<'a> Matching<'a> {
+    fn new(product: &'a Curve3, opening: &'a Curve3) -> Self {
         Self {
-            product: ArcTable::new(product),
-            opening: ArcTable::new(opening),
+            product: ArcFractions::new(product),
+            opening: ArcFractions::new(opening),
         }
     }
 
@@ -1356,45 +1357,19 @@ impl Matching {
     }
 }
 
-/// Cumulative chord length of a curve at dense parameters, for arc-length fractions.
-///
-/// Not [`crate::geom::curve::ArcLengths`] (exact lengths, Newton inversion): the step
-/// draw's sections are placed by this chord table and its piecewise-linear inverse.
-/// Measured in issue 13: ArcLengths in its place moves the fender's step-draw vertices
-/// by up to 0.2 um, and the fender's and the outer door's glb and STEP bytes change.
-struct ArcTable {
-    ts: Vec<f64>,
-    lengths: Vec<f64>,
+/// Arc-length fractions of a curve: [`ArcLengths`] (exact lengths by Gauss-Legendre
+/// quadrature, parameters by Newton inside one tabulated piece) seen as fractions of
+/// the whole length.
+struct ArcFractions<'a> {
+    lengths: ArcLengths<'a, DVec3>,
     total: f64,
 }
 
-impl ArcTable {
-    /// Samples per knot span (and at least 256 in all).
-    const PER_SPAN: usize = 16;
-
-    fn new(c: &Curve3) -> Self {
-        let breaks = c.span_breaks();
-        let mut ts = vec![breaks[0]];
-        let per = Self::PER_SPAN.max(256 / breaks.len().max(1));
-        for w in breaks.windows(2) {
-            for k in 1..=per {
-                ts.push(w[0] + (w[1] - w[0]) * k as f64 / per as f64);
-            }
-        }
-        let mut lengths = Vec::with_capacity(ts.len());
-        let mut acc = 0.0;
-        let mut last = c.point_at(ts[0]);
-        for &t in &ts {
-            let p = c.point_at(t);
-            acc += p.distance(last);
-            lengths.push(acc);
-            last = p;
-        }
-        Self {
-            ts,
-            lengths,
-            total: acc,
-        }
+impl<'a> ArcFractions<'a> {
+    fn new(c: &'a Curve3) -> Self {
+        let lengths = ArcLengths::new(c);
+        let total = lengths.total();
+        Self { lengths, total }
     }
 
     /// The fraction of the length up to parameter `t`.
@@ -1402,28 +1377,17 @@ impl ArcTable {
         if self.total == 0.0 {
             return 0.0;
         }
-        interpolate_table(&self.ts, &self.lengths, t) / self.total
+        self.lengths.length_at(t) / self.total
     }
 
     /// The parameter at fraction `f` of the length.
     fn t_at(&self, f: f64) -> f64 {
-        interpolate_table(&self.lengths, &self.ts, f.clamp(0.0, 1.0) * self.total)
+        let s = f.clamp(0.0, 1.0) * self.total;
+        // Only a non-finite length is refused: the curve's start stands in for it.
+        self.lengths
+            .parameter_at(s)
+            .unwrap_or_else(|_| self.lengths.curve().domain().0)
     }
-}
-
-/// Piecewise-linear lookup of `y(x)` in increasing `xs`, clamped at the ends.
-fn interpolate_table(xs: &[f64], ys: &[f64], x: f64) -> f64 {
-    let n = xs.len();
-    if x <= xs[0] {
-        return ys[0];
-    }
-    if x >= xs[n - 1] {
-        return ys[n - 1];
-    }
-    let i = xs.partition_point(|&v| v <= x).clamp(1, n - 1);
-    let (x0, x1) = (xs[i - 1], xs[i]);
-    let f = if x1 > x0 { (x - x0) / (x1 - x0) } else { 0.0 };
-    ys[i - 1] + f * (ys[i] - ys[i - 1])
 }
 
 /// Inserts knots into the product piece (which leaves it unchanged) until the opening
