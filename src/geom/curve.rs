@@ -6,6 +6,7 @@
 //! Gauss-Legendre quadrature.
 
 use glam::{DVec2, DVec3};
+use rayon::prelude::*;
 
 use super::error::{GeomError, Result};
 use super::knots::{check_degree, KnotVector};
@@ -687,17 +688,27 @@ fn gauss_length<P: Point>(c: &NurbsCurve<P>, a: f64, b: f64) -> f64 {
     gauss_legendre_10(|t| c.derivative_at(t).length(), a, b)
 }
 
+/// The arc length on `[a, b]` by adaptive Gauss-Legendre quadrature: the rule on the
+/// whole against the rule on its two halves, each half split again until they agree to
+/// 1e-13 (or 20 levels deep).
 fn adaptive_length<P: Point>(c: &NurbsCurve<P>, a: f64, b: f64, depth: usize) -> f64 {
-    let whole = gauss_length(c, a, b);
+    halved_length(c, a, b, gauss_length(c, a, b), depth)
+}
+
+/// [`adaptive_length`] with the rule on the whole, `whole`, already known: a half that
+/// is split again hands its own rule down instead of working it out twice (the same
+/// numbers, a third less work).
+fn halved_length<P: Point>(c: &NurbsCurve<P>, a: f64, b: f64, whole: f64, depth: usize) -> f64 {
     if !whole.is_finite() {
         return whole;
     }
     let m = 0.5 * (a + b);
-    let halves = gauss_length(c, a, m) + gauss_length(c, m, b);
+    let (left, right) = (gauss_length(c, a, m), gauss_length(c, m, b));
+    let halves = left + right;
     if depth >= 20 || (whole - halves).abs() <= 1e-13 * halves.max(1e-300) {
         halves
     } else {
-        adaptive_length(c, a, m, depth + 1) + adaptive_length(c, m, b, depth + 1)
+        halved_length(c, a, m, left, depth + 1) + halved_length(c, m, b, right, depth + 1)
     }
 }
 
@@ -722,6 +733,10 @@ pub struct ArcLengths<'a, P: Point> {
 /// of a query inside one piece rarely needs to subdivide.
 const PIECES_PER_SPAN: usize = 8;
 
+/// Pieces of an [`ArcLengths`] table measured by one parallel task: a short curve's
+/// table is made in one.
+const PIECES_PER_TASK: usize = 64;
+
 impl<'a, P: Point> ArcLengths<'a, P> {
     /// Tabulates the arc length of `curve`.
     pub fn new(curve: &'a NurbsCurve<P>) -> Self {
@@ -738,18 +753,26 @@ impl<'a, P: Point> ArcLengths<'a, P> {
         &self.curve
     }
 
+    /// The table: the pieces' lengths, each on its own (in parallel for a long curve,
+    /// such as a bead's centre line with hundreds of spans), added up in order.
     fn tabulate(curve: std::borrow::Cow<'a, NurbsCurve<P>>) -> Self {
         let breaks = curve.span_breaks();
         let mut ts = vec![breaks[0]];
-        let mut lengths = vec![0.0];
         for w in breaks.windows(2) {
             for k in 1..=PIECES_PER_SPAN {
-                let t = w[0] + (w[1] - w[0]) * k as f64 / PIECES_PER_SPAN as f64;
-                let last = *ts.last().expect("ts starts with one boundary");
-                let acc = *lengths.last().expect("lengths starts with 0");
-                lengths.push(acc + adaptive_length(&curve, last, t, 0));
-                ts.push(t);
+                ts.push(w[0] + (w[1] - w[0]) * k as f64 / PIECES_PER_SPAN as f64);
             }
+        }
+        let pieces: Vec<f64> = ts
+            .par_windows(2)
+            .with_min_len(PIECES_PER_TASK)
+            .map(|w| adaptive_length(&curve, w[0], w[1], 0))
+            .collect();
+        let mut lengths = Vec::with_capacity(ts.len());
+        lengths.push(0.0);
+        for piece in pieces {
+            let acc = *lengths.last().expect("lengths starts with 0");
+            lengths.push(acc + piece);
         }
         Self { curve, ts, lengths }
     }

@@ -1,6 +1,7 @@
 //! Skinned (lofted) surfaces through sections (P&T section 10.3).
 
 use glam::DVec4;
+use rayon::prelude::*;
 
 use crate::geom::compat::make_compatible;
 use crate::geom::curve::Curve3;
@@ -71,27 +72,30 @@ pub fn loft(sections: &[Curve3], opts: &Loft) -> Result<NurbsSurface> {
     let wanted = if opts.degree == 0 { 3 } else { opts.degree };
     let degree_v = wanted.min(secs.len() + conditions - 1);
 
-    let mut columns = Vec::with_capacity(count_u);
-    for i in 0..count_u {
-        let column: Vec<DVec4> = secs.iter().map(|c| lift(c, i)).collect();
-        let weight_start = secs[0].weight(i);
-        let weight_end = secs[secs.len() - 1].weight(i);
-        let interp = Interpolation {
-            degree: degree_v,
-            parametrization: opts.parametrization,
-            knots: Default::default(),
-            start_tangent: start.map(|t| (t.control_points()[i] * weight_start).extend(0.0)),
-            end_tangent: end.map(|t| (t.control_points()[i] * weight_end).extend(0.0)),
-        };
-        columns.push(
+    // Each column on its own, in parallel; the first failing column's error, as a loop
+    // would meet it.
+    let columns: Vec<Result<_>> = (0..count_u)
+        .into_par_iter()
+        .map(|i| {
+            let column: Vec<DVec4> = secs.iter().map(|c| lift(c, i)).collect();
+            let weight_start = secs[0].weight(i);
+            let weight_end = secs[secs.len() - 1].weight(i);
+            let interp = Interpolation {
+                degree: degree_v,
+                parametrization: opts.parametrization,
+                knots: Default::default(),
+                start_tangent: start.map(|t| (t.control_points()[i] * weight_start).extend(0.0)),
+                end_tangent: end.map(|t| (t.control_points()[i] * weight_end).extend(0.0)),
+            };
             interpolate_at(&column, &params, &interp).map_err(|e| match e {
                 GeomError::ZeroVector { .. } => GeomError::ZeroVector {
                     what: "loft tangent at a control point",
                 },
                 other => other,
-            })?,
-        );
-    }
+            })
+        })
+        .collect();
+    let columns = columns.into_iter().collect::<Result<Vec<_>>>()?;
     let count_v = columns[0].control_points().len();
     let mut points = Vec::with_capacity(count_u * count_v);
     let mut weights = Vec::with_capacity(count_u * count_v);
