@@ -30,6 +30,7 @@
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
+use crate::die::figures::{surface_figures, SurfaceFigures};
 use crate::geom::construct::{loft, section_parameters, Loft};
 use crate::geom::curvature::principal_of;
 use crate::geom::curve::ArcLengths;
@@ -141,6 +142,10 @@ pub struct Bead {
     pub rules: Vec<Curve3>,
     /// Quality figures.
     pub quality: BeadQuality,
+    /// The skin's figures as every die-face surface is measured ([`surface_figures`]:
+    /// its draft and undercut, its smallest radius on the common grid), measured
+    /// beside the bead's own quality work.
+    pub figures: SurfaceFigures,
 }
 
 /// The problems [`build`] reports.
@@ -374,34 +379,53 @@ pub fn build(binder: &Binder, spec: &BeadSpec) -> Result<Bead, Problem> {
     let course = CourseMap::new(&spec.course)?;
     check_course(spec, &course)?;
     let ats = key_positions(spec, course.length)?;
-    let profiles = matched_profiles(spec, &ats)?;
-    check_turns(&course, &profiles)?;
-
-    // Step 1: the centre line on the binder.
-    let centre = centre_line(binder, &course)?;
+    // The profiles matched and the turns checked beside step 1, the centre line on the
+    // binder (the first question the binder is asked); the problems in that order.
+    let (profiles, centre) = beside(
+        || -> Result<_, Problem> {
+            let profiles = matched_profiles(spec, &ats)?;
+            check_turns(&course, &profiles)?;
+            Ok(profiles)
+        },
+        || centre_line(binder, &course),
+    );
+    let profiles = profiles?;
+    let centre = centre?;
     // Steps 2-3: a section at any fraction along the bead, from the matched profiles.
     let maker = SectionMaker {
         course: &course,
         profiles: &profiles,
         taper: spec.taper,
     };
-    // Step 4: sections along the bead, skinned and refined.
-    let skin = refined_skin(binder, &maker, initial_stations(&course, spec, &ats))?;
+    // Step 4: sections along the bead, skinned and refined; beside it, the line bead.
+    let (line_bead, skin) = beside(
+        || line_bead(&centre, spec.line_spacing),
+        || refined_skin(binder, &maker, initial_stations(&course, spec, &ats)),
+    );
+    let skin = skin?;
     // The sections run across from the right foot to the left, so S_u x S_v points
     // down; the skin is turned round in u to face up like the binder under it.
     let surface = skin.surface.reversed(Direction::U);
 
-    // Quality: the feet on the binder, and every section at the height it should have.
-    let foot_gap = foot_gap(binder, &surface)?;
-    let height = height(binder, &skin.sections, &profiles.params)?;
+    // Quality: the feet on the binder, and every section at the height it should have
+    // (asking the binder); beside them, the skin's radii and figures.
+    let questions = BinderQuestions::new(&maker, spec, &ats, &skin, &surface);
+    let (shape, answers) = beside(
+        || {
+            let radii = skin_radii(
+                &surface,
+                &skin.sections,
+                &skin.stations,
+                spec.taper / course.length,
+            );
+            (radii, surface_figures(&surface))
+        },
+        || questions.answers(binder),
+    );
+    let (foot_gap, height, section_error) = answers?.figures()?;
     let key_sections = key_sections(&ats, &skin.stations, &skin.sections);
-    let section_error = section_error(binder, &maker, spec, &ats, &skin.stations, &skin.sections)?;
-    let radii = skin_radii(
-        &surface,
-        &skin.sections,
-        &skin.stations,
-        spec.taper / course.length,
-    )?;
+    let (radii, figures) = shape;
+    let radii = radii?;
     let drawn_radius = spec
         .sections
         .iter()
@@ -412,7 +436,7 @@ pub fn build(binder: &Binder, spec: &BeadSpec) -> Result<Bead, Problem> {
         .iter()
         .map(|&u| surface.iso_curve(Direction::U, 1.0 - u))
         .collect();
-    let (line_points, length) = line_bead(&centre, spec.line_spacing)?;
+    let (line_points, length) = line_bead?;
     Ok(Bead {
         surface,
         centre,
@@ -431,7 +455,20 @@ pub fn build(binder: &Binder, spec: &BeadSpec) -> Result<Bead, Problem> {
             end_min_radius: radii.ends,
             drawn_radius,
         },
+        figures,
     })
+}
+
+/// Runs `pure` (work on its own) on the thread pool beside `ordered` (work that asks the
+/// binder, which must stay on this thread: the binder remembers where it last found a
+/// point) and waits for both.
+fn beside<A: Send, B>(pure: impl FnOnce() -> A + Send, ordered: impl FnOnce() -> B) -> (A, B) {
+    let mut done = None;
+    let b = rayon::in_place_scope(|scope| {
+        scope.spawn(|_| done = Some(pure()));
+        ordered()
+    });
+    (done.expect("the scope waits for the work it spawned"), b)
 }
 
 /// Refuses a course the spec cannot be built on: a taper on a ring bead (it has no
@@ -810,34 +847,120 @@ fn sections_needed(
     Ok((needed, prepared.into_iter().map(|(_, l)| l).collect()))
 }
 
-/// The largest distance along Z between the binder and the skin's feet, at
-/// [`FOOT_SAMPLES`] places along it (the feet found in parallel, the binder asked in
-/// order).
-fn foot_gap(binder: &Binder, surface: &NurbsSurface) -> Result<f64, Problem> {
-    let (v0, v1) = surface.domain_v();
-    let feet: Vec<[DVec3; 2]> = (0..=FOOT_SAMPLES)
-        .into_par_iter()
-        .map(|i| feet_at(surface, v0 + (v1 - v0) * i as f64 / FOOT_SAMPLES as f64))
-        .collect();
-    let mut foot_gap = 0.0f64;
-    for f in &feet {
-        foot_gap = foot_gap.max(foot_gap_of(binder, f)?);
-    }
-    Ok(foot_gap)
+/// The quality figures that ask the binder (the foot gap, the height, the section
+/// conformance), the points they ask about worked out first, in parallel.
+struct BinderQuestions {
+    /// The skin's feet at [`FOOT_SAMPLES`] places along it, for the foot gap.
+    feet: Vec<[DVec3; 2]>,
+    /// Every section's interpolated points, for the height.
+    tops: Vec<Vec<DVec3>>,
+    /// The sections measured for conformance ([`section_error`]), sampled.
+    conformance: Vec<Result<Conformance, Problem>>,
 }
 
-/// The tallest point of the sections above the binder, at their interpolated points
-/// (`params`; the points found in parallel, the binder asked in order).
-fn height(binder: &Binder, sections: &[Curve3], params: &[f64]) -> Result<f64, Problem> {
-    let points: Vec<Vec<DVec3>> = sections
-        .par_iter()
-        .map(|s| params.iter().map(|&u| s.point_at(u)).collect())
-        .collect();
-    let mut height = 0.0f64;
-    for p in points.iter().flatten() {
-        height = height.max(p.z - binder.base(p.truncate(), None)?.z);
+/// The binder's answers to [`BinderQuestions`]: the foot gap and the height, and the
+/// heights above the binder of each measured section's samples (fewer for the last one
+/// when the binder was missed under it, `stop`).
+struct BinderAnswers<'q> {
+    foot_gap: f64,
+    height: f64,
+    samples: Vec<(&'q Conformance, Vec<f64>)>,
+    stop: Option<Problem>,
+}
+
+impl BinderQuestions {
+    fn new(
+        maker: &SectionMaker,
+        spec: &BeadSpec,
+        ats: &[f64],
+        skin: &Skin,
+        surface: &NurbsSurface,
+    ) -> Self {
+        let (v0, v1) = surface.domain_v();
+        let feet = (0..=FOOT_SAMPLES)
+            .into_par_iter()
+            .map(|i| feet_at(surface, v0 + (v1 - v0) * i as f64 / FOOT_SAMPLES as f64))
+            .collect();
+        let params = &maker.profiles.params;
+        let tops = skin
+            .sections
+            .par_iter()
+            .map(|s| params.iter().map(|&u| s.point_at(u)).collect())
+            .collect();
+        let measured: Vec<(usize, f64, &Curve3)> = skin
+            .sections
+            .iter()
+            .zip(&skin.stations)
+            .enumerate()
+            .filter_map(|(i, (section, &along))| {
+                measured_key(spec, ats, i, along).map(|key| (key, along, section))
+            })
+            .collect();
+        let conformance = measured
+            .par_iter()
+            .map(|&(key, along, section)| Conformance::new(maker, spec, key, along, section))
+            .collect();
+        Self {
+            feet,
+            tops,
+            conformance,
+        }
     }
-    Ok(height)
+
+    /// Asks `binder`, in order: the largest distance along Z between it and the skin's
+    /// feet; the tallest point of the sections above it; the height above it of every
+    /// conformance sample.
+    fn answers(&self, binder: &Binder) -> Result<BinderAnswers<'_>, Problem> {
+        let mut foot_gap = 0.0f64;
+        for f in &self.feet {
+            foot_gap = foot_gap.max(foot_gap_of(binder, f)?);
+        }
+        let mut height = 0.0f64;
+        for p in self.tops.iter().flatten() {
+            height = height.max(p.z - binder.base(p.truncate(), None)?.z);
+        }
+        let mut samples = Vec::with_capacity(self.conformance.len());
+        let mut stop = None;
+        'sections: for c in &self.conformance {
+            let c = match c {
+                Ok(c) => c,
+                Err(problem) => {
+                    stop = Some(problem.clone());
+                    break;
+                }
+            };
+            let mut hs = Vec::with_capacity(c.samples.len());
+            for p in &c.samples {
+                match binder.base(p.truncate(), None) {
+                    Ok(base) => hs.push(p.z - base.z),
+                    Err(problem) => {
+                        // The samples measured before it come first.
+                        samples.push((c, hs));
+                        stop = Some(problem);
+                        break 'sections;
+                    }
+                }
+            }
+            samples.push((c, hs));
+        }
+        Ok(BinderAnswers {
+            foot_gap,
+            height,
+            samples,
+            stop,
+        })
+    }
+}
+
+impl BinderAnswers<'_> {
+    /// The foot gap, the height, and the section conformance: the largest
+    /// [`Conformance::worst`] distance, the sections measured in parallel.
+    fn figures(self) -> Result<(f64, f64, f64), Problem> {
+        let errors = self.samples.par_iter().map(|(c, hs)| c.worst(hs)).collect();
+        let errors = first_problem(errors, self.stop)?;
+        let section_error = errors.into_iter().fold(0.0f64, f64::max);
+        Ok((self.foot_gap, self.height, section_error))
+    }
 }
 
 /// The sections at the key sections' positions (`ats`), in the order given.
@@ -850,60 +973,9 @@ fn key_sections(ats: &[f64], stations: &[f64], sections: &[Curve3]) -> Vec<Curve
         .collect()
 }
 
-/// Section conformance: the largest [`conformance`] distance of the key sections, and
-/// of every [`CONFORMANCE_STRIDE`]-th skinned section whose exact profile is known
-/// (between two key sections with the same profile). The sections are measured in
-/// parallel, the binder under their samples asked in order.
-fn section_error(
-    binder: &Binder,
-    maker: &SectionMaker,
-    spec: &BeadSpec,
-    ats: &[f64],
-    stations: &[f64],
-    sections: &[Curve3],
-) -> Result<f64, Problem> {
-    let measured: Vec<(usize, f64, &Curve3)> = sections
-        .iter()
-        .zip(stations)
-        .enumerate()
-        .filter_map(|(i, (section, &along))| {
-            measured_key(spec, ats, i, along).map(|key| (key, along, section))
-        })
-        .collect();
-    let prepared: Vec<Result<Conformance, Problem>> = measured
-        .par_iter()
-        .map(|&(key, along, section)| Conformance::new(maker, spec, key, along, section))
-        .collect();
-    // The binder under every sample, in order.
-    let mut heights: Vec<(&Conformance, Vec<f64>)> = Vec::with_capacity(prepared.len());
-    let mut stop = None;
-    'sections: for c in &prepared {
-        let c = match c {
-            Ok(c) => c,
-            Err(problem) => {
-                stop = Some(problem.clone());
-                break;
-            }
-        };
-        let mut hs = Vec::with_capacity(c.samples.len());
-        for p in &c.samples {
-            match binder.base(p.truncate(), None) {
-                Ok(base) => hs.push(p.z - base.z),
-                Err(problem) => {
-                    // The samples measured before it come first.
-                    heights.push((c, hs));
-                    stop = Some(problem);
-                    break 'sections;
-                }
-            }
-        }
-        heights.push((c, hs));
-    }
-    let errors = heights.par_iter().map(|(c, hs)| c.worst(hs)).collect();
-    let errors = first_problem(errors, stop)?;
-    Ok(errors.into_iter().fold(0.0f64, f64::max))
-}
-
+/// Section conformance ([`BinderAnswers::figures`]): the largest [`Conformance`]
+/// distance of the key sections, and of every [`CONFORMANCE_STRIDE`]-th skinned section
+/// whose exact profile is known (between two key sections with the same profile).
 /// Which key section's exact profile the skinned section `i` at fraction `along` is
 /// measured against, if it is measured.
 fn measured_key(spec: &BeadSpec, ats: &[f64], i: usize, along: f64) -> Option<usize> {
