@@ -204,6 +204,11 @@ impl<P: Point> NurbsCurve<P> {
     /// `[C, C', C'', ...]` (P&T A3.2 and A4.2). At a knot the derivatives are those of the
     /// span to its right (the left one at the domain's end), as OpenCascade evaluates them.
     pub fn derivatives<const N: usize>(&self, t: f64) -> [P; N] {
+        self.derivatives_in(self.knots.span(self.degree, t), t)
+    }
+
+    /// [`NurbsCurve::derivatives`] in the knot span `span`, the one that holds `t`.
+    fn derivatives_in<const N: usize>(&self, span: usize, t: f64) -> [P; N] {
         const {
             assert!(
                 N >= 1 && N <= MAX_DERIVATIVE + 1,
@@ -211,7 +216,6 @@ impl<P: Point> NurbsCurve<P> {
             )
         };
         let p = self.degree;
-        let span = self.knots.span(p, t);
         let mut basis = [[0.0; super::MAX_DEGREE + 1]; MAX_DERIVATIVE + 1];
         self.knots.basis_derivatives(span, p, t, N - 1, &mut basis);
         let first = span - p;
@@ -683,9 +687,19 @@ fn invert_length<P: Point>(
     })
 }
 
-/// The arc length on `[a, b]` by one 10-point Gauss-Legendre rule on the speed.
+/// The arc length on `[a, b]` by one 10-point Gauss-Legendre rule on the speed. The
+/// nodes of a piece inside one knot span share its span: it is looked up once and only
+/// checked at each node ([`KnotVector::span_from`]).
 fn gauss_length<P: Point>(c: &NurbsCurve<P>, a: f64, b: f64) -> f64 {
-    gauss_legendre_10(|t| c.derivative_at(t).length(), a, b)
+    let hint = c.knots.span(c.degree, 0.5 * (a + b));
+    gauss_legendre_10(
+        |t| {
+            let span = c.knots.span_from(c.degree, t, hint);
+            c.derivatives_in::<2>(span, t)[1].length()
+        },
+        a,
+        b,
+    )
 }
 
 /// The arc length on `[a, b]` by adaptive Gauss-Legendre quadrature: the rule on the
