@@ -637,17 +637,9 @@ impl SectionMaker<'_> {
         binder: &Binder,
         layouts: Vec<Result<Layout, Problem>>,
     ) -> Result<Vec<(Curve3, f64)>, Problem> {
-        let mut dropped = Vec::with_capacity(layouts.len());
-        let mut stop = None;
-        for layout in layouts {
-            match layout.and_then(|l| Self::on_binder(binder, &l)) {
-                Ok(points) => dropped.push(points),
-                Err(problem) => {
-                    stop = Some(problem);
-                    break;
-                }
-            }
-        }
+        let (dropped, stop) = in_order(layouts, |layout| {
+            layout.and_then(|l| Self::on_binder(binder, &l))
+        });
         let curves = dropped
             .par_iter()
             .map(|points| self.curve(points))
@@ -661,6 +653,22 @@ impl SectionMaker<'_> {
         let layouts = alongs.par_iter().map(|&a| self.layout(a)).collect();
         self.sections(binder, layouts)
     }
+}
+
+/// Works `items` through `ask` in order (questions to the binder, each starting where
+/// the last one ended) up to the first problem: the answers before it, and the problem.
+fn in_order<T, U>(
+    items: impl IntoIterator<Item = T>,
+    mut ask: impl FnMut(T) -> Result<U, Problem>,
+) -> (Vec<U>, Option<Problem>) {
+    let mut answers = Vec::new();
+    for item in items {
+        match ask(item) {
+            Ok(answer) => answers.push(answer),
+            Err(problem) => return (answers, Some(problem)),
+        }
+    }
+    (answers, None)
 }
 
 /// The results of work split into a part in order (which stopped at `stop`, if it
@@ -804,27 +812,17 @@ fn sections_needed(
         .par_iter()
         .map(|&(v, along)| (feet_at(surface, v), rules.then(|| maker.layout(along))))
         .collect();
-    let mut answers = Vec::with_capacity(halves.len());
-    let mut stop = None;
-    for (feet, layout) in &prepared {
-        let answer = foot_gap_of(binder, feet).and_then(|gap| {
-            if gap > FOOT_TOLERANCE {
-                return Ok(HalfWay::FeetOff);
-            }
-            match layout {
-                None => Ok(HalfWay::Fine),
-                Some(Err(problem)) => Err(problem.clone()),
-                Some(Ok(layout)) => Ok(HalfWay::Section(SectionMaker::on_binder(binder, layout)?)),
-            }
-        });
-        match answer {
-            Ok(answer) => answers.push(answer),
-            Err(problem) => {
-                stop = Some(problem);
-                break;
-            }
+    let (answers, stop) = in_order(&prepared, |(feet, layout)| {
+        let gap = foot_gap_of(binder, feet)?;
+        if gap > FOOT_TOLERANCE {
+            return Ok(HalfWay::FeetOff);
         }
-    }
+        match layout {
+            None => Ok(HalfWay::Fine),
+            Some(Err(problem)) => Err(problem.clone()),
+            Some(Ok(layout)) => Ok(HalfWay::Section(SectionMaker::on_binder(binder, layout)?)),
+        }
+    });
     // The rules run through the same feature of every section; between two sections
     // they must not drift off it across the bead.
     let needed = answers
@@ -854,7 +852,7 @@ struct BinderQuestions {
     feet: Vec<[DVec3; 2]>,
     /// Every section's interpolated points, for the height.
     tops: Vec<Vec<DVec3>>,
-    /// The sections measured for conformance ([`section_error`]), sampled.
+    /// The sections measured for conformance ([`measured_key`]), sampled.
     conformance: Vec<Result<Conformance, Problem>>,
 }
 
@@ -953,8 +951,8 @@ impl BinderQuestions {
 }
 
 impl BinderAnswers<'_> {
-    /// The foot gap, the height, and the section conformance: the largest
-    /// [`Conformance::worst`] distance, the sections measured in parallel.
+    /// The foot gap, the height, and the section conformance (the section error): the
+    /// largest [`Conformance::worst`] distance, the sections measured in parallel.
     fn figures(self) -> Result<(f64, f64, f64), Problem> {
         let errors = self.samples.par_iter().map(|(c, hs)| c.worst(hs)).collect();
         let errors = first_problem(errors, self.stop)?;
@@ -973,11 +971,10 @@ fn key_sections(ats: &[f64], stations: &[f64], sections: &[Curve3]) -> Vec<Curve
         .collect()
 }
 
-/// Section conformance ([`BinderAnswers::figures`]): the largest [`Conformance`]
-/// distance of the key sections, and of every [`CONFORMANCE_STRIDE`]-th skinned section
-/// whose exact profile is known (between two key sections with the same profile).
 /// Which key section's exact profile the skinned section `i` at fraction `along` is
-/// measured against, if it is measured.
+/// measured against for the section conformance, if it is measured: the key sections,
+/// and every [`CONFORMANCE_STRIDE`]-th skinned section whose exact profile is known
+/// (between two key sections with the same profile).
 fn measured_key(spec: &BeadSpec, ats: &[f64], i: usize, along: f64) -> Option<usize> {
     let k = ats
         .partition_point(|&a| a < along - 1e-9)

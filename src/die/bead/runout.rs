@@ -446,6 +446,23 @@ mod tests {
     }
 
     #[test]
+    fn walking_forward_finds_what_the_binary_search_finds() {
+        // Segment starts with repeated values (zero-length segments), asked at growing
+        // places, some of them exactly on a start.
+        let starts = [0.0, 0.5, 0.5, 0.5, 1.25, 2.0, 2.0, 3.75, 4.0];
+        let mut walk = Walk::new(4.0);
+        let mut x = 0.0;
+        while x < 4.0 {
+            let expected = starts.partition_point(|&s| s <= x) - 1;
+            assert_eq!(walk.last_at_most(&starts, x), expected, "x = {x}");
+            x += 0.125;
+        }
+        let mut search = Walk::new(f64::NAN);
+        assert_eq!(search.last_at_most(&starts, 2.0), 6);
+        assert_eq!(search.last_at_most(&starts, 0.25), 0);
+    }
+
+    #[test]
     fn boxed_segments_answer_as_measuring_every_segment() {
         // A lowered half profile: sunk below 0, rising through it to a crest, with a
         // run of repeated points (equally near segments) in between.
