@@ -208,6 +208,7 @@ impl<P: Point> NurbsCurve<P> {
     }
 
     /// [`NurbsCurve::derivatives`] in the knot span `span`, the one that holds `t`.
+    #[inline(always)]
     fn derivatives_in<const N: usize>(&self, span: usize, t: f64) -> [P; N] {
         const {
             assert!(
@@ -747,9 +748,12 @@ pub struct ArcLengths<'a, P: Point> {
 /// of a query inside one piece rarely needs to subdivide.
 const PIECES_PER_SPAN: usize = 8;
 
-/// Pieces of an [`ArcLengths`] table measured by one parallel task: a short curve's
-/// table is made in one.
+/// Pieces of an [`ArcLengths`] table measured by one parallel task.
 const PIECES_PER_TASK: usize = 64;
+
+/// Pieces from which an [`ArcLengths`] table is measured in parallel: a short curve's
+/// table is made faster than the thread pool is asked.
+const PARALLEL_PIECES: usize = 512;
 
 impl<'a, P: Point> ArcLengths<'a, P> {
     /// Tabulates the arc length of `curve`.
@@ -777,11 +781,15 @@ impl<'a, P: Point> ArcLengths<'a, P> {
                 ts.push(w[0] + (w[1] - w[0]) * k as f64 / PIECES_PER_SPAN as f64);
             }
         }
-        let pieces: Vec<f64> = ts
-            .par_windows(2)
-            .with_min_len(PIECES_PER_TASK)
-            .map(|w| adaptive_length(&curve, w[0], w[1], 0))
-            .collect();
+        let piece = |w: &[f64]| adaptive_length(&curve, w[0], w[1], 0);
+        let pieces: Vec<f64> = if ts.len() > PARALLEL_PIECES {
+            ts.par_windows(2)
+                .with_min_len(PIECES_PER_TASK)
+                .map(piece)
+                .collect()
+        } else {
+            ts.windows(2).map(piece).collect()
+        };
         let mut lengths = Vec::with_capacity(ts.len());
         lengths.push(0.0);
         for piece in pieces {

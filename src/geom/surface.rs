@@ -253,11 +253,13 @@ impl NurbsSurface {
 
     /// The u-direction basis at `u` for [`NurbsSurface::derivatives_from`] with the same
     /// `N`: worked out once for every sample of a grid that shares `u`.
+    #[inline(always)]
     pub fn basis_u<const N: usize>(&self, u: f64) -> Basis<N> {
         Basis::new(&self.knots_u, self.degree_u, u)
     }
 
     /// The v-direction basis at `v`, as [`NurbsSurface::basis_u`].
+    #[inline(always)]
     pub fn basis_v<const N: usize>(&self, v: f64) -> Basis<N> {
         Basis::new(&self.knots_v, self.degree_v, v)
     }
@@ -265,6 +267,7 @@ impl NurbsSurface {
     /// [`NurbsSurface::derivatives`] at the parameters of `bu` and `bv` (this surface's
     /// [`NurbsSurface::basis_u`] and [`NurbsSurface::basis_v`]): the same numbers, without
     /// working the basis out again at every sample of a grid.
+    #[inline(always)]
     pub fn derivatives_from<const N: usize>(
         &self,
         bu: &Basis<N>,
@@ -618,6 +621,7 @@ pub struct Basis<const N: usize> {
 }
 
 impl<const N: usize> Basis<N> {
+    #[inline(always)]
     fn new(knots: &KnotVector, degree: usize, t: f64) -> Self {
         const {
             assert!(

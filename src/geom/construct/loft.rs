@@ -9,6 +9,9 @@ use crate::geom::error::{GeomError, Result};
 use crate::geom::interpolate::{interpolate_at, Interpolation, Parametrization};
 use crate::geom::surface::NurbsSurface;
 
+/// Control points of a net from which [`loft`] interpolates its columns in parallel.
+const PARALLEL_POINTS: usize = 2048;
+
 /// Options of [`loft`].
 #[derive(Debug, Clone, Default)]
 pub struct Loft {
@@ -74,27 +77,30 @@ pub fn loft(sections: &[Curve3], opts: &Loft) -> Result<NurbsSurface> {
 
     // Each column on its own, in parallel; the first failing column's error, as a loop
     // would meet it.
-    let columns: Vec<Result<_>> = (0..count_u)
-        .into_par_iter()
-        .map(|i| {
-            let column: Vec<DVec4> = secs.iter().map(|c| lift(c, i)).collect();
-            let weight_start = secs[0].weight(i);
-            let weight_end = secs[secs.len() - 1].weight(i);
-            let interp = Interpolation {
-                degree: degree_v,
-                parametrization: opts.parametrization,
-                knots: Default::default(),
-                start_tangent: start.map(|t| (t.control_points()[i] * weight_start).extend(0.0)),
-                end_tangent: end.map(|t| (t.control_points()[i] * weight_end).extend(0.0)),
-            };
-            interpolate_at(&column, &params, &interp).map_err(|e| match e {
-                GeomError::ZeroVector { .. } => GeomError::ZeroVector {
-                    what: "loft tangent at a control point",
-                },
-                other => other,
-            })
+    let column = |i: usize| {
+        let column: Vec<DVec4> = secs.iter().map(|c| lift(c, i)).collect();
+        let weight_start = secs[0].weight(i);
+        let weight_end = secs[secs.len() - 1].weight(i);
+        let interp = Interpolation {
+            degree: degree_v,
+            parametrization: opts.parametrization,
+            knots: Default::default(),
+            start_tangent: start.map(|t| (t.control_points()[i] * weight_start).extend(0.0)),
+            end_tangent: end.map(|t| (t.control_points()[i] * weight_end).extend(0.0)),
+        };
+        interpolate_at(&column, &params, &interp).map_err(|e| match e {
+            GeomError::ZeroVector { .. } => GeomError::ZeroVector {
+                what: "loft tangent at a control point",
+            },
+            other => other,
         })
-        .collect();
+    };
+    // A small net is lofted faster than the thread pool is asked.
+    let columns: Vec<Result<_>> = if count_u * secs.len() >= PARALLEL_POINTS {
+        (0..count_u).into_par_iter().map(column).collect()
+    } else {
+        (0..count_u).map(column).collect()
+    };
     let columns = columns.into_iter().collect::<Result<Vec<_>>>()?;
     let count_v = columns[0].control_points().len();
     let mut points = Vec::with_capacity(count_u * count_v);
