@@ -38,7 +38,13 @@ impl Principal {
 /// Principal curvatures at `(u, v)`, or `None` at a degenerate point (a collapsed edge,
 /// where the first fundamental form is singular).
 pub fn principal_curvatures(s: &NurbsSurface, u: f64, v: f64) -> Option<Principal> {
-    let d = s.derivatives::<3>(u, v);
+    principal_of(&s.derivatives::<3>(u, v))
+}
+
+/// Principal curvatures from a surface's partial derivatives up to the second
+/// ([`NurbsSurface::derivatives`] or, over a grid, [`NurbsSurface::derivatives_from`]),
+/// or `None` at a degenerate point.
+pub fn principal_of(d: &[[DVec3; 3]; 3]) -> Option<Principal> {
     let (su, sv) = (d[1][0], d[0][1]);
     let (suu, suv, svv) = (d[2][0], d[1][1], d[0][2]);
     let cross = su.cross(sv);

@@ -178,6 +178,19 @@ impl KnotVector {
         degree + pos - 1
     }
 
+    /// [`KnotVector::span`] of `u`, trying `hint` first: a span that holds `u` is the
+    /// one the search would find, so only when `hint` does not is the search run.
+    pub fn span_from(&self, degree: usize, u: f64, hint: usize) -> usize {
+        let n = self.knots.len() - degree - 2;
+        let k = &self.knots;
+        let inside = k[degree] < u && u < k[n + 1];
+        if inside && (degree..=n).contains(&hint) && k[hint] <= u && u < k[hint + 1] {
+            hint
+        } else {
+            self.span(degree, u)
+        }
+    }
+
     /// Basis functions of `degree` that are non-zero at `u` in `span` (P&T A2.2).
     /// Degrees up to 5, nearly all of die-face geometry, run a copy of the recurrence
     /// sized at compile time, which keeps point evaluation free of work on unused slots.
@@ -405,6 +418,37 @@ fn raise_differentiated<const W: usize>(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn span_from_any_hint_is_the_span() {
+        let knots = vec![0.0, 0.0, 0.0, 0.3, 0.3, 0.71, 1.9, 2.0, 3.5, 3.5, 3.5];
+        let kv = KnotVector::new(knots, 2, 8).expect("a valid clamped knot vector");
+        let ts = [
+            -1.0,
+            0.0,
+            0.1,
+            0.3,
+            0.5,
+            0.71,
+            1.0,
+            1.9,
+            1.95,
+            2.0,
+            3.0,
+            3.5,
+            4.0,
+            f64::NAN,
+        ];
+        for t in ts {
+            for hint in 0..=8 {
+                assert_eq!(
+                    kv.span_from(2, t, hint),
+                    kv.span(2, t),
+                    "t = {t}, hint {hint}"
+                );
+            }
+        }
+    }
 
     #[test]
     fn fixed_size_basis_derivatives_are_the_general_ones_bit_for_bit() {

@@ -9,7 +9,7 @@ use glam::DVec3;
 
 use super::curve::{bounds, check_domain, check_weights, checked_refinement, Curve3};
 use super::error::{GeomError, Result};
-use super::knots::{check_degree, KnotVector};
+use super::knots::{check_degree, BasisRow, KnotVector};
 use super::ops::{self, Spline};
 use super::point::Homogeneous;
 use super::{MAX_DEGREE, MAX_DERIVATIVE};
@@ -248,19 +248,34 @@ impl NurbsSurface {
     /// computed too and are exact. At a knot, derivatives are those of the span to the
     /// right (the left one at the domain's end), as OpenCascade evaluates them.
     pub fn derivatives<const N: usize>(&self, u: f64, v: f64) -> [[DVec3; N]; N] {
-        const {
-            assert!(
-                N >= 1 && N <= MAX_DERIVATIVE + 1,
-                "at most third derivatives"
-            )
-        };
+        self.derivatives_from(&self.basis_u::<N>(u), &self.basis_v::<N>(v))
+    }
+
+    /// The u-direction basis at `u` for [`NurbsSurface::derivatives_from`] with the same
+    /// `N`: worked out once for every sample of a grid that shares `u`.
+    #[inline(always)]
+    pub fn basis_u<const N: usize>(&self, u: f64) -> Basis<N> {
+        Basis::new(&self.knots_u, self.degree_u, u)
+    }
+
+    /// The v-direction basis at `v`, as [`NurbsSurface::basis_u`].
+    #[inline(always)]
+    pub fn basis_v<const N: usize>(&self, v: f64) -> Basis<N> {
+        Basis::new(&self.knots_v, self.degree_v, v)
+    }
+
+    /// [`NurbsSurface::derivatives`] at the parameters of `bu` and `bv` (this surface's
+    /// [`NurbsSurface::basis_u`] and [`NurbsSurface::basis_v`]): the same numbers, without
+    /// working the basis out again at every sample of a grid.
+    #[inline(always)]
+    pub fn derivatives_from<const N: usize>(
+        &self,
+        bu: &Basis<N>,
+        bv: &Basis<N>,
+    ) -> [[DVec3; N]; N] {
         let (p, q) = (self.degree_u, self.degree_v);
-        let su = self.knots_u.span(p, u);
-        let sv = self.knots_v.span(q, v);
-        let mut nu = [[0.0; MAX_DEGREE + 1]; MAX_DERIVATIVE + 1];
-        let mut nv = [[0.0; MAX_DEGREE + 1]; MAX_DERIVATIVE + 1];
-        self.knots_u.basis_derivatives(su, p, u, N - 1, &mut nu);
-        self.knots_v.basis_derivatives(sv, q, v, N - 1, &mut nv);
+        let (su, sv) = (bu.span, bv.span);
+        let (nu, nv) = (&bu.rows, &bv.rows);
         let (i0, j0) = (su - p, sv - q);
         let mut a = [[DVec3::ZERO; N]; N];
         let mut w = [[0.0; N]; N];
@@ -277,7 +292,7 @@ impl NurbsSurface {
                     tw[l] += wi * nv[l][c];
                 }
             }
-            for ((ak, wk), nuk) in a.iter_mut().zip(w.iter_mut()).zip(&nu) {
+            for ((ak, wk), nuk) in a.iter_mut().zip(w.iter_mut()).zip(nu) {
                 let b = nuk[r];
                 for l in 0..N {
                     ak[l] += tp[l] * b;
@@ -593,6 +608,32 @@ pub(crate) fn remap_knots(knots: &[f64], degree: usize, a: f64, b: f64) -> Vec<f
             }
         })
         .collect()
+}
+
+/// The basis functions of one direction of a surface, and their derivatives up to order
+/// `N - 1`, at one parameter ([`NurbsSurface::basis_u`], [`NurbsSurface::basis_v`]).
+#[derive(Debug, Clone, Copy)]
+pub struct Basis<const N: usize> {
+    /// The knot span of the parameter.
+    span: usize,
+    /// `rows[k][r]`: the k-th derivative of the r-th basis function non-zero there.
+    rows: [BasisRow; MAX_DERIVATIVE + 1],
+}
+
+impl<const N: usize> Basis<N> {
+    #[inline(always)]
+    fn new(knots: &KnotVector, degree: usize, t: f64) -> Self {
+        const {
+            assert!(
+                N >= 1 && N <= MAX_DERIVATIVE + 1,
+                "at most third derivatives"
+            )
+        };
+        let span = knots.span(degree, t);
+        let mut rows = [[0.0; MAX_DEGREE + 1]; MAX_DERIVATIVE + 1];
+        knots.basis_derivatives(span, degree, t, N - 1, &mut rows);
+        Self { span, rows }
+    }
 }
 
 /// Rational surface derivatives from homogeneous ones (P&T A4.4).

@@ -2,10 +2,11 @@
 //! between two boundaries), the frame across it, where a section meets the boundaries,
 //! and the checks that it does not turn tighter than the bead or cross itself.
 
-use std::cell::RefCell;
 use std::collections::HashMap;
+use std::sync::Mutex;
 
 use glam::DVec2;
+use rayon::prelude::*;
 
 use super::profiles::MatchedProfiles;
 use super::{Course, Problem};
@@ -36,8 +37,9 @@ pub(super) struct CourseMap {
     /// there: boundaries that swap sides cross).
     first_left: bool,
     /// The frames asked for so far, by the bits of the fraction: the refinement asks
-    /// again for the same sections.
-    frames: RefCell<HashMap<u64, (DVec2, DVec2, f64)>>,
+    /// again for the same sections. Behind a lock, so sections are laid out in
+    /// parallel.
+    frames: Mutex<HashMap<u64, (DVec2, DVec2, f64)>>,
 }
 
 /// A boundary line with samples to find crossings from.
@@ -76,7 +78,7 @@ impl CourseMap {
             length,
             boundaries,
             first_left: true,
-            frames: RefCell::new(HashMap::new()),
+            frames: Mutex::new(HashMap::new()),
         };
         // Which side the first boundary is on, read where the bead is widest of five
         // places along it (boundaries that cross are caught at the sections).
@@ -105,11 +107,12 @@ impl CourseMap {
     /// [`CourseMap::frame`] and the centre line's signed curvature there (1/mm,
     /// positive turning left).
     pub(super) fn frame_and_turn(&self, f: f64) -> Result<(DVec2, DVec2, f64), Problem> {
-        if let Some(&frame) = self.frames.borrow().get(&f.to_bits()) {
+        let frames = || self.frames.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(&frame) = frames().get(&f.to_bits()) {
             return Ok(frame);
         }
         let frame = self.frame_and_turn_once(f)?;
-        self.frames.borrow_mut().insert(f.to_bits(), frame);
+        frames().insert(f.to_bits(), frame);
         Ok(frame)
     }
 
@@ -138,7 +141,8 @@ impl CourseMap {
         let left = all().map(|q| q.x).fold(0.0, f64::max);
         let right = all().map(|q| -q.x).fold(0.0, f64::max);
         let n = ((self.length / TURN_SAMPLE_STEP).ceil() as usize).clamp(64, 100_000);
-        (0..=n).find_map(|i| {
+        // Each sample on its own, the first tight one kept: the answer of a loop.
+        (0..=n).into_par_iter().find_map_first(|i| {
             let (c, _, turn) = self.frame_and_turn_once(i as f64 / n as f64).ok()?;
             let reach = if turn > 0.0 { left } else { right };
             (reach * turn.abs() >= 1.0).then(|| Problem::TooTight {

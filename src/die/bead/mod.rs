@@ -28,9 +28,11 @@
 //! Z, the direction the binder closes in.
 
 use glam::{DVec2, DVec3};
+use rayon::prelude::*;
 
+use crate::die::figures::{surface_figures, SurfaceFigures};
 use crate::geom::construct::{loft, section_parameters, Loft};
-use crate::geom::curvature::principal_curvatures;
+use crate::geom::curvature::principal_of;
 use crate::geom::curve::ArcLengths;
 use crate::geom::interpolate::{interpolate, interpolate_at, Interpolation};
 use crate::geom::inversion::project_to_curve_near;
@@ -140,6 +142,10 @@ pub struct Bead {
     pub rules: Vec<Curve3>,
     /// Quality figures.
     pub quality: BeadQuality,
+    /// The skin's figures as every die-face surface is measured ([`surface_figures`]:
+    /// its draft and undercut, its smallest radius on the common grid), measured
+    /// beside the bead's own quality work.
+    pub figures: SurfaceFigures,
 }
 
 /// The problems [`build`] reports.
@@ -373,35 +379,53 @@ pub fn build(binder: &Binder, spec: &BeadSpec) -> Result<Bead, Problem> {
     let course = CourseMap::new(&spec.course)?;
     check_course(spec, &course)?;
     let ats = key_positions(spec, course.length)?;
-    let profiles = matched_profiles(spec, &ats)?;
-    check_turns(&course, &profiles)?;
-
-    // Step 1: the centre line on the binder.
-    let centre = centre_line(binder, &course)?;
+    // The profiles matched and the turns checked beside step 1, the centre line on the
+    // binder (the first question the binder is asked); the problems in that order.
+    let (profiles, centre) = beside(
+        || -> Result<_, Problem> {
+            let profiles = matched_profiles(spec, &ats)?;
+            check_turns(&course, &profiles)?;
+            Ok(profiles)
+        },
+        || centre_line(binder, &course),
+    );
+    let profiles = profiles?;
+    let centre = centre?;
     // Steps 2-3: a section at any fraction along the bead, from the matched profiles.
     let maker = SectionMaker {
-        binder,
         course: &course,
         profiles: &profiles,
         taper: spec.taper,
     };
-    // Step 4: sections along the bead, skinned and refined.
-    let skin = refined_skin(&maker, initial_stations(&course, spec, &ats))?;
+    // Step 4: sections along the bead, skinned and refined; beside it, the line bead.
+    let (line_bead, skin) = beside(
+        || line_bead(&centre, spec.line_spacing),
+        || refined_skin(binder, &maker, initial_stations(&course, spec, &ats)),
+    );
+    let skin = skin?;
     // The sections run across from the right foot to the left, so S_u x S_v points
     // down; the skin is turned round in u to face up like the binder under it.
     let surface = skin.surface.reversed(Direction::U);
 
-    // Quality: the feet on the binder, and every section at the height it should have.
-    let foot_gap = foot_gap(binder, &surface)?;
-    let height = height(binder, &skin.sections, &profiles.params)?;
+    // Quality: the feet on the binder, and every section at the height it should have
+    // (asking the binder); beside them, the skin's radii and figures.
+    let questions = BinderQuestions::new(&maker, spec, &ats, &skin, &surface);
+    let (shape, answers) = beside(
+        || {
+            let radii = skin_radii(
+                &surface,
+                &skin.sections,
+                &skin.stations,
+                spec.taper / course.length,
+            );
+            (radii, surface_figures(&surface))
+        },
+        || questions.answers(binder),
+    );
+    let (foot_gap, height, section_error) = answers?.figures()?;
     let key_sections = key_sections(&ats, &skin.stations, &skin.sections);
-    let section_error = section_error(&maker, spec, &ats, &skin.stations, &skin.sections)?;
-    let radii = skin_radii(
-        &surface,
-        &skin.sections,
-        &skin.stations,
-        spec.taper / course.length,
-    )?;
+    let (radii, figures) = shape;
+    let radii = radii?;
     let drawn_radius = spec
         .sections
         .iter()
@@ -412,7 +436,7 @@ pub fn build(binder: &Binder, spec: &BeadSpec) -> Result<Bead, Problem> {
         .iter()
         .map(|&u| surface.iso_curve(Direction::U, 1.0 - u))
         .collect();
-    let (line_points, length) = line_bead(&centre, spec.line_spacing)?;
+    let (line_points, length) = line_bead?;
     Ok(Bead {
         surface,
         centre,
@@ -431,7 +455,20 @@ pub fn build(binder: &Binder, spec: &BeadSpec) -> Result<Bead, Problem> {
             end_min_radius: radii.ends,
             drawn_radius,
         },
+        figures,
     })
+}
+
+/// Runs `pure` (work on its own) on the thread pool beside `ordered` (work that asks the
+/// binder, which must stay on this thread: the binder remembers where it last found a
+/// point) and waits for both.
+fn beside<A: Send, B>(pure: impl FnOnce() -> A + Send, ordered: impl FnOnce() -> B) -> (A, B) {
+    let mut done = None;
+    let b = rayon::in_place_scope(|scope| {
+        scope.spawn(|_| done = Some(pure()));
+        ordered()
+    });
+    (done.expect("the scope waits for the work it spawned"), b)
 }
 
 /// Refuses a course the spec cannot be built on: a taper on a ring bead (it has no
@@ -496,21 +533,34 @@ fn centre_line(binder: &Binder, course: &CourseMap) -> Result<Curve3, Problem> {
     Ok(interpolate(&centre_points, &Interpolation::default())?)
 }
 
-/// Steps 2-3: makes the bead's section at any fraction along it.
+/// Steps 2-3: makes the bead's section at any fraction along it, in three steps: laid
+/// out in the top view ([`SectionMaker::layout`], on its own for each section, so
+/// sections are laid out in parallel), dropped onto the binder
+/// ([`SectionMaker::on_binder`], in the order the binder is asked, see [`build`]), and
+/// interpolated ([`SectionMaker::curve`], again on its own).
 struct SectionMaker<'a> {
-    binder: &'a Binder<'a>,
     course: &'a CourseMap,
     profiles: &'a MatchedProfiles,
     /// The taper length (mm).
     taper: f64,
 }
 
+/// A section laid out in the top view, before the binder is under it.
+struct Layout {
+    /// Per point across the section: its top-view point, its offset (mm) across from
+    /// the centre line, and its height above the binder.
+    points: Vec<(DVec2, f64, f64)>,
+    /// Where the offset line folds (the turn is tighter than the point's reach), the
+    /// problem met right after `points`.
+    folds: Option<Problem>,
+}
+
 impl SectionMaker<'_> {
-    /// The section at fraction `along` of the bead and its top-view width: the matched
+    /// The section at fraction `along` of the bead laid out in the top view: the matched
     /// profiles blended there and run out by the taper, stretched to the boundaries
-    /// when there are two, laid across the course on the binder and raised by the
-    /// profile's heights, interpolated by a quadratic.
-    fn at(&self, along: f64) -> Result<(Curve3, f64), Problem> {
+    /// when there are two, and laid across the course; up to the first point where
+    /// the offset line folds.
+    fn layout(&self, along: f64) -> Result<Layout, Problem> {
         let (course, profiles, length) = (self.course, self.profiles, self.course.length);
         let (c, across, turn) = course.frame_and_turn(along)?;
         let height_factor = taper_factor(along * length, length, self.taper);
@@ -526,15 +576,40 @@ impl SectionMaker<'_> {
             };
             // An offset line folds where it reaches the turn's centre: offset * turn = 1.
             if offset * turn >= 1.0 {
-                return Err(Problem::TooTight {
+                let folds = Problem::TooTight {
                     at: c,
                     radius: 1.0 / turn.abs(),
                     reach: offset.abs(),
+                };
+                return Ok(Layout {
+                    points,
+                    folds: Some(folds),
                 });
             }
-            let base = self.binder.base(c + across * offset, Some(offset))?;
-            points.push(base + DVec3::Z * q.y);
+            points.push((c + across * offset, offset, q.y));
         }
+        Ok(Layout {
+            points,
+            folds: None,
+        })
+    }
+
+    /// The laid-out section's points on `binder`, raised by the profile's heights.
+    fn on_binder(binder: &Binder, layout: &Layout) -> Result<Vec<DVec3>, Problem> {
+        let mut points = Vec::with_capacity(layout.points.len());
+        for &(p, offset, height) in &layout.points {
+            let base = binder.base(p, Some(offset))?;
+            points.push(base + DVec3::Z * height);
+        }
+        match &layout.folds {
+            Some(problem) => Err(problem.clone()),
+            None => Ok(points),
+        }
+    }
+
+    /// The section through `points` (on the binder) and its top-view width,
+    /// interpolated by a quadratic.
+    fn curve(&self, points: &[DVec3]) -> Result<(Curve3, f64), Problem> {
         let width = points[0]
             .truncate()
             .distance(points[points.len() - 1].truncate());
@@ -543,14 +618,71 @@ impl SectionMaker<'_> {
         // either side (a 3 mm shoulder next to a 6 mm crest came out at 2.33 mm); the
         // quadratic, C1 like the profile itself, overshoots less.
         let curve = interpolate_at(
-            &points,
-            &profiles.params,
+            points,
+            &self.profiles.params,
             &Interpolation {
                 degree: 2,
                 ..Interpolation::default()
             },
         )?;
         Ok((curve, width))
+    }
+
+    /// The sections at the fractions `layouts` were laid out at (see
+    /// [`SectionMaker::layout`]): dropped onto `binder` one after the other, then
+    /// interpolated in parallel. The problem reported is the one the sections made one
+    /// by one would meet first.
+    fn sections(
+        &self,
+        binder: &Binder,
+        layouts: Vec<Result<Layout, Problem>>,
+    ) -> Result<Vec<(Curve3, f64)>, Problem> {
+        let (dropped, stop) = in_order(layouts, |layout| {
+            layout.and_then(|l| Self::on_binder(binder, &l))
+        });
+        let curves = dropped
+            .par_iter()
+            .map(|points| self.curve(points))
+            .collect();
+        first_problem(curves, stop)
+    }
+
+    /// The sections at the fractions `alongs`, laid out in parallel (see
+    /// [`SectionMaker::sections`]).
+    fn sections_at(&self, binder: &Binder, alongs: &[f64]) -> Result<Vec<(Curve3, f64)>, Problem> {
+        let layouts = alongs.par_iter().map(|&a| self.layout(a)).collect();
+        self.sections(binder, layouts)
+    }
+}
+
+/// Works `items` through `ask` in order (questions to the binder, each starting where
+/// the last one ended) up to the first problem: the answers before it, and the problem.
+fn in_order<T, U>(
+    items: impl IntoIterator<Item = T>,
+    mut ask: impl FnMut(T) -> Result<U, Problem>,
+) -> (Vec<U>, Option<Problem>) {
+    let mut answers = Vec::new();
+    for item in items {
+        match ask(item) {
+            Ok(answer) => answers.push(answer),
+            Err(problem) => return (answers, Some(problem)),
+        }
+    }
+    (answers, None)
+}
+
+/// The results of work split into a part in order (which stopped at `stop`, if it
+/// did) and a part done in parallel afterwards (`results`, in the order of the items):
+/// the problem met first when each item is worked through in turn (the first failed
+/// result, which comes before the item that stopped), or all the results.
+fn first_problem<T>(
+    results: Vec<Result<T, Problem>>,
+    stop: Option<Problem>,
+) -> Result<Vec<T>, Problem> {
+    let results = results.into_iter().collect::<Result<Vec<T>, Problem>>()?;
+    match stop {
+        Some(problem) => Err(problem),
+        None => Ok(results),
     }
 }
 
@@ -585,12 +717,15 @@ struct Skin {
 
 /// Step 4: sections at `stations`, skinned; then, for up to [`MAX_REFINEMENTS`]
 /// rounds, a section added half-way between two where the skin leaves what the
-/// sections there should be ([`needs_section_between`]), and skinned again.
-fn refined_skin(maker: &SectionMaker, mut stations: Vec<f64>) -> Result<Skin, Problem> {
+/// sections there should be ([`sections_needed`]), and skinned again.
+fn refined_skin(
+    binder: &Binder,
+    maker: &SectionMaker,
+    mut stations: Vec<f64>,
+) -> Result<Skin, Problem> {
     let mut sections = Vec::with_capacity(stations.len());
     let (mut narrow, mut wide) = (f64::INFINITY, 0.0f64);
-    for &a in &stations {
-        let (s, w) = maker.at(a)?;
+    for (s, w) in maker.sections_at(binder, &stations)? {
         narrow = narrow.min(w);
         wide = wide.max(w);
         sections.push(s);
@@ -599,20 +734,40 @@ fn refined_skin(maker: &SectionMaker, mut stations: Vec<f64>) -> Result<Skin, Pr
     let mut surface = skin(&sections, ring)?;
     for _ in 0..MAX_REFINEMENTS {
         let vs = section_parameters(&sections, Loft::default().parametrization)?;
+        let halves: Vec<(f64, f64)> = (0..sections.len() - 1)
+            .map(|k| {
+                (
+                    0.5 * (vs[k] + vs[k + 1]),
+                    0.5 * (stations[k] + stations[k + 1]),
+                )
+            })
+            .collect();
+        let (needed, mut layouts) = sections_needed(binder, maker, &surface, &halves)?;
         let mut inserted = Vec::new();
-        for k in 0..sections.len() - 1 {
-            let v = 0.5 * (vs[k] + vs[k + 1]);
-            let along = 0.5 * (stations[k] + stations[k + 1]);
-            if needs_section_between(maker, &surface, v, along)? {
+        let mut inserted_layouts = Vec::new();
+        for (k, &(_, along)) in halves.iter().enumerate() {
+            if needed[k] {
                 inserted.push(along);
+                inserted_layouts.push(layouts[k].take());
             }
         }
         if inserted.is_empty() {
             break;
         }
-        for a in inserted {
+        // Laid out for the check, or (without rules) only now, for the sections added.
+        let missing: Vec<usize> = (0..inserted.len())
+            .filter(|&i| inserted_layouts[i].is_none())
+            .collect();
+        let made: Vec<Result<Layout, Problem>> = missing
+            .par_iter()
+            .map(|&i| maker.layout(inserted[i]))
+            .collect();
+        for (i, layout) in missing.into_iter().zip(made) {
+            inserted_layouts[i] = Some(layout);
+        }
+        let layouts = inserted_layouts.into_iter().flatten().collect();
+        for (a, (s, w)) in inserted.into_iter().zip(maker.sections(binder, layouts)?) {
             let i = stations.partition_point(|&x| x < a);
-            let (s, w) = maker.at(a)?;
             narrow = narrow.min(w);
             wide = wide.max(w);
             stations.insert(i, a);
@@ -629,55 +784,181 @@ fn refined_skin(maker: &SectionMaker, mut stations: Vec<f64>) -> Result<Skin, Pr
     })
 }
 
-/// Whether the skin needs a section at fraction `along` (skin parameter `v`), half-way
-/// between two: its feet leave the binder there by more than [`FOOT_TOLERANCE`], or a
-/// rule drifts off the feature it runs through, across the bead, by more than
-/// [`RULE_TOLERANCE`].
-fn needs_section_between(
+/// What the binder answered for the check half-way between two sections.
+enum HalfWay {
+    /// The feet leave the binder: a section is needed.
+    FeetOff,
+    /// The feet are on the binder and there are no rules to check.
+    Fine,
+    /// The feet are on the binder; the exact section's points, for the rules' drift.
+    Section(Vec<DVec3>),
+}
+
+/// Whether the skin needs a section half-way between each two, at `halves` (skin
+/// parameter `v`, fraction `along`): its feet leave the binder there by more than
+/// [`FOOT_TOLERANCE`], or a rule drifts off the feature it runs through, across the
+/// bead, by more than [`RULE_TOLERANCE`]. With it, the sections laid out there (with
+/// rules only). The binder is asked in the order of `halves`, each check's feet and then
+/// its section; the rest is worked out in parallel.
+#[allow(clippy::type_complexity)]
+fn sections_needed(
+    binder: &Binder,
     maker: &SectionMaker,
     surface: &NurbsSurface,
-    v: f64,
-    along: f64,
-) -> Result<bool, Problem> {
-    if foot_gap_at(maker.binder, surface, v)? > FOOT_TOLERANCE {
-        return Ok(true);
-    }
-    if maker.profiles.rule_params.is_empty() {
-        return Ok(false);
-    }
+    halves: &[(f64, f64)],
+) -> Result<(Vec<bool>, Vec<Option<Result<Layout, Problem>>>), Problem> {
+    let rules = !maker.profiles.rule_params.is_empty();
+    let prepared: Vec<([DVec3; 2], Option<Result<Layout, Problem>>)> = halves
+        .par_iter()
+        .map(|&(v, along)| (feet_at(surface, v), rules.then(|| maker.layout(along))))
+        .collect();
+    let (answers, stop) = in_order(&prepared, |(feet, layout)| {
+        let gap = foot_gap_of(binder, feet)?;
+        if gap > FOOT_TOLERANCE {
+            return Ok(HalfWay::FeetOff);
+        }
+        match layout {
+            None => Ok(HalfWay::Fine),
+            Some(Err(problem)) => Err(problem.clone()),
+            Some(Ok(layout)) => Ok(HalfWay::Section(SectionMaker::on_binder(binder, layout)?)),
+        }
+    });
     // The rules run through the same feature of every section; between two sections
     // they must not drift off it across the bead.
-    let (_, across) = maker.course.frame(along)?;
-    let (exact, _) = maker.at(along)?;
-    Ok(maker.profiles.rule_params.iter().any(|&u| {
-        let drift = surface.point_at(u, v) - exact.point_at(u);
-        drift.truncate().dot(across).abs() > RULE_TOLERANCE
-    }))
+    let needed = answers
+        .par_iter()
+        .zip(halves)
+        .map(|(answer, &(v, along))| match answer {
+            HalfWay::FeetOff => Ok(true),
+            HalfWay::Fine => Ok(false),
+            HalfWay::Section(points) => {
+                let (exact, _) = maker.curve(points)?;
+                let (_, across) = maker.course.frame(along)?;
+                Ok(maker.profiles.rule_params.iter().any(|&u| {
+                    let drift = surface.point_at(u, v) - exact.point_at(u);
+                    drift.truncate().dot(across).abs() > RULE_TOLERANCE
+                }))
+            }
+        })
+        .collect();
+    let needed = first_problem(needed, stop)?;
+    Ok((needed, prepared.into_iter().map(|(_, l)| l).collect()))
 }
 
-/// The largest distance along Z between the binder and the skin's feet, at
-/// [`FOOT_SAMPLES`] places along it.
-fn foot_gap(binder: &Binder, surface: &NurbsSurface) -> Result<f64, Problem> {
-    let (v0, v1) = surface.domain_v();
-    let mut foot_gap = 0.0f64;
-    for i in 0..=FOOT_SAMPLES {
-        let v = v0 + (v1 - v0) * i as f64 / FOOT_SAMPLES as f64;
-        foot_gap = foot_gap.max(foot_gap_at(binder, surface, v)?);
-    }
-    Ok(foot_gap)
+/// The quality figures that ask the binder (the foot gap, the height, the section
+/// conformance), the points they ask about worked out first, in parallel.
+struct BinderQuestions {
+    /// The skin's feet at [`FOOT_SAMPLES`] places along it, for the foot gap.
+    feet: Vec<[DVec3; 2]>,
+    /// Every section's interpolated points, for the height.
+    tops: Vec<Vec<DVec3>>,
+    /// The sections measured for conformance ([`measured_key`]), sampled.
+    conformance: Vec<Result<Conformance, Problem>>,
 }
 
-/// The tallest point of the sections above the binder, at their interpolated points
-/// (`params`).
-fn height(binder: &Binder, sections: &[Curve3], params: &[f64]) -> Result<f64, Problem> {
-    let mut height = 0.0f64;
-    for s in sections {
-        for &u in params {
-            let p = s.point_at(u);
-            height = height.max(p.z - binder.base(p.truncate(), None)?.z);
+/// The binder's answers to [`BinderQuestions`]: the foot gap and the height, and the
+/// heights above the binder of each measured section's samples (fewer for the last one
+/// when the binder was missed under it, `stop`).
+struct BinderAnswers<'q> {
+    foot_gap: f64,
+    height: f64,
+    samples: Vec<(&'q Conformance, Vec<f64>)>,
+    stop: Option<Problem>,
+}
+
+impl BinderQuestions {
+    fn new(
+        maker: &SectionMaker,
+        spec: &BeadSpec,
+        ats: &[f64],
+        skin: &Skin,
+        surface: &NurbsSurface,
+    ) -> Self {
+        let (v0, v1) = surface.domain_v();
+        let feet = (0..=FOOT_SAMPLES)
+            .into_par_iter()
+            .map(|i| feet_at(surface, v0 + (v1 - v0) * i as f64 / FOOT_SAMPLES as f64))
+            .collect();
+        let params = &maker.profiles.params;
+        let tops = skin
+            .sections
+            .par_iter()
+            .map(|s| params.iter().map(|&u| s.point_at(u)).collect())
+            .collect();
+        let measured: Vec<(usize, f64, &Curve3)> = skin
+            .sections
+            .iter()
+            .zip(&skin.stations)
+            .enumerate()
+            .filter_map(|(i, (section, &along))| {
+                measured_key(spec, ats, i, along).map(|key| (key, along, section))
+            })
+            .collect();
+        let conformance = measured
+            .par_iter()
+            .map(|&(key, along, section)| Conformance::new(maker, spec, key, along, section))
+            .collect();
+        Self {
+            feet,
+            tops,
+            conformance,
         }
     }
-    Ok(height)
+
+    /// Asks `binder`, in order: the largest distance along Z between it and the skin's
+    /// feet; the tallest point of the sections above it; the height above it of every
+    /// conformance sample.
+    fn answers(&self, binder: &Binder) -> Result<BinderAnswers<'_>, Problem> {
+        let mut foot_gap = 0.0f64;
+        for f in &self.feet {
+            foot_gap = foot_gap.max(foot_gap_of(binder, f)?);
+        }
+        let mut height = 0.0f64;
+        for p in self.tops.iter().flatten() {
+            height = height.max(p.z - binder.base(p.truncate(), None)?.z);
+        }
+        let mut samples = Vec::with_capacity(self.conformance.len());
+        let mut stop = None;
+        'sections: for c in &self.conformance {
+            let c = match c {
+                Ok(c) => c,
+                Err(problem) => {
+                    stop = Some(problem.clone());
+                    break;
+                }
+            };
+            let mut hs = Vec::with_capacity(c.samples.len());
+            for p in &c.samples {
+                match binder.base(p.truncate(), None) {
+                    Ok(base) => hs.push(p.z - base.z),
+                    Err(problem) => {
+                        // The samples measured before it come first.
+                        samples.push((c, hs));
+                        stop = Some(problem);
+                        break 'sections;
+                    }
+                }
+            }
+            samples.push((c, hs));
+        }
+        Ok(BinderAnswers {
+            foot_gap,
+            height,
+            samples,
+            stop,
+        })
+    }
+}
+
+impl BinderAnswers<'_> {
+    /// The foot gap, the height, and the section conformance (the section error): the
+    /// largest [`Conformance::worst`] distance, the sections measured in parallel.
+    fn figures(self) -> Result<(f64, f64, f64), Problem> {
+        let errors = self.samples.par_iter().map(|(c, hs)| c.worst(hs)).collect();
+        let errors = first_problem(errors, self.stop)?;
+        let section_error = errors.into_iter().fold(0.0f64, f64::max);
+        Ok((self.foot_gap, self.height, section_error))
+    }
 }
 
 /// The sections at the key sections' positions (`ats`), in the order given.
@@ -690,52 +971,24 @@ fn key_sections(ats: &[f64], stations: &[f64], sections: &[Curve3]) -> Vec<Curve
         .collect()
 }
 
-/// Section conformance: the largest [`conformance`] distance of the key sections, and
-/// of every [`CONFORMANCE_STRIDE`]-th skinned section whose exact profile is known
+/// Which key section's exact profile the skinned section `i` at fraction `along` is
+/// measured against for the section conformance, if it is measured: the key sections,
+/// and every [`CONFORMANCE_STRIDE`]-th skinned section whose exact profile is known
 /// (between two key sections with the same profile).
-fn section_error(
-    maker: &SectionMaker,
-    spec: &BeadSpec,
-    ats: &[f64],
-    stations: &[f64],
-    sections: &[Curve3],
-) -> Result<f64, Problem> {
-    let length = maker.course.length;
-    let mut section_error = 0.0f64;
-    for (i, (section, &along)) in sections.iter().zip(stations).enumerate() {
-        let k = ats
-            .partition_point(|&a| a < along - 1e-9)
-            .min(ats.len() - 1);
-        let at_key = (ats[k] - along).abs() <= 1e-9;
-        if !at_key && i % CONFORMANCE_STRIDE != 0 {
-            continue;
-        }
-        let key = if at_key || k == 0 {
-            Some(k)
-        } else {
-            let (a, b) = (&spec.sections[k - 1], &spec.sections[k]);
-            (a.profile == b.profile && a.rules == b.rules).then_some(k - 1)
-        };
-        if let Some(key) = key {
-            let factor = taper_factor(along * length, length, spec.taper);
-            let exact = if factor >= 1.0 {
-                spec.sections[key].profile.clone()
-            } else {
-                let rate = taper_rate(along * length, length, spec.taper);
-                polyline(&maker.profiles.run_out_of_key(key, factor, rate))?
-            };
-            let error = conformance(
-                maker.binder,
-                maker.course,
-                &spec.sections[key],
-                &exact,
-                along,
-                section,
-            )?;
-            section_error = section_error.max(error);
-        }
+fn measured_key(spec: &BeadSpec, ats: &[f64], i: usize, along: f64) -> Option<usize> {
+    let k = ats
+        .partition_point(|&a| a < along - 1e-9)
+        .min(ats.len() - 1);
+    let at_key = (ats[k] - along).abs() <= 1e-9;
+    if !at_key && i % CONFORMANCE_STRIDE != 0 {
+        return None;
     }
-    Ok(section_error)
+    if at_key || k == 0 {
+        Some(k)
+    } else {
+        let (a, b) = (&spec.sections[k - 1], &spec.sections[k]);
+        (a.profile == b.profile && a.rules == b.rules).then_some(k - 1)
+    }
 }
 
 /// The line bead: the centre line resampled every `spacing` (mm, evenly by arc
@@ -778,47 +1031,91 @@ fn polyline(points: &[DVec2]) -> Result<Curve2, Problem> {
 
 /// How closely a skinned section follows its designer profile: the largest
 /// distance, in the section plane, between the section's points (across offset, height
-/// above the binder) and `exact`, the key section `key`'s profile (run out by the
-/// taper, see [`runout`]), stretched to the boundaries, sampled between the
-/// interpolated points as well as at them.
-fn conformance(
-    binder: &Binder,
-    course: &CourseMap,
-    key: &KeySection,
-    exact: &Curve2,
-    at: f64,
-    section: &Curve3,
-) -> Result<f64, Problem> {
-    let (c, across) = course.frame(at)?;
-    let (s0, s1) = (key.profile.start_point().x, key.profile.end_point().x);
-    let stretch = course.feet(c, across)?;
-    let (t0, t1) = section.domain();
-    let mut worst = 0.0f64;
-    let mut guess = exact.domain().0;
-    // A run-out profile is a polyline: measured segment by segment.
-    let polyline = (exact.degree() == 1).then(|| runout::Segments::new(exact.control_points()));
-    let mut segment = 0;
-    for i in 0..=CONFORMANCE_SAMPLES {
-        let p = section.point_at(t0 + (t1 - t0) * i as f64 / CONFORMANCE_SAMPLES as f64);
-        let offset = (p.truncate() - c).dot(across);
-        let s = match stretch {
-            None => offset,
-            Some((low, high)) => s0 + (offset - low) / (high - low) * (s1 - s0),
+/// above the binder) and `exact`, the key section's profile (run out by the taper, see
+/// [`runout`]), stretched to the boundaries, sampled between the interpolated points as
+/// well as at them. Made in two steps around the binder: [`Conformance::new`] samples
+/// the section, [`Conformance::worst`] measures it with the binder's heights under the
+/// samples.
+struct Conformance {
+    /// The exact profile.
+    exact: Curve2,
+    /// The centre point and the direction across of the section's frame.
+    frame: (DVec2, DVec2),
+    /// The key profile's feet (s across).
+    feet: (f64, f64),
+    /// Where the section line meets the boundaries, if there are two.
+    stretch: Option<(f64, f64)>,
+    /// The section's samples.
+    samples: Vec<DVec3>,
+}
+
+impl Conformance {
+    /// The section `section` at fraction `at`, to be measured against key section
+    /// `key` (its exact profile run out by the taper there).
+    fn new(
+        maker: &SectionMaker,
+        spec: &BeadSpec,
+        key: usize,
+        at: f64,
+        section: &Curve3,
+    ) -> Result<Self, Problem> {
+        let length = maker.course.length;
+        let factor = taper_factor(at * length, length, spec.taper);
+        let exact = if factor >= 1.0 {
+            spec.sections[key].profile.clone()
+        } else {
+            let rate = taper_rate(at * length, length, spec.taper);
+            polyline(&maker.profiles.run_out_of_key(key, factor, rate))?
         };
-        let h = p.z - binder.base(p.truncate(), None)?.z;
-        let target = DVec2::new(s, h);
-        match &polyline {
-            Some(segments) if target.is_finite() => {
-                worst = worst.max(segments.distance_from(target, &mut segment));
-            }
-            _ => {
-                let hit = project_to_curve_near(exact, target, guess)?;
-                guess = hit.t;
-                worst = worst.max(hit.distance);
+        let profile = &spec.sections[key].profile;
+        let (c, across) = maker.course.frame(at)?;
+        let feet = (profile.start_point().x, profile.end_point().x);
+        let stretch = maker.course.feet(c, across)?;
+        let (t0, t1) = section.domain();
+        let samples = (0..=CONFORMANCE_SAMPLES)
+            .map(|i| section.point_at(t0 + (t1 - t0) * i as f64 / CONFORMANCE_SAMPLES as f64))
+            .collect();
+        Ok(Self {
+            exact,
+            frame: (c, across),
+            feet,
+            stretch,
+            samples,
+        })
+    }
+
+    /// The largest distance of the samples from the exact profile, each sample at the
+    /// height `heights` (in order; as many as there are, fewer when the binder was
+    /// missed) above the binder.
+    fn worst(&self, heights: &[f64]) -> Result<f64, Problem> {
+        let (c, across) = self.frame;
+        let (s0, s1) = self.feet;
+        let exact = &self.exact;
+        let mut worst = 0.0f64;
+        let mut guess = exact.domain().0;
+        // A run-out profile is a polyline: measured segment by segment.
+        let polyline = (exact.degree() == 1).then(|| runout::Segments::new(exact.control_points()));
+        let mut segment = 0;
+        for (p, &h) in self.samples.iter().zip(heights) {
+            let offset = (p.truncate() - c).dot(across);
+            let s = match self.stretch {
+                None => offset,
+                Some((low, high)) => s0 + (offset - low) / (high - low) * (s1 - s0),
+            };
+            let target = DVec2::new(s, h);
+            match &polyline {
+                Some(segments) if target.is_finite() => {
+                    worst = worst.max(segments.distance_from(target, &mut segment));
+                }
+                _ => {
+                    let hit = project_to_curve_near(exact, target, guess)?;
+                    guess = hit.t;
+                    worst = worst.max(hit.distance);
+                }
             }
         }
+        Ok(worst)
     }
-    Ok(worst)
 }
 
 /// The key sections' positions as fractions of the centre line's length (`length`
@@ -893,12 +1190,16 @@ fn check_lengths(spec: &BeadSpec) -> Result<(), Problem> {
     Ok(())
 }
 
-/// The largest distance along Z between the binder and the surface's two feet at `v`.
-fn foot_gap_at(binder: &Binder, surface: &NurbsSurface, v: f64) -> Result<f64, Problem> {
+/// The surface's two feet at `v`.
+fn feet_at(surface: &NurbsSurface, v: f64) -> [DVec3; 2] {
     let (u0, u1) = surface.domain_u();
+    [surface.point_at(u0, v), surface.point_at(u1, v)]
+}
+
+/// The largest distance along Z between the binder and `feet`.
+fn foot_gap_of(binder: &Binder, feet: &[DVec3; 2]) -> Result<f64, Problem> {
     let mut worst = 0.0f64;
-    for u in [u0, u1] {
-        let p = surface.point_at(u, v);
+    for p in feet {
         let base = binder.base(p.truncate(), None)?;
         worst = worst.max((p.z - base.z).abs());
     }
@@ -1019,18 +1320,28 @@ fn skin_radii(
     };
     // The fraction a hair inside the taper still counts as the end.
     let in_end = |f: f64| taper > 0.0 && (f < taper - 1e-9 || f > 1.0 - taper + 1e-9);
-    for &(v, f) in &along {
-        for &u in &us {
-            let Some(p) = principal_curvatures(surface, u, v) else {
-                continue;
-            };
-            let r = p.min_radius();
-            if in_end(f) {
-                radii.ends = radii.ends.min(r);
-            } else if r < radii.full {
-                radii.full = r;
-                radii.full_at = surface.point_at(u, v);
-            }
+    // Every sample on its own, in parallel, with each u's and v's basis worked out
+    // once; the smallest kept in order.
+    let bases_u: Vec<_> = us.iter().map(|&u| surface.basis_u::<3>(u)).collect();
+    let radii_along: Vec<Vec<(f64, f64, f64, f64)>> = along
+        .par_iter()
+        .map(|&(v, f)| {
+            let bv = surface.basis_v::<3>(v);
+            us.iter()
+                .zip(&bases_u)
+                .filter_map(|(&u, bu)| {
+                    principal_of(&surface.derivatives_from(bu, &bv))
+                        .map(|p| (u, v, f, p.min_radius()))
+                })
+                .collect()
+        })
+        .collect();
+    for (u, v, f, r) in radii_along.into_iter().flatten() {
+        if in_end(f) {
+            radii.ends = radii.ends.min(r);
+        } else if r < radii.full {
+            radii.full = r;
+            radii.full_at = surface.point_at(u, v);
         }
     }
     if taper <= 0.0 {

@@ -2,10 +2,11 @@
 //! in every piece between rule points, so sections blend point by point and each rule
 //! is one parameter across every section.
 
-use std::cell::RefCell;
 use std::collections::HashMap;
+use std::sync::Mutex;
 
 use glam::DVec2;
+use rayon::prelude::*;
 
 use super::runout::{resampled, run_out, smoothed};
 use super::{ease, BeadSpec, Problem, SECTION_INTERVALS};
@@ -45,8 +46,9 @@ pub(super) struct MatchedProfiles {
     feet: Vec<(f64, f64)>,
     /// The shapes made so far, by the bits of (along, factor, rate): the refinement
     /// asks again for the same sections (the exact section half-way between two
-    /// skinned ones, each round, and then the one it inserts there).
-    shapes: RefCell<HashMap<[u64; 3], Vec<DVec2>>>,
+    /// skinned ones, each round, and then the one it inserts there). Behind a lock, so
+    /// the sections of a round are shaped in parallel.
+    shapes: Mutex<HashMap<[u64; 3], Vec<DVec2>>>,
 }
 
 impl MatchedProfiles {
@@ -68,12 +70,18 @@ impl MatchedProfiles {
     /// itself at full height.
     pub(super) fn shape(&self, along: f64, factor: f64, rate: f64) -> Vec<DVec2> {
         let key = [along.to_bits(), factor.to_bits(), rate.to_bits()];
-        if let Some(shape) = self.shapes.borrow().get(&key) {
+        if let Some(shape) = self.cached_shapes().get(&key) {
             return shape.clone();
         }
         let shape = self.make_shape(along, factor, rate);
-        self.shapes.borrow_mut().insert(key, shape.clone());
+        self.cached_shapes().insert(key, shape.clone());
         shape
+    }
+
+    /// The shape cache, locked. A shape depends only on its key, so a cache left by a
+    /// panicking thread is still right.
+    fn cached_shapes(&self) -> std::sync::MutexGuard<'_, HashMap<[u64; 3], Vec<DVec2>>> {
+        self.shapes.lock().unwrap_or_else(|e| e.into_inner())
     }
 
     /// [`MatchedProfiles::shape`], made.
@@ -296,9 +304,12 @@ pub(super) fn matched_profiles(spec: &BeadSpec, ats: &[f64]) -> Result<MatchedPr
         dense,
         counts,
         feet,
-        shapes: RefCell::new(HashMap::new()),
+        shapes: Mutex::new(HashMap::new()),
     })
 }
+
+/// Dense points of a key profile found by one parallel task.
+const POINTS_PER_TASK: usize = 32;
 
 /// A key profile's points [`RUN_OUT_DENSITY`] times finer than the matched ones: in each
 /// piece between the arc `lengths` of its rule points, `RUN_OUT_DENSITY` times the
@@ -310,16 +321,21 @@ fn dense_points(
     counts: &[usize],
 ) -> Result<Vec<DVec2>, Problem> {
     const { assert!(RUN_OUT_DENSITY.is_power_of_two()) };
-    let mut section = Vec::new();
+    let mut along = Vec::new();
     for (j, &count) in counts.iter().enumerate() {
         let first = if j == 0 { 0 } else { 1 };
         let n = count * RUN_OUT_DENSITY;
         for i in first..=n {
-            let l = lengths[j] + (lengths[j + 1] - lengths[j]) * i as f64 / n as f64;
-            section.push(profile.point_at(table.parameter_at(l)?));
+            along.push(lengths[j] + (lengths[j + 1] - lengths[j]) * i as f64 / n as f64);
         }
     }
-    Ok(section)
+    // Each point on its own, in parallel; the first failure in order.
+    let points: Vec<Result<DVec2, Problem>> = along
+        .par_iter()
+        .with_min_len(POINTS_PER_TASK)
+        .map(|&l| Ok(profile.point_at(table.parameter_at(l)?)))
+        .collect();
+    points.into_iter().collect()
 }
 
 /// The parameter where a profile that never runs backwards reaches `s` across, from its

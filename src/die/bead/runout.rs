@@ -96,12 +96,19 @@ fn rounded_foot(half: &[DVec2], foot: f64, radius: f64) -> (Vec<DVec2>, f64) {
     let (mut lo, mut hi) = (crossing.x - radius, crossing.x);
     for _ in 0..BISECTIONS {
         let mid = 0.5 * (lo + hi);
+        let before = (lo, hi);
         match segments.within(DVec2::new(mid, radius), radius, last_touch) {
             Some(i) => {
                 last_touch = i;
                 hi = mid;
             }
             None => lo = mid,
+        }
+        // Whether a segment lies within reach does not depend on the hint, so a step
+        // that leaves the bracket as it was (it is down to neighbouring numbers) would
+        // leave it so at every step after: the rest of the steps are skipped.
+        if (lo, hi) == before {
+            break;
         }
     }
     let c = 0.5 * (lo + hi);
@@ -350,23 +357,27 @@ pub(super) fn smoothed(line: &[DVec2], width: f64) -> Vec<DVec2> {
     integral.push(area);
     let total = l;
     let (first, last) = (angles[0], angles[angles.len() - 1]);
-    // The integral of the angle from 0 to x, constant angles continued past the ends.
-    let integral_to = |x: f64| -> f64 {
+    // The integral of the angle from 0 to x, constant angles continued past the ends;
+    // the segment holding x is looked for from `from` on (see `Walk`).
+    let integral_to = |x: f64, from: &mut Walk| -> f64 {
         if x <= 0.0 {
             return x * first;
         }
         if x >= total {
             return area + (x - total) * last;
         }
-        let i = starts.partition_point(|&s| s <= x) - 1;
+        let i = from.last_at_most(&starts, x);
         integral[i] + (x - starts[i]) * angles[i]
     };
+    let (mut ahead, mut behind) = (Walk::new(total), Walk::new(total));
     let mut out = Vec::with_capacity(m);
     out.push(line[0]);
     let mut at = 0.0;
     for (len, _) in lengths.iter().zip(&angles) {
         let mid = at + 0.5 * len;
-        let a = (integral_to(mid + 0.5 * width) - integral_to(mid - 0.5 * width)) / width;
+        let a = (integral_to(mid + 0.5 * width, &mut ahead)
+            - integral_to(mid - 0.5 * width, &mut behind))
+            / width;
         let p = out[out.len() - 1] + *len * DVec2::from_angle(a);
         out.push(p);
         at += len;
@@ -389,6 +400,34 @@ pub(super) fn smoothed(line: &[DVec2], width: f64) -> Vec<DVec2> {
     out
 }
 
+/// The last index `i` with `starts[i] <= x` in a non-decreasing `starts` (whose first
+/// entry is at most `x`), for `x` that only grow from one question to the next: walked
+/// on from the last answer, the index a binary search finds (`partition_point`). A
+/// table with a length that is not a number (`total`) is searched every time.
+struct Walk {
+    at: usize,
+    search: bool,
+}
+
+impl Walk {
+    fn new(total: f64) -> Self {
+        Self {
+            at: 0,
+            search: !total.is_finite(),
+        }
+    }
+
+    fn last_at_most(&mut self, starts: &[f64], x: f64) -> usize {
+        if self.search {
+            return starts.partition_point(|&s| s <= x) - 1;
+        }
+        while self.at + 1 < starts.len() && starts[self.at + 1] <= x {
+            self.at += 1;
+        }
+        self.at
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -404,6 +443,23 @@ mod tests {
             }
         }
         best
+    }
+
+    #[test]
+    fn walking_forward_finds_what_the_binary_search_finds() {
+        // Segment starts with repeated values (zero-length segments), asked at growing
+        // places, some of them exactly on a start.
+        let starts = [0.0, 0.5, 0.5, 0.5, 1.25, 2.0, 2.0, 3.75, 4.0];
+        let mut walk = Walk::new(4.0);
+        let mut x = 0.0;
+        while x < 4.0 {
+            let expected = starts.partition_point(|&s| s <= x) - 1;
+            assert_eq!(walk.last_at_most(&starts, x), expected, "x = {x}");
+            x += 0.125;
+        }
+        let mut search = Walk::new(f64::NAN);
+        assert_eq!(search.last_at_most(&starts, 2.0), 6);
+        assert_eq!(search.last_at_most(&starts, 0.25), 0);
     }
 
     #[test]

@@ -1,12 +1,16 @@
 //! Skinned (lofted) surfaces through sections (P&T section 10.3).
 
 use glam::DVec4;
+use rayon::prelude::*;
 
 use crate::geom::compat::make_compatible;
 use crate::geom::curve::Curve3;
 use crate::geom::error::{GeomError, Result};
 use crate::geom::interpolate::{interpolate_at, Interpolation, Parametrization};
 use crate::geom::surface::NurbsSurface;
+
+/// Control points of a net from which [`loft`] interpolates its columns in parallel.
+const PARALLEL_POINTS: usize = 2048;
 
 /// Options of [`loft`].
 #[derive(Debug, Clone, Default)]
@@ -71,8 +75,9 @@ pub fn loft(sections: &[Curve3], opts: &Loft) -> Result<NurbsSurface> {
     let wanted = if opts.degree == 0 { 3 } else { opts.degree };
     let degree_v = wanted.min(secs.len() + conditions - 1);
 
-    let mut columns = Vec::with_capacity(count_u);
-    for i in 0..count_u {
+    // Each column on its own, in parallel; the first failing column's error, as a loop
+    // would meet it.
+    let column = |i: usize| {
         let column: Vec<DVec4> = secs.iter().map(|c| lift(c, i)).collect();
         let weight_start = secs[0].weight(i);
         let weight_end = secs[secs.len() - 1].weight(i);
@@ -83,15 +88,20 @@ pub fn loft(sections: &[Curve3], opts: &Loft) -> Result<NurbsSurface> {
             start_tangent: start.map(|t| (t.control_points()[i] * weight_start).extend(0.0)),
             end_tangent: end.map(|t| (t.control_points()[i] * weight_end).extend(0.0)),
         };
-        columns.push(
-            interpolate_at(&column, &params, &interp).map_err(|e| match e {
-                GeomError::ZeroVector { .. } => GeomError::ZeroVector {
-                    what: "loft tangent at a control point",
-                },
-                other => other,
-            })?,
-        );
-    }
+        interpolate_at(&column, &params, &interp).map_err(|e| match e {
+            GeomError::ZeroVector { .. } => GeomError::ZeroVector {
+                what: "loft tangent at a control point",
+            },
+            other => other,
+        })
+    };
+    // A small net is lofted faster than the thread pool is asked.
+    let columns: Vec<Result<_>> = if count_u * secs.len() >= PARALLEL_POINTS {
+        (0..count_u).into_par_iter().map(column).collect()
+    } else {
+        (0..count_u).map(column).collect()
+    };
+    let columns = columns.into_iter().collect::<Result<Vec<_>>>()?;
     let count_v = columns[0].control_points().len();
     let mut points = Vec::with_capacity(count_u * count_v);
     let mut weights = Vec::with_capacity(count_u * count_v);
