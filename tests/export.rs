@@ -603,6 +603,38 @@ fn atomic_write_replaces_or_leaves_alone() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// `watch`'s writes (no fsync; on Linux the new file exchanged with the old one) replace
+/// the file whole and leave nothing beside it, and refuse a directory like `build`'s.
+#[test]
+fn renamed_writes_replace_or_leave_alone() {
+    use dieface::export::atomic::{write_atomic_with, Durability::Renamed};
+    let dir = root().join("target").join("export-renamed-test");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("out.glb");
+    // Not there yet, then over the previous file, twice.
+    for text in [&b"first"[..], b"second, longer", b"third"] {
+        write_atomic_with(&path, text, Renamed).unwrap();
+        assert_eq!(std::fs::read(&path).unwrap(), text);
+    }
+    let blocked = dir.join("blocked.glb");
+    std::fs::create_dir_all(blocked.join("inside")).unwrap();
+    assert!(write_atomic_with(&blocked, b"x", Renamed).is_err());
+    assert!(blocked.join("inside").is_dir());
+    let mut names: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .flatten()
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(
+        names,
+        ["blocked.glb", "out.glb"],
+        "nothing left beside them"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// The scene cache and the glTF buffer cache (what `watch` uses) give the same bytes
 /// as a fresh build after an edit, and keep the tessellations of what the edit did not
 /// touch.

@@ -45,13 +45,62 @@ pub fn write_atomic_with(path: &Path, bytes: &[u8], durability: Durability) -> i
             file.sync_all()?;
         }
         drop(file);
-        fs::rename(&tmp, path)
+        put_in_place(&tmp, path, durability)
     })();
     if result.is_err() {
         // Best effort: the temporary file may not even exist.
         let _ = fs::remove_file(&tmp);
     }
     result
+}
+
+/// Puts the written temporary file `tmp` in the place of `path`, atomically.
+///
+/// A rename over an existing file makes ext4 allocate the new file's blocks at once (its
+/// `auto_da_alloc` guard for writes that were not flushed) and free the old file's, about
+/// 4 ms for a 5 MB GLB: most of a small `watch` rebuild. So a [`Durability::Renamed`]
+/// write over a regular file on Linux exchanges the two names instead
+/// (`renameat2(RENAME_EXCHANGE)`, as atomic for readers) and then removes the old file
+/// from under the temporary name. Everywhere else, and when the exchange is refused
+/// (an older kernel or a file system without it), a plain rename.
+fn put_in_place(tmp: &Path, path: &Path, durability: Durability) -> io::Result<()> {
+    #[cfg(target_os = "linux")]
+    if durability == Durability::Renamed
+        && fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_file())
+        && exchange(tmp, path).is_ok()
+    {
+        // `tmp` now names the previous file; a failure to remove it leaves a stray
+        // temporary file, never a wrong output.
+        let _ = fs::remove_file(tmp);
+        return Ok(());
+    }
+    let _ = durability;
+    fs::rename(tmp, path)
+}
+
+/// Exchanges the files named `a` and `b` atomically.
+#[cfg(target_os = "linux")]
+fn exchange(a: &Path, b: &Path) -> io::Result<()> {
+    use std::ffi::CString;
+    use std::os::unix::ffi::OsStrExt;
+    let a = CString::new(a.as_os_str().as_bytes())?;
+    let b = CString::new(b.as_os_str().as_bytes())?;
+    // SAFETY: both are NUL-terminated paths that outlive the call; AT_FDCWD makes them
+    // relative to the working directory, as `fs::rename` takes them.
+    let r = unsafe {
+        libc::renameat2(
+            libc::AT_FDCWD,
+            a.as_ptr(),
+            libc::AT_FDCWD,
+            b.as_ptr(),
+            libc::RENAME_EXCHANGE,
+        )
+    };
+    if r == 0 {
+        Ok(())
+    } else {
+        Err(io::Error::last_os_error())
+    }
 }
 
 /// `.NAME.PID-N.tmp` in `path`'s directory.
