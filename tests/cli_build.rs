@@ -103,6 +103,40 @@ product part = trim(panel, project(sk.rectangle(top, (0, 0), 400 mm, 300 mm, 50 
     );
 }
 
+/// Declarations, step-draw patches, bead sections and tessellations run on every core:
+/// the fender's GLB and STEP are the same bytes on one thread as on three.
+#[test]
+fn outputs_do_not_depend_on_the_number_of_threads() {
+    let example = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/fender");
+    let dir = temp("threads");
+    let build = |threads: &str, stem: &str| {
+        let glb = dir.join(format!("{stem}.glb"));
+        let step = dir.join(format!("{stem}.step"));
+        let out = Command::new(env!("CARGO_BIN_EXE_dieface"))
+            .current_dir(&example)
+            .env("RAYON_NUM_THREADS", threads)
+            .args(["build", "fender.die", "-o"])
+            .arg(&glb)
+            .arg("-o")
+            .arg(&step)
+            .output()
+            .expect("run dieface");
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        (
+            std::fs::read(glb).expect("glb"),
+            std::fs::read(step).expect("step"),
+        )
+    };
+    let one = build("1", "one");
+    let three = build("3", "three");
+    assert!(one.0 == three.0, "the GLB differs with the thread count");
+    assert!(one.1 == three.1, "the STEP differs with the thread count");
+}
+
 #[test]
 fn a_step_output_without_a_die_face_is_refused() {
     let dir = project("step_empty", "let a = circle((0, 0), 10 mm)\n");
