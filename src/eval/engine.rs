@@ -597,8 +597,8 @@ impl Engine {
         let mut turns = Vec::with_capacity(wave.len());
         for &i in wave {
             let d = items.decls[i];
-            if let Some(key) = self.turn_key(run, d, in_cycle.contains(&i)) {
-                turns.push((d, key, self.override_for(run.role, d)));
+            if let Some((key, override_text)) = self.turn_key(run, d, in_cycle.contains(&i)) {
+                turns.push((d, key, override_text));
             }
         }
         let plain: Vec<&ast::Decl> = turns
@@ -643,8 +643,13 @@ impl Engine {
     /// Where one declaration stands at its turn: `None` when it is skipped (and marked
     /// failed, so what uses it is skipped too) because it sits in a cycle or uses a
     /// failed import or declaration, or taken from the memo because its key is
-    /// unchanged; else its memo key, to be evaluated fresh.
-    fn turn_key(&mut self, run: &mut FileRun, d: &ast::Decl, in_cycle: bool) -> Option<u64> {
+    /// unchanged; else its memo key and its `-D` override text, to be evaluated fresh.
+    fn turn_key(
+        &mut self,
+        run: &mut FileRun,
+        d: &ast::Decl,
+        in_cycle: bool,
+    ) -> Option<(u64, Option<String>)> {
         let name = d.name.node.as_str();
         if in_cycle || run.uses_a_failure(name) {
             run.failed.insert(name.to_string());
@@ -654,7 +659,7 @@ impl Engine {
         let override_text = self.override_for(run.role, d);
         let key = run.memo_key(d, override_text.as_deref());
         run.hashes.insert(name.to_string(), key);
-        (!self.reuse_memoized(run, name, key)).then_some(key)
+        (!self.reuse_memoized(run, name, key)).then_some((key, override_text))
     }
 
     /// Takes `name`'s value from the memo when its entry was computed under `key` and
