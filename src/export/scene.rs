@@ -200,7 +200,7 @@ impl SceneCache {
         for part in &model.parts {
             self.look_up(part, &mut found, &mut missing);
         }
-        let Missing { unique, all } = missing;
+        let Missing { unique, all, .. } = missing;
         let missing = unique;
         self.misses = missing.len();
         let made: Vec<Result<Geometry, GeomError>> = missing
@@ -268,7 +268,7 @@ impl SceneCache {
     ) {
         if let Some(shape) = &part.shape {
             let at = address(shape);
-            if !found.contains_key(&at) && !missing.all.iter().any(|&(a, _)| a == at) {
+            if !found.contains_key(&at) && !missing.has(at) {
                 match self.cached(shape) {
                     Ok(geometry) => {
                         found.insert(at, geometry);
@@ -311,25 +311,34 @@ struct Missing<'m> {
     /// One shape per content, with its fingerprint and the first part that holds it:
     /// what is tessellated.
     unique: Vec<(u64, &'m Part, &'m Shape)>,
+    /// The indices into `unique` of each fingerprint's shapes.
+    by_key: HashMap<u64, Vec<usize>>,
     /// Every missing shape's address, with the index of its content in `unique`.
-    all: Vec<(usize, usize)>,
+    all: HashMap<usize, usize>,
 }
 
 impl<'m> Missing<'m> {
+    /// Whether the shape at address `at` is already noted.
+    fn has(&self, at: usize) -> bool {
+        self.all.contains_key(&at)
+    }
+
     /// Notes a shape not in the cache, tessellated once however many parts hold it.
     fn add(&mut self, key: u64, part: &'m Part, shape: &'m Shape) {
-        let k = match self
-            .unique
+        let same_key = self.by_key.entry(key).or_default();
+        let k = match same_key
             .iter()
-            .position(|(k, _, other)| *k == key && same(other, shape))
+            .copied()
+            .find(|&k| same(self.unique[k].2, shape))
         {
             Some(k) => k,
             None => {
                 self.unique.push((key, part, shape));
+                same_key.push(self.unique.len() - 1);
                 self.unique.len() - 1
             }
         };
-        self.all.push((address(shape), k));
+        self.all.insert(address(shape), k);
     }
 }
 
