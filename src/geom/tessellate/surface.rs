@@ -37,6 +37,7 @@
 //! dropped.
 
 use glam::{DVec2, DVec3};
+use rayon::prelude::*;
 
 use crate::geom::error::{GeomError, Result};
 use crate::geom::knots::KnotVector;
@@ -452,6 +453,10 @@ struct Pass {
 }
 
 /// Evaluates the grid, picks the diagonals and checks every cell.
+///
+/// The rows of cells are checked in bands side by side (see [`verify_rows`]); every
+/// figure of a pass is a largest or smallest value or a flag, so the bands' passes
+/// joined in order are the pass of the whole grid, bit for bit, however many bands.
 fn verify(
     surface: &NurbsSurface,
     net: &Net,
@@ -461,12 +466,83 @@ fn verify(
 ) -> Result<Pass> {
     let tu = Tables::new(surface.knots_u(), surface.degree_u(), &grid.u);
     let tv = Tables::new(surface.knots_v(), surface.degree_v(), &grid.v);
+    let cv = grid.v.intervals();
+    let bands = (tu.grid.len() * cv / ROWS_BAND_VERTICES)
+        .clamp(1, rayon::current_num_threads().max(1))
+        .min(cv.max(1));
+    let bounds: Vec<(usize, usize)> = (0..bands)
+        .map(|b| (cv * b / bands, cv * (b + 1) / bands))
+        .collect();
+    let tables = (&tu, &tv);
+    let mut passes = bounds
+        .par_iter()
+        .map(|&rows| verify_rows(surface, net, grid, tol, lattice, tables, rows))
+        .collect::<Vec<_>>()
+        .into_iter();
+    let mut pass = passes.next().expect("at least one band")?;
     let nu = tu.grid.len();
-    let (cu, cv) = (grid.u.intervals(), grid.v.intervals());
+    for band in passes {
+        pass.join(band?, nu);
+    }
+    for (i, &edges) in pass.edges_u.iter().enumerate() {
+        edge_limits(&mut pass.request_u[i], &mut pass.fit_u[i], edges, tol);
+    }
+    for (j, &edges) in pass.edges_v.iter().enumerate() {
+        edge_limits(&mut pass.request_v[j], &mut pass.fit_v[j], edges, tol);
+    }
+    Ok(pass)
+}
+
+/// Below this many grid vertices per band, the cells are checked in one band: a small
+/// grid is done before another thread would start.
+const ROWS_BAND_VERTICES: usize = 20_000;
+
+impl Pass {
+    /// Joins the pass of the next band of rows (whose first vertex row is this pass's
+    /// last, evaluated again) onto this one.
+    fn join(&mut self, next: Pass, nu: usize) {
+        self.positions.extend_from_slice(&next.positions[nu..]);
+        self.normals.extend_from_slice(&next.normals[nu..]);
+        self.diagonal.extend(next.diagonal);
+        let most = |a: &mut Vec<f64>, b: Vec<f64>| {
+            for (x, y) in a.iter_mut().zip(b) {
+                bump(x, y);
+            }
+        };
+        most(&mut self.request_u, next.request_u);
+        most(&mut self.request_v, next.request_v);
+        most(&mut self.fit_u, next.fit_u);
+        most(&mut self.fit_v, next.fit_v);
+        for (x, y) in self.edges_u.iter_mut().zip(next.edges_u) {
+            x.add(y.min_cos, y.max_len);
+        }
+        for (x, y) in self.edges_v.iter_mut().zip(next.edges_v) {
+            x.add(y.min_cos, y.max_len);
+        }
+        self.chordal_failed |= next.chordal_failed;
+        self.max_deviation = f64::max(self.max_deviation, next.max_deviation);
+    }
+}
+
+/// [`verify`] of the cells in rows `first..end` (vertex rows `first..=end`), as a pass
+/// of its own whose positions start at vertex row `first`; the span edge limits are left
+/// to the caller.
+fn verify_rows(
+    surface: &NurbsSurface,
+    net: &Net,
+    grid: &Grid,
+    tol: &Tolerance,
+    lattice: &[[f64; 4]],
+    (tu, tv): (&Tables, &Tables),
+    (first, end): (usize, usize),
+) -> Result<Pass> {
+    let nu = tu.grid.len();
+    let cu = grid.u.intervals();
+    let rows = end - first;
     let mut pass = Pass {
-        positions: Vec::with_capacity(nu * tv.grid.len()),
-        normals: Vec::with_capacity(nu * tv.grid.len()),
-        diagonal: Vec::with_capacity(cu * cv),
+        positions: Vec::with_capacity(nu * (rows + 1)),
+        normals: Vec::with_capacity(nu * (rows + 1)),
+        diagonal: Vec::with_capacity(cu * rows),
         request_u: vec![1.0; grid.u.span_of.last().map_or(0, |&s| s + 1)],
         request_v: vec![1.0; grid.v.span_of.last().map_or(0, |&s| s + 1)],
         fit_u: vec![0.0; grid.u.span_of.last().map_or(0, |&s| s + 1)],
@@ -494,26 +570,28 @@ fn verify(
         &mut mids_bottom,
         &mut row,
         net,
-        (&tu, &tv),
+        (tu, tv),
         floor,
-        0,
+        first,
     )?;
     check_u_edges(&mut pass, grid, 0, nu);
-    for l in 0..cv {
+    for l in first..end {
+        // Vertex rows are stored from `first`: row `l` starts at `(l - first) * nu`.
+        let local = l - first;
         vertex_row(
             &mut pass,
             &mut mids_top,
             &mut row,
             net,
-            (&tu, &tv),
+            (tu, tv),
             floor,
             l + 1,
         )?;
-        check_u_edges(&mut pass, grid, l + 1, nu);
+        check_u_edges(&mut pass, grid, local + 1, nu);
         let span_v = grid.v.span_of[l];
         // v edges between rows l and l + 1.
         for k in 0..nu {
-            let (a, b) = (l * nu + k, (l + 1) * nu + k);
+            let (a, b) = (local * nu + k, (local + 1) * nu + k);
             let cos = if grid.v.c0_end[l] {
                 1.0
             } else {
@@ -529,7 +607,7 @@ fn verify(
         row_third1.fill(net, &tv.third1, l, false);
         row_third2.fill(net, &tv.third2, l, false);
         for k in 0..cu {
-            let (i00, i10) = (l * nu + k, l * nu + k + 1);
+            let (i00, i10) = (local * nu + k, local * nu + k + 1);
             let (i01, i11) = (i00 + nu, i10 + nu);
             let p = &pass.positions;
             let (p00, p10, p01, p11) = (p[i00], p[i10], p[i01], p[i11]);
@@ -597,12 +675,6 @@ fn verify(
             }
         }
         std::mem::swap(&mut mids_bottom, &mut mids_top);
-    }
-    for (i, &edges) in pass.edges_u.iter().enumerate() {
-        edge_limits(&mut pass.request_u[i], &mut pass.fit_u[i], edges, tol);
-    }
-    for (j, &edges) in pass.edges_v.iter().enumerate() {
-        edge_limits(&mut pass.request_v[j], &mut pass.fit_v[j], edges, tol);
     }
     Ok(pass)
 }
