@@ -74,7 +74,8 @@ fn put_in_place(tmp: &Path, path: &Path, durability: Durability) -> io::Result<(
         let _ = fs::remove_file(tmp);
         return Ok(());
     }
-    let _ = durability;
+    #[cfg(not(target_os = "linux"))]
+    let _ = durability; // only Linux has the exchange
     fs::rename(tmp, path)
 }
 

@@ -644,33 +644,14 @@ fn output(
     ];
     // The skin's draft and undercut (and its figures as the record `surface`); the
     // bead's own radii above (full height, ends, drawn) stay as they are.
-    for (key, value) in skin_figures(&bead.figures, span) {
+    let mut skin = Vec::new();
+    super::measured_figures(&mut skin, [("surface", bead.figures, &[][..], None)], span);
+    for (key, value) in skin {
         if !quality.iter().any(|(k, _)| *k == key) {
             quality.push((key, value));
         }
     }
     feature_value(KIND, span, fields, quality, bead)
-}
-
-/// The quality fields [`super::surface_figures`] makes for the skin as one patch named
-/// `surface`, from the figures the bead measured beside its own quality work (so the
-/// skin is not measured again here, after the build).
-fn skin_figures(f: &crate::die::figures::SurfaceFigures, span: Span) -> Vec<(String, Value)> {
-    let point = |p| Value::point3(p, span);
-    // One patch: the worst over all patches is its own.
-    let patch = vec![
-        ("min_radius".to_string(), mm(f.min_radius, span)),
-        ("min_radius_at".to_string(), point(f.min_radius_at)),
-        ("draft".to_string(), super::deg(f.draft, span)),
-        ("draft_at".to_string(), point(f.draft_at)),
-        (
-            "undercut".to_string(),
-            Value::new(Data::Bool(f.undercut), span),
-        ),
-    ];
-    let mut fields = patch.clone();
-    fields.push(("surface".to_string(), super::record_value(patch, span)));
-    fields
 }
 
 /// The `bead` feature kind.
@@ -764,39 +745,5 @@ impl FeatureKind for BeadKind {
                 shape: Shape::Patch(b.surface.clone()),
             });
         }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::geom::construct::{loft, Loft};
-    use crate::geom::interpolate::{interpolate, Interpolation};
-    use glam::DVec3;
-
-    /// The skin's figures from the bead's own measurement are the fields the common
-    /// `surface_figures` makes for the skin as one patch.
-    #[test]
-    fn skin_figures_are_the_common_surface_figures() {
-        // A bead-like ridge: three sections of a bump, the middle one taller.
-        let section = |y: f64, h: f64| {
-            let points: Vec<DVec3> = (0..=8)
-                .map(|i| {
-                    let x = -8.0 + 2.0 * i as f64;
-                    DVec3::new(x, y, h * (1.0 - (x / 8.0).powi(2)).powi(2))
-                })
-                .collect();
-            interpolate(&points, &Interpolation::default()).expect("a section")
-        };
-        let sections = [section(0.0, 5.0), section(40.0, 7.0), section(80.0, 5.0)];
-        let surface = loft(&sections, &Loft::default()).expect("a skin");
-        let span = Span::default();
-        let mut common = Vec::new();
-        super::super::surface_figures(&mut common, [("surface", &surface, &[][..], None)], span);
-        let figures = crate::die::figures::surface_figures(&surface);
-        assert_eq!(
-            format!("{:?}", skin_figures(&figures, span)),
-            format!("{common:?}")
-        );
     }
 }

@@ -433,9 +433,35 @@ fn surface_figures<'p>(
     >,
     span: Span,
 ) {
-    use crate::die::figures::{section_sag, surface_figures as measure, SectionEnd};
-    use glam::DVec3;
+    use crate::die::figures::surface_figures as measure;
     use rayon::prelude::*;
+    // The surfaces measured on their own, in parallel; the worst taken in patch order.
+    let patches: Vec<_> = patches.into_iter().collect();
+    let measured: Vec<_> = patches.par_iter().map(|p| measure(p.1)).collect();
+    let measured = patches
+        .into_iter()
+        .zip(measured)
+        .map(|((name, _, sections, drawn), f)| (name, f, sections, drawn));
+    measured_figures(quality, measured, span);
+}
+
+/// [`surface_figures`] of patches already measured (a bead measures its skin within
+/// its build): each patch with its name, its figures, its sections and its drawn
+/// radius.
+fn measured_figures<'p>(
+    quality: &mut Fields,
+    patches: impl IntoIterator<
+        Item = (
+            &'p str,
+            crate::die::figures::SurfaceFigures,
+            &'p [crate::geom::Curve3],
+            Option<f64>,
+        ),
+    >,
+    span: Span,
+) {
+    use crate::die::figures::{section_sag, SectionEnd};
+    use glam::DVec3;
     let point = |p: DVec3| Value::point3(p, span);
     let mut per_patch = Vec::new();
     // (value, where) of the worst so far.
@@ -443,10 +469,7 @@ fn surface_figures<'p>(
     let mut draft = (f64::INFINITY, DVec3::ZERO);
     let mut sag: Option<((f64, DVec3), (f64, DVec3))> = None;
     let mut drawn_min = f64::INFINITY;
-    // The surfaces measured on their own, in parallel; the worst taken in patch order.
-    let patches: Vec<_> = patches.into_iter().collect();
-    let measured: Vec<_> = patches.par_iter().map(|p| measure(p.1)).collect();
-    for ((name, _, sections, drawn), f) in patches.into_iter().zip(measured) {
+    for (name, f, sections, drawn) in patches {
         let mut fields = vec![
             ("min_radius".to_string(), mm(f.min_radius, span)),
             ("min_radius_at".to_string(), point(f.min_radius_at)),
