@@ -2,8 +2,8 @@
 //! stamping dies.
 //!
 //! The pipeline runs one way: source text -> [`syntax`] -> [`eval`] -> [`geom`] (the
-//! geometry kernel) -> `die` features -> `export` -> [`cli`]. [`diag`] is shared by all
-//! stages. See `ARCHITECTURE.md` for the map.
+//! geometry kernel) -> `die` features -> `export` -> [`cli`]. [`diag`] and [`limits`] are shared by
+//! all stages. See `ARCHITECTURE.md` for the map.
 
 // `Diagnostic` is a rich value (labels, help) returned on the cold error path only;
 // boxing it everywhere would cost more clarity than the larger `Result` costs speed.
@@ -15,5 +15,6 @@ pub mod die;
 pub mod eval;
 pub mod export;
 pub mod geom;
+pub mod limits;
 pub mod pipeline;
 pub mod syntax;

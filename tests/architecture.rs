@@ -1,6 +1,6 @@
 //! The pipeline's direction, checked on the source: data flows
 //! `syntax -> eval -> geom / die -> export -> pipeline -> cli`, and a module never
-//! reaches back up it. The kernel (`geom`) and the die-face features (`die`) know
+//! reaches back up it. `limits` is a leaf every stage may read. The kernel (`geom`) and the die-face features (`die`) know
 //! nothing of the language; the exporters read the die model, never language values.
 //!
 //! Every `crate::<module>` path, and every `super::` chain that climbs to the crate
@@ -12,20 +12,21 @@ use std::path::{Path, PathBuf};
 
 /// What each top-level module may use besides itself.
 const ALLOWED: &[(&str, &[&str])] = &[
-    ("diag", &["syntax"]),
-    ("syntax", &["diag"]),
-    ("geom", &[]),
-    ("die", &["geom"]),
-    ("eval", &["diag", "syntax", "geom", "die"]),
-    ("export", &["geom", "die"]),
+    ("limits", &[]),
+    ("diag", &["syntax", "limits"]),
+    ("syntax", &["diag", "limits"]),
+    ("geom", &["limits"]),
+    ("die", &["geom", "limits"]),
+    ("eval", &["diag", "syntax", "geom", "die", "limits"]),
+    ("export", &["geom", "die", "limits"]),
     (
         "pipeline",
-        &["diag", "syntax", "eval", "geom", "die", "export"],
+        &["diag", "syntax", "eval", "geom", "die", "export", "limits"],
     ),
     (
         "cli",
         &[
-            "diag", "syntax", "eval", "geom", "die", "export", "pipeline",
+            "diag", "syntax", "eval", "geom", "die", "export", "pipeline", "limits",
         ],
     ),
 ];

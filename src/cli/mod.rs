@@ -18,6 +18,7 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use crate::eval::overrides::parse_define;
 use crate::eval::Engine;
+use crate::limits::Limits;
 
 /// dieface: a declarative language for the faces of automotive stamping dies.
 #[derive(Debug, Parser)]
@@ -86,6 +87,10 @@ pub struct ScriptArgs {
     /// `-D delta=0.005mm` (repeatable; the value is an expression of the language).
     #[arg(short = 'D', value_name = "NAME=VALUE", value_parser = parse_define)]
     pub define: Vec<(String, String)>,
+    /// Raise (or lower) a limit on the work a script may ask for, e.g. `--limit
+    /// list_items=50000000` (repeatable; the limits are listed in docs/limits.md).
+    #[arg(long = "limit", value_name = "NAME=VALUE", value_parser = crate::limits::parse_setting)]
+    pub limits: Vec<(crate::limits::Limit, u64)>,
 }
 
 /// Outputs and tessellation (build and watch).
@@ -148,6 +153,15 @@ impl ScriptArgs {
         self.root.clone().unwrap_or_else(|| script_dir(&self.file))
     }
 
+    /// The limits in force: the defaults with the `--limit` settings applied in order.
+    fn limits(&self) -> Limits {
+        let mut limits = Limits::default();
+        for &(limit, value) in &self.limits {
+            limits.set(limit, value);
+        }
+        limits
+    }
+
     /// An engine for the script with its overrides, or a usage error if the script is
     /// not a file.
     fn engine(&self) -> Result<Engine, ExitCode> {
@@ -157,6 +171,7 @@ impl ScriptArgs {
         }
         let mut engine = Engine::new(Some(self.root()));
         engine.set_overrides(self.define.clone());
+        engine.set_limits(self.limits());
         Ok(engine)
     }
 }

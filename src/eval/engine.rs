@@ -22,6 +22,7 @@ use std::time::{Duration, Instant};
 use rayon::prelude::*;
 
 use crate::diag::{did_you_mean, Diagnostic, Sources};
+use crate::limits::Limits;
 use crate::syntax::ast::{self, Block, DeclBody, FieldValue, Item};
 use crate::syntax::incremental::reparse;
 use crate::syntax::{parse, FileId, Span};
@@ -133,6 +134,8 @@ pub struct Engine {
     parsed: HashMap<FileId, (u64, Arc<str>, Arc<ast::File>)>,
     evaluations: u64,
     last_evaluated: Vec<String>,
+    /// The limits in force (`--limit`).
+    limits: Limits,
     // CLI hooks (see `overrides.rs` and `last_timings`): `-D name=value` texts for the
     // main file's params, and how long each evaluated declaration took.
     overrides: Vec<(String, String)>,
@@ -171,8 +174,20 @@ impl Engine {
             overrides: Vec::new(),
             last_timings: Vec::new(),
             registry: Registry::standard(),
+            limits: Limits::default(),
             pieces: Default::default(),
         }
+    }
+
+    /// Sets the limits on the work a script may ask for (`--limit`; see
+    /// [`crate::limits`]).
+    pub fn set_limits(&mut self, limits: Limits) {
+        self.limits = limits;
+    }
+
+    /// The limits in force (see [`crate::limits`]).
+    pub fn limits(&self) -> &Limits {
+        &self.limits
     }
 
     /// Sets the command line's `-D name=value` overrides (name, expression text) of the
