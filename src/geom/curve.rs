@@ -288,12 +288,12 @@ impl<P: Point> NurbsCurve<P> {
         let mut lo = a;
         for k in self.span_breaks() {
             if k > lo && k < b {
-                total += adaptive_length(self, lo, k, 0);
+                total += adaptive_length(self, lo, k);
                 lo = k;
             }
         }
         if b > lo {
-            total += adaptive_length(self, lo, b, 0);
+            total += adaptive_length(self, lo, b);
         }
         total
     }
@@ -705,25 +705,41 @@ fn gauss_length<P: Point>(c: &NurbsCurve<P>, a: f64, b: f64) -> f64 {
 
 /// The arc length on `[a, b]` by adaptive Gauss-Legendre quadrature: the rule on the
 /// whole against the rule on its two halves, each half split again until they agree to
-/// 1e-13 (or 20 levels deep).
-fn adaptive_length<P: Point>(c: &NurbsCurve<P>, a: f64, b: f64, depth: usize) -> f64 {
-    halved_length(c, a, b, gauss_length(c, a, b), depth)
+/// 1e-13, at most 20 levels deep and [`LENGTH_SPLITS`] splits in all.
+fn adaptive_length<P: Point>(c: &NurbsCurve<P>, a: f64, b: f64) -> f64 {
+    let mut splits = LENGTH_SPLITS;
+    halved_length(c, a, b, gauss_length(c, a, b), 0, &mut splits)
 }
+
+/// Splits one [`adaptive_length`] may make. Agreement to 1e-13 cannot be reached where
+/// round-off is larger than that (a control polygon of 1e6 mm round a 10 mm arc): the
+/// depth limit alone would then split every half 20 levels deep, a million rules for
+/// one piece. The examples' curves need under a hundred.
+const LENGTH_SPLITS: usize = 2000;
 
 /// [`adaptive_length`] with the rule on the whole, `whole`, already known: a half that
 /// is split again hands its own rule down instead of working it out twice (the same
-/// numbers, a third less work).
-fn halved_length<P: Point>(c: &NurbsCurve<P>, a: f64, b: f64, whole: f64, depth: usize) -> f64 {
+/// numbers, a third less work). `splits` is what is left of the budget.
+fn halved_length<P: Point>(
+    c: &NurbsCurve<P>,
+    a: f64,
+    b: f64,
+    whole: f64,
+    depth: usize,
+    splits: &mut usize,
+) -> f64 {
     if !whole.is_finite() {
         return whole;
     }
     let m = 0.5 * (a + b);
     let (left, right) = (gauss_length(c, a, m), gauss_length(c, m, b));
     let halves = left + right;
-    if depth >= 20 || (whole - halves).abs() <= 1e-13 * halves.max(1e-300) {
+    if depth >= 20 || *splits == 0 || (whole - halves).abs() <= 1e-13 * halves.max(1e-300) {
         halves
     } else {
-        halved_length(c, a, m, left, depth + 1) + halved_length(c, m, b, right, depth + 1)
+        *splits -= 1;
+        halved_length(c, a, m, left, depth + 1, splits)
+            + halved_length(c, m, b, right, depth + 1, splits)
     }
 }
 
@@ -781,7 +797,7 @@ impl<'a, P: Point> ArcLengths<'a, P> {
                 ts.push(w[0] + (w[1] - w[0]) * k as f64 / PIECES_PER_SPAN as f64);
             }
         }
-        let piece = |w: &[f64]| adaptive_length(&curve, w[0], w[1], 0);
+        let piece = |w: &[f64]| adaptive_length(&curve, w[0], w[1]);
         let pieces: Vec<f64> = if ts.len() > PARALLEL_PIECES {
             ts.par_windows(2)
                 .with_min_len(PIECES_PER_TASK)
@@ -829,7 +845,7 @@ impl<'a, P: Point> ArcLengths<'a, P> {
         let tol = 1e-12 * self.total().max(1.0);
         let curve: &NurbsCurve<P> = &self.curve;
         invert_length(curve, (lo, hi), t, tol, |t| {
-            adaptive_length(curve, a, t, 0) - rest
+            adaptive_length(curve, a, t) - rest
         })
     }
 
@@ -843,7 +859,7 @@ impl<'a, P: Point> ArcLengths<'a, P> {
             return self.total();
         }
         let i = (self.ts.partition_point(|&x| x <= t) - 1).min(last - 1);
-        self.lengths[i] + adaptive_length(&self.curve, self.ts[i], t, 0)
+        self.lengths[i] + adaptive_length(&self.curve, self.ts[i], t)
     }
 
     /// The parameter at fraction `f` (0 to 1) of the length.
