@@ -199,6 +199,24 @@ proptest! {
     }
 
     #[test]
+    fn grid_points_are_the_surface_points(s in surface(), extra in prop::collection::vec(0.0..1.0f64, 0..4)) {
+        // The grid takes knots, domain ends and points between them alike.
+        let ((u0, u1), (v0, v1)) = (s.domain_u(), s.domain_v());
+        let mut us: Vec<f64> = samples((u0, u1)).step_by(37).collect();
+        us.extend(extra.iter().map(|f| u0 + (u1 - u0) * f));
+        us.extend(s.knots_u().distinct().into_iter().map(|(k, _)| k));
+        let vs: Vec<f64> = samples((v0, v1)).step_by(41).chain(s.knots_v().distinct().into_iter().map(|(k, _)| k)).collect();
+        let grid = s.grid_points(&us, &vs);
+        prop_assert_eq!(grid.len(), us.len() * vs.len());
+        for (l, &v) in vs.iter().enumerate() {
+            for (k, &u) in us.iter().enumerate() {
+                let d = grid[l * us.len() + k].distance(s.point_at(u, v));
+                prop_assert!(d <= SAME * 200.0, "({u}, {v}): {d}");
+            }
+        }
+    }
+
+    #[test]
     fn surface_refinement_and_elevation_change_nothing(
         s in surface(), f in 0.05..0.95f64, dir_u in any::<bool>(), by in 1..3usize,
     ) {

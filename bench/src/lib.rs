@@ -500,8 +500,43 @@ pub fn eval_rows(f: &Fixtures) -> Vec<Row<'_>> {
             });
         }
     }
+    for s in [&f.bicubic, &f.rational] {
+        let slug = if s.ours.is_rational() {
+            "rational"
+        } else {
+            "bicubic"
+        };
+        // A regular grid over the domain, as curvo's `regular_sample_points` spaces it.
+        let spaced = |(a, b): (f64, f64)| -> Vec<f64> {
+            (0..=GRID_DIVS)
+                .map(|i| a + (b - a) * i as f64 / GRID_DIVS as f64)
+                .collect()
+        };
+        let (us, vs) = (spaced(s.ours.domain_u()), spaced(s.ours.domain_v()));
+        rows.push(Row {
+            id: format!("surface_grid/{slug}"),
+            label: format!(
+                "surface grid points ({} x {}), {}",
+                GRID_DIVS + 1,
+                GRID_DIVS + 1,
+                s.name
+            ),
+            ops: (GRID_DIVS + 1) * (GRID_DIVS + 1),
+            ours: Box::new(move || {
+                black_box(s.ours.grid_points(black_box(&us), black_box(&vs)));
+            }),
+            theirs: Box::new(move || {
+                black_box(s.theirs.regular_sample_points(GRID_DIVS, GRID_DIVS));
+            }),
+            mesh: None,
+        });
+    }
     rows
 }
+
+/// Divisions per direction of the grid-evaluation rows: a 201 x 201 grid, about the
+/// size of a tessellation's vertex grid on a die-face patch.
+pub const GRID_DIVS: usize = 200;
 
 /// Largest parametric deviation `|T(b) - S(uv(b))|` of a mesh from `surface`, sampled on
 /// a barycentric lattice of `LATTICE_N + 1` points per side in every triangle (vertices

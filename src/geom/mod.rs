@@ -34,6 +34,7 @@ pub mod curvature;
 pub mod curve;
 pub mod error;
 pub mod fingerprint;
+pub(crate) mod grid;
 pub mod interpolate;
 pub mod intersect;
 pub mod inversion;

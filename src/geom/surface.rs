@@ -9,6 +9,7 @@ use glam::DVec3;
 
 use super::curve::{bounds, check_domain, check_weights, checked_refinement, Curve3};
 use super::error::{GeomError, Result};
+use super::grid::{BasisTable, Net, Row};
 use super::knots::{check_degree, BasisRow, KnotVector};
 use super::ops::{self, Spline};
 use super::point::Homogeneous;
@@ -241,6 +242,25 @@ impl NurbsSurface {
         } else {
             acc
         }
+    }
+
+    /// The points `S(us[k], vs[l])` of a tensor grid, at index `l * us.len() + k` (rows
+    /// of constant v). The basis functions are worked out once per parameter and the
+    /// control net contracted once per v, so each point costs a `p + 1` term sum instead
+    /// of a whole evaluation ([`crate::geom::grid`]); the points agree with
+    /// [`NurbsSurface::point_at`] to rounding. For sampling a patch for display,
+    /// measurement or export.
+    pub fn grid_points(&self, us: &[f64], vs: &[f64]) -> Vec<DVec3> {
+        let net = Net::new(self);
+        let tu = BasisTable::new(&self.knots_u, self.degree_u, us, false);
+        let tv = BasisTable::new(&self.knots_v, self.degree_v, vs, false);
+        let mut row = Row::new();
+        let mut out = Vec::with_capacity(us.len() * vs.len());
+        for l in 0..vs.len() {
+            row.fill(&net, &tv, l, false);
+            out.extend((0..us.len()).map(|k| row.point(&tu, k)));
+        }
+        out
     }
 
     /// Partial derivatives `d[k][l] = d^(k+l) S / du^k dv^l` for `k, l < N`

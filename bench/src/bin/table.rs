@@ -86,8 +86,17 @@ fn main() {
     } else {
         eprintln!("tessellating and measuring deviations (recorded curvo settings; --tune searches them again) ...");
     }
+    // `--only PREFIX` times only the rows whose id starts with PREFIX (`surface_grid`).
+    let only: Option<String> = std::env::args().skip_while(|a| a != "--only").nth(1);
     let mut rows = eval_rows(&fx);
-    rows.extend(tessellation_rows(&fx, tune, tune));
+    if only
+        .as_deref()
+        .is_none_or(|p| "tessellate".starts_with(p) || p.starts_with("tessellate"))
+    {
+        rows.extend(tessellation_rows(&fx, tune, tune));
+    }
+    rows.retain(|r| only.as_deref().is_none_or(|p| r.id.starts_with(p)));
+    let mut grid_rates = Vec::new();
 
     let mut lines = Vec::new();
     lines.push("| operation (time per evaluation; per call for tessellation) | dieface | curvo | ratio curvo / dieface |".to_string());
@@ -99,6 +108,14 @@ fn main() {
         let (a, b) = time_row(row);
         let (a, b) = (a / row.ops as f64, b / row.ops as f64);
         let ratio = b / a;
+        if row.id.starts_with("surface_grid") {
+            grid_rates.push(format!(
+                "{}: dieface {:.3e} points/s, curvo {:.3e} points/s (one core)",
+                row.label,
+                1.0 / a,
+                1.0 / b
+            ));
+        }
         if ratio < 1.0 {
             slower.push(format!("{} ({ratio:.2}x)", row.label));
         }
@@ -131,6 +148,9 @@ fn main() {
         "Evaluation rows: {PARAMS} fixed random parameters per fixture, both libraries agree on every point and derivative to {AGREE:e} (checked before timing). \
          Times are medians of {SAMPLES} alternating samples of about {SAMPLE_MS} ms each."
     );
+    for line in &grid_rates {
+        println!("{line}");
+    }
     if slower.is_empty() {
         println!("dieface is at least as fast as curvo on every row.");
     } else {

@@ -50,6 +50,9 @@ enum Command {
         /// Save failing inputs as found, without minimizing them.
         #[arg(long)]
         no_minimize: bool,
+        /// Log every input's number, origin, folder, end and time (µs) to this file.
+        #[arg(long)]
+        log: Option<PathBuf>,
     },
     /// Prints input `index` of the run seeded with `seed`, and the folder it runs in.
     Show {
@@ -110,6 +113,7 @@ impl Budgets {
             found: self.found.clone(),
             corpus: self.corpus.clone(),
             minimize,
+            log: None,
         }
     }
 }
@@ -121,10 +125,12 @@ fn main() -> ExitCode {
             inputs,
             jobs,
             no_minimize,
+            log,
         } => {
             let jobs =
                 jobs.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
-            let cfg = budgets.config(inputs, jobs, !no_minimize);
+            let mut cfg = budgets.config(inputs, jobs, !no_minimize);
+            cfg.log = log;
             let start = Instant::now();
             match run::run(&cfg) {
                 Ok(summary) => {

@@ -35,6 +35,8 @@ pub struct Config {
     pub corpus: PathBuf,
     /// Whether failing inputs are minimized.
     pub minimize: bool,
+    /// A file to log every input's number, origin, folder, end and time to.
+    pub log: Option<PathBuf>,
 }
 
 /// The folders whose `.die` files seed the mutations (relative to the repository); the
@@ -409,6 +411,10 @@ pub fn run(cfg: &Config) -> std::io::Result<Summary> {
     );
     let next = Arc::new(AtomicU64::new(0));
     let summary = Arc::new(Mutex::new(Summary::default()));
+    let log = match &cfg.log {
+        Some(p) => Some(Arc::new(Mutex::new(std::fs::File::create(p)?))),
+        None => None,
+    };
     let started = Instant::now();
     let total = regressions.len() as u64 + cfg.inputs;
     let mut threads = Vec::new();
@@ -421,6 +427,7 @@ pub fn run(cfg: &Config) -> std::io::Result<Summary> {
             next.clone(),
             summary.clone(),
         );
+        let log = log.clone();
         threads.push(std::thread::spawn(move || -> std::io::Result<()> {
             let scratch =
                 std::env::temp_dir().join(format!("dieface-fuzz-{}-{job}", std::process::id()));
@@ -437,6 +444,19 @@ pub fn run(cfg: &Config) -> std::io::Result<Summary> {
                 };
                 let verdict = worker.run(&cfg, &folder, &text);
                 let failed = failure(&verdict, &cfg);
+                if let Some(log) = &log {
+                    if let Ok(mut f) = log.lock() {
+                        let (end, micros) = match &verdict {
+                            Verdict::Done { clean, micros, .. } => {
+                                (if *clean { "clean" } else { "problems" }, *micros)
+                            }
+                            Verdict::Panic(_) => ("panic", 0),
+                            Verdict::Died(_) => ("died", 0),
+                            Verdict::Hang => ("hang", 0),
+                        };
+                        writeln!(f, "{i} {origin:?} {folder} {end} {micros}")?;
+                    }
+                }
                 let saved = match &failed {
                     Some((kind, why)) => Some(save_failure(
                         &cfg,

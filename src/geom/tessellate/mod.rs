@@ -21,7 +21,6 @@
 //! tolerances and runaway refinement come back as [`GeomError`].
 
 mod curve;
-mod grid;
 mod surface;
 mod trimmed;
 

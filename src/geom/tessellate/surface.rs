@@ -44,8 +44,8 @@ use crate::geom::knots::KnotVector;
 use crate::geom::surface::NurbsSurface;
 use crate::geom::union_find::UnionFind;
 
-use super::grid::{BasisTable, Net, Row};
 use super::{SurfaceMesh, Tolerance, MAX_VERTICES};
+use crate::geom::grid::{BasisTable, Net, Row};
 
 /// Largest modelled triangle deviation accepted, as a fraction of the tolerance; the
 /// margin covers what lies beyond the cubic model and between lattice points.

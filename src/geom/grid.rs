@@ -7,6 +7,9 @@
 //! ([`BasisTable`]), the control net is contracted once per v parameter into a row of
 //! homogeneous points ([`Row`]), and each point then costs a `p + 1` term sum.
 //! Nothing is allocated per point.
+//!
+//! Used by the tessellator (its grid and verification points) and by
+//! [`NurbsSurface::grid_points`], the public grid evaluation.
 
 use glam::{DVec3, DVec4};
 
@@ -16,7 +19,7 @@ use crate::geom::{MAX_DEGREE, MAX_DERIVATIVE};
 
 /// Basis functions (and optionally their first derivatives) of one direction at a list
 /// of parameters.
-pub(super) struct BasisTable {
+pub(crate) struct BasisTable {
     stride: usize,
     /// Index of the first control point each parameter's basis applies to.
     first: Vec<usize>,
@@ -28,7 +31,7 @@ impl BasisTable {
     /// Basis of `degree` over `knots` at each of `params`; with `derivs`, the first
     /// derivatives too. A parameter on a knot uses the span to its right (the last span at
     /// the domain's end), as the surface's own evaluation does.
-    pub(super) fn new(knots: &KnotVector, degree: usize, params: &[f64], derivs: bool) -> Self {
+    pub(crate) fn new(knots: &KnotVector, degree: usize, params: &[f64], derivs: bool) -> Self {
         let stride = degree + 1;
         let mut table = Self {
             stride,
@@ -50,7 +53,7 @@ impl BasisTable {
     }
 
     /// Number of parameters in the table.
-    pub(super) fn len(&self) -> usize {
+    pub(crate) fn len(&self) -> usize {
         self.first.len()
     }
 
@@ -64,14 +67,14 @@ impl BasisTable {
 }
 
 /// The surface's control net in homogeneous form `(w x, w y, w z, w)`, row-major.
-pub(super) struct Net {
+pub(crate) struct Net {
     points: Vec<DVec4>,
     count_u: usize,
     count_v: usize,
 }
 
 impl Net {
-    pub(super) fn new(surface: &NurbsSurface) -> Self {
+    pub(crate) fn new(surface: &NurbsSurface) -> Self {
         let (count_u, count_v) = surface.counts();
         let mut points = Vec::with_capacity(count_u * count_v);
         for i in 0..count_u {
@@ -91,13 +94,13 @@ impl Net {
 /// The control net contracted along v at one v parameter: one homogeneous point per
 /// control row `i`, i.e. the control polygon of the iso-curve at that v (and, when
 /// wanted, of its v-derivative).
-pub(super) struct Row {
-    pub(super) h: Vec<DVec4>,
-    pub(super) dv: Vec<DVec4>,
+pub(crate) struct Row {
+    pub(crate) h: Vec<DVec4>,
+    pub(crate) dv: Vec<DVec4>,
 }
 
 impl Row {
-    pub(super) fn new() -> Self {
+    pub(crate) fn new() -> Self {
         Self {
             h: Vec::new(),
             dv: Vec::new(),
@@ -106,7 +109,7 @@ impl Row {
 
     /// Contracts `net` with entry `k` of `table` (the v basis); with `derivs`, also with
     /// its derivative (the table must have been built with derivatives).
-    pub(super) fn fill(&mut self, net: &Net, table: &BasisTable, k: usize, derivs: bool) {
+    pub(crate) fn fill(&mut self, net: &Net, table: &BasisTable, k: usize, derivs: bool) {
         let j0 = table.first[k];
         let nv = table.values(k);
         self.h.clear();
@@ -133,7 +136,7 @@ impl Row {
     }
 
     /// The surface point at entry `k` of the u table on this row.
-    pub(super) fn point(&self, table: &BasisTable, k: usize) -> DVec3 {
+    pub(crate) fn point(&self, table: &BasisTable, k: usize) -> DVec3 {
         let i0 = table.first[k];
         let mut acc = DVec4::ZERO;
         for (p, &b) in self.h[i0..].iter().zip(table.values(k)) {
@@ -144,7 +147,7 @@ impl Row {
 
     /// The point and its first partial derivatives `(S, S_u, S_v)` at entry `k` of the u
     /// table (built with derivatives) on this row (filled with derivatives).
-    pub(super) fn point_and_tangents(&self, table: &BasisTable, k: usize) -> (DVec3, DVec3, DVec3) {
+    pub(crate) fn point_and_tangents(&self, table: &BasisTable, k: usize) -> (DVec3, DVec3, DVec3) {
         let i0 = table.first[k];
         let (mut a, mut au, mut av) = (DVec4::ZERO, DVec4::ZERO, DVec4::ZERO);
         let rows = self.h[i0..].iter().zip(&self.dv[i0..]);
