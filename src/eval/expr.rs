@@ -70,7 +70,7 @@ impl<'w> Ctx<'w> {
         let data = match &e.kind {
             ExprKind::Number { value, unit } => {
                 let q = match unit {
-                    Some(u) => units::quantity(*value, u.node),
+                    Some(u) => units::literal(*value, u.node, span)?,
                     None => Quantity::bare(*value),
                 };
                 Data::Number(q)
@@ -515,7 +515,7 @@ impl<'w> Ctx<'w> {
                     root,
                     apply: &apply,
                 };
-                Ok(Value::new((b.run)(&call)?, span))
+                Ok(Value::new(builtins::run(&call)?, span))
             }
             Data::Function(c) => {
                 let names: Vec<&str> = c.params.iter().map(|p| p.name.node.as_str()).collect();
