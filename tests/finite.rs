@@ -159,13 +159,21 @@ fn geometry_beyond_the_modelling_range_is_refused_where_it_is_made() {
         "far_line.die",
         "let a = line_between((0, 0, 0), (2e6, 0, 0))\n",
         "die::out_of_range",
-        "1:9",
+        "1:34",
     );
+    // A point beyond the range is refused at its coordinate, before the kernel
+    // squares it (which made `interpolate` report "points 0 and 1 coincide").
     check_fails_at(
         "far_sketch.die",
         "let a = sketch(top) {\n    from (0, 0)\n    line to (0, 3e38)\n}\n",
-        "die::sketch",
-        "3:5",
+        "die::out_of_range",
+        "3:17",
+    );
+    check_fails_at(
+        "far_points.die",
+        "let a = interpolate([(0, 0, 0), (1e200, 0, 0), (2e200, 1, 0)])\n",
+        "die::out_of_range",
+        "1:34",
     );
     // A transform that carries geometry out of range: the builtin's result is checked.
     check_fails_at(

@@ -390,7 +390,13 @@ fn polylines_that_cross_or_touch_themselves_are_found() {
     assert_eq!((c.first, c.second), (0, 2));
     assert!(c.at.length() < 1e-12, "at the centre: {:?}", c.at);
     // Touching: the loop comes back to a point of an earlier segment.
-    let touch = [p(0.0, 0.0), p(2.0, 0.0), p(2.0, 1.0), p(1.0, 0.0), p(0.0, 1.0)];
+    let touch = [
+        p(0.0, 0.0),
+        p(2.0, 0.0),
+        p(2.0, 1.0),
+        p(1.0, 0.0),
+        p(0.0, 1.0),
+    ];
     let c = polyline_self_crossing(&touch, true).expect("touches at (1, 0)");
     assert!(c.at.distance(p(1.0, 0.0)) < 1e-12);
     // Many points: a circle drawn twice round is found, quickly.

@@ -409,6 +409,26 @@ fn in_default_unit(v: &Value, converted: f64, what: &str) -> Result<f64, Diagnos
     .with_help("numbers lie between about -1.8e308 and 1.8e308; check the `units` line and the magnitude of this number"))
 }
 
+/// A point's coordinate `mm` (written at `c`), refused beyond the modelling range
+/// ([`crate::geom::MAX_COORDINATE`]): the kernel would square it on the way to
+/// geometry that could not be exported, and report the overflow as something else.
+fn in_range(c: &Value, mm: f64, what: &str) -> Result<f64, Diagnostic> {
+    if mm.abs() <= crate::geom::MAX_COORDINATE {
+        return Ok(mm);
+    }
+    Err(Diagnostic::new(
+        super::finite::RANGE_CODE,
+        format!(
+            "{what} has a coordinate of {} mm, beyond the modelling range of {} mm from the origin",
+            super::finite::show(mm),
+            super::finite::show(crate::geom::MAX_COORDINATE)
+        ),
+        c.span,
+        "beyond the modelling range",
+    )
+    .with_help("die faces are modelled in millimetres within 1 km of the origin (docs/limits.md); check the units and the magnitude of this coordinate"))
+}
+
 /// The coordinates of a tuple of lengths.
 fn coords(
     v: &Value,
@@ -418,9 +438,10 @@ fn coords(
     expected: &str,
 ) -> Result<Vec<f64>, Diagnostic> {
     match &v.data {
-        Data::Tuple(items) if items.len() == n => {
-            items.iter().map(|c| as_length(c, units, what)).collect()
-        }
+        Data::Tuple(items) if items.len() == n => items
+            .iter()
+            .map(|c| in_range(c, as_length(c, units, what)?, what))
+            .collect(),
         _ => Err(type_error(v, what, expected)),
     }
 }
