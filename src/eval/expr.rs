@@ -586,6 +586,11 @@ fn with_default_unit(v: Value, default: &Value, units: Units) -> Value {
         Dim::ANGLE => Quantity::angle(q.value * units.angle),
         _ => return v,
     };
+    if !q.value.is_finite() {
+        // Overflows in base units: kept bare, so the use that needs a length or an
+        // angle reports it (`die::non_finite`) instead of an infinity passing on.
+        return v;
+    }
     Value::new(Data::Number(q), v.span)
 }
 

@@ -43,22 +43,9 @@ pub fn quantity(value: f64, unit: Unit) -> Quantity {
 /// `1e306 m` is more millimetres than a number holds.
 pub fn literal(value: f64, unit: Unit, span: Span) -> Result<Quantity, Diagnostic> {
     let q = quantity(value, unit);
-    let written = format!("{} {}", super::finite::show(value), unit_name(unit));
+    let written = format!("{} {}", super::finite::show(value), unit.symbol());
     super::finite::conversion(q.value, &written, span)?;
     Ok(q)
-}
-
-/// How a unit is written.
-fn unit_name(unit: Unit) -> &'static str {
-    match unit {
-        Unit::Mm => "mm",
-        Unit::Cm => "cm",
-        Unit::M => "m",
-        Unit::In => "in",
-        Unit::Deg => "deg",
-        Unit::Rad => "rad",
-        Unit::Percent => "%",
-    }
 }
 
 /// Base units per one `unit` (for `units` directives).
