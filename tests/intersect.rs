@@ -372,3 +372,40 @@ proptest! {
         }
     }
 }
+
+/// The self-crossing check behind the punch opening and trim outline: a figure of eight
+/// crosses where its diagonals meet, a square or an open zig-zag does not, and a loop
+/// that touches itself at one point counts.
+#[test]
+fn polylines_that_cross_or_touch_themselves_are_found() {
+    use dieface::geom::intersect::polyline_self_crossing;
+    use glam::DVec2;
+    let p = DVec2::new;
+    let square = [p(0.0, 0.0), p(1.0, 0.0), p(1.0, 1.0), p(0.0, 1.0)];
+    assert_eq!(polyline_self_crossing(&square, true), None);
+    let zigzag = [p(0.0, 0.0), p(1.0, 1.0), p(2.0, 0.0), p(3.0, 1.0)];
+    assert_eq!(polyline_self_crossing(&zigzag, false), None);
+    let eight = [p(-1.0, -1.0), p(1.0, 1.0), p(1.0, -1.0), p(-1.0, 1.0)];
+    let c = polyline_self_crossing(&eight, true).expect("a figure of eight crosses");
+    assert_eq!((c.first, c.second), (0, 2));
+    assert!(c.at.length() < 1e-12, "at the centre: {:?}", c.at);
+    // Touching: the loop comes back to a point of an earlier segment.
+    let touch = [
+        p(0.0, 0.0),
+        p(2.0, 0.0),
+        p(2.0, 1.0),
+        p(1.0, 0.0),
+        p(0.0, 1.0),
+    ];
+    let c = polyline_self_crossing(&touch, true).expect("touches at (1, 0)");
+    assert!(c.at.distance(p(1.0, 0.0)) < 1e-12);
+    // Many points: a circle drawn twice round is found, quickly.
+    let n = 4000;
+    let twice: Vec<DVec2> = (0..n)
+        .map(|i| {
+            let t = 4.0 * std::f64::consts::PI * i as f64 / n as f64;
+            p(t.cos() * (1.0 + 0.1 * (t / 2.0).cos()), t.sin())
+        })
+        .collect();
+    assert!(polyline_self_crossing(&twice, true).is_some());
+}

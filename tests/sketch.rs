@@ -178,22 +178,34 @@ fn fillets_can_use_up_a_whole_line() {
     assert!((s.curve.length() - expected).abs() < 1e-9);
 }
 
+/// A fillet where the lines continue straight on has no corner to round: an error at
+/// the fillet naming both lines (it used to be dropped silently, issue 14).
 #[test]
-fn fillet_at_a_straight_corner_does_nothing() {
+fn fillet_at_a_straight_corner_is_an_error() {
     use Command::*;
-    let s = draw(
-        View::Top,
-        vec![
-            From(p(0.0, 0.0)),
-            LineTo(p(10.0, 0.0)),
-            Fillet(3.0),
-            LineTo(p(20.0, 0.0)),
-        ],
-    )
-    .unwrap();
-    let kinds: Vec<&str> = s.segments.iter().map(|g| g.kind).collect();
-    assert_eq!(kinds, ["line", "line"]);
-    assert!(!s.closed);
+    let commands = vec![
+        From(p(0.0, 0.0)),
+        LineTo(p(10.0, 0.0)),
+        Fillet(3.0),
+        LineTo(p(20.0, 0.0)),
+    ];
+    let e = dieface::geom::sketch::draw(&commands).unwrap_err();
+    assert_eq!(
+        e,
+        dieface::geom::sketch::SketchError::FilletNoCorner {
+            fillet: 2,
+            prev: 1,
+            next: 3
+        }
+    );
+    // `fillet 0` stays a sharp corner, wherever it is.
+    let zero = vec![
+        From(p(0.0, 0.0)),
+        LineTo(p(10.0, 0.0)),
+        Fillet(0.0),
+        LineTo(p(20.0, 0.0)),
+    ];
+    assert!(dieface::geom::sketch::draw(&zero).is_ok());
 }
 
 #[test]

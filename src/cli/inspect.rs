@@ -11,7 +11,7 @@ use std::process::ExitCode;
 
 use crate::pipeline::report::{inspect_json, inspect_lines};
 
-use super::{progress, ScriptArgs, SCRIPT_ERROR, USAGE_ERROR};
+use super::{progress, with_tolerance_checked, ScriptArgs, SCRIPT_ERROR, USAGE_ERROR};
 
 /// `dieface inspect`.
 pub(crate) fn run(script: &ScriptArgs, json: bool) -> ExitCode {
@@ -24,7 +24,7 @@ pub(crate) fn run(script: &ScriptArgs, json: bool) -> ExitCode {
     let outcome = engine.evaluate_path(&script.file);
     bar.finish_and_clear();
     let outcome = match outcome {
-        Ok(o) => o,
+        Ok(o) => with_tolerance_checked(o),
         Err(e) => {
             eprintln!("error: cannot read `{}`: {e}", script.file.display());
             return ExitCode::from(USAGE_ERROR);

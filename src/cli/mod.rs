@@ -17,8 +17,9 @@ use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use crate::eval::overrides::parse_define;
-use crate::eval::Engine;
+use crate::eval::{Engine, Outcome};
 use crate::limits::Limits;
+use crate::pipeline::{tolerance_for, TOLERANCE_PARAM};
 
 /// dieface: a declarative language for the faces of automotive stamping dies.
 #[derive(Debug, Parser)]
@@ -191,6 +192,7 @@ fn check(script: &ScriptArgs) -> ExitCode {
             return ExitCode::from(USAGE_ERROR);
         }
     };
+    let outcome = with_tolerance_checked(outcome);
     for d in &outcome.diagnostics {
         eprintln!("{}", engine.sources.render(d, color));
     }
@@ -212,6 +214,22 @@ fn check(script: &ScriptArgs) -> ExitCode {
         );
         ExitCode::from(SCRIPT_ERROR)
     }
+}
+
+/// The outcome with the script's `param tolerance` checked as `build` checks it
+/// ([`crate::pipeline::tolerance_for`]), so `check` and `inspect` refuse what `build`
+/// would (a `param tolerance` that failed to evaluate has its own diagnostic already).
+pub(crate) fn with_tolerance_checked(mut outcome: Outcome) -> Outcome {
+    let failed = outcome
+        .decls
+        .iter()
+        .any(|d| d.name == TOLERANCE_PARAM && d.kind == "param" && d.value.is_none());
+    if !failed {
+        if let Err(d) = tolerance_for(&outcome, None) {
+            outcome.diagnostics.push(d);
+        }
+    }
+    outcome
 }
 
 /// The folder holding the script (`.` for a bare file name).

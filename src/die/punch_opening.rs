@@ -28,6 +28,7 @@ use glam::{DVec2, DVec3};
 use super::corner::{build_corner, CornerInput};
 use super::two_view::{parameter_at_x, side_curve_from_two_views, TwoView};
 use crate::geom::interpolate::{interpolate, Interpolation};
+use crate::geom::intersect::{polyline_self_crossing, sample_spans};
 use crate::geom::inversion::project_to_curve_near;
 use crate::geom::join::join_curves;
 use crate::geom::{Curve2, Curve3, GeomError};
@@ -277,6 +278,14 @@ pub enum Problem {
         /// The gap in mm.
         gap: f64,
     },
+    /// The top view crosses or touches itself: the piece of [`Error::piece`] meets the
+    /// piece `other` (possibly itself) at `at`, so the opening is no simple outline.
+    CrossesItself {
+        /// The other piece's index.
+        other: usize,
+        /// Where they meet, in top-view mm.
+        at: DVec2,
+    },
     /// The kernel failed (views not overlapping, a view doubling back, no convergence).
     Kernel(GeomError),
 }
@@ -296,8 +305,45 @@ impl std::fmt::Display for Problem {
                 f,
                 "two sides meeting without a corner are {gap:.4} mm apart in 3-D"
             ),
+            Problem::CrossesItself { other, at } => write!(
+                f,
+                "the top view crosses itself at ({:.3}, {:.3}), where it meets piece {other}",
+                at.x, at.y
+            ),
             Problem::Kernel(e) => write!(f, "{e}"),
         }
+    }
+}
+
+/// Samples per knot span of a top-view piece for the self-crossing check: enough that a
+/// fillet's polyline stays within 0.03 % of its radius of the arc.
+const CROSSING_SAMPLES: usize = 32;
+
+/// The top view as one closed outline must not cross or touch itself (a figure of
+/// eight would build a line that passes through itself): the first crossing, as the
+/// pieces that meet there.
+fn check_simple(spec: &PunchOpeningSpec) -> Result<(), Error> {
+    let mut points = Vec::new();
+    let mut owner = Vec::new();
+    for (k, piece) in spec.pieces.iter().enumerate() {
+        let top = match piece {
+            PieceSpec::Side(s) => &s.top,
+            PieceSpec::Corner(c) => &c.top,
+        };
+        for (_, p) in sample_spans(top, CROSSING_SAMPLES) {
+            points.push(p);
+            owner.push(k);
+        }
+    }
+    match polyline_self_crossing(&points, true) {
+        Some(c) => Err(Error {
+            piece: owner[c.first],
+            problem: Problem::CrossesItself {
+                other: owner[c.second],
+                at: c.at,
+            },
+        }),
+        None => Ok(()),
     }
 }
 
@@ -333,6 +379,7 @@ pub fn build_with(spec: &PunchOpeningSpec, pieces: &Pieces) -> Result<PunchOpeni
             });
         }
     }
+    check_simple(spec)?;
     let opts = TwoView {
         delta: spec.delta,
         max_step: spec.max_step,

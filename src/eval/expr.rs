@@ -70,7 +70,7 @@ impl<'w> Ctx<'w> {
         let data = match &e.kind {
             ExprKind::Number { value, unit } => {
                 let q = match unit {
-                    Some(u) => units::quantity(*value, u.node),
+                    Some(u) => units::literal(*value, u.node, span)?,
                     None => Quantity::bare(*value),
                 };
                 Data::Number(q)
@@ -515,7 +515,7 @@ impl<'w> Ctx<'w> {
                     root,
                     apply: &apply,
                 };
-                Ok(Value::new((b.run)(&call)?, span))
+                Ok(Value::new(builtins::run(&call)?, span))
             }
             Data::Function(c) => {
                 let names: Vec<&str> = c.params.iter().map(|p| p.name.node.as_str()).collect();
@@ -586,6 +586,11 @@ fn with_default_unit(v: Value, default: &Value, units: Units) -> Value {
         Dim::ANGLE => Quantity::angle(q.value * units.angle),
         _ => return v,
     };
+    if !q.value.is_finite() {
+        // Overflows in base units: kept bare, so the use that needs a length or an
+        // angle reports it (`die::non_finite`) instead of an infinity passing on.
+        return v;
+    }
     Value::new(Data::Number(q), v.span)
 }
 

@@ -2,7 +2,8 @@
 //!
 //! A file is a set of named declarations evaluated as a dependency graph, each once,
 //! memoized by a hash of its source and its inputs' hashes ([`engine`]). Expressions are
-//! evaluated by [`expr`], operators with dimension checks by [`ops`]; [`builtins`] binds
+//! evaluated by [`expr`], operators with dimension checks by [`ops`]; every number
+//! is finite and geometry within range ([`finite`]); [`builtins`] binds
 //! the geometry kernel; [`sketch`] draws 2-D profiles in views; modules come from the
 //! embedded standard library ([`stdlib`]) or from files relative to the importer.
 
@@ -11,6 +12,7 @@ pub mod deps;
 pub mod engine;
 pub mod expr;
 pub mod features;
+pub mod finite;
 pub mod model;
 pub mod ops;
 pub mod overrides;

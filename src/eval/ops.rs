@@ -3,7 +3,8 @@
 //! Adding or comparing quantities needs equal dimensions; a bare number (written
 //! without a unit) next to a length or an angle takes the file's default unit, so
 //! `x + 10` means `x + 10 mm` in a millimetre file. Multiplication and division combine
-//! dimensions. Points are tuples and add, subtract and scale element-wise.
+//! dimensions. Points are tuples and add, subtract and scale element-wise. A result that
+//! overflows is a diagnostic at the expression ([`super::finite`]), never an infinity.
 
 use std::sync::Arc;
 
@@ -11,6 +12,7 @@ use crate::diag::Diagnostic;
 use crate::syntax::ast::{BinaryOp, UnaryOp};
 use crate::syntax::Span;
 
+use super::finite;
 use super::units::Units;
 use super::value::{Data, Dim, Quantity, Value};
 
@@ -26,7 +28,13 @@ pub fn binary(
 ) -> Result<Value, Diagnostic> {
     use BinaryOp::*;
     let data = match (&lhs.data, &rhs.data) {
-        (Data::Number(a), Data::Number(b)) => number_op(op, *a, *b, lhs, rhs, op_span, units)?,
+        (Data::Number(a), Data::Number(b)) => finite_number(
+            number_op(op, *a, *b, lhs, rhs, op_span, units)?,
+            op,
+            lhs,
+            rhs,
+            op_span,
+        )?,
         (Data::Tuple(a), Data::Tuple(b)) if matches!(op, Add | Sub | Eq | Ne) => {
             if a.len() != b.len() {
                 return Err(Diagnostic::new(
@@ -91,6 +99,21 @@ pub fn binary(
         _ => return Err(unsupported(op, lhs, rhs, op_span)),
     };
     Ok(Value::new(data, span))
+}
+
+/// The result of a number operation, refused when it is not finite (an overflow):
+/// numbers are finite everywhere, so the expression that made one infinite is named.
+fn finite_number(
+    data: Data,
+    op: BinaryOp,
+    lhs: &Value,
+    rhs: &Value,
+    op_span: Span,
+) -> Result<Data, Diagnostic> {
+    if let Data::Number(q) = data {
+        finite::arithmetic(q.value, op, lhs, rhs, op_span)?;
+    }
+    Ok(data)
 }
 
 fn verb(op: BinaryOp) -> &'static str {

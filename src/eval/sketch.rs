@@ -18,6 +18,7 @@ use crate::syntax::Span;
 
 pub use crate::geom::sketch::Command;
 
+use super::finite;
 use super::units::round;
 
 /// The plane a sketch is drawn in.
@@ -158,6 +159,12 @@ fn diagnostic(e: &SketchError, commands: &[(Command, Span)], span: Span) -> Diag
             "not finite",
         )
         .with_help("check for a division by zero in the coordinates"),
+        SketchError::OutOfRange { command, value } => sketch_error(
+            format!("a point of this command has a coordinate of {} mm, beyond the modelling range of {} mm from the origin", finite::show(value), finite::show(crate::geom::MAX_COORDINATE)),
+            at(command),
+            "beyond the modelling range",
+        )
+        .with_help("die faces are modelled in millimetres within 1 km of the origin, where the GLB's 32-bit floats still hold the default tolerance; check the units and magnitudes of the coordinates"),
         SketchError::SecondStart { command } => sketch_error(
             "`from` can only start a sketch",
             at(command),
@@ -307,6 +314,14 @@ fn diagnostic(e: &SketchError, commands: &[(Command, Span)], span: Span) -> Diag
             at(fillet),
             "this fillet",
         ),
+        SketchError::FilletNoCorner { fillet, prev, next } => sketch_error(
+            "this fillet has no corner to round: the segments before and after it continue in one direction",
+            at(fillet),
+            "nothing to round here",
+        )
+        .with_label(at(prev), "this segment")
+        .with_label(at(next), "continues straight on in this one")
+        .with_help("remove the fillet (a straight or tangent join needs no rounding), or move a point so the segments meet at an angle"),
         SketchError::FilletDoublesBack { fillet, prev, next } => sketch_error(
             "the lines double back at this corner, so no fillet can round it",
             at(fillet),

@@ -1,6 +1,8 @@
 //! Units: conversion of literals to base units and the per-file defaults.
 
+use crate::diag::Diagnostic;
 use crate::syntax::ast::Unit;
+use crate::syntax::Span;
 
 use super::value::{Dim, Quantity};
 
@@ -36,6 +38,16 @@ pub fn quantity(value: f64, unit: Unit) -> Quantity {
     }
 }
 
+/// The quantity of the literal `value unit` written at `span`, or a diagnostic when the
+/// conversion to base units overflows or underflows ([`super::finite::conversion`]):
+/// `1e306 m` is more millimetres than a number holds.
+pub fn literal(value: f64, unit: Unit, span: Span) -> Result<Quantity, Diagnostic> {
+    let q = quantity(value, unit);
+    let written = format!("{} {}", super::finite::show(value), unit.symbol());
+    super::finite::conversion(q.value, &written, span)?;
+    Ok(q)
+}
+
 /// Base units per one `unit` (for `units` directives).
 pub fn factor(unit: Unit) -> (Dim, f64) {
     let q = quantity(1.0, unit);
@@ -52,9 +64,10 @@ pub fn display(q: Quantity) -> String {
     }
 }
 
-/// Rounds to 6 significant decimals for display, dropping `-0`.
+/// Rounds to 6 decimals for display, dropping `-0`; numbers of 1e15 and more (whole
+/// already, and whose `v * 1e6` could overflow) are kept as they are.
 pub fn round(v: f64) -> f64 {
-    if v == 0.0 || !v.is_finite() {
+    if v == 0.0 || !v.is_finite() || v.abs() >= 1e15 {
         return if v == 0.0 { 0.0 } else { v };
     }
     let r = (v * 1e6).round() / 1e6;

@@ -97,6 +97,43 @@ pub fn encode_gltf_with(scene: &Scene, cache: &mut GltfCache) -> Vec<u8> {
     out
 }
 
+/// A vertex the GLB cannot hold faithfully: the node (its name and source line) and
+/// the coordinate (press mm).
+#[derive(Debug, Clone, PartialEq)]
+pub struct OutOfRange {
+    /// The node's name (`binder/front`).
+    pub part: String,
+    /// The node's source line.
+    pub line: usize,
+    /// The offending coordinate, in press mm.
+    pub coordinate: f64,
+}
+
+/// The first vertex of the scene that is not finite or lies beyond
+/// [`crate::geom::MAX_COORDINATE`] in some axis: the GLB's `f32` metres would hold it
+/// as infinity, or round it by more than the default tolerance. The writer itself
+/// cannot fail; a build calls this first and refuses such a scene with a diagnostic at
+/// the declaration.
+pub fn out_of_range(scene: &Scene) -> Option<OutOfRange> {
+    scene.all_nodes().into_iter().find_map(|node| {
+        node.geometry.iter().find_map(|g| {
+            let points = match g.as_ref() {
+                Geometry::Triangles { positions, .. } => positions,
+                Geometry::LineStrip { points } => points,
+            };
+            points
+                .iter()
+                .flat_map(|p| p.to_array())
+                .find(|c| !c.is_finite() || c.abs() > crate::geom::MAX_COORDINATE)
+                .map(|coordinate| OutOfRange {
+                    part: node.name.clone(),
+                    line: node.line,
+                    coordinate,
+                })
+        })
+    })
+}
+
 /// Press millimetres to glTF metres, +Y up.
 pub fn to_gltf_position(p: DVec3) -> [f32; 3] {
     // `+ 0.0` turns a negative zero (from `-y` with y = 0) into a plain zero.
@@ -496,5 +533,38 @@ mod tests {
             [1.0, 3.0, -2.0]
         );
         assert_eq!(to_gltf_direction(DVec3::Z), [0.0, 1.0, 0.0]);
+    }
+
+    /// A scene of one curve node through `far`.
+    fn scene_through(far: DVec3) -> Scene {
+        Scene {
+            nodes: vec![Node {
+                name: "binder/front".into(),
+                kind: "blankholder".into(),
+                color: [0.5; 3],
+                line: 7,
+                children: Vec::new(),
+                geometry: vec![Arc::new(Geometry::LineStrip {
+                    points: vec![DVec3::ZERO, far],
+                })],
+                line_bead: None,
+            }],
+            tolerance_mm: 0.05,
+            source_name: "x.die".into(),
+        }
+    }
+
+    #[test]
+    fn vertices_beyond_the_modelling_range_are_named_not_written_as_infinity() {
+        assert_eq!(
+            out_of_range(&scene_through(DVec3::new(1e6, -1e6, 5.0))),
+            None
+        );
+        for bad in [1e40, 2e6, f64::INFINITY, f64::NAN] {
+            let found = out_of_range(&scene_through(DVec3::new(0.0, bad, 0.0))).expect("refused");
+            assert_eq!(found.part, "binder/front");
+            assert_eq!(found.line, 7);
+            assert!(found.coordinate.is_nan() || found.coordinate == bad);
+        }
     }
 }

@@ -76,6 +76,11 @@ pub enum GeomError {
     #[error("degenerate input: {what}")]
     Singular { what: &'static str },
 
+    /// A closed outline that crosses or touches itself (a figure of eight), so it
+    /// bounds no single region: `at` is where, in press mm.
+    #[error("the outline crosses itself near ({:.4}, {:.4}, {:.4})", at.0, at.1, at.2)]
+    SelfCrossing { at: (f64, f64, f64) },
+
     /// A matrix given as an affine transform has a projective last row or is singular.
     #[error("the matrix is not an invertible affine transform")]
     NotAffine,

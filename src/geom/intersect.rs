@@ -37,7 +37,7 @@
 //! gives a least-squares step instead of a failure), started from the grid samples
 //! closest to the line, clamped to the domain, with step halving on the residual.
 
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 use nalgebra::{Matrix3, Vector3};
 
 use super::curve::{Curve3, NurbsCurve};
@@ -616,4 +616,111 @@ pub fn intersect_ray_surface(
             what: "the line misses the surface",
         }),
     }
+}
+
+/// Where a closed or open 2-D polyline crosses or touches itself: the indices of the
+/// two segments (segment `i` runs from point `i` to point `i + 1`, and for a closed
+/// polyline the last runs back to point 0) and the crossing point.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SelfCrossing {
+    /// The earlier segment.
+    pub first: usize,
+    /// The later segment.
+    pub second: usize,
+    /// Where they meet.
+    pub at: DVec2,
+}
+
+/// The first place where the polyline `points` crosses or touches itself, or `None`
+/// when it is simple. Neighbouring segments (sharing an end point) never count; two
+/// other segments count when they intersect or overlap (exact predicates on the
+/// coordinates, with a touch tolerance of `1e-12` of the polyline's size).
+///
+/// A sweep along x: segments sorted by their smallest x, each compared only with those
+/// whose x ranges overlap its own, so a figure of eight of thousands of points is
+/// checked in a few milliseconds.
+pub fn polyline_self_crossing(points: &[DVec2], closed: bool) -> Option<SelfCrossing> {
+    let n = points.len();
+    let count = if closed { n } else { n.saturating_sub(1) };
+    if count < 3 {
+        return None;
+    }
+    let size = points
+        .iter()
+        .fold(1.0f64, |m, p| m.max(p.abs().max_element()));
+    let tol = 1e-12 * size;
+    let seg = |i: usize| (points[i], points[(i + 1) % n]);
+    let mut order: Vec<usize> = (0..count).collect();
+    let lo = |i: usize| {
+        let (a, b) = seg(i);
+        a.x.min(b.x)
+    };
+    order.sort_by(|&i, &j| lo(i).total_cmp(&lo(j)).then(i.cmp(&j)));
+    let neighbours = |i: usize, j: usize| {
+        let d = i.abs_diff(j);
+        d <= 1 || (closed && d == count - 1)
+    };
+    let mut best: Option<SelfCrossing> = None;
+    for (k, &i) in order.iter().enumerate() {
+        let (a, b) = seg(i);
+        let hi = a.x.max(b.x) + tol;
+        for &j in &order[k + 1..] {
+            if lo(j) > hi {
+                break;
+            }
+            if neighbours(i, j) {
+                continue;
+            }
+            let (c, d) = seg(j);
+            if let Some(at) = segments_meet(a, b, c, d, tol) {
+                let (first, second) = (i.min(j), i.max(j));
+                let found = SelfCrossing { first, second, at };
+                if best.is_none_or(|b| (first, second) < (b.first, b.second)) {
+                    best = Some(found);
+                }
+            }
+        }
+    }
+    best
+}
+
+/// Where segments `ab` and `cd` meet (within `tol`), if they do.
+fn segments_meet(a: DVec2, b: DVec2, c: DVec2, d: DVec2, tol: f64) -> Option<DVec2> {
+    let r = b - a;
+    let s = d - c;
+    let denom = r.perp_dot(s);
+    let ac = c - a;
+    if denom.abs() > tol * (r.length() + s.length()) {
+        let t = ac.perp_dot(s) / denom;
+        let u = ac.perp_dot(r) / denom;
+        let (tt, tu) = (tol / r.length().max(tol), tol / s.length().max(tol));
+        return ((-tt..=1.0 + tt).contains(&t) && (-tu..=1.0 + tu).contains(&u)).then(|| a + r * t);
+    }
+    // Parallel: they meet only if collinear and overlapping.
+    if ac.perp_dot(r).abs() > tol * r.length().max(tol) {
+        return None;
+    }
+    let len2 = r.length_squared();
+    if len2 == 0.0 {
+        return (a.distance(c) <= tol).then_some(a);
+    }
+    let t0 = ac.dot(r) / len2;
+    let t1 = (d - a).dot(r) / len2;
+    let (lo, hi) = (t0.min(t1).max(0.0), t0.max(t1).min(1.0));
+    (lo <= hi).then(|| a + r * lo)
+}
+
+/// Points along a 2-D curve for a self-crossing check: `per_span` points per non-empty
+/// knot span (so arcs and fillets, one span each, are followed closely), from the
+/// start, without the end point; each with its parameter.
+pub fn sample_spans(curve: &crate::geom::Curve2, per_span: usize) -> Vec<(f64, DVec2)> {
+    let breaks = curve.span_breaks();
+    let mut out = Vec::with_capacity(breaks.len() * per_span);
+    for w in breaks.windows(2) {
+        for i in 0..per_span {
+            let t = w[0] + (w[1] - w[0]) * i as f64 / per_span as f64;
+            out.push((t, curve.point_at(t)));
+        }
+    }
+    out
 }

@@ -65,5 +65,12 @@ pub use trimmed::{TrimLoop, TrimmedSurface};
 /// below 10, and a small fixed bound keeps basis evaluation on the stack.
 pub const MAX_DEGREE: usize = 15;
 
+/// Largest coordinate (mm, in any axis) of die-face geometry a script may make: 1 km
+/// from the origin. A press is a few metres wide and car coordinates stay within a few
+/// metres, so this is generous; and it is where the GLB's 32-bit floats (metres) still
+/// hold the default tolerance (their rounding at 1 km is 0.03 mm), and far below where
+/// squared distances in the kernel overflow. `docs/limits.md` lists it.
+pub const MAX_COORDINATE: f64 = 1e6;
+
 /// Highest derivative order evaluated in one call (point, first, second, third).
 pub const MAX_DERIVATIVE: usize = 3;

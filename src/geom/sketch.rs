@@ -70,6 +70,10 @@ pub enum SketchError {
     /// A point of the command is NaN or infinite.
     #[error("a point of command {command} is not finite")]
     NotFinite { command: usize },
+    /// A point of the command lies beyond [`super::MAX_COORDINATE`] in some axis:
+    /// `value` is that coordinate.
+    #[error("a point of command {command} lies beyond the modelling range")]
+    OutOfRange { command: usize, value: f64 },
     /// A second `from`.
     #[error("command {command} is a second `from`")]
     SecondStart { command: usize },
@@ -147,6 +151,15 @@ pub enum SketchError {
     /// the piece is never a line, so [`SketchError::FilletNeedsLines`] comes first).
     #[error("the fillet of command {fillet} has only one segment")]
     FilletOnOnePiece { fillet: usize },
+    /// A fillet (of positive radius) at a straight or tangent corner: the segments
+    /// before and after it (`prev` and `next` the commands that drew them) continue in
+    /// one direction, so there is no corner to round.
+    #[error("the fillet of command {fillet} has no corner to round")]
+    FilletNoCorner {
+        fillet: usize,
+        prev: usize,
+        next: usize,
+    },
     /// A fillet where the lines double back on each other (`prev` and `next` the
     /// commands that drew them).
     #[error(
@@ -209,8 +222,9 @@ pub enum SketchError {
 ///   fillet is the exact arc tangent to both segments; they must be lines, long enough
 ///   for the tangent length `r / tan(theta / 2)` (theta the angle between the lines),
 ///   counting what other fillets already took of them. A line used up entirely by
-///   fillets disappears. At a straight (tangent) corner a fillet does nothing, whatever
-///   the segments; `fillet 0` does nothing either.
+///   fillets disappears. At a straight (tangent) corner there is nothing to round, and
+///   a fillet there is an error rather than silently dropped; `fillet 0` does nothing
+///   (a sharp corner, what a profile with a radius parameter of 0 asks for).
 /// - `close` draws a line back to the start point unless the sketch is already there,
 ///   and marks the sketch closed; only a `fillet` (of the start corner) may follow it.
 ///   Only `close` makes a sketch closed.
@@ -234,6 +248,15 @@ pub fn draw(commands: &[Command]) -> Result<Profile, SketchError> {
         .position(|c| command_points(c).iter().any(|p| !p.is_finite()))
     {
         return Err(SketchError::NotFinite { command });
+    }
+    let beyond = |p: &DVec2| p.abs().max_element() > super::MAX_COORDINATE;
+    if let Some((command, p)) = commands
+        .iter()
+        .enumerate()
+        .find_map(|(k, c)| command_points(c).into_iter().find(beyond).map(|p| (k, p)))
+    {
+        let value = if p.x.abs() >= p.y.abs() { p.x } else { p.y };
+        return Err(SketchError::OutOfRange { command, value });
     }
     let mut d = Drawer {
         start,
@@ -655,7 +678,8 @@ fn check_radius(r: f64, k: usize) -> Result<(), SketchError> {
 }
 
 /// The fillet of radius `r` (drawn by command `fillet`) at the corner where `prev` ends
-/// and `next` starts, or `None` at a straight corner.
+/// and `next` starts; at a straight corner an error, as there is nothing to round
+/// (`Option` stays for callers that round only where a corner is).
 fn round_corner(
     prev: &Piece,
     next: &Piece,
@@ -668,7 +692,11 @@ fn round_corner(
     let cross = d_in.perp_dot(d_out);
     let dot = d_in.dot(d_out);
     if cross.abs() <= 1e-9 && dot > 0.0 {
-        return Ok(None);
+        return Err(SketchError::FilletNoCorner {
+            fillet,
+            prev: prev.command,
+            next: next.command,
+        });
     }
     let (Shape::Line(a, v), Shape::Line(_, b)) = (&prev.shape, &next.shape) else {
         let other = if matches!(prev.shape, Shape::Line(..)) {

@@ -22,6 +22,7 @@ use glam::{DVec2, DVec3};
 
 use super::curve::Curve3;
 use super::error::{GeomError, Result};
+use super::intersect::polyline_self_crossing;
 use super::inversion::closest_point_on_surface;
 use super::quadrature::{NODES_8, WEIGHTS_8};
 use super::surface::NurbsSurface;
@@ -75,6 +76,24 @@ pub struct TrimmedSurface {
     outer: TrimLoop,
 }
 
+/// A trim loop's `(u, v)` samples must not cross or touch themselves (a figure of
+/// eight bounds no single region): [`GeomError::SelfCrossing`] with the press point
+/// where they do. The last sample (the end of the closed outline, at its start) is left
+/// out: the closed polyline returns to the first by itself.
+fn check_simple(surface: &NurbsSurface, samples: &[(f64, DVec2)]) -> Result<()> {
+    let mut uv: Vec<DVec2> = samples.iter().map(|s| s.1).collect();
+    uv.pop();
+    match polyline_self_crossing(&uv, true) {
+        Some(c) => {
+            let p = surface.point_at(c.at.x, c.at.y);
+            Err(GeomError::SelfCrossing {
+                at: (p.x, p.y, p.z),
+            })
+        }
+        None => Ok(()),
+    }
+}
+
 impl TrimmedSurface {
     /// Trims `surface` at the closed curve `outer`.
     ///
@@ -122,6 +141,7 @@ impl TrimmedSurface {
                 at: (at.x, at.y, at.z),
             });
         }
+        check_simple(&surface, &samples)?;
         let signed_uv_area = polygon_area(samples.iter().map(|s| s.1));
         if signed_uv_area.abs() <= 1e-14 {
             return Err(GeomError::Singular {

@@ -130,7 +130,10 @@ impl Pipeline {
         let model = self.engine.die_model(&build.outcome);
         stage(Stage::Tessellating);
         match self.cache.build(&model, &tol) {
-            Ok(scene) => build.scene = Some(scene),
+            Ok(scene) => match crate::export::gltf::out_of_range(&scene) {
+                Some(far) => build.problems.push(range_diagnostic(&build.outcome, &far)),
+                None => build.scene = Some(scene),
+            },
             Err(e) => build
                 .problems
                 .push(tessellation_diagnostic(&build.outcome, &e, &tol)),
@@ -210,6 +213,26 @@ pub fn step_bytes(model: &DieModel, name: &str) -> Result<Vec<u8>, String> {
         shells,
         uncertainty: SEW_TOLERANCE_MM,
     }))
+}
+
+/// The diagnostic for geometry beyond the modelling range, at the declaration that
+/// made it (the export writes metres as 32-bit floats, which cannot hold it).
+fn range_diagnostic(outcome: &Outcome, far: &crate::export::gltf::OutOfRange) -> Diagnostic {
+    let decl_name = far.part.split('/').next().unwrap_or(&far.part);
+    let decl = outcome.decls.iter().find(|d| d.name == decl_name);
+    let span = decl.map_or_else(|| crate::syntax::Span::new(outcome.file, 0, 0), |d| d.span);
+    Diagnostic::new(
+        crate::eval::finite::RANGE_CODE,
+        format!(
+            "`{}` reaches a coordinate of {} mm, beyond the modelling range of {} mm from the origin: the export cannot hold it",
+            far.part,
+            crate::eval::finite::show(far.coordinate),
+            crate::eval::finite::show(crate::geom::MAX_COORDINATE)
+        ),
+        span,
+        "this declaration",
+    )
+    .with_help("die faces are modelled in millimetres within 1 km of the origin, where the GLB's 32-bit floats still hold the default tolerance; check the units and the sizes given to this declaration")
 }
 
 /// A tessellation failure as a `die::geometry` diagnostic at the declaration the piece

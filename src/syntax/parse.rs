@@ -474,7 +474,8 @@ impl Builder {
     }
 
     /// A number with its unit if one is written (`12.5 mm`); one too large for an f64
-    /// is refused rather than read as infinity.
+    /// is refused rather than read as infinity, one too small rather than read as 0
+    /// ([`literal_range`]).
     fn number(&self, pair: Pair<Rule>, span: Span) -> Res<Expr> {
         let mut value = 0.0;
         let mut unit = None;
@@ -482,13 +483,8 @@ impl Builder {
             match p.as_rule() {
                 Rule::num_lit => {
                     value = p.as_str().parse::<f64>().unwrap_or(f64::INFINITY);
-                    if !value.is_finite() {
-                        return Err(Diagnostic::new(
-                            CODE,
-                            format!("the number `{}` is too large", p.as_str()),
-                            self.span(&p),
-                            "too large",
-                        ));
+                    if let Some(d) = literal_range(value, p.as_str(), self.span(&p)) {
+                        return Err(d);
                     }
                 }
                 _ => unit = Some(Spanned::new(unit_of(p.as_str()), self.span(&p))),
@@ -1591,5 +1587,42 @@ mod lex {
         !text[..t.start]
             .trim_end_matches([' ', '\t'])
             .ends_with('\n')
+    }
+}
+
+/// The diagnostic for a number literal `text` that an f64 cannot hold as written: too
+/// large (it would read as infinity), or non-zero but below the smallest normal number
+/// (it would read as 0 or lose its precision). Both ends are refused alike, so a
+/// written number is always the number used.
+fn literal_range(value: f64, text: &str, span: Span) -> Option<Diagnostic> {
+    let written_zero = text
+        .split(['e', 'E'])
+        .next()
+        .is_some_and(|m| m.chars().all(|c| c == '0' || c == '.'));
+    if !value.is_finite() {
+        Some(
+            Diagnostic::new(
+                CODE,
+                format!("the number `{text}` is too large"),
+                span,
+                "too large",
+            )
+            .with_help("numbers lie between about -1.8e308 and 1.8e308"),
+        )
+    } else if !written_zero && value.abs() < f64::MIN_POSITIVE {
+        Some(
+            Diagnostic::new(
+                CODE,
+                format!(
+                    "the number `{text}` is below the smallest number (about 2.2e-308) and would be read as {}",
+                    if value == 0.0 { "0" } else { "a number with fewer digits than written" }
+                ),
+                span,
+                "too small",
+            )
+            .with_help("write 0 if zero is meant; otherwise use a larger unit or a larger value"),
+        )
+    } else {
+        None
     }
 }

@@ -112,6 +112,15 @@ pub fn names() -> impl Iterator<Item = &'static str> {
     tables().into_iter().flatten().map(|b| b.name)
 }
 
+/// Runs the builtin of `call` and checks what it made: every number finite and
+/// geometry within the modelling range ([`super::finite::builtin_result`]). The one
+/// place builtins are run from the evaluator, so no builtin needs its own check.
+pub fn run(call: &Call) -> Result<Data, Diagnostic> {
+    let data = (call.builtin.run)(call)?;
+    super::finite::builtin_result(&data, call)?;
+    Ok(data)
+}
+
 /// A call being executed: its arguments aligned with the builtin's parameters.
 pub struct Call<'a> {
     /// The builtin.
@@ -371,7 +380,7 @@ pub fn as_count(v: &Value, what: &str) -> Result<usize, Diagnostic> {
 pub fn as_length(v: &Value, units: Units, what: &str) -> Result<f64, Diagnostic> {
     match &v.data {
         Data::Number(q) if q.dim == Dim::LENGTH => Ok(q.value),
-        Data::Number(q) if q.bare => Ok(q.value * units.length),
+        Data::Number(q) if q.bare => in_default_unit(v, q.value * units.length, what),
         _ => Err(type_error(v, what, "a length such as `12 mm`")),
     }
 }
@@ -380,9 +389,44 @@ pub fn as_length(v: &Value, units: Units, what: &str) -> Result<f64, Diagnostic>
 pub fn as_angle(v: &Value, units: Units, what: &str) -> Result<f64, Diagnostic> {
     match &v.data {
         Data::Number(q) if q.dim == Dim::ANGLE => Ok(q.value),
-        Data::Number(q) if q.bare => Ok(q.value * units.angle),
+        Data::Number(q) if q.bare => in_default_unit(v, q.value * units.angle, what),
         _ => Err(type_error(v, what, "an angle such as `5 deg`")),
     }
+}
+
+/// A bare number converted to the file's default unit, refused when the conversion
+/// overflows (`1e307` in a file whose lengths are in metres).
+fn in_default_unit(v: &Value, converted: f64, what: &str) -> Result<f64, Diagnostic> {
+    if converted.is_finite() {
+        return Ok(converted);
+    }
+    Err(Diagnostic::new(
+        super::finite::CODE,
+        format!("{what} is too large once converted from the file's default unit to millimetres and radians"),
+        v.span,
+        "too large in base units",
+    )
+    .with_help("numbers lie between about -1.8e308 and 1.8e308; check the `units` line and the magnitude of this number"))
+}
+
+/// A point's coordinate `mm` (written at `c`), refused beyond the modelling range
+/// ([`crate::geom::MAX_COORDINATE`]): the kernel would square it on the way to
+/// geometry that could not be exported, and report the overflow as something else.
+fn in_range(c: &Value, mm: f64, what: &str) -> Result<f64, Diagnostic> {
+    if mm.abs() <= crate::geom::MAX_COORDINATE {
+        return Ok(mm);
+    }
+    Err(Diagnostic::new(
+        super::finite::RANGE_CODE,
+        format!(
+            "{what} has a coordinate of {} mm, beyond the modelling range of {} mm from the origin",
+            super::finite::show(mm),
+            super::finite::show(crate::geom::MAX_COORDINATE)
+        ),
+        c.span,
+        "beyond the modelling range",
+    )
+    .with_help("die faces are modelled in millimetres within 1 km of the origin (docs/limits.md); check the units and the magnitude of this coordinate"))
 }
 
 /// The coordinates of a tuple of lengths.
@@ -394,9 +438,10 @@ fn coords(
     expected: &str,
 ) -> Result<Vec<f64>, Diagnostic> {
     match &v.data {
-        Data::Tuple(items) if items.len() == n => {
-            items.iter().map(|c| as_length(c, units, what)).collect()
-        }
+        Data::Tuple(items) if items.len() == n => items
+            .iter()
+            .map(|c| in_range(c, as_length(c, units, what)?, what))
+            .collect(),
         _ => Err(type_error(v, what, expected)),
     }
 }

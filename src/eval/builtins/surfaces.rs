@@ -741,6 +741,17 @@ fn trim(call: &Call) -> Result<Data, Diagnostic> {
             format!("the outline must lie within {TRIM_TOLERANCE} mm of the surface: project the trim line onto this very surface, `project(trim_line, panel)`"),
         )
         .with_label(span_of(call, "surface"), "the surface")),
+        Err(GeomError::SelfCrossing { at }) => Err(bad_argument(
+            call,
+            "outline",
+            format!(
+                "the outline of `trim` crosses itself near ({}, {}, {})",
+                r(at.0),
+                r(at.1),
+                r(at.2)
+            ),
+            "a trim outline goes round the product once: move the points of the trim line so it does not cross or touch itself",
+        )),
         Err(e) => Err(call.kernel_error(e, Some("outline"))),
     }
 }

@@ -714,6 +714,22 @@ fn explain(name_of_block: &str, spec: &PunchOpeningSpec, e: &po::Error) -> Expla
             "this punch opening",
             "draw the sides as lines or splines, joined by `fillet R`",
         ),
+        po::Problem::CrossesItself { other, at } => {
+            let other_name = names.get(*other).copied().unwrap_or("?");
+            let place = format!("({}, {})", show(at.x), show(at.y));
+            let message = if *other == k {
+                format!("the top view of `{name_of_block}` crosses itself at {place}: the {what} `{name}` runs over itself")
+            } else {
+                format!("the top view of `{name_of_block}` crosses itself at {place}: `{name}` meets `{other_name}`")
+            };
+            Explanation::new(
+                message,
+                Part::Segment(k),
+                format!("`{name}` crosses here"),
+                "a punch opening is one simple closed outline seen from above: move the points so the sketch goes round once without crossing or touching itself (a figure of eight is two openings)",
+            )
+            .also(Part::Segment(*other), format!("`{other_name}` is crossed at {place}"))
+        }
         po::Problem::CornerAfterCorner => Explanation::new(
             format!("the corner `{name}` follows another corner"),
             Part::Segment(k),
