@@ -389,3 +389,37 @@ fn ctrl_c_during_a_build_leaves_no_temporary_file() {
         );
     }
 }
+
+#[test]
+fn an_output_never_replaces_a_file_the_script_reads() {
+    let dir = temp("output_is_input");
+    write(&dir.join("mesh.obj"), TRIANGLE);
+    write(
+        &dir.join("part.die"),
+        "product m = read_obj(\"mesh.obj\")\n",
+    );
+    let (code, _, err) = dieface(&dir, &["build", "part.die", "-o", "./mesh.obj"]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(
+        err.contains("cannot write `./mesh.obj`") && err.contains("the script reads"),
+        "{err}"
+    );
+    assert_eq!(
+        std::fs::read_to_string(dir.join("mesh.obj")).expect("kept"),
+        TRIANGLE
+    );
+}
+
+#[test]
+fn a_module_that_is_not_utf8_is_refused_with_where() {
+    let dir = temp("not_utf8");
+    std::fs::write(dir.join("lib.die"), b"let a = 1 mm\nlet caf\xe9 = 2 mm\n").expect("write");
+    write(&dir.join("part.die"), "import \"lib.die\" as lib\n");
+    let (code, _, err) = dieface(&dir, &["check", "part.die"]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(
+        err.contains("die::not_utf8") && err.contains("part.die:1:8"),
+        "{err}"
+    );
+    assert!(err.contains("byte 0xE9 at line 2, column 8"), "{err}");
+}

@@ -130,8 +130,6 @@ pub(crate) fn run(script: &ScriptArgs, out: &OutputArgs) -> ExitCode {
 struct State {
     /// Whether any build has written the outputs.
     built_once: bool,
-    /// Whether the last build failed (its outputs are those of an earlier one).
-    last_failed: bool,
 }
 
 /// One build, and its line: `built in ...`, `rebuilt in 12.3 ms: a, b`, `no changes`,
@@ -160,7 +158,6 @@ fn rebuild(plan: &Plan, pipeline: &mut Pipeline, script: &ScriptArgs, state: &mu
             eprintln!("warning: {msg}; waiting for the next change");
         }
         Ok(Built::ScriptErrors(_)) | Ok(Built::WriteFailed) => {
-            state.last_failed = true;
             if state.built_once {
                 eprintln!("error: see above, keeping the last good output");
             } else {
@@ -175,7 +172,6 @@ fn rebuild(plan: &Plan, pipeline: &mut Pipeline, script: &ScriptArgs, state: &mu
         }) => {
             report(&files, &ran, tessellated, started.elapsed(), state);
             state.built_once = true;
-            state.last_failed = false;
         }
     }
 }

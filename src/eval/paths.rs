@@ -179,12 +179,31 @@ pub fn read_regular(path: &Path, max_bytes: u64) -> Result<Vec<u8>, ReadRefusal>
 /// when they are not).
 pub fn read_regular_text(path: &Path, max_bytes: u64) -> Result<String, ReadRefusal> {
     let bytes = read_regular(path, max_bytes)?;
-    String::from_utf8(bytes).map_err(|_| {
+    String::from_utf8(bytes).map_err(|e| {
         ReadRefusal::Io(io::Error::new(
             io::ErrorKind::InvalidData,
-            "the file is not UTF-8 text",
+            not_utf8(e.as_bytes(), e.utf8_error().valid_up_to()),
         ))
     })
+}
+
+/// Where a text stops being UTF-8, in words: the byte and its line and column (the
+/// file cannot be shown, so the message says where to look).
+fn not_utf8(bytes: &[u8], at: usize) -> String {
+    let before = &bytes[..at.min(bytes.len())];
+    let line = before.iter().filter(|&&b| b == b'\n').count() + 1;
+    let line_start = before
+        .iter()
+        .rposition(|&b| b == b'\n')
+        .map_or(0, |i| i + 1);
+    let column = String::from_utf8_lossy(&before[line_start..])
+        .chars()
+        .count()
+        + 1;
+    let byte = bytes.get(at).copied().unwrap_or(0);
+    format!(
+        "the file is not UTF-8 text: byte 0x{byte:02X} at line {line}, column {column}; save it as UTF-8"
+    )
 }
 
 /// Checks, from its metadata and without opening it, that `path` is a regular file of
@@ -269,6 +288,13 @@ pub fn refusal_diagnostic(
             "this file is too large",
         )
         .with_help(Limit::FileBytes.help(limits)),
+        ReadRefusal::Io(e) if e.kind() == io::ErrorKind::InvalidData => Diagnostic::new(
+            "die::not_utf8",
+            format!("cannot read `{shown}`: {e}"),
+            span,
+            "this file",
+        )
+        .with_help("scripts are UTF-8 text; re-save the file as UTF-8 in your editor"),
         ReadRefusal::Io(e) => Diagnostic::new(
             "die::file_not_found",
             format!("cannot read `{shown}`: {e}"),

@@ -207,6 +207,23 @@ fn hash_bytes(bytes: &[u8]) -> u64 {
 }
 
 impl Pipeline {
+    /// The file a builtin of the script read (an OBJ) that `output` would replace: an
+    /// output never overwrites an input (and `watch` never rebuilds on its own write).
+    /// Scripts and modules are `.die` files, never an output.
+    fn input_at(&self, output: &Path) -> Option<String> {
+        let dir = match output.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d,
+            _ => Path::new("."),
+        };
+        let target = dir.canonicalize().ok()?.join(output.file_name()?);
+        let target = target.canonicalize().unwrap_or(target);
+        self.engine
+            .read_files()
+            .iter()
+            .find(|p| **p == target)
+            .map(|p| p.display().to_string())
+    }
+
     /// Encodes and writes every output of a clean build atomically (a failed write
     /// leaves the previous file whole), in order, with the given [`Durability`]; stops
     /// at the first that fails. An output that already holds exactly the new bytes,
@@ -226,6 +243,14 @@ impl Pipeline {
             stage(Stage::Writing(path));
             let bytes = encode_output(build, *output, name, &mut self.encoded)
                 .map_err(|e| (path.clone(), e))?;
+            if let Some(input) = self.input_at(path) {
+                return Err((
+                    path.clone(),
+                    format!(
+                        "it is `{input}`, which the script reads; write the output to another file"
+                    ),
+                ));
+            }
             let unchanged = self.written.get(path) == Some(&Written::of(path, &bytes));
             if !unchanged {
                 self.written.remove(path);
