@@ -5,6 +5,9 @@
 //! are never a read-only file replaced, and temporary files are named so they cannot
 //! collide, removed when their writer was killed, and removed on Ctrl-C.
 
+#[allow(dead_code)] // shares the helpers of other test crates, uses one
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};
@@ -271,16 +274,6 @@ let net = [ [ (i * half, j * half, if i == 1 and j == 1 then 30 mm else 0 mm) fo
 product panel = nurbs_surface(degree: (2, 2), points: net)
 "#;
 
-/// The temporary files left in `dir`.
-fn temp_files(dir: &Path) -> Vec<String> {
-    std::fs::read_dir(dir)
-        .expect("list")
-        .flatten()
-        .map(|e| e.file_name().to_string_lossy().into_owned())
-        .filter(|n| n.ends_with(".tmp"))
-        .collect()
-}
-
 #[cfg(unix)]
 #[test]
 fn a_read_only_output_is_refused_not_replaced() {
@@ -305,7 +298,7 @@ fn a_read_only_output_is_refused_not_replaced() {
         std::fs::read(dir.join("p.glb")).expect("kept"),
         b"protected"
     );
-    assert!(temp_files(&dir).is_empty());
+    assert!(common::temp_files(&dir).is_empty());
 }
 
 #[cfg(unix)]
@@ -335,7 +328,7 @@ fn temporary_files_of_killed_builds_are_removed_and_never_collide() {
     }
     let (code, _, err) = dieface(&dir, &["build", "part.die", "-o", "p.glb"]);
     assert_eq!(code, Some(0), "{err}");
-    let mut left = temp_files(&dir);
+    let mut left = common::temp_files(&dir);
     left.sort();
     let mut expected = kept.to_vec();
     expected.sort();
@@ -381,7 +374,11 @@ fn ctrl_c_during_a_build_leaves_no_temporary_file() {
         "{:?}",
         out.status
     );
-    assert!(temp_files(&dir).is_empty(), "{:?}", temp_files(&dir));
+    assert!(
+        common::temp_files(&dir).is_empty(),
+        "{:?}",
+        common::temp_files(&dir)
+    );
     if out.status.code() == Some(130) {
         assert!(
             !dir.join("p.glb").exists(),

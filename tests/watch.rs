@@ -6,6 +6,9 @@
 //! test slower, never flaky.
 
 use std::io::Read;
+#[allow(dead_code)] // shares the helpers of other test crates, uses one
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::sync::{Arc, Mutex};
@@ -82,6 +85,28 @@ impl Watch {
 
     fn err(&self) -> String {
         self.stderr.lock().expect("lock").clone()
+    }
+
+    /// Sends SIGINT (Ctrl-C) and returns the exit code; panics unless watch stops
+    /// within `within`.
+    #[cfg(unix)]
+    fn interrupt(mut self, within: Duration) -> Option<i32> {
+        let status = Command::new("kill")
+            .args(["-INT", &self.child.id().to_string()])
+            .status()
+            .expect("kill -INT");
+        assert!(status.success());
+        let sent = Instant::now();
+        loop {
+            if let Some(s) = self.child.try_wait().expect("wait") {
+                return s.code();
+            }
+            assert!(
+                sent.elapsed() < within,
+                "watch did not stop within {within:?} of SIGINT"
+            );
+            std::thread::sleep(Duration::from_millis(20));
+        }
     }
 
     /// Polls `cond` until it holds; panics with the watcher's output after the timeout.
@@ -186,20 +211,7 @@ fn watch_rebuilds_on_saves_keeps_the_last_good_output_and_stops_on_ctrl_c() {
     // 7. Ctrl-C exits cleanly.
     #[cfg(unix)]
     {
-        let mut w = w;
-        let status = Command::new("kill")
-            .args(["-INT", &w.child.id().to_string()])
-            .status()
-            .expect("kill -INT");
-        assert!(status.success());
-        let start = Instant::now();
-        let code = loop {
-            if let Some(s) = w.child.try_wait().expect("wait") {
-                break s.code();
-            }
-            assert!(start.elapsed() < TIMEOUT, "watch did not stop on SIGINT");
-            std::thread::sleep(Duration::from_millis(50));
-        };
+        let code = w.interrupt(TIMEOUT);
         assert_eq!(code, Some(0), "clean exit on Ctrl-C");
     }
 }
@@ -259,16 +271,6 @@ fn save_and_match(w: &Watch, dir: &Path, out: &Path, text: &str, what: &str) -> 
     let fresh = fresh_build(dir);
     w.wait_for(what, |_| read(out).as_deref() == Some(fresh.as_slice()));
     fresh
-}
-
-/// Temporary files left beside the outputs.
-fn temp_files(dir: &Path) -> Vec<String> {
-    std::fs::read_dir(dir)
-        .expect("list")
-        .flatten()
-        .map(|e| e.file_name().to_string_lossy().into_owned())
-        .filter(|n| n.ends_with(".tmp"))
-        .collect()
 }
 
 #[test]
@@ -340,29 +342,17 @@ fn watch_output_always_equals_a_fresh_build_of_the_last_good_script() {
         );
         std::fs::write(&script_path, slow).expect("slow edit");
         std::thread::sleep(Duration::from_millis(600));
-        let mut w = w;
-        let status = Command::new("kill")
-            .args(["-INT", &w.child.id().to_string()])
-            .status()
-            .expect("kill -INT");
-        assert!(status.success());
-        let sent = Instant::now();
-        let code = loop {
-            if let Some(s) = w.child.try_wait().expect("wait") {
-                break s.code();
-            }
-            assert!(
-                sent.elapsed() < Duration::from_millis(1500),
-                "watch did not stop promptly on SIGINT during a rebuild"
-            );
-            std::thread::sleep(Duration::from_millis(20));
-        };
+        let code = w.interrupt(Duration::from_millis(1500));
         assert_eq!(code, Some(0), "clean exit on Ctrl-C");
         assert_eq!(
             read(&out).expect("output"),
             good,
             "the interrupted rebuild wrote nothing"
         );
-        assert!(temp_files(&dir).is_empty(), "{:?}", temp_files(&dir));
+        assert!(
+            common::temp_files(&dir).is_empty(),
+            "{:?}",
+            common::temp_files(&dir)
+        );
     }
 }
