@@ -11,6 +11,7 @@ use dieface::eval::builtins::{lookup, Call};
 use dieface::eval::units::Units;
 use dieface::eval::value::{Data, Dim, Quantity, Value};
 use dieface::geom::{Curve3, NurbsSurface};
+use dieface::limits::Limits;
 use dieface::syntax::{FileId, Span};
 use glam::{DVec2, DVec3};
 
@@ -86,6 +87,7 @@ fn call_with(
         args,
         dir,
         root,
+        limits: Limits::default(),
         apply: &no_apply,
     };
     (builtin.run)(&call)
@@ -285,6 +287,7 @@ fn lists() {
             args: vec![Some(items.clone()), Some(f.clone())],
             dir: None,
             root: None,
+            limits: Limits::default(),
             apply,
         };
         let Data::List(out) = (builtin.run)(&c).unwrap() else {
@@ -980,6 +983,7 @@ fn no_builtin_panics_on_odd_arguments() {
                 args,
                 dir: Some(&root),
                 root: Some(&root),
+                limits: Limits::default(),
                 apply: &echo,
             };
             let _ = (builtin.run)(&c);

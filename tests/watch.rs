@@ -6,6 +6,9 @@
 //! test slower, never flaky.
 
 use std::io::Read;
+#[allow(dead_code)] // shares the helpers of other test crates, uses one
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::sync::{Arc, Mutex};
@@ -82,6 +85,28 @@ impl Watch {
 
     fn err(&self) -> String {
         self.stderr.lock().expect("lock").clone()
+    }
+
+    /// Sends SIGINT (Ctrl-C) and returns the exit code; panics unless watch stops
+    /// within `within`.
+    #[cfg(unix)]
+    fn interrupt(mut self, within: Duration) -> Option<i32> {
+        let status = Command::new("kill")
+            .args(["-INT", &self.child.id().to_string()])
+            .status()
+            .expect("kill -INT");
+        assert!(status.success());
+        let sent = Instant::now();
+        loop {
+            if let Some(s) = self.child.try_wait().expect("wait") {
+                return s.code();
+            }
+            assert!(
+                sent.elapsed() < within,
+                "watch did not stop within {within:?} of SIGINT"
+            );
+            std::thread::sleep(Duration::from_millis(20));
+        }
     }
 
     /// Polls `cond` until it holds; panics with the watcher's output after the timeout.
@@ -186,20 +211,7 @@ fn watch_rebuilds_on_saves_keeps_the_last_good_output_and_stops_on_ctrl_c() {
     // 7. Ctrl-C exits cleanly.
     #[cfg(unix)]
     {
-        let mut w = w;
-        let status = Command::new("kill")
-            .args(["-INT", &w.child.id().to_string()])
-            .status()
-            .expect("kill -INT");
-        assert!(status.success());
-        let start = Instant::now();
-        let code = loop {
-            if let Some(s) = w.child.try_wait().expect("wait") {
-                break s.code();
-            }
-            assert!(start.elapsed() < TIMEOUT, "watch did not stop on SIGINT");
-            std::thread::sleep(Duration::from_millis(50));
-        };
+        let code = w.interrupt(TIMEOUT);
         assert_eq!(code, Some(0), "clean exit on Ctrl-C");
     }
 }
@@ -222,4 +234,125 @@ fn watch_starts_from_a_broken_script_and_builds_once_it_is_fixed() {
     w.wait_for("the first output", |_| {
         read(&out).is_some_and(|b| b.starts_with(b"glTF"))
     });
+}
+
+/// Two products, so deleting one changes the scene, and a declaration nothing uses.
+fn two_products(half: &str) -> String {
+    format!(
+        r#"import "lib.die" as lib
+let half = {half}
+let net = [ [ (i * half, j * half, if i == 1 and j == 1 then lib.depth else 0 mm) for j in range(0, 3) ] for i in range(0, 3) ]
+product panel = nurbs_surface(degree: (2, 2), points: net)
+product tipped = nurbs_surface(degree: (2, 2), points: net) |> tip(about: "x", by: 5 deg)
+let unrelated = 3 deg
+"#
+    )
+}
+
+/// What a fresh `dieface build` of the script now in `dir` writes.
+fn fresh_build(dir: &Path) -> Vec<u8> {
+    let out = Command::new(env!("CARGO_BIN_EXE_dieface"))
+        .current_dir(dir)
+        .args(["build", "part.die", "-o", "fresh.glb", "--color", "never"])
+        .output()
+        .expect("run dieface build");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    read(&dir.join("fresh.glb")).expect("fresh output")
+}
+
+/// Saves `text` as the script and waits until watch's output is byte for byte what a
+/// fresh build of it writes.
+fn save_and_match(w: &Watch, dir: &Path, out: &Path, text: &str, what: &str) -> Vec<u8> {
+    std::fs::write(dir.join("part.die"), text).expect("save");
+    let fresh = fresh_build(dir);
+    w.wait_for(what, |_| read(out).as_deref() == Some(fresh.as_slice()));
+    fresh
+}
+
+#[test]
+fn watch_output_always_equals_a_fresh_build_of_the_last_good_script() {
+    let dir = project("fresh");
+    let out = dir.join("panel.glb");
+    let script_path = dir.join("part.die");
+    std::fs::write(&script_path, two_products("100 mm")).expect("script");
+    let w = Watch::start(
+        &dir,
+        &["watch", "part.die", "-o", "panel.glb", "--color", "never"],
+    );
+    w.wait_for("the watch to start", |w| w.err().contains("watching"));
+    let text = two_products("100 mm");
+    save_and_match(&w, &dir, &out, &text, "the first build");
+
+    // 1. Delete a declaration: it leaves the scene, though nothing re-runs.
+    let deleted: String = text
+        .lines()
+        .filter(|l| !l.starts_with("product tipped"))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    save_and_match(&w, &dir, &out, &deleted, "the deleted product to leave");
+
+    // 2. A line above the declarations: every node's extras.line moves.
+    let moved = format!("// a comment above everything\n{deleted}");
+    save_and_match(&w, &dir, &out, &moved, "the lines to move");
+
+    // 3. An edit of the imported module.
+    std::fs::write(dir.join("lib.die"), "let depth = 40 mm\n").expect("edit lib");
+    let fresh = fresh_build(&dir);
+    w.wait_for("the module's edit", |_| {
+        read(&out).as_deref() == Some(fresh.as_slice())
+    });
+
+    // 4. A broken save, then a save by truncate-then-write: the momentary empty script
+    // is not built, the last good output stays; the written script is built.
+    let good = read(&out).expect("output");
+    std::fs::write(&script_path, "let broken = \n").expect("break");
+    w.wait_for("the diagnostic", |w| {
+        w.err().contains("keeping the last good output")
+    });
+    std::fs::write(&script_path, "").expect("truncate");
+    w.wait_for("the empty script's warning", |w| {
+        w.err()
+            .contains("the script is empty; keeping the last output")
+    });
+    assert_eq!(
+        read(&out).expect("output"),
+        good,
+        "the empty script wrote nothing"
+    );
+    save_and_match(
+        &w,
+        &dir,
+        &out,
+        &two_products("90 mm"),
+        "the script after the truncate",
+    );
+
+    // 5. Ctrl-C in the middle of a long rebuild stops at once, leaving the last good
+    // output and no temporary file.
+    #[cfg(unix)]
+    {
+        let good = read(&out).expect("output");
+        let slow = format!(
+            "{}let slow = [ [ sin(i * 1 deg + j * 1 deg) for i in range(0, 1000) ] for j in range(0, 4000) ]\n",
+            two_products("80 mm")
+        );
+        std::fs::write(&script_path, slow).expect("slow edit");
+        std::thread::sleep(Duration::from_millis(600));
+        let code = w.interrupt(Duration::from_millis(1500));
+        assert_eq!(code, Some(0), "clean exit on Ctrl-C");
+        assert_eq!(
+            read(&out).expect("output"),
+            good,
+            "the interrupted rebuild wrote nothing"
+        );
+        assert!(
+            common::temp_files(&dir).is_empty(),
+            "{:?}",
+            common::temp_files(&dir)
+        );
+    }
 }

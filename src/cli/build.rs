@@ -14,10 +14,12 @@ use std::time::{Duration, Instant};
 
 use indicatif::ProgressBar;
 
-use crate::export::atomic::Durability;
-use crate::pipeline::{parse_tolerance, Output, Pipeline, Stage};
+use crate::export::atomic::{check_replaceable, Durability};
+use crate::pipeline::{parse_tolerance, Output, OutputFile, Pipeline, Stage};
 
-use super::{ms, progress, OutputArgs, ScriptArgs, SCRIPT_ERROR, USAGE_ERROR};
+use super::{
+    ms, progress, stop_on_interrupt, OutputArgs, ScriptArgs, INTERRUPTED, SCRIPT_ERROR, USAGE_ERROR,
+};
 
 /// What a build writes, checked before anything is evaluated.
 pub(crate) struct Plan {
@@ -34,10 +36,10 @@ pub(crate) struct Plan {
 
 /// How one build went.
 pub(crate) enum Built {
-    /// Every output written.
+    /// Every output written (or, in `watch`, found already holding the same bytes).
     Written {
-        /// Each output with its size in bytes.
-        files: Vec<(PathBuf, usize)>,
+        /// Each output with its size in bytes and whether it was left unchanged.
+        files: Vec<OutputFile>,
         /// Wall time of evaluation, tessellation and writing.
         took: Duration,
         /// The declarations that re-ran.
@@ -45,8 +47,6 @@ pub(crate) enum Built {
         /// How many pieces were tessellated anew (the rest came from the cache).
         tessellated: usize,
     },
-    /// Nothing re-ran and the outputs are up to date (watch only): nothing written.
-    Unchanged,
     /// The script has errors (printed); no output was touched.
     ScriptErrors(usize),
     /// An output could not be written (printed); outputs before it were (exit 2).
@@ -54,11 +54,17 @@ pub(crate) enum Built {
 }
 
 impl Plan {
-    /// Checks the outputs' extensions and parses `--tolerance`; a usage error (printed)
+    /// Checks the outputs' extensions and that each may be replaced (an existing
+    /// read-only output is refused: exit 2, like any output that cannot be written,
+    /// before anything is evaluated), and parses `--tolerance`; a usage error (printed)
     /// otherwise.
     pub(crate) fn new(script: &ScriptArgs, out: &OutputArgs) -> Result<Plan, ExitCode> {
         let mut outputs = Vec::new();
         for path in &out.outputs {
+            if let Err(e) = check_replaceable(path) {
+                eprintln!("error: cannot write `{}`: {e}", path.display());
+                return Err(ExitCode::from(USAGE_ERROR));
+            }
             match Output::from_path(path) {
                 Some(f) => outputs.push((path.clone(), f)),
                 None => {
@@ -88,15 +94,14 @@ impl Plan {
         })
     }
 
-    /// Evaluates `script` with `pipeline` and, when clean, writes every output.
-    /// Prints diagnostics and write errors on stderr. With `skip_unchanged` (outputs
-    /// written by the previous, good build of this pipeline), a clean evaluation in
-    /// which no declaration re-ran writes nothing.
+    /// Evaluates `script` with `pipeline` and, when clean, writes every output (an
+    /// output that already holds the same bytes from this pipeline's previous build is
+    /// left alone: see [`Pipeline::write_outputs`]). Prints diagnostics and write
+    /// errors on stderr.
     pub(crate) fn build(
         &self,
         pipeline: &mut Pipeline,
         script: &ScriptArgs,
-        skip_unchanged: bool,
     ) -> Result<Built, String> {
         let started = Instant::now();
         // One progress line at a time, replaced at each stage and cleared before
@@ -119,9 +124,6 @@ impl Plan {
         let build = build.map_err(|e| format!("cannot read `{}`: {e}", script.file.display()));
         let result = match build {
             Err(e) => Err(e),
-            Ok(b) if skip_unchanged && b.problems.is_empty() && b.reran.is_empty() => {
-                Ok(Built::Unchanged)
-            }
             Ok(b) if !b.problems.is_empty() => {
                 clear();
                 for d in &b.problems {
@@ -165,7 +167,8 @@ pub(crate) fn run(script: &ScriptArgs, out: &OutputArgs) -> ExitCode {
         Ok(e) => Pipeline::new(e),
         Err(code) => return code,
     };
-    match plan.build(&mut pipeline, script, false) {
+    stop_on_interrupt(INTERRUPTED);
+    match plan.build(&mut pipeline, script) {
         Err(msg) => {
             eprintln!("error: {msg}");
             ExitCode::from(USAGE_ERROR)
@@ -181,10 +184,9 @@ pub(crate) fn run(script: &ScriptArgs, out: &OutputArgs) -> ExitCode {
         // An output that cannot be written (no such folder, no permission) is a problem
         // with the command line, not the script.
         Ok(Built::WriteFailed) => ExitCode::from(USAGE_ERROR),
-        Ok(Built::Unchanged) => ExitCode::SUCCESS,
         Ok(Built::Written { files, took, .. }) => {
-            for (path, bytes) in &files {
-                println!("wrote {} ({bytes} bytes)", path.display());
+            for f in &files {
+                println!("wrote {} ({} bytes)", f.path.display(), f.bytes);
             }
             println!("built in {}", ms(took));
             ExitCode::SUCCESS

@@ -17,6 +17,7 @@ use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use crate::eval::overrides::parse_define;
+use crate::eval::paths::{check_regular_path, ReadRefusal};
 use crate::eval::{Engine, Outcome};
 use crate::limits::Limits;
 use crate::pipeline::{tolerance_for, TOLERANCE_PARAM};
@@ -138,6 +139,23 @@ pub fn main() -> ExitCode {
 pub(crate) const SCRIPT_ERROR: u8 = 1;
 /// Exit code 2: usage errors.
 pub(crate) const USAGE_ERROR: u8 = 2;
+/// Exit code of a `build` stopped by Ctrl-C or SIGTERM (128 + SIGINT, as shells report
+/// a process ended by SIGINT).
+pub(crate) const INTERRUPTED: i32 = 130;
+
+/// On Ctrl-C (SIGINT) or SIGTERM, removes the temporary files of the writes under way
+/// and ends the process with `code` at once, even in the middle of an evaluation or a
+/// tessellation: the outputs stay as they were and no `.tmp` file is left. The `ctrlc`
+/// crate (already used, with its `termination` feature for SIGTERM) runs the handler on
+/// its own thread, outside the signal context, so it may remove files and exit.
+pub(crate) fn stop_on_interrupt(code: i32) {
+    if let Err(e) = ctrlc::set_handler(move || {
+        crate::export::atomic::remove_temp_files();
+        std::process::exit(code);
+    }) {
+        eprintln!("warning: cannot catch Ctrl-C: {e}");
+    }
+}
 
 impl ScriptArgs {
     /// Whether to colour diagnostics.
@@ -154,6 +172,58 @@ impl ScriptArgs {
         self.root.clone().unwrap_or_else(|| script_dir(&self.file))
     }
 
+    /// The script must be a regular file within the `file_bytes` limit: a folder, a
+    /// FIFO or a device is refused before anything opens it.
+    fn check_script(&self) -> Result<(), ExitCode> {
+        let max = self.limits().get(crate::limits::Limit::FileBytes);
+        let why = match check_regular_path(&self.file, max) {
+            Ok(()) => return Ok(()),
+            Err(ReadRefusal::Io(e)) if e.kind() == std::io::ErrorKind::NotFound => {
+                "no such file".to_string()
+            }
+            Err(ReadRefusal::TooLarge { bytes }) => format!(
+                "it holds {bytes} bytes, more than the `file_bytes` limit allows\nhelp: {}",
+                crate::limits::Limit::FileBytes.help(&self.limits())
+            ),
+            Err(r) => r.to_string(),
+        };
+        eprintln!("error: cannot read `{}`: {why}", self.file.display());
+        Err(ExitCode::from(USAGE_ERROR))
+    }
+
+    /// The project root, resolved: an existing folder that holds the script. A `--root`
+    /// that does not exist, or is not a folder, or does not hold the script, is a
+    /// usage error, never a root check quietly lifted.
+    fn checked_root(&self) -> Result<PathBuf, ExitCode> {
+        let root = self.root();
+        let fail = |why: String| {
+            eprintln!("error: {why}");
+            Err(ExitCode::from(USAGE_ERROR))
+        };
+        let resolved = match root.canonicalize() {
+            Ok(r) if r.is_dir() => r,
+            Ok(_) => return fail(format!("--root `{}` is not a folder", root.display())),
+            Err(e) => {
+                return fail(format!(
+                "--root `{}` cannot be used: {e}; give an existing folder that holds the script",
+                root.display()
+            ))
+            }
+        };
+        let inside = self
+            .file
+            .canonicalize()
+            .is_ok_and(|f| f.starts_with(&resolved));
+        if !inside {
+            return fail(format!(
+                "`{}` lies outside --root `{}`; the root must hold the script",
+                self.file.display(),
+                root.display()
+            ));
+        }
+        Ok(resolved)
+    }
+
     /// The limits in force: the defaults with the `--limit` settings applied in order.
     fn limits(&self) -> Limits {
         let mut limits = Limits::default();
@@ -163,14 +233,12 @@ impl ScriptArgs {
         limits
     }
 
-    /// An engine for the script with its overrides, or a usage error if the script is
-    /// not a file.
+    /// An engine for the script with its overrides, or a usage error (printed) if the
+    /// script is not a regular file or the root is not a folder holding it.
     fn engine(&self) -> Result<Engine, ExitCode> {
-        if !self.file.is_file() {
-            eprintln!("error: cannot read `{}`: no such file", self.file.display());
-            return Err(ExitCode::from(USAGE_ERROR));
-        }
-        let mut engine = Engine::new(Some(self.root()));
+        self.check_script()?;
+        let root = self.checked_root()?;
+        let mut engine = Engine::new(Some(root));
         engine.set_overrides(self.define.clone());
         engine.set_limits(self.limits());
         Ok(engine)

@@ -26,20 +26,15 @@ use notify::event::{AccessKind, AccessMode};
 use notify::{EventKind, RecursiveMode, Watcher};
 
 use crate::eval::Engine;
-use crate::pipeline::Pipeline;
+use crate::pipeline::{OutputFile, Pipeline};
 
 use super::build::{Built, Plan};
-use super::{ms, OutputArgs, ScriptArgs, USAGE_ERROR};
+use super::{ms, stop_on_interrupt, OutputArgs, ScriptArgs, USAGE_ERROR};
 
 /// Quiet time that ends a burst of events.
 const DEBOUNCE: Duration = Duration::from_millis(150);
 /// Longest a burst may delay a rebuild.
 const MAX_DELAY: Duration = Duration::from_secs(2);
-
-enum Msg {
-    Fs(notify::Result<notify::Event>),
-    Quit,
-}
 
 /// `dieface watch`.
 pub(crate) fn run(script: &ScriptArgs, out: &OutputArgs) -> ExitCode {
@@ -63,15 +58,11 @@ pub(crate) fn run(script: &ScriptArgs, out: &OutputArgs) -> ExitCode {
         }
     };
 
-    let (tx, rx) = mpsc::channel::<Msg>();
-    let quit = tx.clone();
-    if let Err(e) = ctrlc::set_handler(move || {
-        let _ = quit.send(Msg::Quit);
-    }) {
-        eprintln!("warning: cannot catch Ctrl-C: {e}");
-    }
+    // Ctrl-C is the way to stop watching: exit 0 at once, even mid-rebuild.
+    stop_on_interrupt(0);
+    let (tx, rx) = mpsc::channel::<notify::Result<notify::Event>>();
     let mut watcher = match notify::recommended_watcher(move |res| {
-        let _ = tx.send(Msg::Fs(res));
+        let _ = tx.send(res);
     }) {
         Ok(w) => w,
         Err(e) => {
@@ -102,9 +93,8 @@ pub(crate) fn run(script: &ScriptArgs, out: &OutputArgs) -> ExitCode {
             return ExitCode::SUCCESS;
         };
         match msg {
-            Msg::Quit => return ExitCode::SUCCESS,
-            Msg::Fs(Err(e)) => eprintln!("warning: file watching: {e}"),
-            Msg::Fs(Ok(event)) => {
+            Err(e) => eprintln!("warning: file watching: {e}"),
+            Ok(event) => {
                 if !relevant(&event, &files) {
                     continue;
                 }
@@ -120,9 +110,8 @@ pub(crate) fn run(script: &ScriptArgs, out: &OutputArgs) -> ExitCode {
                         break;
                     }
                     match rx.recv_timeout(deadline - now) {
-                        Ok(Msg::Quit) => return ExitCode::SUCCESS,
-                        Ok(Msg::Fs(Ok(e))) if relevant(&e, &files) => last = Instant::now(),
-                        Ok(Msg::Fs(_)) => {}
+                        Ok(Ok(e)) if relevant(&e, &files) => last = Instant::now(),
+                        Ok(_) => {}
                         Err(RecvTimeoutError::Timeout) => break,
                         Err(RecvTimeoutError::Disconnected) => return ExitCode::SUCCESS,
                     }
@@ -141,24 +130,34 @@ pub(crate) fn run(script: &ScriptArgs, out: &OutputArgs) -> ExitCode {
 struct State {
     /// Whether any build has written the outputs.
     built_once: bool,
-    /// Whether the last build failed (its outputs are those of an earlier one).
-    last_failed: bool,
 }
 
 /// One build, and its line: `built in ...`, `rebuilt in 12.3 ms: a, b`, `no changes`,
 /// or the diagnostics and `error: see above, keeping the last good output`.
+///
+/// The outputs always equal what a fresh `dieface build` of the last good script
+/// writes: every clean rebuild is encoded, and written unless the outputs already hold
+/// those very bytes (so a deleted declaration leaves the scene and a moved one carries
+/// its new line). An empty (or whitespace-only) script is not built: it is what an
+/// editor that saves by truncating and then writing leaves for a moment, and a designer
+/// never means "replace my die face by nothing".
 fn rebuild(plan: &Plan, pipeline: &mut Pipeline, script: &ScriptArgs, state: &mut State) {
     let started = Instant::now();
-    let unchanged_ok = state.built_once && !state.last_failed;
-    match plan.build(pipeline, script, unchanged_ok) {
+    if script_is_empty(&script.file, pipeline) {
+        if state.built_once {
+            eprintln!("warning: the script is empty; keeping the last output");
+        } else {
+            eprintln!("warning: the script is empty; nothing written yet");
+        }
+        return;
+    }
+    match plan.build(pipeline, script) {
         Err(msg) => {
             // Typically the moment between an editor's delete and its write: the next
             // event brings the new file.
             eprintln!("warning: {msg}; waiting for the next change");
         }
-        Ok(Built::Unchanged) => println!("no changes"),
         Ok(Built::ScriptErrors(_)) | Ok(Built::WriteFailed) => {
-            state.last_failed = true;
             if state.built_once {
                 eprintln!("error: see above, keeping the last good output");
             } else {
@@ -171,27 +170,59 @@ fn rebuild(plan: &Plan, pipeline: &mut Pipeline, script: &ScriptArgs, state: &mu
             tessellated,
             ..
         }) => {
-            let took = ms(started.elapsed());
-            if !state.built_once {
-                let names: Vec<String> =
-                    files.iter().map(|(p, _)| p.display().to_string()).collect();
-                println!(
-                    "built in {took}: {} declarations, wrote {}",
-                    ran.len(),
-                    names.join(", ")
-                );
-            } else if ran.is_empty() {
-                println!("rebuilt in {took}: nothing re-ran (all memoized)");
-            } else {
-                println!(
-                    "rebuilt in {took}: {}; {tessellated} piece{} tessellated",
-                    ran.join(", "),
-                    if tessellated == 1 { "" } else { "s" }
-                );
-            }
+            report(&files, &ran, tessellated, started.elapsed(), state);
             state.built_once = true;
-            state.last_failed = false;
         }
+    }
+}
+
+/// Whether the script holds nothing but white space (an empty save, or the moment
+/// between an editor's truncate and its write). A script that cannot be read is not
+/// called empty: the build reports why.
+fn script_is_empty(file: &Path, pipeline: &Pipeline) -> bool {
+    crate::eval::paths::read_script(file, pipeline.engine.limits())
+        .is_ok_and(|text| text.trim().is_empty())
+}
+
+/// The line of a clean rebuild: what it wrote, or `no changes` when every output
+/// already held the new bytes.
+fn report(
+    files: &[OutputFile],
+    ran: &[String],
+    tessellated: usize,
+    took: std::time::Duration,
+    state: &State,
+) {
+    let took = ms(took);
+    let written: Vec<String> = files
+        .iter()
+        .filter(|f| !f.unchanged)
+        .map(|f| f.path.display().to_string())
+        .collect();
+    if !state.built_once {
+        println!(
+            "built in {took}: {} declarations, wrote {}",
+            ran.len(),
+            written.join(", ")
+        );
+    } else if written.is_empty() && ran.is_empty() {
+        println!("no changes");
+    } else if written.is_empty() {
+        println!(
+            "rebuilt in {took}: {}; the outputs are unchanged",
+            ran.join(", ")
+        );
+    } else if ran.is_empty() {
+        println!(
+            "rebuilt in {took}: nothing re-ran (all memoized); wrote {}",
+            written.join(", ")
+        );
+    } else {
+        println!(
+            "rebuilt in {took}: {}; {tessellated} piece{} tessellated",
+            ran.join(", "),
+            if tessellated == 1 { "" } else { "s" }
+        );
     }
 }
 

@@ -156,6 +156,9 @@ impl World for Engine {
             self.root.as_deref(),
         )
     }
+    fn limits(&self) -> Limits {
+        self.limits
+    }
 }
 
 impl Engine {
@@ -164,7 +167,9 @@ impl Engine {
     pub fn new(root: Option<PathBuf>) -> Self {
         Self {
             sources: Sources::new(),
-            root: root.and_then(|r| r.canonicalize().ok()),
+            // A root that cannot be resolved still bounds reads (to nothing), never
+            // lifts the bound.
+            root: root.map(|r| r.canonicalize().unwrap_or(r)),
             files: HashMap::new(),
             memo: HashMap::new(),
             parsed: HashMap::new(),
@@ -269,7 +274,7 @@ impl Engine {
 
     /// Evaluates the script at `path` (read from disk).
     pub fn evaluate_path(&mut self, path: &Path) -> std::io::Result<Outcome> {
-        let text = std::fs::read_to_string(path)?;
+        let text = paths::read_script(path, &self.limits)?;
         let name = self.display_name(path);
         let dir = path.parent().map(|p| {
             if p.as_os_str().is_empty() {
@@ -555,24 +560,17 @@ impl Engine {
         ))
     }
 
-    /// Resolves a relative path against `dir`, refusing paths outside the root, and
-    /// reads the file.
+    /// Resolves a relative `.die` path against `dir`, refusing other files and paths
+    /// outside the root, and reads it (a regular file within the `file_bytes` limit).
     fn resolve_file(
         &self,
         path: &str,
         dir: Option<&Path>,
         span: Span,
     ) -> Result<(PathBuf, String), Diagnostic> {
+        paths::check_module_name(path, span)?;
         let full = resolve_in_root(path, dir, self.root.as_deref(), span)?;
-        let text = std::fs::read_to_string(&full).map_err(|e| {
-            Diagnostic::new(
-                "die::file_not_found",
-                format!("cannot read `{path}`: {e}"),
-                span,
-                "this file",
-            )
-            .with_help("check the file's permissions and that it is UTF-8 text")
-        })?;
+        let text = paths::read_module(&full, path, span, &self.limits)?;
         Ok((full, text))
     }
 

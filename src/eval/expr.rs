@@ -33,6 +33,11 @@ pub trait World {
     fn globals(&self, file: FileId) -> Option<&Globals>;
     /// The directory of `file` (for relative paths) and the project root.
     fn paths(&self, file: FileId) -> (Option<&std::path::Path>, Option<&std::path::Path>);
+    /// The limits in force (the defaults unless the world says otherwise), for builtins
+    /// that read files or make large values.
+    fn limits(&self) -> crate::limits::Limits {
+        crate::limits::Limits::default()
+    }
 }
 
 /// Evaluation context of one expression.
@@ -513,6 +518,7 @@ impl<'w> Ctx<'w> {
                     args: slots,
                     dir,
                     root,
+                    limits: self.world.limits(),
                     apply: &apply,
                 };
                 Ok(Value::new(builtins::run(&call)?, span))

@@ -84,6 +84,8 @@ pub struct Pipeline {
     pub engine: Engine,
     cache: SceneCache,
     encoded: GltfCache,
+    /// What this pipeline last wrote to each output.
+    written: std::collections::HashMap<PathBuf, Written>,
 }
 
 impl Pipeline {
@@ -93,6 +95,7 @@ impl Pipeline {
             engine,
             cache: SceneCache::default(),
             encoded: GltfCache::default(),
+            written: Default::default(),
         }
     }
 
@@ -164,11 +167,72 @@ pub fn encode_output(
     }
 }
 
+/// One output of [`Pipeline::write_outputs`].
+#[derive(Debug, Clone)]
+pub struct OutputFile {
+    /// Where.
+    pub path: PathBuf,
+    /// Its size in bytes.
+    pub bytes: usize,
+    /// Whether the file already held exactly these bytes, written by this pipeline
+    /// and untouched since, so it was left as it was.
+    pub unchanged: bool,
+}
+
+/// What a pipeline last wrote to one output: the bytes' hash and length, and the file's
+/// modification time just after, so an identical rebuild is not written again while a
+/// file changed or removed by someone else is.
+#[derive(Debug, Clone, PartialEq, Eq)]
+struct Written {
+    hash: u64,
+    len: u64,
+    modified: Option<std::time::SystemTime>,
+}
+
+impl Written {
+    /// The fingerprint of `bytes` as now on disk at `path`.
+    fn of(path: &Path, bytes: &[u8]) -> Written {
+        let meta = std::fs::metadata(path).ok();
+        Written {
+            hash: hash_bytes(bytes),
+            len: bytes.len() as u64,
+            modified: meta.and_then(|m| m.modified().ok()),
+        }
+    }
+}
+
+/// A hash of an output's bytes.
+fn hash_bytes(bytes: &[u8]) -> u64 {
+    use std::hash::{Hash, Hasher};
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    bytes.hash(&mut h);
+    h.finish()
+}
+
 impl Pipeline {
+    /// The file a builtin of the script read (an OBJ) that `output` would replace: an
+    /// output never overwrites an input (and `watch` never rebuilds on its own write).
+    /// Scripts and modules are `.die` files, never an output.
+    fn input_at(&self, output: &Path) -> Option<String> {
+        let dir = match output.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d,
+            _ => Path::new("."),
+        };
+        let target = dir.canonicalize().ok()?.join(output.file_name()?);
+        let target = target.canonicalize().unwrap_or(target);
+        self.engine
+            .read_files()
+            .iter()
+            .find(|p| **p == target)
+            .map(|p| p.display().to_string())
+    }
+
     /// Encodes and writes every output of a clean build atomically (a failed write
     /// leaves the previous file whole), in order, with the given [`Durability`]; stops
-    /// at the first that fails. Returns each written path with its size, or the path
-    /// that failed and why.
+    /// at the first that fails. An output that already holds exactly the new bytes,
+    /// because this pipeline wrote them and nobody has touched the file since, is left
+    /// as it is (`watch` after an edit that changes nothing in the outputs). Returns
+    /// each output with its size, or the path that failed and why.
     pub fn write_outputs(
         &mut self,
         build: &Build,
@@ -176,17 +240,34 @@ impl Pipeline {
         name: &str,
         durability: Durability,
         stage: &mut dyn FnMut(Stage),
-    ) -> Result<Vec<(PathBuf, usize)>, (PathBuf, String)> {
-        let mut written = Vec::new();
+    ) -> Result<Vec<OutputFile>, (PathBuf, String)> {
+        let mut files = Vec::new();
         for (path, output) in outputs {
             stage(Stage::Writing(path));
             let bytes = encode_output(build, *output, name, &mut self.encoded)
                 .map_err(|e| (path.clone(), e))?;
-            write_atomic_with(path, &bytes, durability)
-                .map_err(|e| (path.clone(), e.to_string()))?;
-            written.push((path.clone(), bytes.len()));
+            if let Some(input) = self.input_at(path) {
+                return Err((
+                    path.clone(),
+                    format!(
+                        "it is `{input}`, which the script reads; write the output to another file"
+                    ),
+                ));
+            }
+            let unchanged = self.written.get(path) == Some(&Written::of(path, &bytes));
+            if !unchanged {
+                self.written.remove(path);
+                write_atomic_with(path, &bytes, durability)
+                    .map_err(|e| (path.clone(), e.to_string()))?;
+                self.written.insert(path.clone(), Written::of(path, &bytes));
+            }
+            files.push(OutputFile {
+                path: path.clone(),
+                bytes: bytes.len(),
+                unchanged,
+            });
         }
-        Ok(written)
+        Ok(files)
     }
 }
 

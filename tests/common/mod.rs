@@ -22,3 +22,15 @@ pub fn die_files(dir: &str) -> Vec<PathBuf> {
     out.sort();
     out
 }
+
+/// The temporary files (`*.tmp`) left in `dir`: a build or watch that was stopped, or
+/// failed, must leave none.
+#[allow(dead_code)] // not every test crate that shares these helpers writes files
+pub fn temp_files(dir: &Path) -> Vec<String> {
+    std::fs::read_dir(dir)
+        .expect("list the folder")
+        .flatten()
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".tmp"))
+        .collect()
+}

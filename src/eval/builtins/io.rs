@@ -2,10 +2,13 @@
 //!
 //! Paths are relative to the directory of the script that names them and must stay
 //! inside the project root (after resolving `..` and symbolic links), so a script
-//! cannot read arbitrary files of the machine it is built on.
+//! cannot read arbitrary files of the machine it is built on. The OBJ, and the MTL its
+//! `mtllib` line names, are read by `paths::read_regular` (regular files within
+//! `file_bytes`); the mesh is held to `mesh_vertices`.
 
+use std::cell::RefCell;
 use std::collections::BTreeMap;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use glam::DVec3;
@@ -13,8 +16,9 @@ use glam::DVec3;
 use crate::diag::Diagnostic;
 use crate::geom::mesh::{Face, FaceId, Mesh};
 use crate::geom::GeomError;
+use crate::limits::Limit;
 
-use super::super::paths::{record_read, resolve_in_root};
+use super::super::paths::{read_regular, record_read, refusal_diagnostic, resolve_in_root};
 use super::super::value::Data;
 use super::args::span_of;
 use super::{req, Builtin, Call};
@@ -41,14 +45,28 @@ fn resolve(call: &Call, path: &str) -> Result<PathBuf, Diagnostic> {
 fn read_obj(call: &Call) -> Result<Data, Diagnostic> {
     let path = call.string("path")?;
     let full = resolve(call, &path)?;
-    record_read(&full);
     let span = span_of(call, "path");
+    let bytes = read_regular(&full, call.limits.get(Limit::FileBytes))
+        .map_err(|r| refusal_diagnostic(&path, &r, span, &call.limits))?;
+    record_read(&full);
+    check_vertex_count(call, &path, count_vertex_lines(&bytes))?;
     let options = tobj::LoadOptions {
         triangulate: false,
         single_index: true,
         ..Default::default()
     };
-    let (models, _materials) = tobj::load_obj(&full, &options).map_err(|e| {
+    // tobj would open the MTL an `mtllib` line names by itself, anywhere; it is read
+    // here instead, with the same root and file checks as the OBJ (its materials are
+    // not used, so a missing MTL is no error, but one outside the root, or not a
+    // regular file, or too large, is).
+    let refused: RefCell<Option<Diagnostic>> = RefCell::new(None);
+    let loaded = tobj::load_obj_buf(&mut bytes.as_slice(), &options, |mtl| {
+        load_mtl(call, &full, mtl, &refused)
+    });
+    if let Some(d) = refused.into_inner() {
+        return Err(d);
+    }
+    let (models, _materials) = loaded.map_err(|e| {
         Diagnostic::new(
             "die::bad_obj",
             format!("cannot read `{path}` as OBJ: {e}"),
@@ -57,11 +75,78 @@ fn read_obj(call: &Call) -> Result<Data, Diagnostic> {
         )
         .with_help("the file must be a Wavefront OBJ mesh (v, vn and f lines)")
     })?;
+    let vertices: usize = models.iter().map(|m| m.mesh.positions.len() / 3).sum();
+    check_vertex_count(call, &path, vertices)?;
     let mesh = to_mesh(&models).map_err(|e| {
         Diagnostic::new("die::bad_obj", format!("`{path}` is not a valid mesh: {e}"), span, "this file")
             .with_help("faces must name existing, distinct vertices; faces with more than four corners are split into triangles")
     })?;
     Ok(Data::Mesh(Arc::new(mesh)))
+}
+
+/// The materials of the MTL file `mtl` that the OBJ at `obj` names, read through the
+/// root and file checks. A refusal is kept in `refused` (and ends the OBJ's reading as
+/// an error); a missing file yields no materials.
+fn load_mtl(
+    call: &Call,
+    obj: &Path,
+    mtl: &Path,
+    refused: &RefCell<Option<Diagnostic>>,
+) -> tobj::MTLLoadResult {
+    let span = span_of(call, "path");
+    let shown = mtl.to_string_lossy();
+    let refuse = |mut d: Diagnostic| {
+        d.message = format!("the OBJ's material library (`mtllib`): {}", d.message);
+        if d.code == "die::path_escapes_root" {
+            d.help = Some("an OBJ's `mtllib` is read relative to the OBJ and must stay inside the project folder; move the material library beside the OBJ, or delete the `mtllib` line (dieface does not use materials)".into());
+        }
+        let d = d.with_label(call.span, "the OBJ read here names it in an `mtllib` line");
+        refused.borrow_mut().get_or_insert(d);
+        Err(tobj::LoadError::OpenFileFailed)
+    };
+    let full = match resolve_in_root(&shown, obj.parent(), call.root, span) {
+        Ok(full) => full,
+        Err(d) if d.code == "die::file_not_found" => return Err(tobj::LoadError::OpenFileFailed),
+        Err(d) => return refuse(d),
+    };
+    match read_regular(&full, call.limits.get(Limit::FileBytes)) {
+        Ok(bytes) => {
+            record_read(&full);
+            tobj::load_mtl_buf(&mut bytes.as_slice())
+        }
+        Err(r) => refuse(refusal_diagnostic(&shown, &r, span, &call.limits)),
+    }
+}
+
+/// How many vertex position lines (`v x y z`) an OBJ text holds: counted before the
+/// file is parsed, so an OBJ too large for the `mesh_vertices` limit is refused
+/// before its mesh is built.
+fn count_vertex_lines(bytes: &[u8]) -> usize {
+    bytes
+        .split(|&b| b == b'\n' || b == b'\r')
+        .filter(|line| {
+            let line = line.trim_ascii_start();
+            line.starts_with(b"v") && line.get(1).is_some_and(|b| b.is_ascii_whitespace())
+        })
+        .count()
+}
+
+/// Refuses an OBJ of more than `mesh_vertices` vertices, at the path argument.
+fn check_vertex_count(call: &Call, path: &str, vertices: usize) -> Result<(), Diagnostic> {
+    let limit = call.limits.get(Limit::MeshVertices);
+    if vertices as u64 <= limit {
+        return Ok(());
+    }
+    Err(Diagnostic::new(
+        "die::limit",
+        format!(
+            "`{path}` has {vertices} vertices, more than the `{}` limit allows",
+            Limit::MeshVertices
+        ),
+        span_of(call, "path"),
+        "this mesh is too large",
+    )
+    .with_help(Limit::MeshVertices.help(&call.limits)))
 }
 
 /// One mesh from all the OBJ models, each model's faces forming the group of its name

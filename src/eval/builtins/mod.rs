@@ -137,6 +137,8 @@ pub struct Call<'a> {
     pub dir: Option<&'a std::path::Path>,
     /// The project root: files outside it cannot be read.
     pub root: Option<&'a std::path::Path>,
+    /// The limits in force (`file_bytes` and `mesh_vertices` for `read_obj`).
+    pub limits: crate::limits::Limits,
     /// Calls a function value (user function, lambda or builtin) with positional
     /// arguments: how `map` and friends call back into the evaluator.
     pub apply: &'a Apply<'a>,
