@@ -85,6 +85,9 @@ pub struct SourceFile {
 #[derive(Debug, Clone, Default)]
 pub struct Sources {
     files: Vec<SourceFile>,
+    /// Where each line of each file starts (byte offsets, by file): a span's line is
+    /// found by binary search, so reporting every declaration's line stays linear.
+    line_starts: Vec<Vec<usize>>,
 }
 
 impl Sources {
@@ -97,11 +100,14 @@ impl Sources {
     pub fn add(&mut self, name: impl Into<String>, text: impl Into<String>) -> FileId {
         let name = name.into();
         let text = text.into();
+        let starts = line_starts(&text);
         if let Some(i) = self.files.iter().position(|f| f.name == name) {
             self.files[i].text = text;
+            self.line_starts[i] = starts;
             return FileId(i as u32);
         }
         self.files.push(SourceFile { name, text });
+        self.line_starts.push(starts);
         FileId((self.files.len() - 1) as u32)
     }
 
@@ -130,9 +136,12 @@ impl Sources {
         let Some(file) = self.get(span.file) else {
             return (0, 0);
         };
-        let upto = &file.text[..(span.start as usize).min(file.text.len())];
-        let line = upto.matches('\n').count() + 1;
-        let col = upto.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+        let at = (span.start as usize).min(file.text.len());
+        let starts = &self.line_starts[span.file.0 as usize];
+        // The number of lines starting at or before `at` (the first starts at 0).
+        let line = starts.partition_point(|&s| s <= at);
+        let start = starts[line.saturating_sub(1)];
+        let col = file.text.get(start..at).map_or(0, |l| l.chars().count()) + 1;
         (line, col)
     }
 
@@ -260,6 +269,13 @@ pub fn did_you_mean<'a>(
         .filter(|(d, _)| *d <= limit)
         .min_by(|a, b| a.0.cmp(&b.0).then(a.1.cmp(b.1)))
         .map(|(_, c)| c)
+}
+
+/// The byte offset where each line of `text` starts: 0, then after each `\n`.
+fn line_starts(text: &str) -> Vec<usize> {
+    std::iter::once(0)
+        .chain(text.match_indices('\n').map(|(i, _)| i + 1))
+        .collect()
 }
 
 /// Edit distance by characters, counting a swap of two neighbours as one edit (the

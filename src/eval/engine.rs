@@ -30,6 +30,7 @@ use crate::syntax::{parse, FileId, Span};
 use super::deps::{free_names_of_body, free_names_of_function};
 use super::expr::{Ctx, Locals, World};
 use super::features::{self, FeatureKind, Registry};
+use super::layout::{remap, Layout};
 use super::paths::{self, resolve_in_root};
 use super::stdlib;
 use super::units::{self, Units};
@@ -117,8 +118,9 @@ struct MemoEntry {
     /// Files the evaluation read (with builtins such as `read_obj`) and their content
     /// hashes: the value is stale once one of them changes.
     reads: Vec<(PathBuf, u64)>,
-    /// Where each top-level item stood when the value was computed.
-    layout: HashMap<String, (u32, u32)>,
+    /// Where each top-level item stood when the value was computed (shared by the
+    /// entries of one evaluation of the file).
+    layout: Arc<Layout>,
 }
 
 /// Evaluates files, keeping loaded modules and memoized declarations between runs.
@@ -130,6 +132,9 @@ pub struct Engine {
     memo: HashMap<(FileId, String), MemoEntry>,
     /// Files read by builtins (`read_obj`) in any evaluation, for `watch`.
     read_files: Vec<PathBuf>,
+    /// Where each file's items stood in its last evaluation: an unchanged layout is
+    /// shared, so memoized values need no moving.
+    layouts: HashMap<FileId, Arc<Layout>>,
     /// The last parse of each file, by the hash of its text.
     parsed: HashMap<FileId, (u64, Arc<str>, Arc<ast::File>)>,
     evaluations: u64,
@@ -168,6 +173,7 @@ impl Engine {
             files: HashMap::new(),
             memo: HashMap::new(),
             parsed: HashMap::new(),
+            layouts: HashMap::new(),
             read_files: Vec::new(),
             evaluations: 0,
             last_evaluated: Vec::new(),
@@ -374,7 +380,9 @@ impl Engine {
             st.globals.names = items.names.clone();
         }
 
-        let run = FileRun::new(file, text, &items, role, units, &import_hashes);
+        let layout = item_layout(&items, self.layouts.get(&file));
+        self.layouts.insert(file, layout.clone());
+        let run = FileRun::new(file, text, &items, role, units, &import_hashes, layout);
         let results = self.evaluate_decls(run, &items, diagnostics);
         (file, results)
     }
@@ -1246,20 +1254,15 @@ fn evaluation_order(
     (order, in_cycle)
 }
 
-/// Where each top-level declaration and function stands in the file: a memoized
-/// value's spans move by how far its declaration moved.
-fn item_layout(items: &Items) -> HashMap<String, (u32, u32)> {
-    items
-        .decls
+/// Where each top-level declaration and function stands in the file (a memoized
+/// value's spans move by how far its declaration moved); `previous` when unchanged.
+fn item_layout(items: &Items, previous: Option<&Arc<Layout>>) -> Arc<Layout> {
+    let decls = items.decls.iter().map(|d| (d.name.node.as_str(), d.span));
+    let functions = items
+        .functions
         .iter()
-        .map(|d| (d.name.node.clone(), (d.span.start, d.span.end)))
-        .chain(
-            items
-                .functions
-                .iter()
-                .map(|f| (f.name.node.clone(), (f.span.start, f.span.end))),
-        )
-        .collect()
+        .map(|f| (f.name.node.as_str(), f.span));
+    Layout::shared(decls.chain(functions), previous)
 }
 
 /// Each function's source text: part of the memo key of a declaration that calls it.
@@ -1312,7 +1315,7 @@ struct FileRun<'a> {
     /// The hash of each import that loaded, by alias.
     import_hashes: &'a HashMap<String, u64>,
     /// Where the file's items stand now (see [`item_layout`]).
-    layout: HashMap<String, (u32, u32)>,
+    layout: Arc<Layout>,
     /// See [`function_texts`].
     fn_text: HashMap<&'a str, &'a str>,
     graph: DeclGraph<'a>,
@@ -1333,6 +1336,7 @@ impl<'a> FileRun<'a> {
         role: FileRole,
         units: Units,
         import_hashes: &'a HashMap<String, u64>,
+        layout: Arc<Layout>,
     ) -> Self {
         FileRun {
             file,
@@ -1340,7 +1344,7 @@ impl<'a> FileRun<'a> {
             role,
             units,
             import_hashes,
-            layout: item_layout(items),
+            layout,
             fn_text: function_texts(items, text),
             graph: DeclGraph::new(items, import_hashes),
             hashes: HashMap::new(),
@@ -1485,63 +1489,4 @@ fn contains_function(v: &Value) -> bool {
         Data::Record(r) => r.fields.iter().any(|(_, v)| contains_function(v)),
         _ => false,
     }
-}
-
-/// Moves the spans of a memoized value from the layout it was computed in to the
-/// current one (spans of declarations that moved, unchanged, in the file).
-fn remap(
-    v: &Value,
-    old: &HashMap<String, (u32, u32)>,
-    new: &HashMap<String, (u32, u32)>,
-    file: FileId,
-) -> Value {
-    let moved = |s: Span| -> Span {
-        if s.file != file {
-            return s;
-        }
-        for (name, &(start, end)) in old {
-            if s.start >= start && s.end <= end {
-                if let Some(&(nstart, _)) = new.get(name) {
-                    let delta = i64::from(nstart) - i64::from(start);
-                    return Span {
-                        file,
-                        start: (i64::from(s.start) + delta) as u32,
-                        end: (i64::from(s.end) + delta) as u32,
-                    };
-                }
-            }
-        }
-        s
-    };
-    if old == new {
-        return v.clone();
-    }
-    remap_with(v, &moved)
-}
-
-fn remap_with(v: &Value, f: &dyn Fn(Span) -> Span) -> Value {
-    let data = match &v.data {
-        Data::List(items) => Data::List(Arc::new(items.iter().map(|i| remap_with(i, f)).collect())),
-        Data::Tuple(items) => {
-            Data::Tuple(Arc::new(items.iter().map(|i| remap_with(i, f)).collect()))
-        }
-        Data::Record(r) => Data::Record(Arc::new(Record {
-            kind: r.kind.clone(),
-            fields: r
-                .fields
-                .iter()
-                .map(|(n, v)| (n.clone(), remap_with(v, f)))
-                .collect(),
-            feature: r.feature.clone(),
-        })),
-        Data::Sketch(s) => {
-            let mut s = (**s).clone();
-            for seg in &mut s.segments {
-                seg.span = f(seg.span);
-            }
-            Data::Sketch(Arc::new(s))
-        }
-        other => other.clone(),
-    };
-    Value::new(data, f(v.span))
 }

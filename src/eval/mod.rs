@@ -11,6 +11,7 @@ pub mod deps;
 pub mod engine;
 pub mod expr;
 pub mod features;
+pub mod layout;
 pub mod model;
 pub mod ops;
 pub mod overrides;
