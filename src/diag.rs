@@ -131,16 +131,25 @@ impl Sources {
             .unwrap_or("")
     }
 
+    /// 1-based line of a span's start (0 when its file is unknown); unlike
+    /// [`Sources::line_col`], it takes no longer on a long line.
+    pub fn line(&self, span: Span) -> usize {
+        let Some(file) = self.get(span.file) else {
+            return 0;
+        };
+        let at = (span.start as usize).min(file.text.len());
+        // The number of lines starting at or before `at` (the first starts at 0).
+        self.line_starts[span.file.0 as usize].partition_point(|&s| s <= at)
+    }
+
     /// 1-based line and column of a span's start.
     pub fn line_col(&self, span: Span) -> (usize, usize) {
         let Some(file) = self.get(span.file) else {
             return (0, 0);
         };
         let at = (span.start as usize).min(file.text.len());
-        let starts = &self.line_starts[span.file.0 as usize];
-        // The number of lines starting at or before `at` (the first starts at 0).
-        let line = starts.partition_point(|&s| s <= at);
-        let start = starts[line.saturating_sub(1)];
+        let line = self.line(span);
+        let start = self.line_starts[span.file.0 as usize][line.saturating_sub(1)];
         let col = file.text.get(start..at).map_or(0, |l| l.chars().count()) + 1;
         (line, col)
     }

@@ -36,7 +36,7 @@ pub fn inspect_lines(outcome: &Outcome, sources: &Sources, timings: Timings) -> 
     let mut out = Vec::new();
     let timings = timing_index(timings);
     for d in &outcome.decls {
-        let (line, _) = sources.line_col(d.span);
+        let line = sources.line(d.span);
         let time = timings.get(d.name.as_str()).map_or(String::new(), |t| {
             format!(", {:.1} ms", t.as_secs_f64() * 1e3)
         });
@@ -350,7 +350,7 @@ fn value_json(v: &Value, sources: &Sources) -> Json {
                 .map(|g| {
                     let mut m = Map::new();
                     m.insert("kind".into(), json!(g.kind));
-                    m.insert("line".into(), json!(sources.line_col(g.span).0));
+                    m.insert("line".into(), json!(sources.line(g.span)));
                     m.insert("range".into(), json!([g.range.0, g.range.1]));
                     Json::Object(m)
                 })
