@@ -260,26 +260,6 @@ impl miette::Diagnostic for Report {
     }
 }
 
-/// The candidate closest to `name` by edit distance, if close enough to be a likely
-/// typo: used for "did you mean" on unknown names, arguments and kinds.
-pub fn did_you_mean<'a>(
-    name: &str,
-    candidates: impl IntoIterator<Item = &'a str>,
-) -> Option<&'a str> {
-    // One- and two-letter names are too short for a typo to be told from another name.
-    let len = name.chars().count();
-    if len <= 2 {
-        return None;
-    }
-    let limit = (len / 3).max(1);
-    candidates
-        .into_iter()
-        .map(|c| (edit_distance(name, c), c))
-        .filter(|(d, _)| *d <= limit)
-        .min_by(|a, b| a.0.cmp(&b.0).then(a.1.cmp(b.1)))
-        .map(|(_, c)| c)
-}
-
 /// The byte offset where each line of `text` starts: 0, then after each `\n`.
 fn line_starts(text: &str) -> Vec<usize> {
     std::iter::once(0)
@@ -287,29 +267,54 @@ fn line_starts(text: &str) -> Vec<usize> {
         .collect()
 }
 
+/// Names longer than this get no "did you mean": no one mistypes one, and comparing
+/// it with every candidate would be the slowest part of a diagnostic.
+const MAX_SUGGESTED_NAME_CHARS: usize = 64;
+
+/// The candidate closest to `name` by edit distance, if close enough to be a likely
+/// typo: used for "did you mean" on unknown names, arguments and kinds. Candidates whose
+/// length alone puts them too far are not compared, so the work stays small whatever
+/// the name's length.
+pub fn did_you_mean<'a>(
+    name: &str,
+    candidates: impl IntoIterator<Item = &'a str>,
+) -> Option<&'a str> {
+    // One- and two-letter names are too short for a typo to be told from another name.
+    let len = name.chars().count();
+    if len <= 2 || len > MAX_SUGGESTED_NAME_CHARS {
+        return None;
+    }
+    let limit = (len / 3).max(1);
+    let name: Vec<char> = name.chars().collect();
+    candidates
+        .into_iter()
+        .filter(|c| c.chars().count().abs_diff(len) <= limit)
+        .map(|c| (edit_distance(&name, c), c))
+        .filter(|(d, _)| *d <= limit)
+        .min_by(|a, b| a.0.cmp(&b.0).then(a.1.cmp(b.1)))
+        .map(|(_, c)| c)
+}
+
 /// Edit distance by characters, counting a swap of two neighbours as one edit (the
-/// optimal-string-alignment distance): `widht` is one edit from `width`.
-fn edit_distance(a: &str, b: &str) -> usize {
-    let a: Vec<char> = a.chars().collect();
+/// optimal-string-alignment distance): `widht` is one edit from `width`. Three rows of
+/// the table are kept, not all of it.
+fn edit_distance(a: &[char], b: &str) -> usize {
     let b: Vec<char> = b.chars().collect();
-    let mut d = vec![vec![0usize; b.len() + 1]; a.len() + 1];
-    for (i, row) in d.iter_mut().enumerate() {
-        row[0] = i;
-    }
-    for (j, cell) in d[0].iter_mut().enumerate() {
-        *cell = j;
-    }
+    let mut before: Vec<usize> = vec![0; b.len() + 1];
+    let mut prev: Vec<usize> = (0..=b.len()).collect();
+    let mut row: Vec<usize> = vec![0; b.len() + 1];
     for i in 1..=a.len() {
+        row[0] = i;
         for j in 1..=b.len() {
             let cost = usize::from(a[i - 1] != b[j - 1]);
-            let mut best = (d[i - 1][j] + 1)
-                .min(d[i][j - 1] + 1)
-                .min(d[i - 1][j - 1] + cost);
+            let mut best = (prev[j] + 1).min(row[j - 1] + 1).min(prev[j - 1] + cost);
             if i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] {
-                best = best.min(d[i - 2][j - 2] + 1);
+                best = best.min(before[j - 2] + 1);
             }
-            d[i][j] = best;
+            row[j] = best;
         }
+        std::mem::swap(&mut before, &mut prev);
+        std::mem::swap(&mut prev, &mut row);
     }
-    d[a.len()][b.len()]
+    prev[b.len()]
 }
