@@ -7,6 +7,7 @@ use std::path::Path;
 use std::sync::Arc;
 
 use dieface::diag::Diagnostic;
+use dieface::eval::budget::Budget;
 use dieface::eval::builtins::{lookup, Call};
 use dieface::eval::units::Units;
 use dieface::eval::value::{Data, Dim, Quantity, Value};
@@ -81,6 +82,7 @@ fn call_with(
     let call = Call {
         builtin,
         span: CALL,
+        budget: &Budget::default(),
         decl: Some("x"),
         units: Units::default(),
         args,
@@ -280,6 +282,7 @@ fn lists() {
         let c = Call {
             builtin,
             span: CALL,
+            budget: &Budget::default(),
             decl: Some("x"),
             units: Units::default(),
             args: vec![Some(items.clone()), Some(f.clone())],

@@ -22,11 +22,12 @@ use std::time::{Duration, Instant};
 use rayon::prelude::*;
 
 use crate::diag::{did_you_mean, Diagnostic, Sources};
-use crate::limits::Limits;
+use crate::limits::{Limit, Limits};
 use crate::syntax::ast::{self, Block, DeclBody, FieldValue, Item};
 use crate::syntax::incremental::reparse;
 use crate::syntax::{parse, FileId, Span};
 
+use super::budget::{limit_code, Budget};
 use super::deps::{free_names_of_body, free_names_of_function};
 use super::expr::{Ctx, Locals, World};
 use super::features::{self, FeatureKind, Registry};
@@ -141,6 +142,8 @@ pub struct Engine {
     last_evaluated: Vec<String>,
     /// The limits in force (`--limit`).
     limits: Limits,
+    /// What the current evaluation has used of them.
+    budget: Budget,
     // CLI hooks (see `overrides.rs` and `last_timings`): `-D name=value` texts for the
     // main file's params, and how long each evaluated declaration took.
     overrides: Vec<(String, String)>,
@@ -160,6 +163,9 @@ impl World for Engine {
             self.files.get(&file).and_then(|f| f.dir.as_deref()),
             self.root.as_deref(),
         )
+    }
+    fn budget(&self) -> &Budget {
+        &self.budget
     }
 }
 
@@ -181,6 +187,7 @@ impl Engine {
             last_timings: Vec::new(),
             registry: Registry::standard(),
             limits: Limits::default(),
+            budget: Budget::default(),
             pieces: Default::default(),
         }
     }
@@ -189,6 +196,7 @@ impl Engine {
     /// [`crate::limits`]).
     pub fn set_limits(&mut self, limits: Limits) {
         self.limits = limits;
+        self.budget = Budget::new(limits);
     }
 
     /// The limits in force (see [`crate::limits`]).
@@ -245,6 +253,7 @@ impl Engine {
     fn evaluate_here(&mut self, name: &str, text: &str, dir: Option<PathBuf>) -> Outcome {
         self.last_evaluated.clear();
         self.last_timings.clear();
+        self.budget = Budget::new(self.limits);
         self.pieces.begin();
         let mut diagnostics = Vec::new();
         let mut stack = Vec::new();
@@ -823,7 +832,11 @@ impl Engine {
                 self.set_decl(run.file, name, value);
             }
             Err(diag) => {
-                diagnostics.push(diag);
+                // Once the steps have run out, every declaration still to come runs out
+                // at once: only the first is reported.
+                if diag.code != limit_code(Limit::Work) || self.budget.first_out_of_work() {
+                    diagnostics.push(diag);
+                }
                 run.failed.insert(name.to_string());
                 self.mark_failed(run.file, name);
             }
@@ -937,6 +950,7 @@ impl Engine {
             file,
             decl: Some(d.name.node.as_str()),
             depth: 0,
+            call: None,
         };
         if let Some(feature) = feature {
             return self.evaluate_feature(feature, &ctx, d);
