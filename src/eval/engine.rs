@@ -136,6 +136,9 @@ pub struct Engine {
     /// Where each file's items stood in its last evaluation: an unchanged layout is
     /// shared, so memoized values need no moving.
     layouts: HashMap<FileId, Arc<Layout>>,
+    /// The modules loaded by the current evaluation, by name: a module imported again
+    /// (a diamond of imports) is evaluated once per evaluation, not once per import.
+    loaded: HashMap<String, FileId>,
     /// The last parse of each file, by the hash of its text.
     parsed: HashMap<FileId, (u64, Arc<str>, Arc<ast::File>)>,
     evaluations: u64,
@@ -180,6 +183,7 @@ impl Engine {
             memo: HashMap::new(),
             parsed: HashMap::new(),
             layouts: HashMap::new(),
+            loaded: HashMap::new(),
             read_files: Vec::new(),
             evaluations: 0,
             last_evaluated: Vec::new(),
@@ -254,6 +258,7 @@ impl Engine {
         self.last_evaluated.clear();
         self.last_timings.clear();
         self.budget = Budget::new(self.limits);
+        self.loaded.clear();
         self.pieces.begin();
         let mut diagnostics = Vec::new();
         let mut stack = Vec::new();
@@ -546,7 +551,14 @@ impl Engine {
                 return None;
             }
         }
-        let (file, _) = self.load(&name, &text, mdir, stack, diagnostics, FileRole::Import);
+        let file = match self.loaded.get(&name) {
+            Some(&file) => file,
+            None => {
+                let (file, _) = self.load(&name, &text, mdir, stack, diagnostics, FileRole::Import);
+                self.loaded.insert(name, file);
+                file
+            }
+        };
         let st = self.files.get(&file)?;
         let mut members: Vec<(String, Value)> = st
             .globals
