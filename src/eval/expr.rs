@@ -552,7 +552,7 @@ impl<'w> Ctx<'w> {
             "this call goes too deep (the `call_depth` limit)",
         )
         .with_help(format!(
-            "a recursive function must reach its base case; check the condition that ends the recursion ({})",
+            "a recursive function must reach its base case; check the condition that ends the recursion; {}",
             Limit::CallDepth.help(limits)
         )))
     }
