@@ -1129,34 +1129,33 @@ enum FileRole {
 struct DeclGraph<'a> {
     /// The file's declarations by name.
     decl_names: HashSet<&'a str>,
-    /// Every name each declaration uses, closed over the functions it calls.
+    /// Every name each declaration uses, closed over the functions it calls (the
+    /// functions themselves only where the declaration names them).
     uses: HashMap<&'a str, BTreeSet<String>>,
+    /// Each function's text hash, closed over the functions it calls: part of the
+    /// memo key of a declaration that calls it.
+    fn_hash: HashMap<&'a str, u64>,
     /// Imports that failed (already reported): what uses them is skipped quietly.
     failed_imports: HashSet<&'a str>,
 }
 
 impl<'a> DeclGraph<'a> {
-    /// The graph of `items`; `import_hashes` holds the imports that loaded.
-    fn new(items: &Items<'a>, import_hashes: &HashMap<String, u64>) -> Self {
-        let fn_names: HashSet<&str> = items
-            .functions
-            .iter()
-            .map(|f| f.name.node.as_str())
-            .collect();
-        let fn_uses = function_uses(items, &fn_names);
+    /// The graph of `items` (whose source is `text`); `import_hashes` holds the
+    /// imports that loaded.
+    fn new(items: &Items<'a>, text: &str, import_hashes: &HashMap<String, u64>) -> Self {
+        let reach = function_reach(items, text);
         // Each declaration's direct and indirect (through functions) names.
         let uses = items
             .decls
             .iter()
             .map(|d| {
                 let mut u = free_names_of_body(&d.body);
-                let via: Vec<String> = u
+                let via: Vec<&str> = u
                     .iter()
-                    .filter(|n| fn_names.contains(n.as_str()))
-                    .cloned()
+                    .filter_map(|n| reach.names.get_key_value(n.as_str()).map(|(k, _)| *k))
                     .collect();
                 for f in via {
-                    if let Some(more) = fn_uses.get(f.as_str()) {
+                    if let Some(more) = reach.names.get(f) {
                         u.extend(more.iter().cloned());
                     }
                 }
@@ -1166,6 +1165,7 @@ impl<'a> DeclGraph<'a> {
         Self {
             decl_names: items.decls.iter().map(|d| d.name.node.as_str()).collect(),
             uses,
+            fn_hash: reach.hashes,
             failed_imports: items
                 .imports
                 .iter()
@@ -1193,41 +1193,140 @@ impl<'a> DeclGraph<'a> {
     }
 }
 
-/// What each function uses, closed over the functions it calls (a declaration that
-/// calls `f` depends on everything `f` and its callees use).
-fn function_uses<'a>(
-    items: &Items<'a>,
-    fn_names: &HashSet<&str>,
-) -> HashMap<&'a str, BTreeSet<String>> {
-    let mut fn_uses: HashMap<&str, BTreeSet<String>> = items
-        .functions
+/// What each function reaches through the functions it calls, directly or not.
+struct FnReach<'a> {
+    /// The names other than the file's functions that it and its callees use.
+    names: HashMap<&'a str, BTreeSet<String>>,
+    /// A hash of its text and its callees' texts.
+    hashes: HashMap<&'a str, u64>,
+}
+
+/// What each function of `items` (whose source is `text`) reaches (a declaration that
+/// calls `f` depends on everything `f` and its callees use). The functions are taken
+/// by groups that call each other (strongly connected components), callees first, so
+/// each group is closed once over its callees' results: linear in the calls, where
+/// closing every function over every other grew with the cube of a chain of calls.
+fn function_reach<'a>(items: &Items<'a>, text: &str) -> FnReach<'a> {
+    let fns = &items.functions;
+    let index: HashMap<&str, usize> = fns
         .iter()
-        .map(|f| {
-            (
-                f.name.node.as_str(),
-                free_names_of_function(&f.params, &f.body),
-            )
+        .enumerate()
+        .map(|(i, f)| (f.name.node.as_str(), i))
+        .collect();
+    let direct: Vec<BTreeSet<String>> = fns
+        .iter()
+        .map(|f| free_names_of_function(&f.params, &f.body))
+        .collect();
+    let calls: Vec<Vec<usize>> = direct
+        .iter()
+        .map(|u| {
+            u.iter()
+                .filter_map(|n| index.get(n.as_str()).copied())
+                .collect()
         })
         .collect();
-    loop {
-        let mut changed = false;
-        let snapshot = fn_uses.clone();
-        for uses in fn_uses.values_mut() {
-            let called: Vec<String> = uses
-                .iter()
-                .filter(|n| fn_names.contains(n.as_str()))
-                .cloned()
-                .collect();
-            for c in called {
-                if let Some(more) = snapshot.get(c.as_str()) {
-                    for m in more {
-                        changed |= uses.insert(m.clone());
-                    }
+    let mut group_names: Vec<BTreeSet<String>> = Vec::new();
+    let mut group_hash: Vec<u64> = Vec::new();
+    let mut group_of: Vec<usize> = vec![usize::MAX; fns.len()];
+    for group in call_groups(&calls) {
+        let g = group_names.len();
+        for &m in &group {
+            group_of[m] = g;
+        }
+        let mut names = BTreeSet::new();
+        let mut texts: Vec<&str> = group.iter().map(|&m| &text[fns[m].span.range()]).collect();
+        texts.sort_unstable();
+        let mut callee_hashes = BTreeSet::new();
+        for &m in &group {
+            names.extend(
+                direct[m]
+                    .iter()
+                    .filter(|n| !index.contains_key(n.as_str()))
+                    .cloned(),
+            );
+            for &c in &calls[m] {
+                let cg = group_of[c];
+                if cg != g {
+                    names.extend(group_names[cg].iter().cloned());
+                    callee_hashes.insert(group_hash[cg]);
                 }
             }
         }
-        if !changed {
-            return fn_uses;
+        group_names.push(names);
+        group_hash.push(hash_of(&(texts, callee_hashes)));
+    }
+    let mut reach = FnReach {
+        names: HashMap::new(),
+        hashes: HashMap::new(),
+    };
+    for (i, f) in fns.iter().enumerate() {
+        let name = f.name.node.as_str();
+        reach.names.insert(name, group_names[group_of[i]].clone());
+        reach.hashes.insert(name, group_hash[group_of[i]]);
+    }
+    reach
+}
+
+/// The groups of functions that call each other (Tarjan's strongly connected
+/// components of the call graph `calls`), each after every group it calls.
+fn call_groups(calls: &[Vec<usize>]) -> Vec<Vec<usize>> {
+    let mut t = Tarjan {
+        calls,
+        index: vec![None; calls.len()],
+        low: vec![0; calls.len()],
+        on_stack: vec![false; calls.len()],
+        stack: Vec::new(),
+        next: 0,
+        groups: Vec::new(),
+    };
+    for v in 0..calls.len() {
+        if t.index[v].is_none() {
+            t.connect(v);
+        }
+    }
+    t.groups
+}
+
+/// The state of Tarjan's algorithm over a call graph.
+struct Tarjan<'g> {
+    calls: &'g [Vec<usize>],
+    index: Vec<Option<usize>>,
+    low: Vec<usize>,
+    on_stack: Vec<bool>,
+    stack: Vec<usize>,
+    next: usize,
+    groups: Vec<Vec<usize>>,
+}
+
+impl Tarjan<'_> {
+    /// Visits `v` and what it calls; closes `v`'s group when `v` is its root.
+    fn connect(&mut self, v: usize) {
+        self.index[v] = Some(self.next);
+        self.low[v] = self.next;
+        self.next += 1;
+        self.stack.push(v);
+        self.on_stack[v] = true;
+        let calls = self.calls;
+        for &w in &calls[v] {
+            match self.index[w] {
+                None => {
+                    self.connect(w);
+                    self.low[v] = self.low[v].min(self.low[w]);
+                }
+                Some(iw) if self.on_stack[w] => self.low[v] = self.low[v].min(iw),
+                Some(_) => {}
+            }
+        }
+        if Some(self.low[v]) == self.index[v] {
+            let mut group = Vec::new();
+            while let Some(w) = self.stack.pop() {
+                self.on_stack[w] = false;
+                group.push(w);
+                if w == v {
+                    break;
+                }
+            }
+            self.groups.push(group);
         }
     }
 }
@@ -1291,15 +1390,6 @@ fn item_layout(items: &Items, previous: Option<&Arc<Layout>>) -> Arc<Layout> {
     Layout::shared(decls.chain(functions), previous)
 }
 
-/// Each function's source text: part of the memo key of a declaration that calls it.
-fn function_texts<'a>(items: &Items<'a>, text: &'a str) -> HashMap<&'a str, &'a str> {
-    items
-        .functions
-        .iter()
-        .map(|f| (f.name.node.as_str(), &text[f.span.range()]))
-        .collect()
-}
-
 /// A declaration evaluated fresh: its outcome, how long it took and the files it read.
 struct Fresh {
     result: Result<Value, Diagnostic>,
@@ -1342,8 +1432,6 @@ struct FileRun<'a> {
     import_hashes: &'a HashMap<String, u64>,
     /// Where the file's items stand now (see [`item_layout`]).
     layout: Arc<Layout>,
-    /// See [`function_texts`].
-    fn_text: HashMap<&'a str, &'a str>,
     graph: DeclGraph<'a>,
     /// The memo key of each declaration evaluated so far, with the content of the
     /// files it read folded in: part of its dependents' keys.
@@ -1371,8 +1459,7 @@ impl<'a> FileRun<'a> {
             units,
             import_hashes,
             layout,
-            fn_text: function_texts(items, text),
-            graph: DeclGraph::new(items, import_hashes),
+            graph: DeclGraph::new(items, text, import_hashes),
             hashes: HashMap::new(),
             failed: HashSet::new(),
         }
@@ -1404,8 +1491,8 @@ impl<'a> FileRun<'a> {
         }
         if let Some(u) = self.graph.uses.get(name) {
             for n in u {
-                if let Some(t) = self.fn_text.get(n.as_str()) {
-                    h = combine(h, hash_of(t));
+                if let Some(fh) = self.graph.fn_hash.get(n.as_str()) {
+                    h = combine(h, *fh);
                 }
                 if let Some(mh) = self.import_hashes.get(n) {
                     h = combine(h, *mh);
