@@ -228,8 +228,9 @@ fn lists() {
         panic!()
     };
     assert_eq!(r.len(), 3);
-    let e = call("range", vec![bare(1e6)]).unwrap_err();
-    assert_eq!(e.code, "die::bad_argument");
+    // Over the `samples` limit (1,000,000 by default): refused before it is made.
+    let e = call("range", vec![bare(2e6)]).unwrap_err();
+    assert_eq!(e.code, "die::limit::samples");
     assert_eq!(e.primary.span, at(0));
 
     let Data::List(r) = call("linspace", vec![mm(0.0), mm(10.0), bare(5.0)]).unwrap() else {
@@ -978,6 +979,7 @@ fn no_builtin_panics_on_odd_arguments() {
             let c = Call {
                 builtin,
                 span: CALL,
+                budget: &Budget::default(),
                 decl: Some("x"),
                 units: Units::default(),
                 args,

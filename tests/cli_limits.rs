@@ -56,10 +56,7 @@ fn names_limit(stderr: &str, name: &str, at: &str) {
         stderr.contains(&format!("reaches the `{name}` limit")),
         "label: {stderr}"
     );
-    assert!(
-        stderr.contains(&format!("{name}=N`")),
-        "help: {stderr}"
-    );
+    assert!(stderr.contains(&format!("{name}=N`")), "help: {stderr}");
     assert!(stderr.contains(at), "where ({at}): {stderr}");
 }
 
@@ -329,4 +326,13 @@ fn a_long_chain_of_functions_is_checked_quickly() {
         stderr.contains("1 problem"),
         "only `b` goes too deep: {stderr}"
     );
+}
+
+#[test]
+fn a_raised_call_depth_still_ends_in_a_diagnostic_not_an_overflow() {
+    let text =
+        "fn f(n) = if n == 0 then 0 else sum(map([n], fn(x) => f(x - 1)))\nlet a = f(10000000)\n";
+    let stderr = check_fails("raised_depth", text, &["--limit", "call_depth=100000000"]);
+    assert!(stderr.contains("die::recursion_limit"), "{stderr}");
+    assert!(stderr.contains("more than 50000 levels deep"), "{stderr}");
 }

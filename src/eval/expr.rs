@@ -30,6 +30,11 @@ const VIEW_NAMES: [&str; 5] = ["top", "side_xz", "side_yz", "section", "profile"
 /// calls: the innermost ones say where; hundreds would bury the message.
 const MAX_CALL_LABELS: usize = 8;
 
+/// Deepest nesting of calls whatever `call_depth` says: the evaluation threads' 512 MB
+/// stacks hold about 90,000 levels of the largest frames (a function called through
+/// `map` and `sum`), so a raised limit still ends in a diagnostic, never an overflow.
+pub const STACK_SAFE_CALL_DEPTH: usize = 50_000;
+
 /// Local bindings, innermost last.
 pub type Locals = Vec<(String, Value)>;
 
@@ -537,7 +542,7 @@ impl<'w> Ctx<'w> {
     /// the limit allows.
     fn check_depth(&self, f: &Value, span: Span) -> Result<(), Diagnostic> {
         let limits = self.budget().limits();
-        let max = limits.count(Limit::CallDepth);
+        let max = limits.count(Limit::CallDepth).min(STACK_SAFE_CALL_DEPTH);
         if self.depth < max {
             return Ok(());
         }
