@@ -85,6 +85,9 @@ pub struct SourceFile {
 #[derive(Debug, Clone, Default)]
 pub struct Sources {
     files: Vec<SourceFile>,
+    /// Where each line of each file starts (byte offsets, by file): a span's line is
+    /// found by binary search, so reporting every declaration's line stays linear.
+    line_starts: Vec<Vec<usize>>,
 }
 
 impl Sources {
@@ -97,11 +100,14 @@ impl Sources {
     pub fn add(&mut self, name: impl Into<String>, text: impl Into<String>) -> FileId {
         let name = name.into();
         let text = text.into();
+        let starts = line_starts(&text);
         if let Some(i) = self.files.iter().position(|f| f.name == name) {
             self.files[i].text = text;
+            self.line_starts[i] = starts;
             return FileId(i as u32);
         }
         self.files.push(SourceFile { name, text });
+        self.line_starts.push(starts);
         FileId((self.files.len() - 1) as u32)
     }
 
@@ -125,14 +131,26 @@ impl Sources {
             .unwrap_or("")
     }
 
+    /// 1-based line of a span's start (0 when its file is unknown); unlike
+    /// [`Sources::line_col`], it takes no longer on a long line.
+    pub fn line(&self, span: Span) -> usize {
+        let Some(file) = self.get(span.file) else {
+            return 0;
+        };
+        let at = (span.start as usize).min(file.text.len());
+        // The number of lines starting at or before `at` (the first starts at 0).
+        self.line_starts[span.file.0 as usize].partition_point(|&s| s <= at)
+    }
+
     /// 1-based line and column of a span's start.
     pub fn line_col(&self, span: Span) -> (usize, usize) {
         let Some(file) = self.get(span.file) else {
             return (0, 0);
         };
-        let upto = &file.text[..(span.start as usize).min(file.text.len())];
-        let line = upto.matches('\n').count() + 1;
-        let col = upto.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+        let at = (span.start as usize).min(file.text.len());
+        let line = self.line(span);
+        let start = self.line_starts[span.file.0 as usize][line.saturating_sub(1)];
+        let col = file.text.get(start..at).map_or(0, |l| l.chars().count()) + 1;
         (line, col)
     }
 
@@ -242,49 +260,61 @@ impl miette::Diagnostic for Report {
     }
 }
 
+/// The byte offset where each line of `text` starts: 0, then after each `\n`.
+fn line_starts(text: &str) -> Vec<usize> {
+    std::iter::once(0)
+        .chain(text.match_indices('\n').map(|(i, _)| i + 1))
+        .collect()
+}
+
+/// Names longer than this get no "did you mean": no one mistypes one, and comparing
+/// it with every candidate would be the slowest part of a diagnostic.
+const MAX_SUGGESTED_NAME_CHARS: usize = 64;
+
 /// The candidate closest to `name` by edit distance, if close enough to be a likely
-/// typo: used for "did you mean" on unknown names, arguments and kinds.
+/// typo: used for "did you mean" on unknown names, arguments and kinds. Candidates whose
+/// length alone puts them too far are not compared, so the work stays small whatever
+/// the name's length.
 pub fn did_you_mean<'a>(
     name: &str,
     candidates: impl IntoIterator<Item = &'a str>,
 ) -> Option<&'a str> {
     // One- and two-letter names are too short for a typo to be told from another name.
     let len = name.chars().count();
-    if len <= 2 {
+    if len <= 2 || len > MAX_SUGGESTED_NAME_CHARS {
         return None;
     }
     let limit = (len / 3).max(1);
+    let name: Vec<char> = name.chars().collect();
     candidates
         .into_iter()
-        .map(|c| (edit_distance(name, c), c))
+        .filter(|c| c.chars().count().abs_diff(len) <= limit)
+        .map(|c| (edit_distance(&name, c), c))
         .filter(|(d, _)| *d <= limit)
         .min_by(|a, b| a.0.cmp(&b.0).then(a.1.cmp(b.1)))
         .map(|(_, c)| c)
 }
 
 /// Edit distance by characters, counting a swap of two neighbours as one edit (the
-/// optimal-string-alignment distance): `widht` is one edit from `width`.
-fn edit_distance(a: &str, b: &str) -> usize {
-    let a: Vec<char> = a.chars().collect();
+/// optimal-string-alignment distance): `widht` is one edit from `width`. Three rows of
+/// the table are kept, not all of it.
+fn edit_distance(a: &[char], b: &str) -> usize {
     let b: Vec<char> = b.chars().collect();
-    let mut d = vec![vec![0usize; b.len() + 1]; a.len() + 1];
-    for (i, row) in d.iter_mut().enumerate() {
-        row[0] = i;
-    }
-    for (j, cell) in d[0].iter_mut().enumerate() {
-        *cell = j;
-    }
+    let mut before: Vec<usize> = vec![0; b.len() + 1];
+    let mut prev: Vec<usize> = (0..=b.len()).collect();
+    let mut row: Vec<usize> = vec![0; b.len() + 1];
     for i in 1..=a.len() {
+        row[0] = i;
         for j in 1..=b.len() {
             let cost = usize::from(a[i - 1] != b[j - 1]);
-            let mut best = (d[i - 1][j] + 1)
-                .min(d[i][j - 1] + 1)
-                .min(d[i - 1][j - 1] + cost);
+            let mut best = (prev[j] + 1).min(row[j - 1] + 1).min(prev[j - 1] + cost);
             if i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] {
-                best = best.min(d[i - 2][j - 2] + 1);
+                best = best.min(before[j - 2] + 1);
             }
-            d[i][j] = best;
+            row[j] = best;
         }
+        std::mem::swap(&mut before, &mut prev);
+        std::mem::swap(&mut prev, &mut row);
     }
-    d[a.len()][b.len()]
+    prev[b.len()]
 }

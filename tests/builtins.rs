@@ -7,11 +7,11 @@ use std::path::Path;
 use std::sync::Arc;
 
 use dieface::diag::Diagnostic;
+use dieface::eval::budget::Budget;
 use dieface::eval::builtins::{lookup, Call};
 use dieface::eval::units::Units;
 use dieface::eval::value::{Data, Dim, Quantity, Value};
 use dieface::geom::{Curve3, NurbsSurface};
-use dieface::limits::Limits;
 use dieface::syntax::{FileId, Span};
 use glam::{DVec2, DVec3};
 
@@ -82,12 +82,12 @@ fn call_with(
     let call = Call {
         builtin,
         span: CALL,
+        budget: &Budget::default(),
         decl: Some("x"),
         units: Units::default(),
         args,
         dir,
         root,
-        limits: Limits::default(),
         apply: &no_apply,
     };
     (builtin.run)(&call)
@@ -228,8 +228,9 @@ fn lists() {
         panic!()
     };
     assert_eq!(r.len(), 3);
-    let e = call("range", vec![bare(1e6)]).unwrap_err();
-    assert_eq!(e.code, "die::bad_argument");
+    // Over the `samples` limit (1,000,000 by default): refused before it is made.
+    let e = call("range", vec![bare(2e6)]).unwrap_err();
+    assert_eq!(e.code, "die::limit::samples");
     assert_eq!(e.primary.span, at(0));
 
     let Data::List(r) = call("linspace", vec![mm(0.0), mm(10.0), bare(5.0)]).unwrap() else {
@@ -282,12 +283,12 @@ fn lists() {
         let c = Call {
             builtin,
             span: CALL,
+            budget: &Budget::default(),
             decl: Some("x"),
             units: Units::default(),
             args: vec![Some(items.clone()), Some(f.clone())],
             dir: None,
             root: None,
-            limits: Limits::default(),
             apply,
         };
         let Data::List(out) = (builtin.run)(&c).unwrap() else {
@@ -978,12 +979,12 @@ fn no_builtin_panics_on_odd_arguments() {
             let c = Call {
                 builtin,
                 span: CALL,
+                budget: &Budget::default(),
                 decl: Some("x"),
                 units: Units::default(),
                 args,
                 dir: Some(&root),
                 root: Some(&root),
-                limits: Limits::default(),
                 apply: &echo,
             };
             let _ = (builtin.run)(&c);

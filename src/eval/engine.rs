@@ -22,14 +22,16 @@ use std::time::{Duration, Instant};
 use rayon::prelude::*;
 
 use crate::diag::{did_you_mean, Diagnostic, Sources};
-use crate::limits::Limits;
+use crate::limits::{Limit, Limits};
 use crate::syntax::ast::{self, Block, DeclBody, FieldValue, Item};
 use crate::syntax::incremental::reparse;
 use crate::syntax::{parse, FileId, Span};
 
+use super::budget::{limit_code, Budget};
 use super::deps::{free_names_of_body, free_names_of_function};
 use super::expr::{Ctx, Locals, World};
 use super::features::{self, FeatureKind, Registry};
+use super::layout::{remap, Layout};
 use super::paths::{self, resolve_in_root};
 use super::stdlib;
 use super::units::{self, Units};
@@ -117,8 +119,9 @@ struct MemoEntry {
     /// Files the evaluation read (with builtins such as `read_obj`) and their content
     /// hashes: the value is stale once one of them changes.
     reads: Vec<(PathBuf, u64)>,
-    /// Where each top-level item stood when the value was computed.
-    layout: HashMap<String, (u32, u32)>,
+    /// Where each top-level item stood when the value was computed (shared by the
+    /// entries of one evaluation of the file).
+    layout: Arc<Layout>,
 }
 
 /// Evaluates files, keeping loaded modules and memoized declarations between runs.
@@ -130,12 +133,20 @@ pub struct Engine {
     memo: HashMap<(FileId, String), MemoEntry>,
     /// Files read by builtins (`read_obj`) in any evaluation, for `watch`.
     read_files: Vec<PathBuf>,
+    /// Where each file's items stood in its last evaluation: an unchanged layout is
+    /// shared, so memoized values need no moving.
+    layouts: HashMap<FileId, Arc<Layout>>,
+    /// The modules loaded by the current evaluation, by name: a module imported again
+    /// (a diamond of imports) is evaluated once per evaluation, not once per import.
+    loaded: HashMap<String, FileId>,
     /// The last parse of each file, by the hash of its text.
     parsed: HashMap<FileId, (u64, Arc<str>, Arc<ast::File>)>,
     evaluations: u64,
     last_evaluated: Vec<String>,
     /// The limits in force (`--limit`).
     limits: Limits,
+    /// What the current evaluation has used of them.
+    budget: Budget,
     // CLI hooks (see `overrides.rs` and `last_timings`): `-D name=value` texts for the
     // main file's params, and how long each evaluated declaration took.
     overrides: Vec<(String, String)>,
@@ -156,8 +167,8 @@ impl World for Engine {
             self.root.as_deref(),
         )
     }
-    fn limits(&self) -> Limits {
-        self.limits
+    fn budget(&self) -> &Budget {
+        &self.budget
     }
 }
 
@@ -173,6 +184,8 @@ impl Engine {
             files: HashMap::new(),
             memo: HashMap::new(),
             parsed: HashMap::new(),
+            layouts: HashMap::new(),
+            loaded: HashMap::new(),
             read_files: Vec::new(),
             evaluations: 0,
             last_evaluated: Vec::new(),
@@ -180,6 +193,7 @@ impl Engine {
             last_timings: Vec::new(),
             registry: Registry::standard(),
             limits: Limits::default(),
+            budget: Budget::default(),
             pieces: Default::default(),
         }
     }
@@ -188,6 +202,7 @@ impl Engine {
     /// [`crate::limits`]).
     pub fn set_limits(&mut self, limits: Limits) {
         self.limits = limits;
+        self.budget = Budget::new(limits);
     }
 
     /// The limits in force (see [`crate::limits`]).
@@ -244,6 +259,8 @@ impl Engine {
     fn evaluate_here(&mut self, name: &str, text: &str, dir: Option<PathBuf>) -> Outcome {
         self.last_evaluated.clear();
         self.last_timings.clear();
+        self.budget = Budget::new(self.limits);
+        self.loaded.clear();
         self.pieces.begin();
         let mut diagnostics = Vec::new();
         let mut stack = Vec::new();
@@ -379,7 +396,9 @@ impl Engine {
             st.globals.names = items.names.clone();
         }
 
-        let run = FileRun::new(file, text, &items, role, units, &import_hashes);
+        let layout = item_layout(&items, self.layouts.get(&file));
+        self.layouts.insert(file, layout.clone());
+        let run = FileRun::new(file, text, &items, role, units, &import_hashes, layout);
         let results = self.evaluate_decls(run, &items, diagnostics);
         (file, results)
     }
@@ -534,7 +553,14 @@ impl Engine {
                 return None;
             }
         }
-        let (file, _) = self.load(&name, &text, mdir, stack, diagnostics, FileRole::Import);
+        let file = match self.loaded.get(&name) {
+            Some(&file) => file,
+            None => {
+                let (file, _) = self.load(&name, &text, mdir, stack, diagnostics, FileRole::Import);
+                self.loaded.insert(name, file);
+                file
+            }
+        };
         let st = self.files.get(&file)?;
         let mut members: Vec<(String, Value)> = st
             .globals
@@ -813,7 +839,11 @@ impl Engine {
                 self.set_decl(run.file, name, value);
             }
             Err(diag) => {
-                diagnostics.push(diag);
+                // Once the steps have run out, every declaration still to come runs out
+                // at once: only the first is reported.
+                if diag.code != limit_code(Limit::Work) || self.budget.first_out_of_work() {
+                    diagnostics.push(diag);
+                }
                 run.failed.insert(name.to_string());
                 self.mark_failed(run.file, name);
             }
@@ -927,6 +957,7 @@ impl Engine {
             file,
             decl: Some(d.name.node.as_str()),
             depth: 0,
+            call: None,
         };
         if let Some(feature) = feature {
             return self.evaluate_feature(feature, &ctx, d);
@@ -1093,34 +1124,33 @@ enum FileRole {
 struct DeclGraph<'a> {
     /// The file's declarations by name.
     decl_names: HashSet<&'a str>,
-    /// Every name each declaration uses, closed over the functions it calls.
+    /// Every name each declaration uses, closed over the functions it calls (the
+    /// functions themselves only where the declaration names them).
     uses: HashMap<&'a str, BTreeSet<String>>,
+    /// Each function's text hash, closed over the functions it calls: part of the
+    /// memo key of a declaration that calls it.
+    fn_hash: HashMap<&'a str, u64>,
     /// Imports that failed (already reported): what uses them is skipped quietly.
     failed_imports: HashSet<&'a str>,
 }
 
 impl<'a> DeclGraph<'a> {
-    /// The graph of `items`; `import_hashes` holds the imports that loaded.
-    fn new(items: &Items<'a>, import_hashes: &HashMap<String, u64>) -> Self {
-        let fn_names: HashSet<&str> = items
-            .functions
-            .iter()
-            .map(|f| f.name.node.as_str())
-            .collect();
-        let fn_uses = function_uses(items, &fn_names);
+    /// The graph of `items` (whose source is `text`); `import_hashes` holds the
+    /// imports that loaded.
+    fn new(items: &Items<'a>, text: &str, import_hashes: &HashMap<String, u64>) -> Self {
+        let reach = function_reach(items, text);
         // Each declaration's direct and indirect (through functions) names.
         let uses = items
             .decls
             .iter()
             .map(|d| {
                 let mut u = free_names_of_body(&d.body);
-                let via: Vec<String> = u
+                let via: Vec<&str> = u
                     .iter()
-                    .filter(|n| fn_names.contains(n.as_str()))
-                    .cloned()
+                    .filter_map(|n| reach.names.get_key_value(n.as_str()).map(|(k, _)| *k))
                     .collect();
                 for f in via {
-                    if let Some(more) = fn_uses.get(f.as_str()) {
+                    if let Some(more) = reach.names.get(f) {
                         u.extend(more.iter().cloned());
                     }
                 }
@@ -1130,6 +1160,7 @@ impl<'a> DeclGraph<'a> {
         Self {
             decl_names: items.decls.iter().map(|d| d.name.node.as_str()).collect(),
             uses,
+            fn_hash: reach.hashes,
             failed_imports: items
                 .imports
                 .iter()
@@ -1157,41 +1188,140 @@ impl<'a> DeclGraph<'a> {
     }
 }
 
-/// What each function uses, closed over the functions it calls (a declaration that
-/// calls `f` depends on everything `f` and its callees use).
-fn function_uses<'a>(
-    items: &Items<'a>,
-    fn_names: &HashSet<&str>,
-) -> HashMap<&'a str, BTreeSet<String>> {
-    let mut fn_uses: HashMap<&str, BTreeSet<String>> = items
-        .functions
+/// What each function reaches through the functions it calls, directly or not.
+struct FnReach<'a> {
+    /// The names other than the file's functions that it and its callees use.
+    names: HashMap<&'a str, BTreeSet<String>>,
+    /// A hash of its text and its callees' texts.
+    hashes: HashMap<&'a str, u64>,
+}
+
+/// What each function of `items` (whose source is `text`) reaches (a declaration that
+/// calls `f` depends on everything `f` and its callees use). The functions are taken
+/// by groups that call each other (strongly connected components), callees first, so
+/// each group is closed once over its callees' results: linear in the calls, where
+/// closing every function over every other grew with the cube of a chain of calls.
+fn function_reach<'a>(items: &Items<'a>, text: &str) -> FnReach<'a> {
+    let fns = &items.functions;
+    let index: HashMap<&str, usize> = fns
         .iter()
-        .map(|f| {
-            (
-                f.name.node.as_str(),
-                free_names_of_function(&f.params, &f.body),
-            )
+        .enumerate()
+        .map(|(i, f)| (f.name.node.as_str(), i))
+        .collect();
+    let direct: Vec<BTreeSet<String>> = fns
+        .iter()
+        .map(|f| free_names_of_function(&f.params, &f.body))
+        .collect();
+    let calls: Vec<Vec<usize>> = direct
+        .iter()
+        .map(|u| {
+            u.iter()
+                .filter_map(|n| index.get(n.as_str()).copied())
+                .collect()
         })
         .collect();
-    loop {
-        let mut changed = false;
-        let snapshot = fn_uses.clone();
-        for uses in fn_uses.values_mut() {
-            let called: Vec<String> = uses
-                .iter()
-                .filter(|n| fn_names.contains(n.as_str()))
-                .cloned()
-                .collect();
-            for c in called {
-                if let Some(more) = snapshot.get(c.as_str()) {
-                    for m in more {
-                        changed |= uses.insert(m.clone());
-                    }
+    let mut group_names: Vec<BTreeSet<String>> = Vec::new();
+    let mut group_hash: Vec<u64> = Vec::new();
+    let mut group_of: Vec<usize> = vec![usize::MAX; fns.len()];
+    for group in call_groups(&calls) {
+        let g = group_names.len();
+        for &m in &group {
+            group_of[m] = g;
+        }
+        let mut names = BTreeSet::new();
+        let mut texts: Vec<&str> = group.iter().map(|&m| &text[fns[m].span.range()]).collect();
+        texts.sort_unstable();
+        let mut callee_hashes = BTreeSet::new();
+        for &m in &group {
+            names.extend(
+                direct[m]
+                    .iter()
+                    .filter(|n| !index.contains_key(n.as_str()))
+                    .cloned(),
+            );
+            for &c in &calls[m] {
+                let cg = group_of[c];
+                if cg != g {
+                    names.extend(group_names[cg].iter().cloned());
+                    callee_hashes.insert(group_hash[cg]);
                 }
             }
         }
-        if !changed {
-            return fn_uses;
+        group_names.push(names);
+        group_hash.push(hash_of(&(texts, callee_hashes)));
+    }
+    let mut reach = FnReach {
+        names: HashMap::new(),
+        hashes: HashMap::new(),
+    };
+    for (i, f) in fns.iter().enumerate() {
+        let name = f.name.node.as_str();
+        reach.names.insert(name, group_names[group_of[i]].clone());
+        reach.hashes.insert(name, group_hash[group_of[i]]);
+    }
+    reach
+}
+
+/// The groups of functions that call each other (Tarjan's strongly connected
+/// components of the call graph `calls`), each after every group it calls.
+fn call_groups(calls: &[Vec<usize>]) -> Vec<Vec<usize>> {
+    let mut t = Tarjan {
+        calls,
+        index: vec![None; calls.len()],
+        low: vec![0; calls.len()],
+        on_stack: vec![false; calls.len()],
+        stack: Vec::new(),
+        next: 0,
+        groups: Vec::new(),
+    };
+    for v in 0..calls.len() {
+        if t.index[v].is_none() {
+            t.connect(v);
+        }
+    }
+    t.groups
+}
+
+/// The state of Tarjan's algorithm over a call graph.
+struct Tarjan<'g> {
+    calls: &'g [Vec<usize>],
+    index: Vec<Option<usize>>,
+    low: Vec<usize>,
+    on_stack: Vec<bool>,
+    stack: Vec<usize>,
+    next: usize,
+    groups: Vec<Vec<usize>>,
+}
+
+impl Tarjan<'_> {
+    /// Visits `v` and what it calls; closes `v`'s group when `v` is its root.
+    fn connect(&mut self, v: usize) {
+        self.index[v] = Some(self.next);
+        self.low[v] = self.next;
+        self.next += 1;
+        self.stack.push(v);
+        self.on_stack[v] = true;
+        let calls = self.calls;
+        for &w in &calls[v] {
+            match self.index[w] {
+                None => {
+                    self.connect(w);
+                    self.low[v] = self.low[v].min(self.low[w]);
+                }
+                Some(iw) if self.on_stack[w] => self.low[v] = self.low[v].min(iw),
+                Some(_) => {}
+            }
+        }
+        if Some(self.low[v]) == self.index[v] {
+            let mut group = Vec::new();
+            while let Some(w) = self.stack.pop() {
+                self.on_stack[w] = false;
+                group.push(w);
+                if w == v {
+                    break;
+                }
+            }
+            self.groups.push(group);
         }
     }
 }
@@ -1244,29 +1374,15 @@ fn evaluation_order(
     (order, in_cycle)
 }
 
-/// Where each top-level declaration and function stands in the file: a memoized
-/// value's spans move by how far its declaration moved.
-fn item_layout(items: &Items) -> HashMap<String, (u32, u32)> {
-    items
-        .decls
-        .iter()
-        .map(|d| (d.name.node.clone(), (d.span.start, d.span.end)))
-        .chain(
-            items
-                .functions
-                .iter()
-                .map(|f| (f.name.node.clone(), (f.span.start, f.span.end))),
-        )
-        .collect()
-}
-
-/// Each function's source text: part of the memo key of a declaration that calls it.
-fn function_texts<'a>(items: &Items<'a>, text: &'a str) -> HashMap<&'a str, &'a str> {
-    items
+/// Where each top-level declaration and function stands in the file (a memoized
+/// value's spans move by how far its declaration moved); `previous` when unchanged.
+fn item_layout(items: &Items, previous: Option<&Arc<Layout>>) -> Arc<Layout> {
+    let decls = items.decls.iter().map(|d| (d.name.node.as_str(), d.span));
+    let functions = items
         .functions
         .iter()
-        .map(|f| (f.name.node.as_str(), &text[f.span.range()]))
-        .collect()
+        .map(|f| (f.name.node.as_str(), f.span));
+    Layout::shared(decls.chain(functions), previous)
 }
 
 /// A declaration evaluated fresh: its outcome, how long it took and the files it read.
@@ -1310,9 +1426,7 @@ struct FileRun<'a> {
     /// The hash of each import that loaded, by alias.
     import_hashes: &'a HashMap<String, u64>,
     /// Where the file's items stand now (see [`item_layout`]).
-    layout: HashMap<String, (u32, u32)>,
-    /// See [`function_texts`].
-    fn_text: HashMap<&'a str, &'a str>,
+    layout: Arc<Layout>,
     graph: DeclGraph<'a>,
     /// The memo key of each declaration evaluated so far, with the content of the
     /// files it read folded in: part of its dependents' keys.
@@ -1331,6 +1445,7 @@ impl<'a> FileRun<'a> {
         role: FileRole,
         units: Units,
         import_hashes: &'a HashMap<String, u64>,
+        layout: Arc<Layout>,
     ) -> Self {
         FileRun {
             file,
@@ -1338,9 +1453,8 @@ impl<'a> FileRun<'a> {
             role,
             units,
             import_hashes,
-            layout: item_layout(items),
-            fn_text: function_texts(items, text),
-            graph: DeclGraph::new(items, import_hashes),
+            layout,
+            graph: DeclGraph::new(items, text, import_hashes),
             hashes: HashMap::new(),
             failed: HashSet::new(),
         }
@@ -1372,8 +1486,8 @@ impl<'a> FileRun<'a> {
         }
         if let Some(u) = self.graph.uses.get(name) {
             for n in u {
-                if let Some(t) = self.fn_text.get(n.as_str()) {
-                    h = combine(h, hash_of(t));
+                if let Some(fh) = self.graph.fn_hash.get(n.as_str()) {
+                    h = combine(h, *fh);
                 }
                 if let Some(mh) = self.import_hashes.get(n) {
                     h = combine(h, *mh);
@@ -1483,63 +1597,4 @@ fn contains_function(v: &Value) -> bool {
         Data::Record(r) => r.fields.iter().any(|(_, v)| contains_function(v)),
         _ => false,
     }
-}
-
-/// Moves the spans of a memoized value from the layout it was computed in to the
-/// current one (spans of declarations that moved, unchanged, in the file).
-fn remap(
-    v: &Value,
-    old: &HashMap<String, (u32, u32)>,
-    new: &HashMap<String, (u32, u32)>,
-    file: FileId,
-) -> Value {
-    let moved = |s: Span| -> Span {
-        if s.file != file {
-            return s;
-        }
-        for (name, &(start, end)) in old {
-            if s.start >= start && s.end <= end {
-                if let Some(&(nstart, _)) = new.get(name) {
-                    let delta = i64::from(nstart) - i64::from(start);
-                    return Span {
-                        file,
-                        start: (i64::from(s.start) + delta) as u32,
-                        end: (i64::from(s.end) + delta) as u32,
-                    };
-                }
-            }
-        }
-        s
-    };
-    if old == new {
-        return v.clone();
-    }
-    remap_with(v, &moved)
-}
-
-fn remap_with(v: &Value, f: &dyn Fn(Span) -> Span) -> Value {
-    let data = match &v.data {
-        Data::List(items) => Data::List(Arc::new(items.iter().map(|i| remap_with(i, f)).collect())),
-        Data::Tuple(items) => {
-            Data::Tuple(Arc::new(items.iter().map(|i| remap_with(i, f)).collect()))
-        }
-        Data::Record(r) => Data::Record(Arc::new(Record {
-            kind: r.kind.clone(),
-            fields: r
-                .fields
-                .iter()
-                .map(|(n, v)| (n.clone(), remap_with(v, f)))
-                .collect(),
-            feature: r.feature.clone(),
-        })),
-        Data::Sketch(s) => {
-            let mut s = (**s).clone();
-            for seg in &mut s.segments {
-                seg.span = f(seg.span);
-            }
-            Data::Sketch(Arc::new(s))
-        }
-        other => other.clone(),
-    };
-    Value::new(data, f(v.span))
 }

@@ -2,15 +2,20 @@
 //!
 //! An [`Ctx`] evaluates one expression in one file: names resolve to local bindings
 //! (parameters, comprehension variables), then the file's declarations, functions and
-//! imports, then the builtins. Evaluation is pure; recursion is bounded by
-//! [`MAX_CALL_DEPTH`] so a runaway recursive function is an error, not a stack overflow.
+//! imports, then the builtins. Evaluation is pure and bounded by the limits of its
+//! [`Budget`]: the depth of nested calls (`call_depth`, so a runaway recursive function
+//! is an error, not a stack overflow), the steps of the whole evaluation (`work`, so
+//! exponential recursion within the depth ends), and the sizes of lists and strings
+//! (`list_items`, `string_bytes`, checked before they are made).
 
 use std::sync::Arc;
 
 use crate::diag::{did_you_mean, Diagnostic};
+use crate::limits::Limit;
 use crate::syntax::ast::{Arg, BinaryOp, Expr, ExprKind, Param, SketchCommandKind};
 use crate::syntax::{FileId, Span};
 
+use super::budget::{exceeded, Budget};
 use super::builtins::{self, as_length, as_point2, type_error, Call};
 use super::engine::Globals;
 use super::ops;
@@ -21,8 +26,14 @@ use super::value::{Closure, Data, Dim, Quantity, Record, Value};
 /// The views a sketch is drawn in, by the names the language gives them.
 const VIEW_NAMES: [&str; 5] = ["top", "side_xz", "side_yz", "section", "profile"];
 
-/// Deepest chain of nested function calls before evaluation stops with an error.
-pub const MAX_CALL_DEPTH: usize = 200;
+/// Most "in this call of `f`" labels a diagnostic gathers on its way out of nested
+/// calls: the innermost ones say where; hundreds would bury the message.
+const MAX_CALL_LABELS: usize = 8;
+
+/// Deepest nesting of calls whatever `call_depth` says: the evaluation threads' 512 MB
+/// stacks hold about 90,000 levels of the largest frames (a function called through
+/// `map` and `sum`), so a raised limit still ends in a diagnostic, never an overflow.
+pub const STACK_SAFE_CALL_DEPTH: usize = 50_000;
 
 /// Local bindings, innermost last.
 pub type Locals = Vec<(String, Value)>;
@@ -33,11 +44,8 @@ pub trait World {
     fn globals(&self, file: FileId) -> Option<&Globals>;
     /// The directory of `file` (for relative paths) and the project root.
     fn paths(&self, file: FileId) -> (Option<&std::path::Path>, Option<&std::path::Path>);
-    /// The limits in force (the defaults unless the world says otherwise), for builtins
-    /// that read files or make large values.
-    fn limits(&self) -> crate::limits::Limits {
-        crate::limits::Limits::default()
-    }
+    /// The limits of the evaluation and what it has used of them.
+    fn budget(&self) -> &Budget;
 }
 
 /// Evaluation context of one expression.
@@ -50,6 +58,9 @@ pub struct Ctx<'w> {
     pub decl: Option<&'w str>,
     /// Current call depth.
     pub depth: usize,
+    /// The call whose function is being evaluated (`None` at a declaration's top):
+    /// where running out of steps is reported.
+    pub call: Option<Span>,
 }
 
 impl<'w> Ctx<'w> {
@@ -60,18 +71,64 @@ impl<'w> Ctx<'w> {
             .map_or_else(Units::default, |g| g.units)
     }
 
-    fn with_file(&self, file: FileId, depth: usize) -> Ctx<'w> {
+    /// The limits of this evaluation and what it has used of them.
+    pub fn budget(&self) -> &'w Budget {
+        self.world.budget()
+    }
+
+    /// Counts one evaluation step of the expression at `span`; once the steps have run
+    /// out, the `work` diagnostic at the call being evaluated (at `span` outside any
+    /// call), naming the declaration.
+    fn step(&self, span: Span) -> Result<(), Diagnostic> {
+        let budget = self.budget();
+        if budget.step() {
+            return Ok(());
+        }
+        let limits = budget.limits();
+        let n = limits.get(Limit::Work);
+        let message = match self.decl {
+            Some(d) => format!("`{d}` takes more than {n} evaluation steps"),
+            None => format!("this takes more than {n} evaluation steps"),
+        };
+        Err(exceeded(
+            Limit::Work,
+            limits,
+            self.call.unwrap_or(span),
+            message,
+        ))
+    }
+
+    /// Counts the items of a list made at `span` against the items of all lists of
+    /// the evaluation (the `list_items` limit).
+    fn made_list(&self, n: usize, span: Span) -> Result<(), Diagnostic> {
+        let budget = self.budget();
+        if budget.add_items(n) {
+            return Ok(());
+        }
+        let limits = budget.limits();
+        let message = format!(
+            "the lists made so far hold more than {} items together",
+            limits.get(Limit::ListItems)
+        );
+        Err(exceeded(Limit::ListItems, limits, span, message))
+    }
+
+    /// The context of the function called at `call`, whose body sees the names of
+    /// `file`: one level deeper.
+    fn called(&self, file: FileId, call: Span) -> Ctx<'w> {
         Ctx {
             world: self.world,
             file,
             decl: self.decl,
-            depth,
+            depth: self.depth + 1,
+            call: Some(call),
         }
     }
 
     /// Evaluates `e` with the given local bindings.
     pub fn eval(&self, e: &Expr, locals: &Locals) -> Result<Value, Diagnostic> {
         let span = e.span;
+        self.step(span)?;
         let data = match &e.kind {
             ExprKind::Number { value, unit } => {
                 let q = match unit {
@@ -83,7 +140,11 @@ impl<'w> Ctx<'w> {
             ExprKind::Str(s) => Data::Str(s.as_str().into()),
             ExprKind::Bool(b) => Data::Bool(*b),
             ExprKind::Name(n) => return self.lookup(n, span, locals),
-            ExprKind::List(items) => Data::List(Arc::new(self.eval_all(items, locals)?)),
+            ExprKind::List(items) => {
+                let items = self.eval_all(items, locals)?;
+                self.made_list(items.len(), span)?;
+                Data::List(Arc::new(items))
+            }
             ExprKind::Tuple(items) => Data::Tuple(Arc::new(self.eval_all(items, locals)?)),
             ExprKind::Record(fields) => {
                 let mut rec = Record::default();
@@ -125,6 +186,7 @@ impl<'w> Ctx<'w> {
                     }
                     inner.pop();
                 }
+                self.made_list(out.len(), span)?;
                 Data::List(Arc::new(out))
             }
             ExprKind::Field { target, name } => {
@@ -179,6 +241,9 @@ impl<'w> Ctx<'w> {
                 } else {
                     let l = self.eval(lhs, locals)?;
                     let r = self.eval(rhs, locals)?;
+                    if op.node == BinaryOp::Add {
+                        self.check_joined(&l, &r, span)?;
+                    }
                     return ops::binary(op.node, &l, &r, span, op.span, self.units());
                 }
             }
@@ -473,6 +538,54 @@ impl<'w> Ctx<'w> {
         self.apply(&f, positional, named, span)
     }
 
+    /// The `call_depth` diagnostic when a call of `f` at `span` would nest deeper than
+    /// the limit allows.
+    fn check_depth(&self, f: &Value, span: Span) -> Result<(), Diagnostic> {
+        let limits = self.budget().limits();
+        let max = limits.count(Limit::CallDepth).min(STACK_SAFE_CALL_DEPTH);
+        if self.depth < max {
+            return Ok(());
+        }
+        let what = match &f.data {
+            Data::Function(c) => format!("`{}` is called more than {max} levels deep", c.name),
+            _ => format!("function calls nest deeper than {max} levels"),
+        };
+        Err(Diagnostic::new(
+            "die::recursion_limit",
+            what,
+            span,
+            "this call goes too deep (the `call_depth` limit)",
+        )
+        .with_help(format!(
+            "a recursive function must reach its base case; check the condition that ends the recursion; {}",
+            Limit::CallDepth.help(limits)
+        )))
+    }
+
+    /// The `string_bytes` or `list_items` diagnostic when `l + r` at `span` would make
+    /// a string or a list over its limit, asked before it is made.
+    fn check_joined(&self, l: &Value, r: &Value, span: Span) -> Result<(), Diagnostic> {
+        let (limit, n, what) = match (&l.data, &r.data) {
+            (Data::Str(a), Data::Str(b)) => (Limit::StringBytes, a.len() + b.len(), "bytes"),
+            (Data::List(a), Data::List(b)) => (Limit::ListItems, a.len() + b.len(), "items"),
+            _ => return Ok(()),
+        };
+        let budget = self.budget();
+        if budget.allows(limit, n as u64) {
+            return Ok(());
+        }
+        let message = format!(
+            "joining these would make {} of {n} {what}, more than the `{}` limit allows",
+            if limit == Limit::StringBytes {
+                "a string"
+            } else {
+                "a list"
+            },
+            limit.name()
+        );
+        Err(exceeded(limit, budget.limits(), span, message))
+    }
+
     /// Calls a function value with positional and named arguments.
     pub fn apply(
         &self,
@@ -481,22 +594,8 @@ impl<'w> Ctx<'w> {
         named: Vec<(crate::syntax::ast::Ident, Value)>,
         span: Span,
     ) -> Result<Value, Diagnostic> {
-        if self.depth >= MAX_CALL_DEPTH {
-            let what = match &f.data {
-                Data::Function(c) => format!(
-                    "`{}` is called more than {MAX_CALL_DEPTH} levels deep",
-                    c.name
-                ),
-                _ => format!("function calls nest deeper than {MAX_CALL_DEPTH} levels"),
-            };
-            return Err(Diagnostic::new(
-                "die::recursion_limit",
-                what,
-                span,
-                "this call goes too deep",
-            )
-            .with_help("a recursive function must reach its base case; check the condition that ends the recursion"));
-        }
+        self.check_depth(f, span)?;
+        self.step(span)?;
         match &f.data {
             Data::Builtin(b) => {
                 let names: Vec<&str> = b.params.iter().map(|p| p.name).collect();
@@ -507,26 +606,30 @@ impl<'w> Ctx<'w> {
                     }
                 }
                 let (dir, root) = self.world.paths(self.file);
-                let inner = self.with_file(self.file, self.depth + 1);
+                let inner = self.called(self.file, span);
                 let apply =
                     |g: &Value, args: Vec<Value>, s: Span| inner.apply(g, args, Vec::new(), s);
                 let call = Call {
                     builtin: b,
                     span,
+                    budget: self.budget(),
                     decl: self.decl,
                     units: self.units(),
                     args: slots,
                     dir,
                     root,
-                    limits: self.world.limits(),
                     apply: &apply,
                 };
-                Ok(Value::new(builtins::run(&call)?, span))
+                let data = builtins::run(&call)?;
+                if let Data::List(items) = &data {
+                    self.made_list(items.len(), span)?;
+                }
+                Ok(Value::new(data, span))
             }
             Data::Function(c) => {
                 let names: Vec<&str> = c.params.iter().map(|p| p.name.node.as_str()).collect();
                 let slots = bind_arguments(&c.name, &names, positional, named)?;
-                let inner = self.with_file(c.file, self.depth + 1);
+                let inner = self.called(c.file, span);
                 let mut locals = c.captured.clone();
                 for (p, slot) in c.params.iter().zip(slots) {
                     let v = match (slot, &p.default) {
@@ -556,7 +659,10 @@ impl<'w> Ctx<'w> {
                     let inside = d.primary.span.file == span.file
                         && d.primary.span.start >= span.start
                         && d.primary.span.end <= span.end;
-                    if inside || d.secondary.iter().any(|l| l.span == span) {
+                    if inside
+                        || d.secondary.len() >= MAX_CALL_LABELS
+                        || d.secondary.iter().any(|l| l.span == span)
+                    {
                         d
                     } else {
                         d.with_label(span, format!("in this call of `{}`", c.name))

@@ -7,12 +7,14 @@
 //! the geometry kernel; [`sketch`] draws 2-D profiles in views; modules come from the
 //! embedded standard library ([`stdlib`]) or from files relative to the importer.
 
+pub mod budget;
 pub mod builtins;
 pub mod deps;
 pub mod engine;
 pub mod expr;
 pub mod features;
 pub mod finite;
+pub mod layout;
 pub mod model;
 pub mod ops;
 pub mod overrides;

@@ -77,7 +77,7 @@ pub fn die_model(outcome: &Outcome, sources: &Sources, registry: &Registry) -> D
                 |k| k.color(),
             ),
             decl_span: d.span,
-            decl_line: sources.line_col(d.span).0,
+            decl_line: sources.line(d.span),
         };
         if let Some(part) = ctx.part(d.name.clone(), value) {
             model.parts.push(part);
@@ -207,7 +207,7 @@ impl Ctx<'_> {
     fn line_of(&self, span: Span) -> usize {
         let d = self.decl_span;
         if span.file == d.file && span.start >= d.start && span.end <= d.end {
-            self.sources.line_col(span).0
+            self.sources.line(span)
         } else {
             self.decl_line
         }

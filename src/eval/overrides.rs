@@ -18,6 +18,7 @@ use crate::diag::{did_you_mean, Diagnostic, Label, Sources};
 use crate::syntax::ast::{self, DeclBody, Item};
 use crate::syntax::{parse, FileId, Span};
 
+use super::budget::Budget;
 use super::engine::Globals;
 use super::expr::{Ctx, Locals, World};
 use super::units::Units;
@@ -93,12 +94,14 @@ pub fn eval_in(file: FileId, text: &str, units: Units) -> Result<Value, Diagnost
             units,
             ..Globals::default()
         },
+        budget: Budget::default(),
     };
     let ctx = Ctx {
         world: &world,
         file,
         decl: None,
         depth: 0,
+        call: None,
     };
     let value = ctx
         .eval(expr, &Locals::new())
@@ -219,6 +222,7 @@ fn example_for(declared: &Data, name: &str) -> String {
 /// Sees no declarations: only the builtins, with the given default units.
 struct TextWorld {
     globals: Globals,
+    budget: Budget,
 }
 
 impl World for TextWorld {
@@ -227,6 +231,9 @@ impl World for TextWorld {
     }
     fn paths(&self, _file: FileId) -> (Option<&std::path::Path>, Option<&std::path::Path>) {
         (None, None)
+    }
+    fn budget(&self) -> &Budget {
+        &self.budget
     }
 }
 

@@ -29,7 +29,8 @@ use crate::die::model::{DieModel, Part, Shape};
 use crate::geom::fingerprint::Fingerprint;
 use crate::geom::mesh::Mesh;
 use crate::geom::tessellate::{
-    tessellate_curve, tessellate_surface, tessellate_trimmed, SurfaceMesh, Tolerance,
+    tessellate_curve_within, tessellate_surface, tessellate_trimmed, SurfaceMesh, Tolerance,
+    MAX_VERTICES,
 };
 use crate::geom::GeomError;
 
@@ -168,6 +169,9 @@ pub struct SceneCache {
     /// address cannot be reused by another while it is listed.
     by_address: HashMap<usize, u64>,
     misses: usize,
+    /// Most points of one curve's line strip (`None`: the kernel's own limit); the
+    /// pipeline sets the `samples` limit here.
+    max_curve_points: Option<usize>,
 }
 
 /// One cached tessellation: the shape it was made from, the primitive, and whether the
@@ -179,6 +183,17 @@ struct Entry {
 }
 
 impl SceneCache {
+    /// Limits the points of each curve's line strip (the `samples` limit): a curve
+    /// that needs more fails with
+    /// [`crate::geom::tessellate::CURVE_POINT_LIMIT`]. A new limit empties the cache.
+    pub fn set_max_curve_points(&mut self, max: usize) {
+        if self.max_curve_points != Some(max) {
+            self.max_curve_points = Some(max);
+            self.entries.clear();
+            self.by_address.clear();
+        }
+    }
+
     /// Builds the scene like [`build_scene`], reusing cached tessellations.
     ///
     /// Three passes: every shape is looked up in the cache (in part order), the shapes
@@ -187,6 +202,7 @@ impl SceneCache {
     /// pieces fail, the error is the first part's in model order.
     pub fn build(&mut self, model: &DieModel, tol: &Tolerance) -> Result<Scene, TessellationError> {
         let key = (tol.chordal.to_bits(), tol.angle.to_bits());
+        let max_points = self.max_curve_points.unwrap_or(MAX_VERTICES);
         if self.tolerance != Some(key) {
             self.entries.clear();
             self.by_address.clear();
@@ -205,7 +221,7 @@ impl SceneCache {
         self.misses = missing.len();
         let made: Vec<Result<Geometry, GeomError>> = missing
             .par_iter()
-            .map(|(_, _, shape)| tessellate(shape, tol))
+            .map(|(_, _, shape)| tessellate(shape, tol, max_points))
             .collect();
         let mut made_here = Vec::with_capacity(made.len());
         for ((key, part, shape), geometry) in missing.into_iter().zip(made) {
@@ -401,14 +417,14 @@ fn same(a: &Shape, b: &Shape) -> bool {
     }
 }
 
-/// Tessellates one shape within the tolerance.
-fn tessellate(shape: &Shape, tol: &Tolerance) -> Result<Geometry, GeomError> {
+/// Tessellates one shape within the tolerance, a curve in at most `max_points` points.
+fn tessellate(shape: &Shape, tol: &Tolerance, max_points: usize) -> Result<Geometry, GeomError> {
     Ok(match shape {
         Shape::Surface(s) => surface_triangles(tessellate_surface(s, tol)?),
         Shape::Trimmed(t) => surface_triangles(tessellate_trimmed(t, tol)?),
         Shape::Mesh(m) => mesh_triangles(m),
         Shape::Curve(c) => Geometry::LineStrip {
-            points: tessellate_curve(c, tol)?.points,
+            points: tessellate_curve_within(c, tol, max_points)?.points,
         },
     })
 }

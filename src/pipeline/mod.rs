@@ -21,7 +21,9 @@ use crate::export::scene::{Scene, SceneCache, TessellationError};
 use crate::export::step::{encode_step, StepModel};
 use crate::export::{encode_with, Format};
 use crate::geom::sew::sew;
-use crate::geom::tessellate::Tolerance;
+use crate::geom::tessellate::{Tolerance, CURVE_POINT_LIMIT};
+use crate::geom::GeomError;
+use crate::limits::{Limit, Limits};
 
 pub use tolerance::{parse_tolerance, tolerance_for, DEFAULT_TOLERANCE_MM, TOLERANCE_PARAM};
 
@@ -132,14 +134,19 @@ impl Pipeline {
         };
         let model = self.engine.die_model(&build.outcome);
         stage(Stage::Tessellating);
+        let limits = *self.engine.limits();
+        self.cache
+            .set_max_curve_points(limits.count(Limit::Samples));
         match self.cache.build(&model, &tol) {
             Ok(scene) => match crate::export::gltf::out_of_range(&scene) {
                 Some(far) => build.problems.push(range_diagnostic(&build.outcome, &far)),
                 None => build.scene = Some(scene),
             },
-            Err(e) => build
-                .problems
-                .push(tessellation_diagnostic(&build.outcome, &e, &tol)),
+            Err(e) => {
+                build
+                    .problems
+                    .push(tessellation_diagnostic(&build.outcome, &e, &tol, &limits))
+            }
         }
         build.tessellated = self.cache.last_misses();
         build.model = Some(model);
@@ -322,6 +329,7 @@ fn tessellation_diagnostic(
     outcome: &Outcome,
     e: &TessellationError,
     tol: &Tolerance,
+    limits: &Limits,
 ) -> Diagnostic {
     let decl_name = e.part.split('/').next().unwrap_or(&e.part);
     let decl = outcome.decls.iter().find(|d| d.name == decl_name);
@@ -340,6 +348,16 @@ fn tessellation_diagnostic(
     );
     if let Some(decl) = decl {
         d = d.with_label(decl.span, "in this declaration");
+    }
+    if matches!(e.error, GeomError::NoConvergence { what, .. } if what == CURVE_POINT_LIMIT) {
+        // The curve needs more points than the `samples` limit allows.
+        return d.with_help(format!(
+            "the `samples` limit bounds the points of one curve: {}; or use a coarser tolerance (`--tolerance`)",
+            Limit::Samples.help(limits)
+        ));
+    }
+    if matches!(e.error, GeomError::NotFinite { .. }) {
+        return d.with_help("its coordinates are too large to tessellate: keep the geometry within a few kilometres of the origin (lengths are in millimetres)");
     }
     d.with_help("use a coarser tolerance (`--tolerance`), e.g. 0.01mm or 0.05mm")
 }

@@ -3,6 +3,7 @@
 //! order, floats with full precision). Pure functions of the outcome: `cli` prints them,
 //! the viewer can serve them.
 
+use std::collections::HashMap;
 use std::time::Duration;
 
 use glam::DVec3;
@@ -23,17 +24,20 @@ pub const SCHEMA: u32 = 1;
 /// How long each declaration took to evaluate (`Engine::last_timings`).
 pub type Timings<'a> = &'a [(String, Duration)];
 
-fn timing(timings: Timings, name: &str) -> Option<Duration> {
-    timings.iter().find(|(n, _)| n == name).map(|(_, t)| *t)
+/// Each declaration's time by name, looked up once per declaration (a search of the
+/// list for each would grow with the square of the declarations).
+fn timing_index<'a>(timings: Timings<'a>) -> HashMap<&'a str, Duration> {
+    timings.iter().map(|(n, t)| (n.as_str(), *t)).collect()
 }
 
 /// The text report: per declaration `kind name (line N, 1.2 ms): summary`, with the
 /// area of surfaces and meshes, then a feature's quality report indented under it.
 pub fn inspect_lines(outcome: &Outcome, sources: &Sources, timings: Timings) -> Vec<String> {
     let mut out = Vec::new();
+    let timings = timing_index(timings);
     for d in &outcome.decls {
-        let (line, _) = sources.line_col(d.span);
-        let time = timing(timings, &d.name).map_or(String::new(), |t| {
+        let line = sources.line(d.span);
+        let time = timings.get(d.name.as_str()).map_or(String::new(), |t| {
             format!(", {:.1} ms", t.as_secs_f64() * 1e3)
         });
         let mut summary = describe(d.value.as_ref());
@@ -56,6 +60,7 @@ pub fn inspect_lines(outcome: &Outcome, sources: &Sources, timings: Timings) -> 
 /// The JSON report (`docs/inspect-json.md`): the file, every declaration with its
 /// value, and the diagnostics.
 pub fn inspect_json(outcome: &Outcome, sources: &Sources, timings: Timings) -> Json {
+    let timings = timing_index(timings);
     let decls: Vec<Json> = outcome
         .decls
         .iter()
@@ -74,7 +79,9 @@ pub fn inspect_json(outcome: &Outcome, sources: &Sources, timings: Timings) -> J
             );
             m.insert(
                 "eval_ms".into(),
-                timing(timings, &d.name).map_or(Json::Null, |t| json!(t.as_secs_f64() * 1e3)),
+                timings
+                    .get(d.name.as_str())
+                    .map_or(Json::Null, |t| json!(t.as_secs_f64() * 1e3)),
             );
             m.insert(
                 "value".into(),
@@ -343,7 +350,7 @@ fn value_json(v: &Value, sources: &Sources) -> Json {
                 .map(|g| {
                     let mut m = Map::new();
                     m.insert("kind".into(), json!(g.kind));
-                    m.insert("line".into(), json!(sources.line_col(g.span).0));
+                    m.insert("line".into(), json!(sources.line(g.span)));
                     m.insert("range".into(), json!([g.range.0, g.range.1]));
                     Json::Object(m)
                 })

@@ -46,8 +46,8 @@ fn read_obj(call: &Call) -> Result<Data, Diagnostic> {
     let path = call.string("path")?;
     let full = resolve(call, &path)?;
     let span = span_of(call, "path");
-    let bytes = read_regular(&full, call.limits.get(Limit::FileBytes))
-        .map_err(|r| refusal_diagnostic(&path, &r, span, &call.limits))?;
+    let bytes = read_regular(&full, call.budget.limits().get(Limit::FileBytes))
+        .map_err(|r| refusal_diagnostic(&path, &r, span, call.budget.limits()))?;
     record_read(&full);
     check_vertex_count(call, &path, count_vertex_lines(&bytes))?;
     let options = tobj::LoadOptions {
@@ -109,12 +109,12 @@ fn load_mtl(
         Err(d) if d.code == "die::file_not_found" => return Err(tobj::LoadError::OpenFileFailed),
         Err(d) => return refuse(d),
     };
-    match read_regular(&full, call.limits.get(Limit::FileBytes)) {
+    match read_regular(&full, call.budget.limits().get(Limit::FileBytes)) {
         Ok(bytes) => {
             record_read(&full);
             tobj::load_mtl_buf(&mut bytes.as_slice())
         }
-        Err(r) => refuse(refusal_diagnostic(&shown, &r, span, &call.limits)),
+        Err(r) => refuse(refusal_diagnostic(&shown, &r, span, call.budget.limits())),
     }
 }
 
@@ -133,7 +133,7 @@ fn count_vertex_lines(bytes: &[u8]) -> usize {
 
 /// Refuses an OBJ of more than `mesh_vertices` vertices, at the path argument.
 fn check_vertex_count(call: &Call, path: &str, vertices: usize) -> Result<(), Diagnostic> {
-    let limit = call.limits.get(Limit::MeshVertices);
+    let limit = call.budget.limits().get(Limit::MeshVertices);
     if vertices as u64 <= limit {
         return Ok(());
     }
@@ -146,7 +146,7 @@ fn check_vertex_count(call: &Call, path: &str, vertices: usize) -> Result<(), Di
         span_of(call, "path"),
         "this mesh is too large",
     )
-    .with_help(Limit::MeshVertices.help(&call.limits)))
+    .with_help(Limit::MeshVertices.help(call.budget.limits())))
 }
 
 /// One mesh from all the OBJ models, each model's faces forming the group of its name

@@ -14,9 +14,6 @@ use super::super::value::{Data, Dim, Quantity, Value};
 use super::args::{bad_argument, describe, list, num, quantity, unify, what};
 use super::{opt, req, type_error, Builtin, Call};
 
-/// Longest list `range` makes.
-const MAX_RANGE: f64 = 100_000.0;
-
 /// The math builtins.
 pub static BUILTINS: &[Builtin] = &[
     Builtin {
@@ -203,19 +200,12 @@ fn range(call: &Call) -> Result<Data, Diagnostic> {
         None => (0.0, whole(call, "start")?),
     };
     let count = (end - start).max(0.0);
-    if count > MAX_RANGE {
-        let arg = if call.arg("end").is_some() {
-            "end"
-        } else {
-            "start"
-        };
-        return Err(bad_argument(
-            call,
-            arg,
-            format!("`range` would make {count} numbers; at most {MAX_RANGE} are allowed"),
-            "a die-face script needs far fewer; check the bounds",
-        ));
-    }
+    let arg = if call.arg("end").is_some() {
+        "end"
+    } else {
+        "start"
+    };
+    call.check_samples(arg, count, "numbers")?;
     let items = (0..count as usize)
         .map(|i| num(Quantity::bare(start + i as f64), call.span))
         .collect();
@@ -315,14 +305,7 @@ fn linspace(call: &Call) -> Result<Data, Diagnostic> {
             "n counts the values including both ends",
         ));
     }
-    if n as f64 > MAX_RANGE {
-        return Err(bad_argument(
-            call,
-            "n",
-            format!("`linspace` would make {n} values; at most {MAX_RANGE} are allowed"),
-            "use fewer values",
-        ));
-    }
+    call.check_samples("n", n as f64, "values")?;
     let bare = a.bare && b.bare;
     let items = (0..n)
         .map(|i| {

@@ -22,8 +22,10 @@ use glam::{DVec2, DVec3};
 
 use crate::diag::Diagnostic;
 use crate::geom::{Curve2, Curve3, GeomError, NurbsSurface};
+use crate::limits::Limit;
 use crate::syntax::Span;
 
+use super::budget::{exceeded, Budget};
 use super::units::Units;
 use super::value::{Data, Dim, Value};
 
@@ -127,6 +129,8 @@ pub struct Call<'a> {
     pub builtin: &'static Builtin,
     /// The whole call expression.
     pub span: Span,
+    /// The limits of the evaluation (what a builtin may make) and what it has used.
+    pub budget: &'a Budget,
     /// The declaration being evaluated, for kernel-failure messages.
     pub decl: Option<&'a str>,
     /// Default units of the calling file.
@@ -137,8 +141,6 @@ pub struct Call<'a> {
     pub dir: Option<&'a std::path::Path>,
     /// The project root: files outside it cannot be read.
     pub root: Option<&'a std::path::Path>,
-    /// The limits in force (`file_bytes` and `mesh_vertices` for `read_obj`).
-    pub limits: crate::limits::Limits,
     /// Calls a function value (user function, lambda or builtin) with positional
     /// arguments: how `map` and friends call back into the evaluator.
     pub apply: &'a Apply<'a>,
@@ -149,6 +151,26 @@ pub struct Call<'a> {
 pub type Apply<'a> = dyn Fn(&Value, Vec<Value>, Span) -> Result<Value, Diagnostic> + 'a;
 
 impl Call<'_> {
+    /// The `samples` diagnostic, at argument `arg` (the whole call when it is not
+    /// given), when this call would make `n` samples or points (`what`), more than the
+    /// limit allows: asked before they are made.
+    pub fn check_samples(&self, arg: &str, n: f64, what: &str) -> Result<(), Diagnostic> {
+        let limits = self.budget.limits();
+        if n <= limits.get(Limit::Samples) as f64 {
+            return Ok(());
+        }
+        let message = format!(
+            "`{}` would make {n} {what}, more than the `samples` limit allows",
+            self.builtin.name
+        );
+        Err(exceeded(
+            Limit::Samples,
+            limits,
+            args::span_of(self, arg),
+            message,
+        ))
+    }
+
     /// The argument for parameter `name`, if given.
     pub fn arg(&self, name: &str) -> Option<&Value> {
         let i = self.builtin.params.iter().position(|p| p.name == name)?;

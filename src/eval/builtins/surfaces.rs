@@ -197,6 +197,14 @@ fn loft(call: &Call) -> Result<Data, Diagnostic> {
         end_tangent: optional_curve(call, "end_tangent")?,
         ..Loft::default()
     };
+    // The sections are made compatible by merging their knots, so the surface may have
+    // as many control points as the sections have together, times the sections.
+    let merged: usize = sections.iter().map(|c| c.control_points().len()).sum();
+    call.check_samples(
+        "sections",
+        merged as f64 * sections.len() as f64,
+        "control points (the sections' points together, once per section)",
+    )?;
     let s = loft_surface(&sections, &opts).map_err(|e| {
         let arg = match &e {
             GeomError::RationalNotSupported { .. } | GeomError::ZeroVector { .. } => {

@@ -175,21 +175,21 @@ fn rotation(call: &Call) -> Result<Data, Diagnostic> {
         direction3(call, "axis")?,
         call.angle("by")?,
     );
-    Ok(Data::Transform(
+    Ok(Data::Transform(Arc::new(
         t.map_err(|e| call.kernel_error(e, Some("axis")))?,
-    ))
+    )))
 }
 
 fn translation(call: &Call) -> Result<Data, Diagnostic> {
     let t = Transform::translate(vector3(call, "by")?);
-    Ok(Data::Transform(
+    Ok(Data::Transform(Arc::new(
         t.map_err(|e| call.kernel_error(e, Some("by")))?,
-    ))
+    )))
 }
 
 fn scaling(call: &Call) -> Result<Data, Diagnostic> {
     let t = Transform::scale_about(opt_point3(call, "center")?, factor(call)?);
-    Ok(Data::Transform(
+    Ok(Data::Transform(Arc::new(
         t.map_err(|e| call.kernel_error(e, Some("factor")))?,
-    ))
+    )))
 }

@@ -39,10 +39,28 @@ const MIN_RELATIVE_STEP: f64 = 1e-12;
 /// and checked again. Curvature varies along a NURBS curve, so the rule is only the first
 /// guess; the check is the guarantee.
 ///
-/// Fails on an invalid tolerance or when more than [`MAX_VERTICES`] vertices would be
+/// Fails on an invalid tolerance, on coordinates so large that a chord's length or
+/// deviation cannot be measured, or when more than [`MAX_VERTICES`] vertices would be
 /// needed.
 pub fn tessellate_curve<P: Point>(curve: &NurbsCurve<P>, tol: &Tolerance) -> Result<Polyline<P>> {
+    tessellate_curve_within(curve, tol, MAX_VERTICES)
+}
+
+/// What [`tessellate_curve_within`] names when the polyline would need more vertices
+/// than it was allowed.
+pub const CURVE_POINT_LIMIT: &str =
+    "curve tessellation (point limit reached: the tolerance is too fine for the curve)";
+
+/// [`tessellate_curve`] with at most `max_vertices` vertices (and never more than
+/// [`MAX_VERTICES`]): a caller's limit on the points of one curve, so that a huge curve
+/// fails at once with [`CURVE_POINT_LIMIT`] instead of marching for minutes.
+pub fn tessellate_curve_within<P: Point>(
+    curve: &NurbsCurve<P>,
+    tol: &Tolerance,
+    max_vertices: usize,
+) -> Result<Polyline<P>> {
     tol.validate()?;
+    let max_vertices = max_vertices.clamp(2, MAX_VERTICES);
     let (t0, t1) = curve.domain();
     let degree = curve.degree();
     let breaks: Vec<f64> = curve
@@ -63,7 +81,7 @@ pub fn tessellate_curve<P: Point>(curve: &NurbsCurve<P>, tol: &Tolerance) -> Res
         points: vec![start],
     };
     for w in breaks.windows(2) {
-        march(curve, w[0], w[1], tol, &mut line)?;
+        march(curve, w[0], w[1], tol, max_vertices, &mut line)?;
     }
     Ok(line)
 }
@@ -74,6 +92,7 @@ fn march<P: Point>(
     a: f64,
     b: f64,
     tol: &Tolerance,
+    max_vertices: usize,
     line: &mut Polyline<P>,
 ) -> Result<()> {
     let target = TARGET * tol.chordal;
@@ -104,6 +123,14 @@ fn march<P: Point>(
             let mut shrink: f64 = 1.0;
             if dt > min_step {
                 let dev = chord_deviation(curve, t, te, p, pe);
+                let len = (pe - p).length();
+                if !(dev.is_finite() && len.is_finite()) {
+                    // Coordinates so large that distances overflow: no chord can be
+                    // verified, and shrinking it would march forever.
+                    return Err(GeomError::NotFinite {
+                        what: "curve chord (coordinates too large to measure)",
+                    });
+                }
                 if dev > accept {
                     shrink = shrink.min((0.95 * (accept / dev).sqrt()).clamp(0.1, 0.9));
                 }
@@ -111,7 +138,6 @@ fn march<P: Point>(
                 if turn > tol.angle {
                     shrink = shrink.min((0.95 * tol.angle / turn).clamp(0.1, 0.9));
                 }
-                let len = (pe - p).length();
                 if len > tol.edge_limit() {
                     shrink = shrink.min((0.99 * tol.edge_limit() / len).clamp(0.1, 0.9));
                 }
@@ -120,9 +146,9 @@ fn march<P: Point>(
                 dt *= shrink;
                 continue;
             }
-            if line.points.len() >= MAX_VERTICES {
+            if line.points.len() >= max_vertices {
                 return Err(GeomError::NoConvergence {
-                    what: "curve tessellation (vertex limit reached: tolerance too fine for the curve)",
+                    what: CURVE_POINT_LIMIT,
                     iterations: line.points.len(),
                     residual: tol.chordal,
                 });

@@ -24,7 +24,7 @@ mod curve;
 mod surface;
 mod trimmed;
 
-pub use curve::tessellate_curve;
+pub use curve::{tessellate_curve, tessellate_curve_within, CURVE_POINT_LIMIT};
 pub use surface::tessellate_surface;
 pub use trimmed::tessellate_trimmed;
 
