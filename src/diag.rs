@@ -6,11 +6,15 @@
 //! [`Sources`] holds the text of every loaded file so a diagnostic can be rendered with
 //! miette, file name, line and column included.
 
+mod excerpt;
+
 use std::fmt;
 
-use miette::{GraphicalReportHandler, GraphicalTheme, LabeledSpan, NamedSource, SourceSpan};
+use miette::{GraphicalReportHandler, GraphicalTheme, LabeledSpan};
 
 use crate::syntax::{FileId, Span};
+
+pub use excerpt::Excerpt;
 
 /// A located message.
 #[derive(Debug, Clone, PartialEq)]
@@ -125,15 +129,17 @@ impl Sources {
             .unwrap_or("")
     }
 
-    /// 1-based line and column of a span's start.
+    /// 1-based line and column (in characters) of a span's start; `\n`, `\r\n` and a
+    /// lone `\r` each end a line.
     pub fn line_col(&self, span: Span) -> (usize, usize) {
         let Some(file) = self.get(span.file) else {
             return (0, 0);
         };
-        let upto = &file.text[..(span.start as usize).min(file.text.len())];
-        let line = upto.matches('\n').count() + 1;
-        let col = upto.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
-        (line, col)
+        let mut at = (span.start as usize).min(file.text.len());
+        while !file.text.is_char_boundary(at) {
+            at -= 1;
+        }
+        line_col_in(&file.text[..at])
     }
 
     /// Renders `diag` as text, with colour or without (tests and pipes).
@@ -155,6 +161,18 @@ impl Sources {
     }
 }
 
+/// The 1-based line and column just after `upto` (a text's beginning).
+fn line_col_in(upto: &str) -> (usize, usize) {
+    let bytes = upto.as_bytes();
+    let ends = bytes
+        .iter()
+        .enumerate()
+        .filter(|&(i, &b)| b == b'\n' || (b == b'\r' && bytes.get(i + 1) != Some(&b'\n')))
+        .count();
+    let last = upto.rfind(['\n', '\r']).map_or(0, |i| i + 1);
+    (ends + 1, upto[last..].chars().count() + 1)
+}
+
 /// A diagnostic bound to its primary file, in the shape miette renders. Secondary
 /// labels in other files become related reports of their own.
 #[derive(Debug)]
@@ -162,7 +180,7 @@ struct Report {
     code: &'static str,
     message: String,
     help: Option<String>,
-    source: NamedSource<String>,
+    source: Excerpt,
     labels: Vec<LabeledSpan>,
     related: Vec<Report>,
 }
@@ -172,36 +190,43 @@ impl Report {
         let file = diag.primary.span.file;
         let (name, text) = sources
             .get(file)
-            .map_or(("<unknown>".to_string(), String::new()), |f| {
-                (f.name.clone(), f.text.clone())
-            });
-        let clamp = |s: Span| -> SourceSpan {
+            .map_or(("<unknown>", ""), |f| (f.name.as_str(), f.text.as_str()));
+        let here = std::iter::once(&diag.primary)
+            .chain(&diag.secondary)
+            .filter(|l| l.span.file == file);
+        let anchors: Vec<usize> = here.clone().map(|l| l.span.start as usize).collect();
+        let source = Excerpt::new(name.to_string(), text, &anchors);
+        let clamp = |s: Span| {
             let start = (s.start as usize).min(text.len());
             let end = (s.end as usize).clamp(start, text.len());
-            (start, end - start).into()
+            source.span(start, end)
         };
         let mut labels = vec![LabeledSpan::new_primary_with_span(
             Some(diag.primary.message.clone()),
             clamp(diag.primary.span),
         )];
-        let mut related = Vec::new();
-        for l in &diag.secondary {
-            if l.span.file == file {
-                labels.push(LabeledSpan::new_with_span(
-                    Some(l.message.clone()),
-                    clamp(l.span),
-                ));
-            } else {
+        // A label on a long line outside the window shown of it would point at the wrong
+        // place: it is left out (the message and the primary label still say enough).
+        labels.extend(
+            here.skip(1)
+                .filter(|l| source.shows(l.span.start as usize))
+                .map(|l| LabeledSpan::new_with_span(Some(l.message.clone()), clamp(l.span))),
+        );
+        let related = diag
+            .secondary
+            .iter()
+            .filter(|l| l.span.file != file)
+            .map(|l| {
                 let other =
                     Diagnostic::new(diag.code, l.message.clone(), l.span, l.message.clone());
-                related.push(Report::new(sources, &other));
-            }
-        }
+                Report::new(sources, &other)
+            })
+            .collect();
         Self {
             code: diag.code,
             message: diag.message.clone(),
             help: diag.help.clone(),
-            source: NamedSource::new(name, text).with_language("die"),
+            source,
             labels,
             related,
         }
@@ -287,4 +312,15 @@ fn edit_distance(a: &str, b: &str) -> usize {
         }
     }
     d[a.len()][b.len()]
+}
+
+/// `text` for a message: whole when it has at most `max` characters, else its first
+/// `max - 3` characters and `...`, so a huge input never floods a message.
+pub fn abridged(text: &str, max: usize) -> String {
+    if text.chars().count() <= max {
+        text.to_string()
+    } else {
+        let head: String = text.chars().take(max.saturating_sub(3)).collect();
+        format!("{head}...")
+    }
 }
