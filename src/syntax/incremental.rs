@@ -118,7 +118,7 @@ fn common_suffix(a: &str, b: &str) -> usize {
 }
 
 fn starts_line(text: &str, at: usize) -> bool {
-    at == 0 || text.as_bytes().get(at - 1) == Some(&b'\n')
+    at == 0 || matches!(text.as_bytes().get(at - 1), Some(b'\n' | b'\r'))
 }
 
 fn item_span(item: &Item) -> Span {
