@@ -23,6 +23,7 @@ use super::ast::{
 };
 use super::span::{FileId, Span, Spanned};
 use crate::diag::Diagnostic;
+use crate::limits::{Limit, Limits};
 
 /// A syntax error: a diagnostic with code `die::syntax`.
 pub type SyntaxError = Diagnostic;
@@ -30,41 +31,55 @@ pub type SyntaxError = Diagnostic;
 /// The diagnostic code of every syntax error.
 const CODE: &str = "die::syntax";
 
-/// Expressions nested deeper than this are rejected rather than risking the stack of
-/// every later pass (each of which recurses over the tree).
-const MAX_DEPTH: usize = 128;
+/// Stack a parse needs per level of nesting: pest's generated parser takes tens of
+/// kilobytes of stack per level in a debug build.
+const STACK_PER_LEVEL: usize = 512 << 10;
 
 #[derive(Parser)]
 #[grammar = "../grammar/die.pest"]
 struct DieParser;
 
+/// Parses one file's text with the default [`Limits`]; `file` is stamped into every
+/// span. See [`parse_with`].
+pub fn parse(text: &str, file: FileId) -> Result<ast::File, SyntaxError> {
+    parse_with(text, file, &Limits::default())
+}
+
 /// Parses one file's text; `file` is stamped into every span.
+///
+/// The tree is never deeper than the `nesting` limit: brackets, prefix operators and
+/// every operator of a chain (`a + b + c` is `(a + b) + c`, two levels) count, so every
+/// later pass, which recurses over the tree (evaluation, free names, hashing, dropping),
+/// recurses at most that deep, whatever the input.
 ///
 /// Returns the first syntax error as a diagnostic whose primary span is the offending
 /// token; when the file ends too early, the character after the last token (or the
 /// last character), labelled "the file ends here".
-pub fn parse(text: &str, file: FileId) -> Result<ast::File, SyntaxError> {
-    if let Some(d) = lex::too_deep(text, file, MAX_DEPTH) {
+pub fn parse_with(text: &str, file: FileId, limits: &Limits) -> Result<ast::File, SyntaxError> {
+    if let Some(d) = lex::too_deep(text, file, limits) {
         return Err(d);
     }
-    if LARGE_STACK.with(Cell::get) {
-        return parse_here(text, file);
+    let stack = limits
+        .count(Limit::Nesting)
+        .saturating_mul(STACK_PER_LEVEL)
+        .max(PARSE_STACK);
+    if stack <= PARSE_STACK && LARGE_STACK.with(Cell::get) {
+        return parse_here(text, file, limits);
     }
-    // pest's generated parser takes tens of kilobytes of stack per nesting level, more
-    // than a test thread's 2 MiB allows at the depth limit: parse on a thread of our own
-    // with room to spare (the memory is only committed as it is touched).
+    // More stack than a test thread's 2 MiB allows at the depth limit: parse on a thread
+    // of our own with room to spare (the memory is only committed as it is touched).
     let spawned = std::thread::scope(|scope| {
         std::thread::Builder::new()
             .name("dieface-parse".into())
-            .stack_size(PARSE_STACK)
-            .spawn_scoped(scope, || parse_here(text, file))
+            .stack_size(stack)
+            .spawn_scoped(scope, || parse_here(text, file, limits))
             .ok()
             .map(|h| h.join())
     });
     match spawned {
         Some(Ok(result)) => result,
         Some(Err(panic)) => std::panic::resume_unwind(panic),
-        None => parse_here(text, file),
+        None => parse_here(text, file, limits),
     }
 }
 
@@ -80,16 +95,21 @@ pub fn mark_large_stack() {
     LARGE_STACK.with(|f| f.set(true));
 }
 
-/// Stack for the parsing thread: enough for [`MAX_DEPTH`] levels in a debug build.
+/// Stack for the parsing thread: enough for the default nesting limit (128 levels) in a
+/// debug build.
 const PARSE_STACK: usize = 64 << 20;
 
-fn parse_here(text: &str, file: FileId) -> Result<ast::File, SyntaxError> {
+fn parse_here(text: &str, file: FileId, limits: &Limits) -> Result<ast::File, SyntaxError> {
     let mut pairs = match DieParser::parse(Rule::file, text) {
         Ok(pairs) => pairs,
         Err(err) => return Err(errors::convert(&err, text, file)),
     };
     let root = pairs.next().expect("the file rule always produces a pair");
-    let mut b = Builder { file, depth: 0 };
+    let mut b = Builder {
+        file,
+        depth: 0,
+        limits: *limits,
+    };
     let mut items = Vec::new();
     for p in root.into_inner() {
         match p.as_rule() {
@@ -111,7 +131,10 @@ fn parse_here(text: &str, file: FileId) -> Result<ast::File, SyntaxError> {
 
 struct Builder {
     file: FileId,
+    /// Levels of the tree above the node being built.
     depth: usize,
+    /// The limits in force (the tree may not be deeper than `nesting`).
+    limits: Limits,
 }
 
 type Res<T> = Result<T, SyntaxError>;
@@ -302,19 +325,89 @@ impl Builder {
             return self.expr_inner(pair);
         }
         self.depth += 1;
-        if self.depth > MAX_DEPTH {
+        if self.depth > self.limits.count(Limit::Nesting) {
             let span = self.span(&pair);
             return Err(Diagnostic::new(
                 CODE,
-                format!("expression nested more than {MAX_DEPTH} levels deep"),
+                format!(
+                    "expression nested more than {} levels deep",
+                    self.limits.get(Limit::Nesting)
+                ),
                 Span::new(self.file, span.start as usize, span.start as usize + 1),
                 "nested too deeply",
             )
-            .with_help("split it into named declarations"));
+            .with_help(format!(
+                "split it into named declarations; {}",
+                Limit::Nesting.help(&self.limits)
+            )));
         }
         let out = self.expr_inner(pair);
         self.depth -= 1;
         out
+    }
+
+    /// Enters the levels a chain adds to the tree, one per operation after the first
+    /// (`ops`, where each is written): `a + b + c` is `(a + b) + c`, so the first operand
+    /// (`first`) sits under every operation of the chain. The first operation is not
+    /// counted, as a bracket is one level with what it holds: the tree is then at most
+    /// twice as deep as the nesting limit. A chain that would pass the limit is refused
+    /// at the operation that passes it. Leave with [`Builder::leave_chain`].
+    fn enter_chain(&mut self, first: &Pair<Rule>, ops: &[Span]) -> Res<()> {
+        let room = self.limits.count(Limit::Nesting).saturating_sub(self.depth);
+        if let Some(&at) = ops.get(room + 1) {
+            let start = first.as_span().start();
+            let head = first.as_str().chars().next().map_or(0, char::len_utf8);
+            let end = if exact_end(first) - start <= 40 {
+                exact_end(first)
+            } else {
+                start + head
+            };
+            return Err(Diagnostic::new(
+                CODE,
+                format!(
+                    "this chain of {} operations is nested more than {} levels deep",
+                    ops.len(),
+                    self.limits.get(Limit::Nesting)
+                ),
+                at,
+                "the nesting limit is passed here",
+            )
+            .with_label(Span::new(self.file, start, end), "the chain starts here")
+            .with_help(format!(
+                "each operation of a chain holds the ones before it (`a + b + c` is `(a + b) + c`): \
+                 split the chain into named declarations (`let part = ...`) and chain their names, \
+                 or add up a list with `sum([...])`; {}",
+                Limit::Nesting.help(&self.limits)
+            )));
+        }
+        self.depth += chain_levels(ops);
+        Ok(())
+    }
+
+    /// Leaves the levels [`Builder::enter_chain`] entered.
+    fn leave_chain(&mut self, ops: &[Span]) {
+        self.depth -= chain_levels(ops);
+    }
+
+    /// Where a chain's operations are written: its pairs that are not `first` operand or
+    /// operands (`keep` says which pairs are operations), each as its first character
+    /// (a call's arguments may be long).
+    fn op_spans(&self, pair: &Pair<Rule>, keep: impl Fn(Rule) -> bool) -> Vec<Span> {
+        pair.clone()
+            .into_inner()
+            .skip(1)
+            .filter(|p| keep(p.as_rule()))
+            .map(|p| {
+                let start = p.as_span().start();
+                let len = p.as_str().chars().next().map_or(0, char::len_utf8);
+                let end = if p.as_str().len() <= 3 {
+                    exact_end(&p)
+                } else {
+                    start + len
+                };
+                Span::new(self.file, start, end)
+            })
+            .collect()
     }
 
     /// An expression pair turned into its node: one builder per expression form.
@@ -357,9 +450,23 @@ impl Builder {
 
     /// `a |> f(x) |> g`: each stage a pipe node whose input is everything before it.
     fn pipe_chain(&mut self, pair: Pair<Rule>) -> Res<Expr> {
+        let ops = self.op_spans(&pair, |r| r == Rule::pipe_op);
         let mut it = kids(pair);
-        let mut acc = self.expr(it.next().expect("expr has an operand"))?;
-        for target in it {
+        let first = it.next().expect("expr has an operand");
+        self.enter_chain(&first, &ops)?;
+        let out = self.pipe_stages(first, it);
+        self.leave_chain(&ops);
+        out
+    }
+
+    /// The operand and pipe targets of [`Builder::pipe_chain`], folded to the left.
+    fn pipe_stages<'i>(
+        &mut self,
+        first: Pair<'i, Rule>,
+        targets: impl Iterator<Item = Pair<'i, Rule>>,
+    ) -> Res<Expr> {
+        let mut acc = self.expr(first)?;
+        for target in targets {
             let call = self.expr(target.into_inner().next().expect("pipe target"))?;
             let span = acc.span.to(call.span);
             acc = Expr {
@@ -377,8 +484,31 @@ impl Builder {
     /// left; a second comparison in one chain (`a < b < c`) is refused: comparisons do
     /// not chain, and the message names both.
     fn binary_chain(&mut self, pair: Pair<Rule>, rule: Rule) -> Res<Expr> {
+        let ops = self.op_spans(&pair, |r| {
+            matches!(
+                r,
+                Rule::add_op | Rule::mul_op | Rule::cmp_op | Rule::kw_and | Rule::kw_or
+            )
+        });
+        if let (Rule::cmp_expr, [first, second, ..]) = (rule, ops.as_slice()) {
+            return Err(chained_comparison(*first, *second));
+        }
         let mut it = pair.into_inner();
-        let mut acc = self.expr(it.next().expect("chain has an operand"))?;
+        let first = it.next().expect("chain has an operand");
+        self.enter_chain(&first, &ops)?;
+        let out = self.binary_operands(first, it, rule);
+        self.leave_chain(&ops);
+        out
+    }
+
+    /// The operands and operators of [`Builder::binary_chain`], folded to the left.
+    fn binary_operands<'i>(
+        &mut self,
+        first: Pair<'i, Rule>,
+        mut it: impl Iterator<Item = Pair<'i, Rule>>,
+        rule: Rule,
+    ) -> Res<Expr> {
+        let mut acc = self.expr(first)?;
         let mut first_cmp: Option<Span> = None;
         while let Some(op) = it.next() {
             let op_span = self.span(&op);
@@ -427,9 +557,23 @@ impl Builder {
     /// A primary followed by field accesses, indexes and calls, applied left to right
     /// (`a.b[0](x)`); each node spans from the primary to its own end.
     fn postfixed(&mut self, pair: Pair<Rule>) -> Res<Expr> {
+        let ops = self.op_spans(&pair, |_| true);
         let mut it = pair.into_inner();
-        let mut acc = self.expr(it.next().expect("postfix has a primary"))?;
-        for post in it {
+        let first = it.next().expect("postfix has a primary");
+        self.enter_chain(&first, &ops)?;
+        let out = self.postfix_ops(first, it);
+        self.leave_chain(&ops);
+        out
+    }
+
+    /// The primary and postfix operations of [`Builder::postfixed`], applied in order.
+    fn postfix_ops<'i>(
+        &mut self,
+        first: Pair<'i, Rule>,
+        posts: impl Iterator<Item = Pair<'i, Rule>>,
+    ) -> Res<Expr> {
+        let mut acc = self.expr(first)?;
+        for post in posts {
             let end = exact_end(&post);
             let span = Span::new(self.file, acc.span.start as usize, end);
             let target = Box::new(acc);
@@ -650,6 +794,12 @@ impl Builder {
         };
         Ok(SketchCommand { kind, span })
     }
+}
+
+/// The levels a chain of operations `ops` adds to the tree (see
+/// [`Builder::enter_chain`]).
+fn chain_levels(ops: &[Span]) -> usize {
+    ops.len().saturating_sub(1)
 }
 
 fn binary_op(s: &str) -> BinaryOp {
@@ -1161,7 +1311,7 @@ mod errors {
 // The lexical pass for error reporting
 
 mod lex {
-    use super::{Diagnostic, FileId, Span, CODE};
+    use super::{Diagnostic, FileId, Limit, Limits, Span, CODE};
 
     #[derive(Debug, Clone, Copy, PartialEq, Eq)]
     pub(super) enum TokKind {
@@ -1204,6 +1354,11 @@ mod lex {
         KEYWORDS.contains(&w)
     }
 
+    /// Whether a byte ends a line: `\n`, or `\r` alone or before `\n`.
+    fn is_line_end(c: u8) -> bool {
+        c == b'\n' || c == b'\r'
+    }
+
     fn is_ident_char(c: u8) -> bool {
         c.is_ascii_alphanumeric() || c == b'_'
     }
@@ -1217,7 +1372,7 @@ mod lex {
             let start = i;
             let c = b[i];
             let kind = if c == b'/' && b.get(i + 1) == Some(&b'/') {
-                while i < b.len() && b[i] != b'\n' {
+                while i < b.len() && !is_line_end(b[i]) {
                     i += 1;
                 }
                 TokKind::LineComment
@@ -1237,7 +1392,7 @@ mod lex {
                 i += 1;
                 let mut terminated = false;
                 let mut bad_escape = None;
-                while i < b.len() && b[i] != b'\n' {
+                while i < b.len() && !is_line_end(b[i]) {
                     if b[i] == b'"' {
                         i += 1;
                         terminated = true;
@@ -1249,7 +1404,7 @@ mod lex {
                         {
                             bad_escape = Some(i);
                         }
-                        if matches!(b.get(i + 1), Some(b'\n') | None) {
+                        if matches!(b.get(i + 1), Some(b'\n' | b'\r') | None) {
                             i += 1;
                             continue;
                         }
@@ -1266,7 +1421,7 @@ mod lex {
                 while i < b.len()
                     && (b[i].is_ascii_whitespace() || text[i..].starts_with('\u{FEFF}'))
                 {
-                    newline |= b[i] == b'\n';
+                    newline |= is_line_end(b[i]);
                     i += if b[i].is_ascii_whitespace() { 1 } else { 3 };
                 }
                 TokKind::Space { newline }
@@ -1499,7 +1654,8 @@ mod lex {
     /// before parsing because pest, the builder and every later pass recurse once per
     /// level. A level is a bracket, or a prefix `-`/`not`, `if` or `fn` inside the current
     /// element (those nest until the element ends at `,`, `;` or `=`).
-    pub(super) fn too_deep(text: &str, file: FileId, max: usize) -> Option<Diagnostic> {
+    pub(super) fn too_deep(text: &str, file: FileId, limits: &Limits) -> Option<Diagnostic> {
+        let max = limits.count(Limit::Nesting);
         let mut stack: Vec<usize> = vec![0]; // prefix-like levels per open bracket
         let mut prev_operand = false; // whether the previous token ends an operand
         for t in tokens(text) {
@@ -1539,7 +1695,10 @@ mod lex {
                         Span::new(file, t.start, t.end),
                         "nested too deeply",
                     )
-                    .with_help("split the expression into named declarations"),
+                    .with_help(format!(
+                        "split the expression into named declarations; {}",
+                        Limit::Nesting.help(limits)
+                    )),
                 );
             }
         }
@@ -1590,6 +1749,6 @@ mod lex {
     pub(super) fn same_line_as_previous(text: &str, t: &Tok) -> bool {
         !text[..t.start]
             .trim_end_matches([' ', '\t'])
-            .ends_with('\n')
+            .ends_with(['\n', '\r'])
     }
 }
