@@ -722,7 +722,8 @@ impl Engine {
             .sources
             .add(super::overrides::source_name(&d.name.node), text.as_str());
         let declared = self.evaluate_decl(file, d);
-        let result = super::overrides::evaluate_override(src, d, &text, units, declared);
+        let result =
+            super::overrides::evaluate_override(src, d, &text, units, declared, &self.limits);
         Fresh {
             took: started.elapsed(),
             reads: paths::take_reads(),
