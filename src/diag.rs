@@ -12,6 +12,7 @@ use std::fmt;
 
 use miette::{GraphicalReportHandler, GraphicalTheme, LabeledSpan};
 
+use crate::limits::{Limit, Limits};
 use crate::syntax::{FileId, Span};
 
 pub use excerpt::Excerpt;
@@ -322,5 +323,130 @@ pub fn abridged(text: &str, max: usize) -> String {
     } else {
         let head: String = text.chars().take(max.saturating_sub(3)).collect();
         format!("{head}...")
+    }
+}
+
+/// Why a source file (a script or a module) could not be taken as text.
+#[derive(Debug)]
+pub enum SourceError {
+    /// It could not be read (missing, a folder, no permission).
+    Io(std::io::Error),
+    /// It is larger than the `file_bytes` limit.
+    TooLarge {
+        /// Its size in bytes (at least the limit plus one).
+        size: u64,
+    },
+    /// It is not UTF-8 text.
+    NotUtf8 {
+        /// Its text with each bad byte sequence replaced by U+FFFD (which ends no line
+        /// and starts at the same offset, so line and column of `at` are right in it).
+        text: String,
+        /// The byte offset of the first bad byte.
+        at: usize,
+        /// That byte.
+        byte: u8,
+    },
+}
+
+/// Reads the source file at `path` as text: at most `limits`' `file_bytes` bytes, UTF-8
+/// (a byte-order mark is fine; the grammar skips it).
+pub fn read_source(path: &std::path::Path, limits: &Limits) -> Result<String, SourceError> {
+    use std::io::Read;
+    let max = limits.get(Limit::FileBytes);
+    let file = std::fs::File::open(path).map_err(SourceError::Io)?;
+    let mut bytes = Vec::new();
+    file.take(max.saturating_add(1))
+        .read_to_end(&mut bytes)
+        .map_err(SourceError::Io)?;
+    if bytes.len() as u64 > max {
+        let size = std::fs::metadata(path).map_or(bytes.len() as u64, |m| m.len());
+        return Err(SourceError::TooLarge {
+            size: size.max(bytes.len() as u64),
+        });
+    }
+    decode_source(bytes)
+}
+
+/// A source file's bytes as text, or [`SourceError::NotUtf8`] naming the first bad
+/// byte.
+pub fn decode_source(bytes: Vec<u8>) -> Result<String, SourceError> {
+    String::from_utf8(bytes).map_err(|e| {
+        let at = e.utf8_error().valid_up_to();
+        let bytes = e.into_bytes();
+        SourceError::NotUtf8 {
+            byte: bytes[at],
+            text: String::from_utf8_lossy(&bytes).into_owned(),
+            at,
+        }
+    })
+}
+
+impl SourceError {
+    /// The diagnostic for the source `name` (which it adds to `sources`, as much of it
+    /// as can be shown), or the read error back when the file could not be read at all
+    /// (the caller's usage error).
+    pub fn diagnostic(
+        self,
+        sources: &mut Sources,
+        name: &str,
+        limits: &Limits,
+    ) -> Result<Diagnostic, std::io::Error> {
+        match self {
+            SourceError::Io(e) => Err(e),
+            SourceError::TooLarge { size } => {
+                let file = sources.add(name, "");
+                Ok(Diagnostic::new(
+                    "die::file_too_large",
+                    format!("`{name}` has {size} bytes, more than the `file_bytes` limit allows"),
+                    Span::new(file, 0, 0),
+                    "this file",
+                )
+                .with_help(Limit::FileBytes.help(limits)))
+            }
+            SourceError::NotUtf8 { text, at, byte } => {
+                let (line, column) = line_col_in(&text[..at]);
+                let len = text[at..].chars().next().map_or(0, char::len_utf8);
+                let file = sources.add(name, text);
+                Ok(Diagnostic::new(
+                    "die::not_utf8",
+                    format!(
+                        "`{name}` is not UTF-8 text: byte 0x{byte:02X} at offset {at} (line {line}, column {column})"
+                    ),
+                    Span::new(file, at, at + len),
+                    format!("byte 0x{byte:02X} is not UTF-8"),
+                )
+                .with_help(
+                    "save the file as UTF-8 (a byte-order mark is fine); a character that does not show may be the culprit: retype it",
+                ))
+            }
+        }
+    }
+
+    /// The diagnostic for a module that cannot be taken as text, at `span`, where it is
+    /// imported as `path`.
+    pub fn import_diagnostic(&self, path: &str, span: Span, limits: &Limits) -> Diagnostic {
+        let (code, message, help) = match self {
+            SourceError::Io(e) => (
+                "die::file_not_found",
+                format!("cannot read `{path}`: {e}"),
+                "check the file's permissions".to_string(),
+            ),
+            SourceError::TooLarge { size } => (
+                "die::file_too_large",
+                format!("`{path}` has {size} bytes, more than the `file_bytes` limit allows"),
+                Limit::FileBytes.help(limits),
+            ),
+            SourceError::NotUtf8 { text, at, byte } => {
+                let (line, column) = line_col_in(&text[..*at]);
+                (
+                    "die::not_utf8",
+                    format!(
+                        "`{path}` is not UTF-8 text: byte 0x{byte:02X} at offset {at} (line {line}, column {column})"
+                    ),
+                    "save the file as UTF-8 (a byte-order mark is fine)".to_string(),
+                )
+            }
+        };
+        Diagnostic::new(code, message, span, "this file").with_help(help)
     }
 }

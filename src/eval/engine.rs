@@ -24,8 +24,9 @@ use rayon::prelude::*;
 use crate::diag::{did_you_mean, Diagnostic, Sources};
 use crate::limits::Limits;
 use crate::syntax::ast::{self, Block, DeclBody, FieldValue, Item};
-use crate::syntax::incremental::reparse;
-use crate::syntax::{parse, FileId, Span};
+use crate::syntax::incremental::reparse_with;
+use crate::syntax::parse::parse_with;
+use crate::syntax::{FileId, Span};
 
 use super::deps::{free_names_of_body, free_names_of_function};
 use super::expr::{Ctx, Locals, World};
@@ -269,8 +270,19 @@ impl Engine {
 
     /// Evaluates the script at `path` (read from disk).
     pub fn evaluate_path(&mut self, path: &Path) -> std::io::Result<Outcome> {
-        let text = std::fs::read_to_string(path)?;
         let name = self.display_name(path);
+        let text = match crate::diag::read_source(path, &self.limits) {
+            Ok(text) => text,
+            // Too large or not UTF-8: a diagnostic, not a usage error.
+            Err(e) => {
+                let d = e.diagnostic(&mut self.sources, &name, &self.limits)?;
+                return Ok(Outcome {
+                    file: d.primary.span.file,
+                    decls: Vec::new(),
+                    diagnostics: vec![d],
+                });
+            }
+        };
         let dir = path.parent().map(|p| {
             if p.as_os_str().is_empty() {
                 PathBuf::from(".")
@@ -319,8 +331,10 @@ impl Engine {
             Some((h, _, ast)) if h == text_hash => ast,
             _ => {
                 let result = match &previous {
-                    Some((_, old_text, old_ast)) => reparse(old_text, old_ast, text, file),
-                    None => parse(text, file),
+                    Some((_, old_text, old_ast)) => {
+                        reparse_with(old_text, old_ast, text, file, &self.limits)
+                    }
+                    None => parse_with(text, file, &self.limits),
                 };
                 match result {
                     Ok(a) => {
@@ -564,15 +578,8 @@ impl Engine {
         span: Span,
     ) -> Result<(PathBuf, String), Diagnostic> {
         let full = resolve_in_root(path, dir, self.root.as_deref(), span)?;
-        let text = std::fs::read_to_string(&full).map_err(|e| {
-            Diagnostic::new(
-                "die::file_not_found",
-                format!("cannot read `{path}`: {e}"),
-                span,
-                "this file",
-            )
-            .with_help("check the file's permissions and that it is UTF-8 text")
-        })?;
+        let text = crate::diag::read_source(&full, &self.limits)
+            .map_err(|e| e.import_diagnostic(path, span, &self.limits))?;
         Ok((full, text))
     }
 

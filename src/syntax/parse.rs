@@ -278,6 +278,9 @@ impl Builder {
         let name = self.ident(&it.next().expect("decl has a name"));
         let body = it.next().expect("decl has a body");
         let body = match body.as_rule() {
+            Rule::block if VALUE_KINDS.contains(&kind.node.as_str()) => {
+                return Err(block_for_value(&kind, &name, self.span(&body)));
+            }
             Rule::block => DeclBody::Block(self.block(body)?),
             _ => DeclBody::Expr(self.expr(body)?),
         };
@@ -857,6 +860,34 @@ fn unescape_inner(s: &str) -> String {
         }
     }
     out
+}
+
+/// Declaration kinds that take `= value`, never a block of fields (the engine's plain
+/// kinds; every other kind is a feature, written as a block).
+pub const VALUE_KINDS: [&str; 3] = ["let", "param", "product"];
+
+/// `let a { x = 1 }`: a block after a kind that takes `= value`.
+fn block_for_value(kind: &Ident, name: &Ident, block: Span) -> Diagnostic {
+    let k = kind.node.as_str();
+    let n = name.node.as_str();
+    let help = if k == "product" {
+        "a product declaration names the finished part: a surface, a mesh or a list of surfaces, \
+         as in `product door = trim(panel, outline)` or `product door = read_obj(\"door.obj\")`; \
+         blocks of fields belong to features such as `punch_opening opening { ... }`"
+            .to_string()
+    } else {
+        format!(
+            "write `{k} {n} = value`; a record of fields is a value too: `{k} {n} = {{ x: 1, y: 2 }}`"
+        )
+    };
+    Diagnostic::new(
+        CODE,
+        format!("`{k}` takes `= value`, not a block of fields"),
+        Span::new(block.file, block.start as usize, block.start as usize + 1),
+        "a block",
+    )
+    .with_label(kind.span, format!("a `{k}` declaration"))
+    .with_help(help)
 }
 
 fn chained_comparison(first: Span, second: Span) -> Diagnostic {
