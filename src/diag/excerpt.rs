@@ -68,7 +68,7 @@ impl Excerpt {
                 let cut = cut_line(source, at, end, anchor, text.len(), &mut text);
                 cuts.push(cut);
             } else {
-                text.push_str(&source[at..end]);
+                push_shown(&source[at..end], &mut text);
             }
             // A lone `\r` becomes `\n` (miette ends a printed line only at `\n`); `\r\n`
             // and `\n` stay, so the excerpt's offsets move only at a cut line.
@@ -140,6 +140,35 @@ fn line_end(source: &str, at: usize) -> (usize, usize) {
     }
 }
 
+/// Writes `line` as the terminal should see it: a control character (a NUL, an escape)
+/// or an invisible format character (a zero-width space, a direction override that would
+/// turn the printed line around) is replaced by a visible one of the same length in
+/// bytes, so every offset stays.
+fn push_shown(line: &str, out: &mut String) {
+    if !line.chars().any(hidden) {
+        out.push_str(line);
+        return;
+    }
+    for c in line.chars() {
+        if !hidden(c) {
+            out.push(c);
+            continue;
+        }
+        out.push(match c.len_utf8() {
+            1 => '?',
+            2 => '\u{B7}',
+            3 => '\u{FFFD}',
+            _ => '\u{1F5CC}',
+        });
+    }
+}
+
+/// Whether a character would not show (or would disturb the line) when printed.
+fn hidden(c: char) -> bool {
+    (c.is_control() && c != '\t')
+        || matches!(c, '\u{AD}' | '\u{200B}'..='\u{200F}' | '\u{202A}'..='\u{202E}' | '\u{2060}'..='\u{2069}')
+}
+
 /// Writes the window of the long line `line_start..line_end` around `anchor` to `out`
 /// (which is `start` bytes long), with marks where it is cut.
 fn cut_line(
@@ -162,7 +191,7 @@ fn cut_line(
     if lead > 0 {
         out.push_str(CUT);
     }
-    out.push_str(&source[a..b]);
+    push_shown(&source[a..b], out);
     if b < line_end {
         out.push_str(CUT);
     }

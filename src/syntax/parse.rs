@@ -1234,6 +1234,30 @@ mod errors {
                     Span::new(file, at, at + 1),
                     format!("{what} opened here is not closed"),
                 );
+                // The error begins a new line: the closer is missing before it.
+                if at_eof || !lex::same_line_as_previous(text, &found) {
+                    let close = match opener {
+                        '(' => ')',
+                        '[' => ']',
+                        _ => '}',
+                    };
+                    let opened = line_of(text, at);
+                    let before = text[..found.start.min(text.len())].trim_end();
+                    let missing = if opener == '{' {
+                        unclosed_block(&[(opener, at)], &found, text, false)
+                            .map(|(_, _, m)| format!("before line {m}"))
+                    } else {
+                        Some(format!(
+                            "at the end of line {}",
+                            line_of(text, before.len())
+                        ))
+                    };
+                    if let Some(missing) = missing {
+                        d = d.with_help(format!(
+                            "{what} opened on line {opened} is not closed: is a `{close}` missing {missing}?"
+                        ));
+                    }
+                }
             }
             // `f(a b)`: an operand where a separator belongs, on the same line.
             let separated = matches!(
@@ -1298,7 +1322,128 @@ mod errors {
             }
             _ => {}
         }
+        if matches!(closer, None | Some('{')) {
+            if let Some((at, opened, missing)) = unclosed_block(&open, &found, text, true) {
+                if closer.is_none() {
+                    d = d.with_label(Span::new(file, at, at + 1), "this block is not closed");
+                }
+                if d.help.is_none() {
+                    d = d.with_help(format!(
+                        "the block opened on line {opened} is not closed: is a `}}` missing before line {missing}?"
+                    ));
+                }
+            }
+        }
+        if d.help.is_none() {
+            let in_block = open.last().is_some_and(|&(c, _)| c == '{');
+            d = d.with_help(fallback_help(&wants, &found, text, at_eof, in_block));
+        }
         d
+    }
+
+    /// An error after a `{` still open: most likely its `}` is missing, and the error is
+    /// where the next item begins. The `{`'s offset, its line, and the line that
+    /// probably lacks the `}` (the first after it that starts without indentation).
+    /// With `unclosed_only`, only a `{` that no `}` in the whole file closes counts.
+    fn unclosed_block(
+        open: &[(char, usize)],
+        found: &Tok,
+        text: &str,
+        unclosed_only: bool,
+    ) -> Option<(usize, usize, usize)> {
+        let toks = if unclosed_only {
+            lex::tokens(text)
+        } else {
+            Vec::new()
+        };
+        let &(_, at) = open
+            .iter()
+            .rev()
+            .find(|&&(c, at)| c == '{' && !(unclosed_only && lex::closed_later(&toks, text, at)))?;
+        let opened = line_of(text, at);
+        let after = text[at..found.start.min(text.len())]
+            .match_indices(['\n', '\r'])
+            .map(|(i, _)| at + i + 1)
+            .find(|&i| {
+                text[i..]
+                    .chars()
+                    .next()
+                    .is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
+            });
+        let missing = after.map_or_else(
+            || line_of(text, found.start.min(text.len())),
+            |i| line_of(text, i),
+        );
+        (missing > opened).then_some((at, opened, missing))
+    }
+
+    /// The 1-based line of byte `pos` (`\n`, `\r\n` and a lone `\r` end a line).
+    fn line_of(text: &str, pos: usize) -> usize {
+        let upto = &text[..pos];
+        upto.matches(['\n', '\r']).count() - upto.matches("\r\n").count() + 1
+    }
+
+    /// The help of a syntax error no case above explained: how the expected thing is
+    /// written, in the light of what was found.
+    fn fallback_help(
+        wants: &[Want],
+        found: &Tok,
+        text: &str,
+        at_eof: bool,
+        in_block: bool,
+    ) -> String {
+        let word = &text[found.start..found.end];
+        let Some(first) = wants.first() else {
+            return "remove or rewrite this part; docs/language.md shows each form".to_string();
+        };
+        match first {
+            Want::Expr => match word {
+                ")" | "]" | "}" | "," | ";" => format!(
+                    "a value is missing before `{word}`: write one (`10 mm`, a name, `f(x)`, `(x, y)`), or remove the `{word}`"
+                ),
+                "+" | "-" | "*" | "/" | "<" | ">" | "<=" | ">=" | "==" | "!=" | "|>" | "and" | "or" => {
+                    format!("`{word}` needs a value on each side: is a value missing, or is an operator doubled?")
+                }
+                ":" => "`:` follows a name, as in a named argument `f(x, by: 2 mm)` or a record `{ depth: 40 mm }`".to_string(),
+                "%" => "`%` follows a number directly: `50 %`".to_string(),
+                _ if at_eof => "the expression is not finished: write the value it still needs".to_string(),
+                _ => "an expression is a value such as `10 mm`, a name, a call `f(x)`, a point `(x, y)`, a list `[a, b]` or `if c then a else b`".to_string(),
+            },
+            Want::Operator => "the expression is complete before this: join what follows with an operator (`+`, `*`, `|>`), or start it on a line of its own".to_string(),
+            Want::ParenClose => format!(
+                "close the parenthesis with `)` before {}; a point separates its coordinates with `,`: `(x, y)`",
+                if at_eof { "the end".to_string() } else { format!("`{word}`") }
+            ),
+            Want::ArgsClose => "separate the arguments with `,` and close the call with `)`: `f(a, b, by: 2 mm)`".to_string(),
+            Want::ParamsClose => "separate the parameters with `,` and close them with `)`: `fn f(a, b = 2 mm) = ...`".to_string(),
+            Want::ListClose => "separate the elements with `,` and close the list with `]`: `[a, b, c]`".to_string(),
+            Want::RecordClose => "separate the fields with `,` and close the record with `}`: `{ depth: 40 mm, angle: 8 deg }`".to_string(),
+            Want::IndexClose => "close the index with `]`: `xs[0]`".to_string(),
+            Want::BlockField if at_eof => "close the block with `}`".to_string(),
+            Want::BlockField => "a block holds fields, `name = value` or `name { ... }`, one after another; close it with `}`".to_string(),
+            Want::SketchCommand => "a sketch's commands are `from p`, `line to p`, `arc to p through q`, `tangent arc to p`, `spline through [points]`, `fillet r` and `close`; close the sketch with `}`".to_string(),
+            Want::ArcOrSpline => "after `tangent` write `arc to p` or `spline through [points]`".to_string(),
+            Want::AssignOrBlock if in_block => "a field is its name, then `= value` or a `{ ... }` block: `depth = 40 mm`".to_string(),
+            Want::AssignOrBlock => "a declaration is `kind name = value` or `kind name { fields }`; a function is `fn name(x) = body`".to_string(),
+            Want::FnAssign => "a function is `fn name(x, y) = body`".to_string(),
+            Want::Arrow => "a function value is `fn(x) => body`".to_string(),
+            Want::Colon => "a record field is `name: value`".to_string(),
+            Want::Then | Want::Else => "a conditional is `if condition then a else b`, all three parts given".to_string(),
+            Want::In => "a comprehension is `[body for x in list]`".to_string(),
+            Want::As => "an import names its module: `import \"std/addendum\" as add`".to_string(),
+            Want::To => "write `line to (x, y)`, `arc to (x, y) through (x, y)` or `tangent arc to (x, y)`".to_string(),
+            Want::Through => "write `arc to p through q` or `spline through [points]`".to_string(),
+            Want::UnitName => "the units are mm, cm, m, in (lengths) and deg, rad (angles): `units mm deg`".to_string(),
+            Want::ImportPath => "write the path in double quotes: `import \"std/addendum\" as add`".to_string(),
+            Want::DeclName => "a declaration is its kind, its name and its value: `let width = 550 mm`".to_string(),
+            Want::FnName | Want::ParamName | Want::VarName | Want::Alias | Want::FieldName => {
+                "a name starts with a letter or `_`, followed by letters, digits and `_`".to_string()
+            }
+            Want::Item => format!(
+                "each top-level item is a declaration (`let width = 550 mm`), a `fn`, an `import` or `units`: is {} left over from the line before?",
+                if word.is_empty() { "this".to_string() } else { format!("`{word}`") }
+            ),
+        }
     }
 
     /// Where "the file ends here" points: the character after the last token (so the
@@ -1385,6 +1530,11 @@ mod lex {
         KEYWORDS.contains(&w)
     }
 
+    /// Whether a byte is whitespace to the grammar (a form feed, say, is not).
+    fn is_space(c: u8) -> bool {
+        matches!(c, b' ' | b'\t' | b'\r' | b'\n')
+    }
+
     /// Whether a byte ends a line: `\n`, or `\r` alone or before `\n`.
     fn is_line_end(c: u8) -> bool {
         c == b'\n' || c == b'\r'
@@ -1447,13 +1597,11 @@ mod lex {
                     terminated,
                     bad_escape,
                 }
-            } else if c.is_ascii_whitespace() || text[i..].starts_with('\u{FEFF}') {
+            } else if is_space(c) || text[i..].starts_with('\u{FEFF}') {
                 let mut newline = false;
-                while i < b.len()
-                    && (b[i].is_ascii_whitespace() || text[i..].starts_with('\u{FEFF}'))
-                {
+                while i < b.len() && (is_space(b[i]) || text[i..].starts_with('\u{FEFF}')) {
                     newline |= is_line_end(b[i]);
-                    i += if b[i].is_ascii_whitespace() { 1 } else { 3 };
+                    i += if is_space(b[i]) { 1 } else { 3 };
                 }
                 TokKind::Space { newline }
             } else if c.is_ascii_digit() {
@@ -1590,22 +1738,10 @@ mod lex {
                     );
                 }
                 TokKind::Unknown => {
-                    let c = &text[t.start..t.end];
-                    let mut d = Diagnostic::new(
-                        CODE,
-                        format!("unknown character `{c}`"),
+                    return Some(unknown_character(
+                        &text[t.start..t.end],
                         span(t.start, t.end),
-                        "not part of the language",
-                    );
-                    d = match c {
-                        "'" => d.with_help("strings are written in double quotes: \"...\""),
-                        "#" => d.with_help("comments start with `//`"),
-                        "!" => d.with_help("write `not x` for negation and `!=` for inequality"),
-                        "&" => d.with_help("write `and`"),
-                        "|" => d.with_help("write `or`, or `|>` to pipe a value into a function"),
-                        _ => d,
-                    };
-                    return Some(d);
+                    ));
                 }
                 TokKind::Number => {
                     if let Some(d) = bad_unit(toks, k, text, file) {
@@ -1618,6 +1754,95 @@ mod lex {
             }
         }
         None
+    }
+
+    /// A character the language does not use. One that does not show (a zero-width
+    /// or no-break space, a control or direction mark) is named by its code point, since
+    /// quoting it would show nothing; a look-alike of an operator or quote says which.
+    fn unknown_character(c: &str, span: Span) -> Diagnostic {
+        let ch = c.chars().next().unwrap_or('\0');
+        let code = format!("U+{:04X}", u32::from(ch));
+        if let Some(name) = invisible_name(ch) {
+            let help = if name.contains("SPACE") && !name.contains("ZERO") {
+                "it looks like a space but is not one: replace it with an ordinary space"
+            } else {
+                "it does not show: delete it (retype the text around it if you cannot find it)"
+            };
+            return Diagnostic::new(
+                CODE,
+                format!("invisible character {code} {name}"),
+                span,
+                format!("{code} {name} is here"),
+            )
+            .with_help(help);
+        }
+        let d = Diagnostic::new(
+            CODE,
+            format!("unknown character `{c}` ({code})"),
+            span,
+            "not part of the language",
+        );
+        let help = match ch {
+            '\'' | '\u{2018}' | '\u{2019}' => "strings are written in straight double quotes: \"...\"",
+            '\u{201C}' | '\u{201D}' | '\u{201E}' => {
+                "this is a typographic quote: write strings in straight double quotes, \"...\""
+            }
+            '#' => "comments start with `//`",
+            '!' => "write `not x` for negation and `!=` for inequality",
+            '&' => "write `and`",
+            '|' => "write `or`, or `|>` to pipe a value into a function",
+            '\u{2212}' | '\u{2013}' | '\u{2014}' | '\u{2010}' => {
+                "this is a typographic dash: write the minus sign as `-`"
+            }
+            '\u{00D7}' | '\u{22C5}' | '\u{00B7}' => "write multiplication as `*`",
+            '\u{00F7}' => "write division as `/`",
+            '\u{00B0}' => "write angles with their unit: `8 deg`",
+            '\u{2264}' => "write `<=`",
+            '\u{2265}' => "write `>=`",
+            '\u{2260}' => "write `!=`",
+            _ => "the language is written in ASCII outside strings and comments: remove it, or put text in a string",
+        };
+        d.with_help(help)
+    }
+
+    /// The Unicode name of a character that does not show, or `None` for one that does.
+    fn invisible_name(c: char) -> Option<&'static str> {
+        Some(match c {
+            '\0' => "NULL",
+            '\u{7F}' => "DELETE",
+            '\u{0B}' => "LINE TABULATION",
+            '\u{0C}' => "FORM FEED",
+            '\u{A0}' => "NO-BREAK SPACE",
+            '\u{AD}' => "SOFT HYPHEN",
+            '\u{85}' => "NEXT LINE",
+            '\u{1680}' => "OGHAM SPACE MARK",
+            '\u{2000}'..='\u{200A}' => "SPACE (a typographic width)",
+            '\u{200B}' => "ZERO WIDTH SPACE",
+            '\u{200C}' => "ZERO WIDTH NON-JOINER",
+            '\u{200D}' => "ZERO WIDTH JOINER",
+            '\u{200E}' => "LEFT-TO-RIGHT MARK",
+            '\u{200F}' => "RIGHT-TO-LEFT MARK",
+            '\u{2028}' => "LINE SEPARATOR",
+            '\u{2029}' => "PARAGRAPH SEPARATOR",
+            '\u{202A}' => "LEFT-TO-RIGHT EMBEDDING",
+            '\u{202B}' => "RIGHT-TO-LEFT EMBEDDING",
+            '\u{202C}' => "POP DIRECTIONAL FORMATTING",
+            '\u{202D}' => "LEFT-TO-RIGHT OVERRIDE",
+            '\u{202E}' => "RIGHT-TO-LEFT OVERRIDE",
+            '\u{202F}' => "NARROW NO-BREAK SPACE",
+            '\u{205F}' => "MEDIUM MATHEMATICAL SPACE",
+            '\u{2060}' => "WORD JOINER",
+            '\u{2061}'..='\u{2064}' => "INVISIBLE OPERATOR",
+            '\u{2066}' => "LEFT-TO-RIGHT ISOLATE",
+            '\u{2067}' => "RIGHT-TO-LEFT ISOLATE",
+            '\u{2068}' => "FIRST STRONG ISOLATE",
+            '\u{2069}' => "POP DIRECTIONAL ISOLATE",
+            '\u{3000}' => "IDEOGRAPHIC SPACE",
+            '\u{FEFF}' => "ZERO WIDTH NO-BREAK SPACE",
+            '\u{FFFC}' => "OBJECT REPLACEMENT CHARACTER",
+            c if c.is_control() => "CONTROL CHARACTER",
+            _ => return None,
+        })
     }
 
     /// `12 mmm`, `5x`: a word after a number that is not a unit. Glued to the number it
@@ -1761,6 +1986,27 @@ mod lex {
             }
         }
         stack
+    }
+
+    /// Whether a `}` later in the file closes the `{` at byte `at`.
+    pub(super) fn closed_later(toks: &[Tok], text: &str, at: usize) -> bool {
+        let mut depth = 0usize;
+        for t in toks
+            .iter()
+            .filter(|t| t.start >= at && t.kind == TokKind::Punct)
+        {
+            match &text[t.start..t.end] {
+                "{" => depth += 1,
+                "}" => {
+                    depth -= 1;
+                    if depth == 0 {
+                        return true;
+                    }
+                }
+                _ => {}
+            }
+        }
+        false
     }
 
     /// Whether a token could begin an operand (so a comma may be what is missing).
