@@ -329,3 +329,23 @@ fn a_missing_brace_labels_the_block_it_leaves_open() {
         "{stderr}"
     );
 }
+
+#[test]
+fn a_broken_module_reports_its_own_error_not_a_missing_field() {
+    let dir = temp("broken_module");
+    std::fs::write(dir.join("m.die"), "let x = 1 mm +\n").expect("write");
+    std::fs::write(dir.join("n.die"), "let x = 1 mm + 2 deg\nlet z = 2\n").expect("write");
+    std::fs::write(
+        dir.join("s.die"),
+        "import \"m.die\" as m\nimport \"n.die\" as n\nlet y = m.x\nlet w = n.x\nlet v = n.z\n",
+    )
+    .expect("write");
+    let (code, _, stderr) = dieface(&dir, &["check", "--color", "never", "s.die"]);
+    assert_eq!(code, Some(1), "{stderr}");
+    assert!(!stderr.contains("has no field"), "{stderr}");
+    assert!(
+        stderr.contains("[m.die:1:15]") && stderr.contains("[n.die:1:9]"),
+        "{stderr}"
+    );
+    assert!(stderr.contains("2 problems"), "{stderr}");
+}

@@ -543,7 +543,13 @@ impl Engine {
                 return None;
             }
         }
+        let reported = diagnostics.len();
         let (file, _) = self.load(&name, &text, mdir, stack, diagnostics, FileRole::Import);
+        // A module with errors of its own is a failed import: its errors are reported, and
+        // what uses it is skipped quietly rather than told the module "has no field".
+        if diagnostics.len() > reported {
+            return None;
+        }
         let st = self.files.get(&file)?;
         let mut members: Vec<(String, Value)> = st
             .globals
