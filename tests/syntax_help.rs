@@ -167,7 +167,7 @@ fn every_syntax_error_of_seeded_mutations_has_help() {
         tried += 1;
         if let Err(d) = parse(&mutated, FileId(0)) {
             failures += 1;
-            if d.help.as_deref().map_or(true, str::is_empty) {
+            if d.help.as_deref().is_none_or(str::is_empty) {
                 missing.push(format!("{}\n--- in ---\n{}", d.message, mutated));
             }
         }
