@@ -1776,12 +1776,14 @@ mod lex {
             )
             .with_help(help);
         }
-        let d = Diagnostic::new(
-            CODE,
-            format!("unknown character `{c}` ({code})"),
-            span,
-            "not part of the language",
-        );
+        // A visible non-ASCII character is named by its code point too (a look-alike of an
+        // ASCII one is told apart by it).
+        let message = if ch.is_ascii() {
+            format!("unknown character `{c}`")
+        } else {
+            format!("unknown character `{c}` ({code})")
+        };
+        let d = Diagnostic::new(CODE, message, span, "not part of the language");
         let help = match ch {
             '\'' | '\u{2018}' | '\u{2019}' => "strings are written in straight double quotes: \"...\"",
             '\u{201C}' | '\u{201D}' | '\u{201E}' => {
