@@ -62,7 +62,7 @@ pub fn parse_with(text: &str, file: FileId, limits: &Limits) -> Result<ast::File
     let stack = limits
         .count(Limit::Nesting)
         .saturating_mul(STACK_PER_LEVEL)
-        .max(PARSE_STACK);
+        .clamp(PARSE_STACK, MAX_PARSE_STACK);
     if stack <= PARSE_STACK && LARGE_STACK.with(Cell::get) {
         return parse_here(text, file, limits);
     }
@@ -98,6 +98,11 @@ pub fn mark_large_stack() {
 /// Stack for the parsing thread: enough for the default nesting limit (128 levels) in a
 /// debug build.
 const PARSE_STACK: usize = 64 << 20;
+
+/// The most stack a parse asks for, however far `--limit nesting` is raised (address
+/// space only: the memory is committed as it is touched). Beyond about 8,000 levels a
+/// debug build may run out of it; docs/limits.md says so.
+const MAX_PARSE_STACK: usize = 4 << 30;
 
 fn parse_here(text: &str, file: FileId, limits: &Limits) -> Result<ast::File, SyntaxError> {
     let mut pairs = match DieParser::parse(Rule::file, text) {
