@@ -6,11 +6,16 @@
 //! [`Sources`] holds the text of every loaded file so a diagnostic can be rendered with
 //! miette, file name, line and column included.
 
+mod excerpt;
+
 use std::fmt;
 
-use miette::{GraphicalReportHandler, GraphicalTheme, LabeledSpan, NamedSource, SourceSpan};
+use miette::{GraphicalReportHandler, GraphicalTheme, LabeledSpan};
 
+use crate::limits::{Limit, Limits};
 use crate::syntax::{FileId, Span};
+
+pub use excerpt::Excerpt;
 
 /// A located message.
 #[derive(Debug, Clone, PartialEq)]
@@ -142,7 +147,8 @@ impl Sources {
         self.line_starts[span.file.0 as usize].partition_point(|&s| s <= at)
     }
 
-    /// 1-based line and column of a span's start.
+    /// 1-based line and column (in characters) of a span's start; `\n`, `\r\n` and a
+    /// lone `\r` each end a line.
     pub fn line_col(&self, span: Span) -> (usize, usize) {
         let Some(file) = self.get(span.file) else {
             return (0, 0);
@@ -173,6 +179,18 @@ impl Sources {
     }
 }
 
+/// The 1-based line and column just after `upto` (a text's beginning).
+fn line_col_in(upto: &str) -> (usize, usize) {
+    let bytes = upto.as_bytes();
+    let ends = bytes
+        .iter()
+        .enumerate()
+        .filter(|&(i, &b)| b == b'\n' || (b == b'\r' && bytes.get(i + 1) != Some(&b'\n')))
+        .count();
+    let last = upto.rfind(['\n', '\r']).map_or(0, |i| i + 1);
+    (ends + 1, upto[last..].chars().count() + 1)
+}
+
 /// A diagnostic bound to its primary file, in the shape miette renders. Secondary
 /// labels in other files become related reports of their own.
 #[derive(Debug)]
@@ -180,7 +198,7 @@ struct Report {
     code: &'static str,
     message: String,
     help: Option<String>,
-    source: NamedSource<String>,
+    source: Excerpt,
     labels: Vec<LabeledSpan>,
     related: Vec<Report>,
 }
@@ -190,36 +208,43 @@ impl Report {
         let file = diag.primary.span.file;
         let (name, text) = sources
             .get(file)
-            .map_or(("<unknown>".to_string(), String::new()), |f| {
-                (f.name.clone(), f.text.clone())
-            });
-        let clamp = |s: Span| -> SourceSpan {
+            .map_or(("<unknown>", ""), |f| (f.name.as_str(), f.text.as_str()));
+        let here = std::iter::once(&diag.primary)
+            .chain(&diag.secondary)
+            .filter(|l| l.span.file == file);
+        let anchors: Vec<usize> = here.clone().map(|l| l.span.start as usize).collect();
+        let source = Excerpt::new(name.to_string(), text, &anchors);
+        let clamp = |s: Span| {
             let start = (s.start as usize).min(text.len());
             let end = (s.end as usize).clamp(start, text.len());
-            (start, end - start).into()
+            source.span(start, end)
         };
         let mut labels = vec![LabeledSpan::new_primary_with_span(
             Some(diag.primary.message.clone()),
             clamp(diag.primary.span),
         )];
-        let mut related = Vec::new();
-        for l in &diag.secondary {
-            if l.span.file == file {
-                labels.push(LabeledSpan::new_with_span(
-                    Some(l.message.clone()),
-                    clamp(l.span),
-                ));
-            } else {
+        // A label on a long line outside the window shown of it would point at the wrong
+        // place: it is left out (the message and the primary label still say enough).
+        labels.extend(
+            here.skip(1)
+                .filter(|l| source.shows(l.span.start as usize))
+                .map(|l| LabeledSpan::new_with_span(Some(l.message.clone()), clamp(l.span))),
+        );
+        let related = diag
+            .secondary
+            .iter()
+            .filter(|l| l.span.file != file)
+            .map(|l| {
                 let other =
                     Diagnostic::new(diag.code, l.message.clone(), l.span, l.message.clone());
-                related.push(Report::new(sources, &other));
-            }
-        }
+                Report::new(sources, &other)
+            })
+            .collect();
         Self {
             code: diag.code,
             message: diag.message.clone(),
             help: diag.help.clone(),
-            source: NamedSource::new(name, text).with_language("die"),
+            source,
             labels,
             related,
         }
@@ -260,10 +285,18 @@ impl miette::Diagnostic for Report {
     }
 }
 
-/// The byte offset where each line of `text` starts: 0, then after each `\n`.
+/// The byte offset where each line of `text` starts: 0, then after each `\n`, `\r\n`
+/// or lone `\r` (a line end of old Mac files).
 fn line_starts(text: &str) -> Vec<usize> {
+    let bytes = text.as_bytes();
     std::iter::once(0)
-        .chain(text.match_indices('\n').map(|(i, _)| i + 1))
+        .chain(
+            bytes
+                .iter()
+                .enumerate()
+                .filter(|&(i, &b)| b == b'\n' || (b == b'\r' && bytes.get(i + 1) != Some(&b'\n')))
+                .map(|(i, _)| i + 1),
+        )
         .collect()
 }
 
@@ -317,4 +350,140 @@ fn edit_distance(a: &[char], b: &str) -> usize {
         std::mem::swap(&mut prev, &mut row);
     }
     prev[b.len()]
+}
+
+/// `text` for a message: whole when it has at most `max` characters, else its first
+/// `max - 3` characters and `...`, so a huge input never floods a message.
+pub fn abridged(text: &str, max: usize) -> String {
+    if text.chars().count() <= max {
+        text.to_string()
+    } else {
+        let head: String = text.chars().take(max.saturating_sub(3)).collect();
+        format!("{head}...")
+    }
+}
+
+/// Why a source file (a script or a module) could not be taken as text.
+#[derive(Debug)]
+pub enum SourceError {
+    /// It could not be read (missing, a folder, no permission).
+    Io(std::io::Error),
+    /// It is larger than the `file_bytes` limit.
+    TooLarge {
+        /// Its size in bytes (at least the limit plus one).
+        size: u64,
+    },
+    /// It is not UTF-8 text.
+    NotUtf8 {
+        /// Its text with each bad byte sequence replaced by U+FFFD (which ends no line
+        /// and starts at the same offset, so line and column of `at` are right in it).
+        text: String,
+        /// The byte offset of the first bad byte.
+        at: usize,
+        /// That byte.
+        byte: u8,
+    },
+}
+
+/// Reads the source file at `path` as text: at most `limits`' `file_bytes` bytes, UTF-8
+/// (a byte-order mark is fine; the grammar skips it).
+pub fn read_source(path: &std::path::Path, limits: &Limits) -> Result<String, SourceError> {
+    use std::io::Read;
+    let max = limits.get(Limit::FileBytes);
+    let file = std::fs::File::open(path).map_err(SourceError::Io)?;
+    let mut bytes = Vec::new();
+    file.take(max.saturating_add(1))
+        .read_to_end(&mut bytes)
+        .map_err(SourceError::Io)?;
+    if bytes.len() as u64 > max {
+        let size = std::fs::metadata(path).map_or(bytes.len() as u64, |m| m.len());
+        return Err(SourceError::TooLarge {
+            size: size.max(bytes.len() as u64),
+        });
+    }
+    decode_source(bytes)
+}
+
+/// A source file's bytes as text, or [`SourceError::NotUtf8`] naming the first bad
+/// byte.
+pub fn decode_source(bytes: Vec<u8>) -> Result<String, SourceError> {
+    String::from_utf8(bytes).map_err(|e| {
+        let at = e.utf8_error().valid_up_to();
+        let bytes = e.into_bytes();
+        SourceError::NotUtf8 {
+            byte: bytes[at],
+            text: String::from_utf8_lossy(&bytes).into_owned(),
+            at,
+        }
+    })
+}
+
+impl SourceError {
+    /// The diagnostic for the source `name` (which it adds to `sources`, as much of it
+    /// as can be shown), or the read error back when the file could not be read at all
+    /// (the caller's usage error).
+    pub fn diagnostic(
+        self,
+        sources: &mut Sources,
+        name: &str,
+        limits: &Limits,
+    ) -> Result<Diagnostic, std::io::Error> {
+        match self {
+            SourceError::Io(e) => Err(e),
+            SourceError::TooLarge { size } => {
+                let file = sources.add(name, "");
+                Ok(Diagnostic::new(
+                    "die::file_too_large",
+                    format!("`{name}` has {size} bytes, more than the `file_bytes` limit allows"),
+                    Span::new(file, 0, 0),
+                    "this file",
+                )
+                .with_help(Limit::FileBytes.help(limits)))
+            }
+            SourceError::NotUtf8 { text, at, byte } => {
+                let (line, column) = line_col_in(&text[..at]);
+                let len = text[at..].chars().next().map_or(0, char::len_utf8);
+                let file = sources.add(name, text);
+                Ok(Diagnostic::new(
+                    "die::not_utf8",
+                    format!(
+                        "`{name}` is not UTF-8 text: byte 0x{byte:02X} at offset {at} (line {line}, column {column})"
+                    ),
+                    Span::new(file, at, at + len),
+                    format!("byte 0x{byte:02X} is not UTF-8"),
+                )
+                .with_help(
+                    "save the file as UTF-8 (a byte-order mark is fine); a character that does not show may be the culprit: retype it",
+                ))
+            }
+        }
+    }
+
+    /// The diagnostic for a module that cannot be taken as text, at `span`, where it is
+    /// imported as `path`.
+    pub fn import_diagnostic(&self, path: &str, span: Span, limits: &Limits) -> Diagnostic {
+        let (code, message, help) = match self {
+            SourceError::Io(e) => (
+                "die::file_not_found",
+                format!("cannot read `{path}`: {e}"),
+                "check the file's permissions".to_string(),
+            ),
+            SourceError::TooLarge { size } => (
+                "die::file_too_large",
+                format!("`{path}` has {size} bytes, more than the `file_bytes` limit allows"),
+                Limit::FileBytes.help(limits),
+            ),
+            SourceError::NotUtf8 { text, at, byte } => {
+                let (line, column) = line_col_in(&text[..*at]);
+                (
+                    "die::not_utf8",
+                    format!(
+                        "`{path}` is not UTF-8 text: byte 0x{byte:02X} at offset {at} (line {line}, column {column})"
+                    ),
+                    "save the file as UTF-8 (a byte-order mark is fine)".to_string(),
+                )
+            }
+        };
+        Diagnostic::new(code, message, span, "this file").with_help(help)
+    }
 }

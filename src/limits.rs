@@ -12,7 +12,9 @@ use std::fmt;
 /// One limit: what it bounds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Limit {
-    /// Nesting of expressions, blocks and lists in the source (parser depth).
+    /// Nesting of expressions, blocks and lists in the source (parser depth); each
+    /// operation of a chain after the first is a level too, so the tree every later
+    /// pass recurses over is never deeper than twice this.
     Nesting,
     /// Nesting of function calls during evaluation (call depth).
     CallDepth,

@@ -205,14 +205,14 @@ fn normals_turn_with_the_axes() {
 const FEATURE: &str = r#"
 let flange = nurbs_surface(degree: (1, 1), points: [[(0, 0, 0), (0, 100, 0)], [(100, 0, 0), (100, 100, 0)]])
 
-let pol {
-    top = sketch(top) { from (0, 0); line to (100, 0); line to (100, 50); close }
-    side front = line_between((0, 0, 0), (100, 0, 0))
-    depth = 40 mm
-    corners {
-        patch = flange
-        radius = 5 mm
-    }
+let pol = {
+    top: sketch(top) { from (0, 0); line to (100, 0); line to (100, 50); close },
+    side_front: line_between((0, 0, 0), (100, 0, 0)),
+    depth: 40 mm,
+    corners: {
+        patch: flange,
+        radius: 5 mm,
+    },
 }
 
 let beads = [
@@ -236,11 +236,11 @@ fn nodes_are_named_nested_and_carry_extras() {
     );
     let pol = scene.find("pol").unwrap();
     let parts: Vec<&str> = pol.children.iter().map(|n| n.name.as_str()).collect();
-    assert_eq!(parts, ["pol/top", "pol/side-front", "pol/corners"]);
+    assert_eq!(parts, ["pol/top", "pol/side_front", "pol/corners"]);
     let corners = &pol.children[2];
     assert_eq!(corners.children.len(), 1);
     assert_eq!(corners.children[0].name, "pol/corners/patch");
-    assert!(pol.geometry.is_empty(), "a feature block is a group");
+    assert!(pol.geometry.is_empty(), "a record is a group");
     let beads = scene.find("beads").unwrap();
     let parts: Vec<&str> = beads.children.iter().map(|n| n.name.as_str()).collect();
     assert_eq!(
@@ -250,7 +250,7 @@ fn nodes_are_named_nested_and_carry_extras() {
     );
     // Lines: the declaration's, or the part's own expression inside it.
     assert_eq!(pol.line, 4);
-    assert_eq!(scene.find("pol/side-front").unwrap().line, 6);
+    assert_eq!(scene.find("pol/side_front").unwrap().line, 6);
     assert_eq!(scene.find("beads/2").unwrap().line, 17);
     for n in scene.all_nodes() {
         assert_eq!(n.kind, if n.name == "panel" { "product" } else { "let" });
@@ -284,10 +284,10 @@ fn nodes_are_named_nested_and_carry_extras() {
                 .unwrap()
         })
         .collect();
-    assert_eq!(children, ["pol/top", "pol/side-front", "pol/corners"]);
+    assert_eq!(children, ["pol/top", "pol/side_front", "pol/corners"]);
     assert!(pol.get("mesh").is_none());
-    let extras = &node_named(&json, "pol/side-front")["extras"];
-    assert_eq!(extras["name"], "pol/side-front");
+    let extras = &node_named(&json, "pol/side_front")["extras"];
+    assert_eq!(extras["name"], "pol/side_front");
     assert_eq!(extras["kind"], "let");
     assert_eq!(extras["line"], 6);
     assert_eq!(extras["tolerance_mm"], 0.01);
@@ -391,7 +391,7 @@ fn obj_has_groups_normals_faces_and_polylines() {
     for name in [
         "flange",
         "pol/top",
-        "pol/side-front",
+        "pol/side_front",
         "pol/corners/patch",
         "beads/0",
         "beads/2",
@@ -418,7 +418,7 @@ fn obj_has_groups_normals_faces_and_polylines() {
         .sum();
     assert_eq!(count("v "), vertices);
     assert!(count("vn ") > 0);
-    assert_eq!(count("l "), 4, "pol/top, pol/side-front, beads/0, beads/2");
+    assert_eq!(count("l "), 4, "pol/top, pol/side_front, beads/0, beads/2");
     // Faces point at valid vertices, with the same index for the normal.
     for l in text.lines().filter(|l| l.starts_with("f ")) {
         for corner in l[2..].split(' ') {
@@ -429,7 +429,7 @@ fn obj_has_groups_normals_faces_and_polylines() {
         }
     }
     // The side-front polyline: millimetres, press coordinates.
-    let at = text.find("\no pol/side-front\n").unwrap();
+    let at = text.find("\no pol/side_front\n").unwrap();
     let block: Vec<&str> = text[at..]
         .lines()
         .filter(|l| l.starts_with("v "))

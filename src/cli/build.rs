@@ -78,10 +78,13 @@ impl Plan {
         }
         let tolerance = match &out.tolerance {
             None => None,
-            Some(text) => match parse_tolerance(text) {
+            Some(text) => match parse_tolerance(text, &script.limits()) {
                 Ok(mm) => Some(mm),
                 Err(msg) => {
-                    eprintln!("error: --tolerance {text}: {msg}");
+                    eprintln!(
+                        "error: --tolerance {}: {msg}",
+                        crate::diag::abridged(text, 40)
+                    );
                     return Err(ExitCode::from(USAGE_ERROR));
                 }
             },

@@ -24,8 +24,9 @@ use rayon::prelude::*;
 use crate::diag::{did_you_mean, Diagnostic, Sources};
 use crate::limits::{Limit, Limits};
 use crate::syntax::ast::{self, Block, DeclBody, FieldValue, Item};
-use crate::syntax::incremental::reparse;
-use crate::syntax::{parse, FileId, Span};
+use crate::syntax::incremental::reparse_with;
+use crate::syntax::parse::parse_with;
+use crate::syntax::{FileId, Span};
 
 use super::budget::{limit_code, Budget};
 use super::deps::{free_names_of_body, free_names_of_function};
@@ -137,8 +138,9 @@ pub struct Engine {
     /// shared, so memoized values need no moving.
     layouts: HashMap<FileId, Arc<Layout>>,
     /// The modules loaded by the current evaluation, by name: a module imported again
-    /// (a diamond of imports) is evaluated once per evaluation, not once per import.
-    loaded: HashMap<String, FileId>,
+    /// (a diamond of imports) is evaluated once per evaluation, not once per import;
+    /// `None` for one that failed with errors of its own.
+    loaded: HashMap<String, Option<FileId>>,
     /// The last parse of each file, by the hash of its text.
     parsed: HashMap<FileId, (u64, Arc<str>, Arc<ast::File>)>,
     evaluations: u64,
@@ -291,8 +293,19 @@ impl Engine {
 
     /// Evaluates the script at `path` (read from disk).
     pub fn evaluate_path(&mut self, path: &Path) -> std::io::Result<Outcome> {
-        let text = paths::read_script(path, &self.limits)?;
         let name = self.display_name(path);
+        let text = match crate::diag::read_source(path, &self.limits) {
+            Ok(text) => text,
+            // Too large or not UTF-8: a diagnostic, not a usage error.
+            Err(e) => {
+                let d = e.diagnostic(&mut self.sources, &name, &self.limits)?;
+                return Ok(Outcome {
+                    file: d.primary.span.file,
+                    decls: Vec::new(),
+                    diagnostics: vec![d],
+                });
+            }
+        };
         let dir = path.parent().map(|p| {
             if p.as_os_str().is_empty() {
                 PathBuf::from(".")
@@ -341,8 +354,10 @@ impl Engine {
             Some((h, _, ast)) if h == text_hash => ast,
             _ => {
                 let result = match &previous {
-                    Some((_, old_text, old_ast)) => reparse(old_text, old_ast, text, file),
-                    None => parse(text, file),
+                    Some((_, old_text, old_ast)) => {
+                        reparse_with(old_text, old_ast, text, file, &self.limits)
+                    }
+                    None => parse_with(text, file, &self.limits),
                 };
                 match result {
                     Ok(a) => {
@@ -553,12 +568,19 @@ impl Engine {
                 return None;
             }
         }
+        // A module imported again in this evaluation (a diamond of imports) is shared,
+        // not evaluated again; `None` marks one that failed.
         let file = match self.loaded.get(&name) {
-            Some(&file) => file,
+            Some(&loaded) => loaded?,
             None => {
+                let reported = diagnostics.len();
                 let (file, _) = self.load(&name, &text, mdir, stack, diagnostics, FileRole::Import);
-                self.loaded.insert(name, file);
-                file
+                // A module with errors of its own is a failed import: its errors are
+                // reported once, and what uses it is skipped quietly rather than told the
+                // module "has no field".
+                let loaded = (diagnostics.len() == reported).then_some(file);
+                self.loaded.insert(name, loaded);
+                loaded?
             }
         };
         let st = self.files.get(&file)?;
@@ -596,7 +618,11 @@ impl Engine {
     ) -> Result<(PathBuf, String), Diagnostic> {
         paths::check_module_name(path, span)?;
         let full = resolve_in_root(path, dir, self.root.as_deref(), span)?;
-        let text = paths::read_module(&full, path, span, &self.limits)?;
+        // A regular file within the size limit (the checked reader), then UTF-8 text.
+        let bytes = paths::read_regular(&full, self.limits.get(Limit::FileBytes))
+            .map_err(|r| paths::refusal_diagnostic(path, &r, span, &self.limits))?;
+        let text = crate::diag::decode_source(bytes)
+            .map_err(|e| e.import_diagnostic(path, span, &self.limits))?;
         Ok((full, text))
     }
 
@@ -746,7 +772,8 @@ impl Engine {
             .sources
             .add(super::overrides::source_name(&d.name.node), text.as_str());
         let declared = self.evaluate_decl(file, d);
-        let result = super::overrides::evaluate_override(src, d, &text, units, declared);
+        let result =
+            super::overrides::evaluate_override(src, d, &text, units, declared, &self.limits);
         Fresh {
             took: started.elapsed(),
             reads: paths::take_reads(),

@@ -683,13 +683,13 @@ impl<'w> Ctx<'w> {
 }
 
 /// Whether `v` is a bare number: written without a unit, or computed only from such.
-fn is_bare(v: &Value) -> bool {
+pub(super) fn is_bare(v: &Value) -> bool {
     matches!(&v.data, Data::Number(q) if q.bare && q.dim.is_none())
 }
 
 /// The bare number `v` in `units`' length or angle unit when `default` is a length or
 /// an angle; otherwise `v` unchanged.
-fn with_default_unit(v: Value, default: &Value, units: Units) -> Value {
+pub(super) fn with_default_unit(v: Value, default: &Value, units: Units) -> Value {
     let (Data::Number(q), Data::Number(d)) = (&v.data, &default.data) else {
         return v;
     };

@@ -298,7 +298,12 @@ pub fn unary(op: UnaryOp, v: &Value, span: Span, op_span: Span) -> Result<Value,
                 v.span,
                 format!("this is {}", v.type_name()),
             )
-            .with_label(op_span, "applied here"));
+            .with_label(op_span, "applied here")
+            .with_help(if op == UnaryOp::Neg {
+                "`-` negates a number, or each coordinate of a point: `-x`, `-(10, 0)`"
+            } else {
+                "`not` turns true into false and false into true: give it a condition such as `x > 0 mm`, or remove it"
+            }));
         }
     };
     Ok(Value::new(data, span))

@@ -15,12 +15,14 @@
 use std::sync::Arc;
 
 use crate::diag::{did_you_mean, Diagnostic, Label, Sources};
+use crate::limits::Limits;
 use crate::syntax::ast::{self, DeclBody, Item};
-use crate::syntax::{parse, FileId, Span};
+use crate::syntax::parse::parse_with;
+use crate::syntax::{FileId, Span};
 
 use super::budget::Budget;
 use super::engine::Globals;
-use super::expr::{Ctx, Locals, World};
+use super::expr::{is_bare, with_default_unit, Ctx, Locals, World};
 use super::units::Units;
 use super::value::{Data, Record, Value};
 
@@ -57,23 +59,30 @@ pub fn source_name(name: &str) -> String {
 
 /// Parses and evaluates `text` as one expression, recorded in `sources` as the file
 /// `source_name` (diagnostics point into it). Names of declarations are not visible;
-/// bare numbers take `units`.
+/// bare numbers take `units`. The text is held to `limits` as a script is (its
+/// nesting, so a long chain is refused before it is evaluated).
 pub fn eval_text(
     sources: &mut Sources,
     source_name: &str,
     text: &str,
     units: Units,
+    limits: &Limits,
 ) -> Result<Value, Diagnostic> {
     let file = sources.add(source_name, text);
-    eval_in(file, text, units)
+    eval_in(file, text, units, limits)
 }
 
 /// [`eval_text`] for text already recorded in the sources as `file`.
-pub fn eval_in(file: FileId, text: &str, units: Units) -> Result<Value, Diagnostic> {
+pub fn eval_in(
+    file: FileId,
+    text: &str,
+    units: Units,
+    limits: &Limits,
+) -> Result<Value, Diagnostic> {
     let shift = PREFIX.len() as u32;
     let full = format!("{PREFIX}{text}");
     let whole = Span::new(file, 0, text.len());
-    let ast = parse(&full, file).map_err(|d| shift_diag(d, file, shift))?;
+    let ast = parse_with(&full, file, limits).map_err(|d| shift_diag(d, file, shift))?;
     let expr = match ast.items.as_slice() {
         [Item::Decl(ast::Decl {
             body: DeclBody::Expr(e),
@@ -111,17 +120,25 @@ pub fn eval_in(file: FileId, text: &str, units: Units) -> Result<Value, Diagnost
 
 /// Evaluates `-D name=text` (recorded in the sources as `file`) for the parameter `decl`
 /// of the main file: the override's value, checked against `declared`, the value of the
-/// declaration as written.
+/// declaration as written. A bare number for a length or an angle takes the main file's
+/// default unit, as a bare number does in the file (`-D tip_angle=6` is 6 deg in a
+/// `units mm deg` file).
 pub(crate) fn evaluate_override(
     file: FileId,
     decl: &ast::Decl,
     text: &str,
     units: Units,
     declared: Result<Value, Diagnostic>,
+    limits: &Limits,
 ) -> Result<Value, Diagnostic> {
     let name = decl.name.node.as_str();
-    let value = eval_in(file, text, units)?;
+    let value = eval_in(file, text, units, limits)?;
     let declared = declared?;
+    let value = if is_bare(&value) {
+        with_default_unit(value, &declared, units)
+    } else {
+        value
+    };
     if same_kind(&value.data, &declared.data) {
         return Ok(value);
     }
@@ -311,17 +328,25 @@ mod tests {
     #[test]
     fn text_evaluates_with_units_and_points_into_its_own_source() {
         let mut sources = Sources::new();
-        let v = eval_text(&mut sources, "-D d", "0.5 cm", Units::default()).expect("ok");
+        let limits = Limits::default();
+        let v = eval_text(&mut sources, "-D d", "0.5 cm", Units::default(), &limits).expect("ok");
         match v.data {
             Data::Number(q) => assert!((q.value - 5.0).abs() < 1e-12 && !q.bare),
             other => panic!("{other:?}"),
         }
-        let err = eval_text(&mut sources, "-D d", "1mm + 2deg", Units::default()).unwrap_err();
+        let err = eval_text(
+            &mut sources,
+            "-D d",
+            "1mm + 2deg",
+            Units::default(),
+            &limits,
+        )
+        .unwrap_err();
         assert_eq!(err.code, "die::unit_mismatch");
         assert!(
             sources.slice(err.primary.span) == "1mm" || sources.slice(err.primary.span) == "2deg"
         );
-        let err = eval_text(&mut sources, "-D d", "1mm +", Units::default()).unwrap_err();
+        let err = eval_text(&mut sources, "-D d", "1mm +", Units::default(), &limits).unwrap_err();
         assert_eq!(err.code, "die::syntax");
     }
 }

@@ -23,7 +23,8 @@ pub fn summarize(v: &Value) -> String {
     match &v.data {
         Data::Number(q) => format!("number {} ({})", display(*q), q.dim),
         Data::Bool(b) => format!("bool {b}"),
-        Data::Str(s) => format!("string {s:?}"),
+        // A long string is cut, so one line of `inspect` or `watch` stays a line.
+        Data::Str(s) => format!("string {:?}", crate::diag::abridged(s, 60)),
         Data::List(items) => {
             let inner: Vec<String> = items.iter().take(4).map(summarize).collect();
             let more = if items.len() > 4 {

@@ -7,6 +7,7 @@ use crate::eval::units::Units;
 use crate::eval::value::{Data, Dim};
 use crate::eval::Outcome;
 use crate::geom::tessellate::Tolerance;
+use crate::limits::Limits;
 
 /// The tolerance used when neither the command line nor the script sets one, in mm.
 pub const DEFAULT_TOLERANCE_MM: f64 = 0.05;
@@ -51,11 +52,16 @@ pub fn tolerance_for(outcome: &Outcome, given: Option<f64>) -> Result<Tolerance,
 }
 
 /// Parses `--tolerance`: an expression of the language that is a positive length
-/// (`0.01mm`, `0.01 mm`, `0.001in`); returns millimetres.
-pub fn parse_tolerance(text: &str) -> Result<f64, String> {
+/// (`0.01mm`, `0.01 mm`, `0.001in`), held to `limits` as a script is; returns
+/// millimetres.
+pub fn parse_tolerance(text: &str, limits: &Limits) -> Result<f64, String> {
     let mut sources = Sources::new();
-    let value =
-        eval_text(&mut sources, "--tolerance", text, Units::default()).map_err(|d| d.message)?;
+    let value = eval_text(&mut sources, "--tolerance", text, Units::default(), limits).map_err(
+        |d| match d.help {
+            Some(help) => format!("{} ({help})", d.message),
+            None => d.message,
+        },
+    )?;
     match value.data {
         Data::Number(q) if q.dim == Dim::LENGTH => {
             if q.value.is_finite() && q.value > 0.0 {

@@ -9,8 +9,9 @@
 //! file, so diagnostics are exactly those of [`parse`].
 
 use super::ast::*;
-use super::parse::{parse, SyntaxError};
+use super::parse::{parse_with, SyntaxError};
 use super::span::{FileId, Span, Spanned};
+use crate::limits::Limits;
 
 /// The AST of `new_text`, reusing `old` (the parse of `old_text`) where the text is
 /// unchanged. Equal to `parse(new_text, file)`.
@@ -20,15 +21,37 @@ pub fn reparse(
     new_text: &str,
     file: FileId,
 ) -> Result<File, SyntaxError> {
-    match reparse_items(old_text, old, new_text, file) {
+    reparse_with(old_text, old, new_text, file, &Limits::default())
+}
+
+/// [`reparse`] held to `limits`: equal to `parse_with(new_text, file, limits)`.
+pub fn reparse_with(
+    old_text: &str,
+    old: &File,
+    new_text: &str,
+    file: FileId,
+    limits: &Limits,
+) -> Result<File, SyntaxError> {
+    match reparse_items_with(old_text, old, new_text, file, limits) {
         Some(f) => Ok(f),
-        None => parse(new_text, file),
+        None => parse_with(new_text, file, limits),
     }
 }
 
 /// The incremental step alone: `None` when the edit cannot be re-parsed by items (the
 /// caller then parses the whole file).
 pub fn reparse_items(old_text: &str, old: &File, new_text: &str, file: FileId) -> Option<File> {
+    reparse_items_with(old_text, old, new_text, file, &Limits::default())
+}
+
+/// [`reparse_items`] held to `limits`.
+fn reparse_items_with(
+    old_text: &str,
+    old: &File,
+    new_text: &str,
+    file: FileId,
+    limits: &Limits,
+) -> Option<File> {
     if old.items.is_empty() || old.span.file != file {
         return None;
     }
@@ -78,7 +101,7 @@ pub fn reparse_items(old_text: &str, old: &File, new_text: &str, file: FileId) -
         return None;
     }
     let chunk = new_text.get(chunk_start..chunk_end_new)?;
-    let parsed = parse(chunk, file).ok()?;
+    let parsed = parse_with(chunk, file, limits).ok()?;
 
     let mut items: Vec<Item> = old.items[..first_touched].to_vec();
     for mut item in parsed.items {
@@ -118,7 +141,7 @@ fn common_suffix(a: &str, b: &str) -> usize {
 }
 
 fn starts_line(text: &str, at: usize) -> bool {
-    at == 0 || text.as_bytes().get(at - 1) == Some(&b'\n')
+    at == 0 || matches!(text.as_bytes().get(at - 1), Some(b'\n' | b'\r'))
 }
 
 fn item_span(item: &Item) -> Span {

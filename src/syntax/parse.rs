@@ -23,6 +23,7 @@ use super::ast::{
 };
 use super::span::{FileId, Span, Spanned};
 use crate::diag::Diagnostic;
+use crate::limits::{Limit, Limits};
 
 /// A syntax error: a diagnostic with code `die::syntax`.
 pub type SyntaxError = Diagnostic;
@@ -30,41 +31,55 @@ pub type SyntaxError = Diagnostic;
 /// The diagnostic code of every syntax error.
 const CODE: &str = "die::syntax";
 
-/// Expressions nested deeper than this are rejected rather than risking the stack of
-/// every later pass (each of which recurses over the tree).
-const MAX_DEPTH: usize = 128;
+/// Stack a parse needs per level of nesting: pest's generated parser takes tens of
+/// kilobytes of stack per level in a debug build.
+const STACK_PER_LEVEL: usize = 512 << 10;
 
 #[derive(Parser)]
 #[grammar = "../grammar/die.pest"]
 struct DieParser;
 
+/// Parses one file's text with the default [`Limits`]; `file` is stamped into every
+/// span. See [`parse_with`].
+pub fn parse(text: &str, file: FileId) -> Result<ast::File, SyntaxError> {
+    parse_with(text, file, &Limits::default())
+}
+
 /// Parses one file's text; `file` is stamped into every span.
+///
+/// The tree is never deeper than the `nesting` limit: brackets, prefix operators and
+/// every operator of a chain (`a + b + c` is `(a + b) + c`, two levels) count, so every
+/// later pass, which recurses over the tree (evaluation, free names, hashing, dropping),
+/// recurses at most that deep, whatever the input.
 ///
 /// Returns the first syntax error as a diagnostic whose primary span is the offending
 /// token; when the file ends too early, the character after the last token (or the
 /// last character), labelled "the file ends here".
-pub fn parse(text: &str, file: FileId) -> Result<ast::File, SyntaxError> {
-    if let Some(d) = lex::too_deep(text, file, MAX_DEPTH) {
+pub fn parse_with(text: &str, file: FileId, limits: &Limits) -> Result<ast::File, SyntaxError> {
+    if let Some(d) = lex::too_deep(text, file, limits) {
         return Err(d);
     }
-    if LARGE_STACK.with(Cell::get) {
-        return parse_here(text, file);
+    let stack = limits
+        .count(Limit::Nesting)
+        .saturating_mul(STACK_PER_LEVEL)
+        .clamp(PARSE_STACK, MAX_PARSE_STACK);
+    if stack <= PARSE_STACK && LARGE_STACK.with(Cell::get) {
+        return parse_here(text, file, limits);
     }
-    // pest's generated parser takes tens of kilobytes of stack per nesting level, more
-    // than a test thread's 2 MiB allows at the depth limit: parse on a thread of our own
-    // with room to spare (the memory is only committed as it is touched).
+    // More stack than a test thread's 2 MiB allows at the depth limit: parse on a thread
+    // of our own with room to spare (the memory is only committed as it is touched).
     let spawned = std::thread::scope(|scope| {
         std::thread::Builder::new()
             .name("dieface-parse".into())
-            .stack_size(PARSE_STACK)
-            .spawn_scoped(scope, || parse_here(text, file))
+            .stack_size(stack)
+            .spawn_scoped(scope, || parse_here(text, file, limits))
             .ok()
             .map(|h| h.join())
     });
     match spawned {
         Some(Ok(result)) => result,
         Some(Err(panic)) => std::panic::resume_unwind(panic),
-        None => parse_here(text, file),
+        None => parse_here(text, file, limits),
     }
 }
 
@@ -80,16 +95,26 @@ pub fn mark_large_stack() {
     LARGE_STACK.with(|f| f.set(true));
 }
 
-/// Stack for the parsing thread: enough for [`MAX_DEPTH`] levels in a debug build.
+/// Stack for the parsing thread: enough for the default nesting limit (128 levels) in a
+/// debug build.
 const PARSE_STACK: usize = 64 << 20;
 
-fn parse_here(text: &str, file: FileId) -> Result<ast::File, SyntaxError> {
+/// The most stack a parse asks for, however far `--limit nesting` is raised (address
+/// space only: the memory is committed as it is touched). Beyond about 8,000 levels a
+/// debug build may run out of it; docs/limits.md says so.
+const MAX_PARSE_STACK: usize = 4 << 30;
+
+fn parse_here(text: &str, file: FileId, limits: &Limits) -> Result<ast::File, SyntaxError> {
     let mut pairs = match DieParser::parse(Rule::file, text) {
         Ok(pairs) => pairs,
         Err(err) => return Err(errors::convert(&err, text, file)),
     };
     let root = pairs.next().expect("the file rule always produces a pair");
-    let mut b = Builder { file, depth: 0 };
+    let mut b = Builder {
+        file,
+        depth: 0,
+        limits: *limits,
+    };
     let mut items = Vec::new();
     for p in root.into_inner() {
         match p.as_rule() {
@@ -111,7 +136,10 @@ fn parse_here(text: &str, file: FileId) -> Result<ast::File, SyntaxError> {
 
 struct Builder {
     file: FileId,
+    /// Levels of the tree above the node being built.
     depth: usize,
+    /// The limits in force (the tree may not be deeper than `nesting`).
+    limits: Limits,
 }
 
 type Res<T> = Result<T, SyntaxError>;
@@ -255,6 +283,9 @@ impl Builder {
         let name = self.ident(&it.next().expect("decl has a name"));
         let body = it.next().expect("decl has a body");
         let body = match body.as_rule() {
+            Rule::block if VALUE_KINDS.contains(&kind.node.as_str()) => {
+                return Err(block_for_value(&kind, &name, self.span(&body)));
+            }
             Rule::block => DeclBody::Block(self.block(body)?),
             _ => DeclBody::Expr(self.expr(body)?),
         };
@@ -302,19 +333,89 @@ impl Builder {
             return self.expr_inner(pair);
         }
         self.depth += 1;
-        if self.depth > MAX_DEPTH {
+        if self.depth > self.limits.count(Limit::Nesting) {
             let span = self.span(&pair);
             return Err(Diagnostic::new(
                 CODE,
-                format!("expression nested more than {MAX_DEPTH} levels deep"),
+                format!(
+                    "expression nested more than {} levels deep",
+                    self.limits.get(Limit::Nesting)
+                ),
                 Span::new(self.file, span.start as usize, span.start as usize + 1),
                 "nested too deeply",
             )
-            .with_help("split it into named declarations"));
+            .with_help(format!(
+                "split it into named declarations; {}",
+                Limit::Nesting.help(&self.limits)
+            )));
         }
         let out = self.expr_inner(pair);
         self.depth -= 1;
         out
+    }
+
+    /// Enters the levels a chain adds to the tree, one per operation after the first
+    /// (`ops`, where each is written): `a + b + c` is `(a + b) + c`, so the first operand
+    /// (`first`) sits under every operation of the chain. The first operation is not
+    /// counted, as a bracket is one level with what it holds: the tree is then at most
+    /// twice as deep as the nesting limit. A chain that would pass the limit is refused
+    /// at the operation that passes it. Leave with [`Builder::leave_chain`].
+    fn enter_chain(&mut self, first: &Pair<Rule>, ops: &[Span]) -> Res<()> {
+        let room = self.limits.count(Limit::Nesting).saturating_sub(self.depth);
+        if let Some(&at) = ops.get(room + 1) {
+            let start = first.as_span().start();
+            let head = first.as_str().chars().next().map_or(0, char::len_utf8);
+            let end = if exact_end(first) - start <= 40 {
+                exact_end(first)
+            } else {
+                start + head
+            };
+            return Err(Diagnostic::new(
+                CODE,
+                format!(
+                    "this chain of {} operations is nested more than {} levels deep",
+                    ops.len(),
+                    self.limits.get(Limit::Nesting)
+                ),
+                at,
+                "the nesting limit is passed here",
+            )
+            .with_label(Span::new(self.file, start, end), "the chain starts here")
+            .with_help(format!(
+                "each operation of a chain holds the ones before it (`a + b + c` is `(a + b) + c`): \
+                 split the chain into named declarations (`let part = ...`) and chain their names, \
+                 or add up a list with `sum([...])`; {}",
+                Limit::Nesting.help(&self.limits)
+            )));
+        }
+        self.depth += chain_levels(ops);
+        Ok(())
+    }
+
+    /// Leaves the levels [`Builder::enter_chain`] entered.
+    fn leave_chain(&mut self, ops: &[Span]) {
+        self.depth -= chain_levels(ops);
+    }
+
+    /// Where a chain's operations are written: its pairs that are not `first` operand or
+    /// operands (`keep` says which pairs are operations), each as its first character
+    /// (a call's arguments may be long).
+    fn op_spans(&self, pair: &Pair<Rule>, keep: impl Fn(Rule) -> bool) -> Vec<Span> {
+        pair.clone()
+            .into_inner()
+            .skip(1)
+            .filter(|p| keep(p.as_rule()))
+            .map(|p| {
+                let start = p.as_span().start();
+                let len = p.as_str().chars().next().map_or(0, char::len_utf8);
+                let end = if p.as_str().len() <= 3 {
+                    exact_end(&p)
+                } else {
+                    start + len
+                };
+                Span::new(self.file, start, end)
+            })
+            .collect()
     }
 
     /// An expression pair turned into its node: one builder per expression form.
@@ -357,9 +458,23 @@ impl Builder {
 
     /// `a |> f(x) |> g`: each stage a pipe node whose input is everything before it.
     fn pipe_chain(&mut self, pair: Pair<Rule>) -> Res<Expr> {
+        let ops = self.op_spans(&pair, |r| r == Rule::pipe_op);
         let mut it = kids(pair);
-        let mut acc = self.expr(it.next().expect("expr has an operand"))?;
-        for target in it {
+        let first = it.next().expect("expr has an operand");
+        self.enter_chain(&first, &ops)?;
+        let out = self.pipe_stages(first, it);
+        self.leave_chain(&ops);
+        out
+    }
+
+    /// The operand and pipe targets of [`Builder::pipe_chain`], folded to the left.
+    fn pipe_stages<'i>(
+        &mut self,
+        first: Pair<'i, Rule>,
+        targets: impl Iterator<Item = Pair<'i, Rule>>,
+    ) -> Res<Expr> {
+        let mut acc = self.expr(first)?;
+        for target in targets {
             let call = self.expr(target.into_inner().next().expect("pipe target"))?;
             let span = acc.span.to(call.span);
             acc = Expr {
@@ -377,8 +492,31 @@ impl Builder {
     /// left; a second comparison in one chain (`a < b < c`) is refused: comparisons do
     /// not chain, and the message names both.
     fn binary_chain(&mut self, pair: Pair<Rule>, rule: Rule) -> Res<Expr> {
+        let ops = self.op_spans(&pair, |r| {
+            matches!(
+                r,
+                Rule::add_op | Rule::mul_op | Rule::cmp_op | Rule::kw_and | Rule::kw_or
+            )
+        });
+        if let (Rule::cmp_expr, [first, second, ..]) = (rule, ops.as_slice()) {
+            return Err(chained_comparison(*first, *second));
+        }
         let mut it = pair.into_inner();
-        let mut acc = self.expr(it.next().expect("chain has an operand"))?;
+        let first = it.next().expect("chain has an operand");
+        self.enter_chain(&first, &ops)?;
+        let out = self.binary_operands(first, it, rule);
+        self.leave_chain(&ops);
+        out
+    }
+
+    /// The operands and operators of [`Builder::binary_chain`], folded to the left.
+    fn binary_operands<'i>(
+        &mut self,
+        first: Pair<'i, Rule>,
+        mut it: impl Iterator<Item = Pair<'i, Rule>>,
+        rule: Rule,
+    ) -> Res<Expr> {
+        let mut acc = self.expr(first)?;
         let mut first_cmp: Option<Span> = None;
         while let Some(op) = it.next() {
             let op_span = self.span(&op);
@@ -427,9 +565,23 @@ impl Builder {
     /// A primary followed by field accesses, indexes and calls, applied left to right
     /// (`a.b[0](x)`); each node spans from the primary to its own end.
     fn postfixed(&mut self, pair: Pair<Rule>) -> Res<Expr> {
+        let ops = self.op_spans(&pair, |_| true);
         let mut it = pair.into_inner();
-        let mut acc = self.expr(it.next().expect("postfix has a primary"))?;
-        for post in it {
+        let first = it.next().expect("postfix has a primary");
+        self.enter_chain(&first, &ops)?;
+        let out = self.postfix_ops(first, it);
+        self.leave_chain(&ops);
+        out
+    }
+
+    /// The primary and postfix operations of [`Builder::postfixed`], applied in order.
+    fn postfix_ops<'i>(
+        &mut self,
+        first: Pair<'i, Rule>,
+        posts: impl Iterator<Item = Pair<'i, Rule>>,
+    ) -> Res<Expr> {
+        let mut acc = self.expr(first)?;
+        for post in posts {
             let end = exact_end(&post);
             let span = Span::new(self.file, acc.span.start as usize, end);
             let target = Box::new(acc);
@@ -648,6 +800,12 @@ impl Builder {
     }
 }
 
+/// The levels a chain of operations `ops` adds to the tree (see
+/// [`Builder::enter_chain`]).
+fn chain_levels(ops: &[Span]) -> usize {
+    ops.len().saturating_sub(1)
+}
+
 fn binary_op(s: &str) -> BinaryOp {
     match s {
         "+" => BinaryOp::Add,
@@ -703,6 +861,34 @@ fn unescape_inner(s: &str) -> String {
         }
     }
     out
+}
+
+/// Declaration kinds that take `= value`, never a block of fields (the engine's plain
+/// kinds; every other kind is a feature, written as a block).
+pub const VALUE_KINDS: [&str; 3] = ["let", "param", "product"];
+
+/// `let a { x = 1 }`: a block after a kind that takes `= value`.
+fn block_for_value(kind: &Ident, name: &Ident, block: Span) -> Diagnostic {
+    let k = kind.node.as_str();
+    let n = name.node.as_str();
+    let help = if k == "product" {
+        "a product declaration names the finished part: a surface, a mesh or a list of surfaces, \
+         as in `product door = trim(panel, outline)` or `product door = read_obj(\"door.obj\")`; \
+         blocks of fields belong to features such as `punch_opening opening { ... }`"
+            .to_string()
+    } else {
+        format!(
+            "write `{k} {n} = value`; a record of fields is a value too: `{k} {n} = {{ x: 1, y: 2 }}`"
+        )
+    };
+    Diagnostic::new(
+        CODE,
+        format!("`{k}` takes `= value`, not a block of fields"),
+        Span::new(block.file, block.start as usize, block.start as usize + 1),
+        "a block",
+    )
+    .with_label(kind.span, format!("a `{k}` declaration"))
+    .with_help(help)
 }
 
 fn chained_comparison(first: Span, second: Span) -> Diagnostic {
@@ -1049,6 +1235,30 @@ mod errors {
                     Span::new(file, at, at + 1),
                     format!("{what} opened here is not closed"),
                 );
+                // The error begins a new line: the closer is missing before it.
+                if at_eof || !lex::same_line_as_previous(text, &found) {
+                    let close = match opener {
+                        '(' => ')',
+                        '[' => ']',
+                        _ => '}',
+                    };
+                    let opened = line_of(text, at);
+                    let before = text[..found.start.min(text.len())].trim_end();
+                    let missing = if opener == '{' {
+                        unclosed_block(&[(opener, at)], &found, text, false)
+                            .map(|(_, _, m)| format!("before line {m}"))
+                    } else {
+                        Some(format!(
+                            "at the end of line {}",
+                            line_of(text, before.len())
+                        ))
+                    };
+                    if let Some(missing) = missing {
+                        d = d.with_help(format!(
+                            "{what} opened on line {opened} is not closed: is a `{close}` missing {missing}?"
+                        ));
+                    }
+                }
             }
             // `f(a b)`: an operand where a separator belongs, on the same line.
             let separated = matches!(
@@ -1113,7 +1323,128 @@ mod errors {
             }
             _ => {}
         }
+        if matches!(closer, None | Some('{')) {
+            if let Some((at, opened, missing)) = unclosed_block(&open, &found, text, true) {
+                if closer.is_none() {
+                    d = d.with_label(Span::new(file, at, at + 1), "this block is not closed");
+                }
+                if d.help.is_none() {
+                    d = d.with_help(format!(
+                        "the block opened on line {opened} is not closed: is a `}}` missing before line {missing}?"
+                    ));
+                }
+            }
+        }
+        if d.help.is_none() {
+            let in_block = open.last().is_some_and(|&(c, _)| c == '{');
+            d = d.with_help(fallback_help(&wants, &found, text, at_eof, in_block));
+        }
         d
+    }
+
+    /// An error after a `{` still open: most likely its `}` is missing, and the error is
+    /// where the next item begins. The `{`'s offset, its line, and the line that
+    /// probably lacks the `}` (the first after it that starts without indentation).
+    /// With `unclosed_only`, only a `{` that no `}` in the whole file closes counts.
+    fn unclosed_block(
+        open: &[(char, usize)],
+        found: &Tok,
+        text: &str,
+        unclosed_only: bool,
+    ) -> Option<(usize, usize, usize)> {
+        let toks = if unclosed_only {
+            lex::tokens(text)
+        } else {
+            Vec::new()
+        };
+        let &(_, at) = open
+            .iter()
+            .rev()
+            .find(|&&(c, at)| c == '{' && !(unclosed_only && lex::closed_later(&toks, text, at)))?;
+        let opened = line_of(text, at);
+        let after = text[at..found.start.min(text.len())]
+            .match_indices(['\n', '\r'])
+            .map(|(i, _)| at + i + 1)
+            .find(|&i| {
+                text[i..]
+                    .chars()
+                    .next()
+                    .is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
+            });
+        let missing = after.map_or_else(
+            || line_of(text, found.start.min(text.len())),
+            |i| line_of(text, i),
+        );
+        (missing > opened).then_some((at, opened, missing))
+    }
+
+    /// The 1-based line of byte `pos` (`\n`, `\r\n` and a lone `\r` end a line).
+    fn line_of(text: &str, pos: usize) -> usize {
+        let upto = &text[..pos];
+        upto.matches(['\n', '\r']).count() - upto.matches("\r\n").count() + 1
+    }
+
+    /// The help of a syntax error no case above explained: how the expected thing is
+    /// written, in the light of what was found.
+    fn fallback_help(
+        wants: &[Want],
+        found: &Tok,
+        text: &str,
+        at_eof: bool,
+        in_block: bool,
+    ) -> String {
+        let word = &text[found.start..found.end];
+        let Some(first) = wants.first() else {
+            return "remove or rewrite this part; docs/language.md shows each form".to_string();
+        };
+        match first {
+            Want::Expr => match word {
+                ")" | "]" | "}" | "," | ";" => format!(
+                    "a value is missing before `{word}`: write one (`10 mm`, a name, `f(x)`, `(x, y)`), or remove the `{word}`"
+                ),
+                "+" | "-" | "*" | "/" | "<" | ">" | "<=" | ">=" | "==" | "!=" | "|>" | "and" | "or" => {
+                    format!("`{word}` needs a value on each side: is a value missing, or is an operator doubled?")
+                }
+                ":" => "`:` follows a name, as in a named argument `f(x, by: 2 mm)` or a record `{ depth: 40 mm }`".to_string(),
+                "%" => "`%` follows a number directly: `50 %`".to_string(),
+                _ if at_eof => "the expression is not finished: write the value it still needs".to_string(),
+                _ => "an expression is a value such as `10 mm`, a name, a call `f(x)`, a point `(x, y)`, a list `[a, b]` or `if c then a else b`".to_string(),
+            },
+            Want::Operator => "the expression is complete before this: join what follows with an operator (`+`, `*`, `|>`), or start it on a line of its own".to_string(),
+            Want::ParenClose => format!(
+                "close the parenthesis with `)` before {}; a point separates its coordinates with `,`: `(x, y)`",
+                if at_eof { "the end".to_string() } else { format!("`{word}`") }
+            ),
+            Want::ArgsClose => "separate the arguments with `,` and close the call with `)`: `f(a, b, by: 2 mm)`".to_string(),
+            Want::ParamsClose => "separate the parameters with `,` and close them with `)`: `fn f(a, b = 2 mm) = ...`".to_string(),
+            Want::ListClose => "separate the elements with `,` and close the list with `]`: `[a, b, c]`".to_string(),
+            Want::RecordClose => "separate the fields with `,` and close the record with `}`: `{ depth: 40 mm, angle: 8 deg }`".to_string(),
+            Want::IndexClose => "close the index with `]`: `xs[0]`".to_string(),
+            Want::BlockField if at_eof => "close the block with `}`".to_string(),
+            Want::BlockField => "a block holds fields, `name = value` or `name { ... }`, one after another; close it with `}`".to_string(),
+            Want::SketchCommand => "a sketch's commands are `from p`, `line to p`, `arc to p through q`, `tangent arc to p`, `spline through [points]`, `fillet r` and `close`; close the sketch with `}`".to_string(),
+            Want::ArcOrSpline => "after `tangent` write `arc to p` or `spline through [points]`".to_string(),
+            Want::AssignOrBlock if in_block => "a field is its name, then `= value` or a `{ ... }` block: `depth = 40 mm`".to_string(),
+            Want::AssignOrBlock => "a declaration is `kind name = value` or `kind name { fields }`; a function is `fn name(x) = body`".to_string(),
+            Want::FnAssign => "a function is `fn name(x, y) = body`".to_string(),
+            Want::Arrow => "a function value is `fn(x) => body`".to_string(),
+            Want::Colon => "a record field is `name: value`".to_string(),
+            Want::Then | Want::Else => "a conditional is `if condition then a else b`, all three parts given".to_string(),
+            Want::In => "a comprehension is `[body for x in list]`".to_string(),
+            Want::As => "an import names its module: `import \"std/addendum\" as add`".to_string(),
+            Want::To => "write `line to (x, y)`, `arc to (x, y) through (x, y)` or `tangent arc to (x, y)`".to_string(),
+            Want::Through => "write `arc to p through q` or `spline through [points]`".to_string(),
+            Want::UnitName => "the units are mm, cm, m, in (lengths) and deg, rad (angles): `units mm deg`".to_string(),
+            Want::ImportPath => "write the path in double quotes: `import \"std/addendum\" as add`".to_string(),
+            Want::DeclName => "a declaration is its kind, its name and its value: `let width = 550 mm`".to_string(),
+            Want::FnName | Want::ParamName | Want::VarName | Want::Alias | Want::FieldName => {
+                "a name starts with a letter or `_`, followed by letters, digits and `_`".to_string()
+            }
+            Want::Item => format!(
+                "each top-level item is a declaration (`let width = 550 mm`), a `fn`, an `import` or `units`: is {} left over from the line before?",
+                if word.is_empty() { "this".to_string() } else { format!("`{word}`") }
+            ),
+        }
     }
 
     /// Where "the file ends here" points: the character after the last token (so the
@@ -1157,7 +1488,7 @@ mod errors {
 // The lexical pass for error reporting
 
 mod lex {
-    use super::{Diagnostic, FileId, Span, CODE};
+    use super::{Diagnostic, FileId, Limit, Limits, Span, CODE};
 
     #[derive(Debug, Clone, Copy, PartialEq, Eq)]
     pub(super) enum TokKind {
@@ -1200,6 +1531,16 @@ mod lex {
         KEYWORDS.contains(&w)
     }
 
+    /// Whether a byte is whitespace to the grammar (a form feed, say, is not).
+    fn is_space(c: u8) -> bool {
+        matches!(c, b' ' | b'\t' | b'\r' | b'\n')
+    }
+
+    /// Whether a byte ends a line: `\n`, or `\r` alone or before `\n`.
+    fn is_line_end(c: u8) -> bool {
+        c == b'\n' || c == b'\r'
+    }
+
     fn is_ident_char(c: u8) -> bool {
         c.is_ascii_alphanumeric() || c == b'_'
     }
@@ -1213,7 +1554,7 @@ mod lex {
             let start = i;
             let c = b[i];
             let kind = if c == b'/' && b.get(i + 1) == Some(&b'/') {
-                while i < b.len() && b[i] != b'\n' {
+                while i < b.len() && !is_line_end(b[i]) {
                     i += 1;
                 }
                 TokKind::LineComment
@@ -1233,7 +1574,7 @@ mod lex {
                 i += 1;
                 let mut terminated = false;
                 let mut bad_escape = None;
-                while i < b.len() && b[i] != b'\n' {
+                while i < b.len() && !is_line_end(b[i]) {
                     if b[i] == b'"' {
                         i += 1;
                         terminated = true;
@@ -1245,7 +1586,7 @@ mod lex {
                         {
                             bad_escape = Some(i);
                         }
-                        if matches!(b.get(i + 1), Some(b'\n') | None) {
+                        if matches!(b.get(i + 1), Some(b'\n' | b'\r') | None) {
                             i += 1;
                             continue;
                         }
@@ -1257,13 +1598,11 @@ mod lex {
                     terminated,
                     bad_escape,
                 }
-            } else if c.is_ascii_whitespace() || text[i..].starts_with('\u{FEFF}') {
+            } else if is_space(c) || text[i..].starts_with('\u{FEFF}') {
                 let mut newline = false;
-                while i < b.len()
-                    && (b[i].is_ascii_whitespace() || text[i..].starts_with('\u{FEFF}'))
-                {
-                    newline |= b[i] == b'\n';
-                    i += if b[i].is_ascii_whitespace() { 1 } else { 3 };
+                while i < b.len() && (is_space(b[i]) || text[i..].starts_with('\u{FEFF}')) {
+                    newline |= is_line_end(b[i]);
+                    i += if is_space(b[i]) { 1 } else { 3 };
                 }
                 TokKind::Space { newline }
             } else if c.is_ascii_digit() {
@@ -1400,22 +1739,10 @@ mod lex {
                     );
                 }
                 TokKind::Unknown => {
-                    let c = &text[t.start..t.end];
-                    let mut d = Diagnostic::new(
-                        CODE,
-                        format!("unknown character `{c}`"),
+                    return Some(unknown_character(
+                        &text[t.start..t.end],
                         span(t.start, t.end),
-                        "not part of the language",
-                    );
-                    d = match c {
-                        "'" => d.with_help("strings are written in double quotes: \"...\""),
-                        "#" => d.with_help("comments start with `//`"),
-                        "!" => d.with_help("write `not x` for negation and `!=` for inequality"),
-                        "&" => d.with_help("write `and`"),
-                        "|" => d.with_help("write `or`, or `|>` to pipe a value into a function"),
-                        _ => d,
-                    };
-                    return Some(d);
+                    ));
                 }
                 TokKind::Number => {
                     if let Some(d) = bad_unit(toks, k, text, file) {
@@ -1428,6 +1755,97 @@ mod lex {
             }
         }
         None
+    }
+
+    /// A character the language does not use. One that does not show (a zero-width
+    /// or no-break space, a control or direction mark) is named by its code point, since
+    /// quoting it would show nothing; a look-alike of an operator or quote says which.
+    fn unknown_character(c: &str, span: Span) -> Diagnostic {
+        let ch = c.chars().next().unwrap_or('\0');
+        let code = format!("U+{:04X}", u32::from(ch));
+        if let Some(name) = invisible_name(ch) {
+            let help = if name.contains("SPACE") && !name.contains("ZERO") {
+                "it looks like a space but is not one: replace it with an ordinary space"
+            } else {
+                "it does not show: delete it (retype the text around it if you cannot find it)"
+            };
+            return Diagnostic::new(
+                CODE,
+                format!("invisible character {code} {name}"),
+                span,
+                format!("{code} {name} is here"),
+            )
+            .with_help(help);
+        }
+        // A visible non-ASCII character is named by its code point too (a look-alike of an
+        // ASCII one is told apart by it).
+        let message = if ch.is_ascii() {
+            format!("unknown character `{c}`")
+        } else {
+            format!("unknown character `{c}` ({code})")
+        };
+        let d = Diagnostic::new(CODE, message, span, "not part of the language");
+        let help = match ch {
+            '\'' | '\u{2018}' | '\u{2019}' => "strings are written in straight double quotes: \"...\"",
+            '\u{201C}' | '\u{201D}' | '\u{201E}' => {
+                "this is a typographic quote: write strings in straight double quotes, \"...\""
+            }
+            '#' => "comments start with `//`",
+            '!' => "write `not x` for negation and `!=` for inequality",
+            '&' => "write `and`",
+            '|' => "write `or`, or `|>` to pipe a value into a function",
+            '\u{2212}' | '\u{2013}' | '\u{2014}' | '\u{2010}' => {
+                "this is a typographic dash: write the minus sign as `-`"
+            }
+            '\u{00D7}' | '\u{22C5}' | '\u{00B7}' => "write multiplication as `*`",
+            '\u{00F7}' => "write division as `/`",
+            '\u{00B0}' => "write angles with their unit: `8 deg`",
+            '\u{2264}' => "write `<=`",
+            '\u{2265}' => "write `>=`",
+            '\u{2260}' => "write `!=`",
+            _ => "the language is written in ASCII outside strings and comments: remove it, or put text in a string",
+        };
+        d.with_help(help)
+    }
+
+    /// The Unicode name of a character that does not show, or `None` for one that does.
+    fn invisible_name(c: char) -> Option<&'static str> {
+        Some(match c {
+            '\0' => "NULL",
+            '\u{7F}' => "DELETE",
+            '\u{0B}' => "LINE TABULATION",
+            '\u{0C}' => "FORM FEED",
+            '\u{A0}' => "NO-BREAK SPACE",
+            '\u{AD}' => "SOFT HYPHEN",
+            '\u{85}' => "NEXT LINE",
+            '\u{1680}' => "OGHAM SPACE MARK",
+            '\u{2000}'..='\u{200A}' => "SPACE (a typographic width)",
+            '\u{200B}' => "ZERO WIDTH SPACE",
+            '\u{200C}' => "ZERO WIDTH NON-JOINER",
+            '\u{200D}' => "ZERO WIDTH JOINER",
+            '\u{200E}' => "LEFT-TO-RIGHT MARK",
+            '\u{200F}' => "RIGHT-TO-LEFT MARK",
+            '\u{2028}' => "LINE SEPARATOR",
+            '\u{2029}' => "PARAGRAPH SEPARATOR",
+            '\u{202A}' => "LEFT-TO-RIGHT EMBEDDING",
+            '\u{202B}' => "RIGHT-TO-LEFT EMBEDDING",
+            '\u{202C}' => "POP DIRECTIONAL FORMATTING",
+            '\u{202D}' => "LEFT-TO-RIGHT OVERRIDE",
+            '\u{202E}' => "RIGHT-TO-LEFT OVERRIDE",
+            '\u{202F}' => "NARROW NO-BREAK SPACE",
+            '\u{205F}' => "MEDIUM MATHEMATICAL SPACE",
+            '\u{2060}' => "WORD JOINER",
+            '\u{2061}'..='\u{2064}' => "INVISIBLE OPERATOR",
+            '\u{2066}' => "LEFT-TO-RIGHT ISOLATE",
+            '\u{2067}' => "RIGHT-TO-LEFT ISOLATE",
+            '\u{2068}' => "FIRST STRONG ISOLATE",
+            '\u{2069}' => "POP DIRECTIONAL ISOLATE",
+            '\u{3000}' => "IDEOGRAPHIC SPACE",
+            '\u{FEFF}' => "ZERO WIDTH NO-BREAK SPACE",
+            '\u{FFFC}' => "OBJECT REPLACEMENT CHARACTER",
+            c if c.is_control() => "CONTROL CHARACTER",
+            _ => return None,
+        })
     }
 
     /// `12 mmm`, `5x`: a word after a number that is not a unit. Glued to the number it
@@ -1495,7 +1913,8 @@ mod lex {
     /// before parsing because pest, the builder and every later pass recurse once per
     /// level. A level is a bracket, or a prefix `-`/`not`, `if` or `fn` inside the current
     /// element (those nest until the element ends at `,`, `;` or `=`).
-    pub(super) fn too_deep(text: &str, file: FileId, max: usize) -> Option<Diagnostic> {
+    pub(super) fn too_deep(text: &str, file: FileId, limits: &Limits) -> Option<Diagnostic> {
+        let max = limits.count(Limit::Nesting);
         let mut stack: Vec<usize> = vec![0]; // prefix-like levels per open bracket
         let mut prev_operand = false; // whether the previous token ends an operand
         for t in tokens(text) {
@@ -1535,7 +1954,10 @@ mod lex {
                         Span::new(file, t.start, t.end),
                         "nested too deeply",
                     )
-                    .with_help("split the expression into named declarations"),
+                    .with_help(format!(
+                        "split the expression into named declarations; {}",
+                        Limit::Nesting.help(limits)
+                    )),
                 );
             }
         }
@@ -1569,6 +1991,27 @@ mod lex {
         stack
     }
 
+    /// Whether a `}` later in the file closes the `{` at byte `at`.
+    pub(super) fn closed_later(toks: &[Tok], text: &str, at: usize) -> bool {
+        let mut depth = 0usize;
+        for t in toks
+            .iter()
+            .filter(|t| t.start >= at && t.kind == TokKind::Punct)
+        {
+            match &text[t.start..t.end] {
+                "{" => depth += 1,
+                "}" => {
+                    depth -= 1;
+                    if depth == 0 {
+                        return true;
+                    }
+                }
+                _ => {}
+            }
+        }
+        false
+    }
+
     /// Whether a token could begin an operand (so a comma may be what is missing).
     pub(super) fn starts_operand(t: &Tok, text: &str) -> bool {
         match t.kind {
@@ -1586,7 +2029,7 @@ mod lex {
     pub(super) fn same_line_as_previous(text: &str, t: &Tok) -> bool {
         !text[..t.start]
             .trim_end_matches([' ', '\t'])
-            .ends_with('\n')
+            .ends_with(['\n', '\r'])
     }
 }
 

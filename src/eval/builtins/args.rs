@@ -142,7 +142,15 @@ pub fn fraction(call: &Call, name: &str) -> Result<f64, Diagnostic> {
                 "`{name}` of `{}` is a fraction of the parameter range, 0 to 1, but this is {f}",
                 call.builtin.name
             ),
-            "write a number from 0 to 1 or a percentage such as `50 %`",
+            if (1.0..=100.0).contains(&f)
+                && call
+                    .arg(name)
+                    .is_some_and(|v| matches!(&v.data, Data::Number(q) if q.bare))
+            {
+                format!("a bare number is a fraction here (`1` is `100 %`): did you mean `{f} %`?")
+            } else {
+                "write a number from 0 to 1 or a percentage such as `50 %`".to_string()
+            },
         ));
     }
     Ok(f)

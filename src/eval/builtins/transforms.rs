@@ -108,8 +108,25 @@ fn transform_mesh(call: &Call, t: &Transform, m: &Mesh) -> Result<Mesh, Diagnost
 }
 
 fn run_with(call: &Call, t: Result<Transform, GeomError>, arg: &str) -> Result<Data, Diagnostic> {
-    let t = t.map_err(|e| call.kernel_error(e, Some(arg)))?;
+    let t = t.map_err(|e| {
+        let arg = blamed(&e, arg);
+        call.kernel_error(e, Some(arg))
+    })?;
     apply(call, &t, call.required("geom")?)
+}
+
+/// The argument a transform's kernel error comes from: a non-finite angle is `by`'s, a
+/// non-finite centre `center`'s, anything else `arg`'s (the axis, the offset, the factor).
+fn blamed<'a>(e: &GeomError, arg: &'a str) -> &'a str {
+    match e {
+        GeomError::NotFinite {
+            what: "rotation angle",
+        } => "by",
+        GeomError::NotFinite {
+            what: "rotation centre" | "scale centre",
+        } => "center",
+        _ => arg,
+    }
 }
 
 fn translate(call: &Call) -> Result<Data, Diagnostic> {
@@ -175,9 +192,10 @@ fn rotation(call: &Call) -> Result<Data, Diagnostic> {
         direction3(call, "axis")?,
         call.angle("by")?,
     );
-    Ok(Data::Transform(Arc::new(
-        t.map_err(|e| call.kernel_error(e, Some("axis")))?,
-    )))
+    Ok(Data::Transform(Arc::new(t.map_err(|e| {
+        let arg = blamed(&e, "axis");
+        call.kernel_error(e, Some(arg))
+    })?)))
 }
 
 fn translation(call: &Call) -> Result<Data, Diagnostic> {
@@ -192,4 +210,20 @@ fn scaling(call: &Call) -> Result<Data, Diagnostic> {
     Ok(Data::Transform(Arc::new(
         t.map_err(|e| call.kernel_error(e, Some("factor")))?,
     )))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DVec3;
+
+    #[test]
+    fn a_transforms_kernel_error_blames_the_argument_that_made_it() {
+        let nan_angle = Transform::rotate_about_axis(DVec3::ZERO, DVec3::X, f64::NAN);
+        assert_eq!(blamed(&nan_angle.unwrap_err(), "about"), "by");
+        let nan_centre = Transform::rotate_about_axis(DVec3::splat(f64::NAN), DVec3::X, 1.0);
+        assert_eq!(blamed(&nan_centre.unwrap_err(), "about"), "center");
+        let zero_axis = Transform::rotate_about_axis(DVec3::ZERO, DVec3::ZERO, 1.0);
+        assert_eq!(blamed(&zero_axis.unwrap_err(), "about"), "about");
+    }
 }

@@ -556,8 +556,14 @@ fn stations(v: &Value, what: &str) -> Result<Vec<f64>, Diagnostic> {
         out.push(number(item, &format!("`at` of {what}"))?);
     }
     let help = "stations are fractions of the side's length in drawing order, from 0 (its start) to 1 (its end): e.g. `at = [0, 30 %, 1]`";
+    // A station written as a bare percentage (`at = [0, 30, 100]`) gets "did you mean".
+    let hint = list.iter().find_map(super::percent_hint);
+    let help = match &hint {
+        Some(h) => format!("{h} {help}"),
+        None => help.to_string(),
+    };
     let bad = |span: Span, message: String, label: &str| {
-        Err(feature_error(KIND, message, span, label, help))
+        Err(feature_error(KIND, message, span, label, help.clone()))
     };
     if out.len() < 2 {
         return bad(

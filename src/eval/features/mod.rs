@@ -298,6 +298,21 @@ fn show(x: f64) -> String {
     }
 }
 
+/// "did you mean `100 %`?" for a bare number above 1 where a fraction (0 to 1, or a
+/// percentage) is wanted: a bare number is a fraction, so `100` is 10000 %, but the
+/// designer most likely meant the percentage. `None` for anything else.
+fn percent_hint(v: &Value) -> Option<String> {
+    match &v.data {
+        Data::Number(q) if q.bare && q.dim.is_none() && q.value > 1.0 && q.value <= 1000.0 => {
+            Some(format!(
+                "a bare number is a fraction here (`1` is `100 %`): did you mean `{} %`?",
+                show(q.value)
+            ))
+        }
+        _ => None,
+    }
+}
+
 /// A plain number or ratio value as it was written: `90 %` for a ratio, `0.9` for a bare
 /// number, `120 mm` for a length.
 fn show_value(v: &Value) -> String {

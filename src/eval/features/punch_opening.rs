@@ -426,6 +426,10 @@ fn side_view(v: &Value, name: &str) -> Result<(SideView, Option<ViewEnds>), Diag
     ))
 }
 
+/// The largest bare tangent factor taken as written: a corner's natural magnitude times
+/// more than this loops, so a bigger bare number is a percentage without its `%`.
+const MAX_BARE_FACTOR: f64 = 5.0;
+
 /// A tangent spec: a magnitude, or a pair for start and end. `whose` completes "the
 /// tangent magnitude ..." (`of the corner `front_nose``).
 fn magnitudes(
@@ -455,7 +459,24 @@ fn magnitude(
         Data::Number(q) if q.dim.is_none() && !q.bare => (Magnitude::Natural(q.value), q.value),
         Data::Number(q) if q.dim.is_none() => {
             // A bare number is a factor of the natural magnitude, not a length: `1.2`.
+            // One far above any sensible factor is a percentage written without `%`.
             let _ = units;
+            if q.value > MAX_BARE_FACTOR {
+                return Err(feature_error(
+                    KIND,
+                    format!(
+                        "the tangent magnitude {whose} is {}: a bare number is a factor of the corner's natural magnitude, so this would make it {} times as long",
+                        show_value(v),
+                        show(q.value)
+                    ),
+                    v.span,
+                    "a bare factor",
+                    format!(
+                        "a bare number is a factor here (`1` is `100 %`): did you mean `{0} %`, or a length such as `{0} mm`?",
+                        show(q.value)
+                    ),
+                ));
+            }
             (Magnitude::Natural(q.value), q.value)
         }
         _ => {
