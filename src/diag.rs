@@ -433,7 +433,7 @@ impl SourceError {
             SourceError::TooLarge { size } => {
                 let file = sources.add(name, "");
                 Ok(Diagnostic::new(
-                    "die::file_too_large",
+                    "die::limit::file_bytes",
                     format!("`{name}` has {size} bytes, more than the `file_bytes` limit allows"),
                     Span::new(file, 0, 0),
                     "this file",
@@ -469,7 +469,7 @@ impl SourceError {
                 "check the file's permissions".to_string(),
             ),
             SourceError::TooLarge { size } => (
-                "die::file_too_large",
+                "die::limit::file_bytes",
                 format!("`{path}` has {size} bytes, more than the `file_bytes` limit allows"),
                 Limit::FileBytes.help(limits),
             ),

@@ -236,7 +236,7 @@ fn every_read_is_held_to_the_file_bytes_limit() {
     let limit = ["--limit", "file_bytes=150"];
     let (code, _, err) = dieface(&dir, &[&["check", "part.die"][..], &limit].concat());
     assert_eq!(code, Some(1), "{err}");
-    assert_eq!(err.matches("die::limit").count(), 2, "{err}");
+    assert_eq!(err.matches("die::limit::file_bytes").count(), 2, "{err}");
     assert!(
         err.contains("part.die:1:8") && err.contains("part.die:2:18"),
         "{err}"
@@ -248,9 +248,13 @@ fn every_read_is_held_to_the_file_bytes_limit() {
     let (code, _, err) = dieface(&dir, &["check", "part.die"]);
     assert_eq!(code, Some(0), "under the default limit: {err}");
 
-    // The script itself: refused before it is read, with the same help.
+    // The script itself: the same diagnostic, at its start, with the same help.
     let (code, _, err) = dieface(&dir, &["check", "lib.die", "--limit", "file_bytes=100"]);
-    assert_eq!(code, Some(2), "{err}");
+    assert_eq!(code, Some(1), "{err}");
+    assert!(
+        err.contains("die::limit::file_bytes") && err.contains("lib.die:1:1"),
+        "{err}"
+    );
     assert!(err.contains("--limit file_bytes=N"), "{err}");
 }
 
@@ -418,5 +422,8 @@ fn a_module_that_is_not_utf8_is_refused_with_where() {
         err.contains("die::not_utf8") && err.contains("part.die:1:8"),
         "{err}"
     );
-    assert!(err.contains("byte 0xE9 at line 2, column 8"), "{err}");
+    assert!(
+        err.contains("byte 0xE9 at offset 20 (line 2, column 8)"),
+        "{err}"
+    );
 }

@@ -265,7 +265,7 @@ fn a_file_over_the_file_bytes_limit_is_a_diagnostic() {
         &["--limit", "file_bytes=10"],
     );
     assert_eq!(code, Some(1), "{stderr}");
-    assert!(stderr.contains("die::file_too_large"), "{stderr}");
+    assert!(stderr.contains("die::limit::file_bytes"), "{stderr}");
     assert!(stderr.contains("--limit file_bytes=N"), "{stderr}");
 }
 

@@ -181,10 +181,9 @@ impl ScriptArgs {
             Err(ReadRefusal::Io(e)) if e.kind() == std::io::ErrorKind::NotFound => {
                 "no such file".to_string()
             }
-            Err(ReadRefusal::TooLarge { bytes }) => format!(
-                "it holds {bytes} bytes, more than the `file_bytes` limit allows\nhelp: {}",
-                crate::limits::Limit::FileBytes.help(&self.limits())
-            ),
+            // A script over the limit is the engine's diagnostic (`die::limit::file_bytes`,
+            // with the limit's help), as a module over it is.
+            Err(ReadRefusal::TooLarge { .. }) => return Ok(()),
             Err(r) => r.to_string(),
         };
         eprintln!("error: cannot read `{}`: {why}", self.file.display());

@@ -279,7 +279,7 @@ pub fn refusal_diagnostic(
         )
         .with_help("scripts read regular files only (a folder, a named pipe or a device cannot be read); name the file itself"),
         ReadRefusal::TooLarge { bytes } => Diagnostic::new(
-            "die::limit",
+            "die::limit::file_bytes",
             format!(
                 "`{shown}` holds {bytes} bytes, more than the `{}` limit allows",
                 Limit::FileBytes

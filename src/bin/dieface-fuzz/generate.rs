@@ -5,7 +5,7 @@
 //!
 //! Values are plausible (a length in mm, a point in the top view) or implausible (zero,
 //! negative, huge, tiny, the wrong unit, the wrong type) at random, so a generated
-//! script reaches the kernel as often as it reaches a diagnostic. One script in twenty
+//! script reaches the kernel as often as it reaches a diagnostic. One script in fifty
 //! is a whole small die (product, opening, binder, step draw, beads) with random numbers,
 //! so the features' kernels are exercised, not only the evaluator.
 
@@ -90,7 +90,7 @@ const MODULES: &[&str] = &[
 
 /// A generated script.
 pub fn script(rng: &mut Rng, sig: &Signatures) -> String {
-    if rng.chance(0.05) {
+    if rng.chance(0.02) {
         return small_die(rng);
     }
     let mut g = Gen {
@@ -229,7 +229,11 @@ impl Gen<'_> {
                 "[{} for i in {}]",
                 self.expr(d),
                 if self.rng.chance(0.7) {
-                    format!("range(0, {})", self.rng.pick(&["3", "10", "1000", "1e7"]))
+                    format!(
+                        "range(0, {})",
+                        self.rng
+                            .pick(&["3", "10", "3", "10", "1000", "3", "10", "1e7"])
+                    )
                 } else {
                     self.expr(d)
                 }

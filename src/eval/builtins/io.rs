@@ -138,7 +138,7 @@ fn check_vertex_count(call: &Call, path: &str, vertices: usize) -> Result<(), Di
         return Ok(());
     }
     Err(Diagnostic::new(
-        "die::limit",
+        "die::limit::mesh_vertices",
         format!(
             "`{path}` has {vertices} vertices, more than the `{}` limit allows",
             Limit::MeshVertices
