@@ -88,7 +88,8 @@ struct Budgets {
     /// The run's seed.
     #[arg(long, default_value_t = 1)]
     seed: u64,
-    /// Time budget of one input, milliseconds.
+    /// Time budget of one input, milliseconds of the worker's CPU time (a worker idle
+    /// for six budgets of wall time is stopped too).
     #[arg(long, default_value_t = 10_000)]
     time_ms: u64,
     /// Memory budget of one input (peak resident), MiB.

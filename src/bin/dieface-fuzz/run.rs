@@ -138,6 +138,33 @@ enum Verdict {
     Hang,
 }
 
+/// How often the parent looks at a busy worker's CPU time.
+const POLL: Duration = Duration::from_millis(100);
+
+/// Wall time, in time budgets, after which a worker is stopped even if it is idle.
+const WALL_FACTOR: u32 = 6;
+
+/// The CPU time (user and system, all threads) process `pid` has used, from
+/// `/proc/PID/stat` (zero where it cannot be read: the wall-time bound still holds).
+fn cpu_time(pid: u32) -> Duration {
+    let Ok(stat) = std::fs::read_to_string(format!("/proc/{pid}/stat")) else {
+        return Duration::ZERO;
+    };
+    // Fields after the command name (which may hold spaces), closed by its `)`.
+    let Some(rest) = stat.rfind(')').map(|i| &stat[i + 1..]) else {
+        return Duration::ZERO;
+    };
+    let fields: Vec<&str> = rest.split_whitespace().collect();
+    // utime and stime are fields 14 and 15 of the whole line, 12 and 13 here.
+    let ticks: u64 = [11, 12]
+        .iter()
+        .filter_map(|&i| fields.get(i).and_then(|f| f.parse::<u64>().ok()))
+        .sum();
+    // SAFETY: sysconf only reads a system constant.
+    let per_second = unsafe { libc::sysconf(libc::_SC_CLK_TCK) }.max(1) as u64;
+    Duration::from_millis(ticks * 1000 / per_second)
+}
+
 /// A failure kind, for the summary and file names.
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Debug)]
 pub enum Failure {
@@ -171,7 +198,10 @@ fn failure(v: &Verdict, cfg: &Config) -> Option<(Failure, String)> {
         Verdict::Died(m) => Some((Failure::Crash, format!("died: {m}"))),
         Verdict::Hang => Some((
             Failure::Hang,
-            format!("over the time budget of {} ms", cfg.time.as_millis()),
+            format!(
+                "over the time budget of {} ms of CPU time",
+                cfg.time.as_millis()
+            ),
         )),
     }
 }
@@ -262,15 +292,7 @@ impl Worker {
             .and_then(|_| self.stdin.flush());
         let verdict = match sent {
             Err(_) => self.died(),
-            Ok(()) => match self.replies.recv_timeout(cfg.time) {
-                Ok(line) => parse_reply(&line),
-                Err(RecvTimeoutError::Timeout) => {
-                    let _ = self.child.kill();
-                    let _ = self.child.wait();
-                    Verdict::Hang
-                }
-                Err(RecvTimeoutError::Disconnected) => self.died(),
-            },
+            Ok(()) => self.wait_for_reply(cfg),
         };
         if matches!(verdict, Verdict::Hang | Verdict::Died(_)) {
             if let Ok(w) = Worker::start(cfg, &self.scratch) {
@@ -278,6 +300,30 @@ impl Worker {
             }
         }
         verdict
+    }
+
+    /// Waits for the worker's reply within the time budget, counted in the worker's CPU
+    /// time (all its threads), so a busy machine does not make a slow input a hang; a
+    /// worker that waits without working (on a pipe, say) is stopped after
+    /// [`WALL_FACTOR`] times the budget of wall time.
+    fn wait_for_reply(&mut self, cfg: &Config) -> Verdict {
+        let pid = self.child.id();
+        let cpu_at_start = cpu_time(pid);
+        let started = Instant::now();
+        loop {
+            match self.replies.recv_timeout(POLL) {
+                Ok(line) => return parse_reply(&line),
+                Err(RecvTimeoutError::Disconnected) => return self.died(),
+                Err(RecvTimeoutError::Timeout) => {
+                    let cpu = cpu_time(pid).saturating_sub(cpu_at_start);
+                    if cpu > cfg.time || started.elapsed() > cfg.time * WALL_FACTOR {
+                        let _ = self.child.kill();
+                        let _ = self.child.wait();
+                        return Verdict::Hang;
+                    }
+                }
+            }
+        }
     }
 
     fn died(&mut self) -> Verdict {
