@@ -37,6 +37,21 @@ pub fn make_compatible<P: Point>(curves: &[NurbsCurve<P>]) -> Result<Vec<NurbsCu
     // first one's vector so that compatibility is exact (a shift of 1e-12 in a knot moves
     // the curve by far less than any tolerance).
     let canonical = refined[0].knots().as_slice().to_vec();
+    // Knots matched within 1e-12 by the merge but inserted at different multiplicities
+    // would leave the curves with different counts; the shared vector would then
+    // describe none of them. Refuse instead (a fuzzed opening with a 2 mm fillet found
+    // this through a ruled surface).
+    let expected = refined[0].control_points().len();
+    if let Some(c) = refined
+        .iter()
+        .find(|c| c.control_points().len() != expected)
+    {
+        return Err(GeomError::LengthMismatch {
+            what: "control points of curves made compatible",
+            expected,
+            given: c.control_points().len(),
+        });
+    }
     Ok(refined
         .into_iter()
         .map(|c| {

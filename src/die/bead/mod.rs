@@ -490,6 +490,18 @@ fn check_course(spec: &BeadSpec, course: &CourseMap) -> Result<(), Problem> {
             });
         }
     }
+    // A short taper is resolved by its own fine sections (`station_fractions`): a
+    // taper of a micrometre would ask for millions of them.
+    if spec.taper > 0.0 && spec.taper / (TAPER_SECTIONS as f64) < spec.spacing {
+        let fine_zone = (spec.taper + spec.spacing).min(0.5 * course.length);
+        let count = 2.0 * fine_zone / (spec.taper / TAPER_SECTIONS as f64);
+        if count > MAX_SECTIONS as f64 {
+            return Err(Problem::TooFine {
+                what: "taper",
+                count: count.min(usize::MAX as f64) as usize,
+            });
+        }
+    }
     if 2.0 * spec.taper > course.length {
         return Err(Problem::TaperTooLong {
             taper: spec.taper,

@@ -460,9 +460,17 @@ fn explain(block: &Block, p: &Problem, sources: &[KeySource]) -> Explanation<Par
                 "the bead's {what} is so fine that it would take {} sections or points",
                 if *count > 1_000_000_000 { "more than a billion".to_string() } else { count.to_string() }
             ),
-            Blame::Field(if *what == "section spacing" { "spacing" } else { "line_spacing" }),
+            Blame::Field(match *what {
+                "section spacing" => "spacing",
+                "taper" => "taper",
+                _ => "line_spacing",
+            }),
             "too fine",
-            "sections every 5-10 mm follow any bead profile within 0.01 mm; line beads every 10-20 mm are what forming simulation uses",
+            if *what == "taper" {
+                "a taper runs the height out over 10-50 mm; for a bead at full height to its ends, leave `taper` out"
+            } else {
+                "sections every 5-10 mm follow any bead profile within 0.01 mm; line beads every 10-20 mm are what forming simulation uses"
+            },
         ),
         Problem::ProfileFeet { section } => Explanation::new(
             format!("the cross-section of {} must start and end on the binder, at height 0", name(*section)),
