@@ -68,6 +68,21 @@ fn builds_every_format_in_one_run() {
     let obj = std::fs::read_to_string(dir.join("a.obj")).expect("obj");
     assert!(obj.lines().any(|l| l.starts_with("v ")), "OBJ vertices");
     assert!(obj.lines().any(|l| l.starts_with("f ")), "OBJ faces");
+    // The last line: the whole time, then the stages', which add up to at most it.
+    let last = stdout.lines().last().expect("a summary line");
+    let times: Vec<f64> = last
+        .split(" ms")
+        .filter_map(|part| part.rsplit(' ').next()?.parse().ok())
+        .collect();
+    assert!(
+        last.starts_with("built in ")
+            && last.contains("(evaluated in ")
+            && last.contains(", tessellated in ")
+            && last.contains(", written in ")
+            && times.len() == 4,
+        "{last}"
+    );
+    assert!(times[1] + times[2] + times[3] <= times[0] + 0.3, "{last}");
 }
 
 #[test]

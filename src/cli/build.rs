@@ -42,6 +42,8 @@ pub(crate) enum Built {
         files: Vec<OutputFile>,
         /// Wall time of evaluation, tessellation and writing.
         took: Duration,
+        /// The same wall time by stage.
+        stages: StageTimes,
         /// The declarations that re-ran.
         reran: Vec<String>,
         /// How many pieces were tessellated anew (the rest came from the cache).
@@ -51,6 +53,41 @@ pub(crate) enum Built {
     ScriptErrors(usize),
     /// An output could not be written (printed); outputs before it were (exit 2).
     WriteFailed,
+}
+
+/// Wall time spent in each stage of one build, from the progress callbacks: what
+/// `dieface build` prints after its total, so the split of a cold build is measured on
+/// the real binary.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct StageTimes {
+    /// Parsing, evaluating the declarations and making the die model.
+    pub evaluate: Duration,
+    /// Tessellating the die model's pieces (the ones not cached).
+    pub tessellate: Duration,
+    /// Encoding and writing every output.
+    pub write: Duration,
+}
+
+impl StageTimes {
+    /// Adds the time since `since` to the stage `slot` ([`StageTimes::slot`]) names.
+    fn add(&mut self, slot: Option<usize>, since: Instant) {
+        let slot = match slot {
+            Some(0) => &mut self.evaluate,
+            Some(1) => &mut self.tessellate,
+            Some(_) => &mut self.write,
+            None => return,
+        };
+        *slot += since.elapsed();
+    }
+
+    /// Which of the three times `stage` counts towards.
+    fn slot(stage: &Stage) -> usize {
+        match stage {
+            Stage::Evaluating(_) => 0,
+            Stage::Tessellating => 1,
+            Stage::Writing(_) => 2,
+        }
+    }
 }
 
 impl Plan {
@@ -115,7 +152,13 @@ impl Plan {
                 b.finish_and_clear();
             }
         };
+        // The stage under way and when it began, for the stage times.
+        let current: RefCell<(Option<usize>, Instant)> = RefCell::new((None, started));
+        let times = RefCell::new(StageTimes::default());
         let mut stage = |s: Stage| {
+            let mut cur = current.borrow_mut();
+            times.borrow_mut().add(cur.0, cur.1);
+            *cur = (Some(StageTimes::slot(&s)), Instant::now());
             clear();
             *bar.borrow_mut() = Some(progress(match s {
                 Stage::Evaluating(f) => format!("evaluating {}", f.display()),
@@ -144,6 +187,12 @@ impl Plan {
                     Ok(files) => Ok(Built::Written {
                         files,
                         took: started.elapsed(),
+                        stages: {
+                            let cur = current.borrow();
+                            let mut t = *times.borrow();
+                            t.add(cur.0, cur.1);
+                            t
+                        },
                         reran: b.reran,
                         tessellated: b.tessellated,
                     }),
@@ -187,11 +236,22 @@ pub(crate) fn run(script: &ScriptArgs, out: &OutputArgs) -> ExitCode {
         // An output that cannot be written (no such folder, no permission) is a problem
         // with the command line, not the script.
         Ok(Built::WriteFailed) => ExitCode::from(USAGE_ERROR),
-        Ok(Built::Written { files, took, .. }) => {
+        Ok(Built::Written {
+            files,
+            took,
+            stages,
+            ..
+        }) => {
             for f in &files {
                 println!("wrote {} ({} bytes)", f.path.display(), f.bytes);
             }
-            println!("built in {}", ms(took));
+            println!(
+                "built in {} (evaluated in {}, tessellated in {}, written in {})",
+                ms(took),
+                ms(stages.evaluate),
+                ms(stages.tessellate),
+                ms(stages.write)
+            );
             ExitCode::SUCCESS
         }
     }
