@@ -206,3 +206,29 @@ fn a_wrap_edit_rebuilds_only_that_side_of_the_opening() {
     let cold = fresh.evaluate("fender.die", &rewrapped, Some(dir));
     assert_eq!(opening(&edited), opening(&cold));
 }
+
+/// Declarations run in waves of ones that use none of each other, each as late as its
+/// users allow: a declaration nothing uses (as a feature mostly is) runs in the last
+/// wave, beside the ends of the longest chains, not first. `last_evaluated` lists them
+/// in wave order (source order within a wave).
+#[test]
+fn what_nothing_uses_runs_in_the_last_wave() {
+    let script = r#"
+let lone = 5 mm
+let a = 1 mm
+let b = a + 1 mm
+let c = b + 1 mm
+let d = c + a
+let side = a * 2
+"#;
+    let mut engine = Engine::new(None);
+    let out = engine.evaluate("waves.die", script, None);
+    assert!(out.diagnostics.is_empty(), "{:?}", out.diagnostics);
+    // Waves: [a], [b], [c], [d, lone, side] (`lone` and `side` are used by nothing, so
+    // they join `d`, the end of the longest chain; as early as possible they would have
+    // run with `a` and `b`).
+    assert_eq!(
+        engine.last_evaluated(),
+        ["a", "b", "c", "lone", "d", "side"]
+    );
+}
