@@ -65,11 +65,15 @@ pub fn measure_join(first: &NurbsSurface, second: &NurbsSurface, samples: usize)
     let (va0, va1) = first.domain_v();
     let (vb0, vb1) = second.domain_v();
     let (mut gap, mut normal_angle) = (0.0f64, 0.0f64);
+    let (extent_a, extent_b) = (first.net_extent(), second.net_extent());
     for i in 0..=samples {
         let f = i as f64 / samples.max(1) as f64;
         let (va, vb) = (va0 + (va1 - va0) * f, vb0 + (vb1 - vb0) * f);
         gap = gap.max(first.point_at(ua, va).distance(second.point_at(ub, vb)));
-        match (first.normal(ua, va), second.normal(ub, vb)) {
+        match (
+            first.normal_within(ua, va, extent_a),
+            second.normal_within(ub, vb, extent_b),
+        ) {
             (Ok(a), Ok(b)) => normal_angle = normal_angle.max(angle_deg(a, b)),
             _ => normal_angle = f64::INFINITY,
         }

@@ -19,7 +19,7 @@
 
 use glam::DVec3;
 
-use crate::geom::curvature::{principal_curvatures, span_steps};
+use crate::geom::curvature::{principal_curvatures, principal_of, span_steps};
 use crate::geom::inversion::project_to_surface_near;
 use crate::geom::{Curve3, GeomError, KnotVector, NurbsSurface};
 
@@ -87,9 +87,12 @@ fn grid(s: &NurbsSurface) -> (Vec<f64>, Vec<f64>) {
 pub fn up_sign(s: &NurbsSurface) -> f64 {
     let (us, vs) = grid(s);
     let mut mean = DVec3::ZERO;
+    // The basis functions once per grid line (the same numbers as `unit_normal`).
+    let basis_v: Vec<_> = vs.iter().map(|&v| s.basis_v::<2>(v)).collect();
     for &u in &us {
-        for &v in &vs {
-            mean += unit_normal(s, u, v).unwrap_or(DVec3::ZERO);
+        let bu = s.basis_u::<2>(u);
+        for bv in &basis_v {
+            mean += normal_of(&s.derivatives_from(&bu, bv)).unwrap_or(DVec3::ZERO);
         }
     }
     if mean.z < 0.0 {
@@ -127,7 +130,11 @@ fn draft_of(normal: DVec3, sign: f64) -> f64 {
 
 /// The unit normal at `(u, v)`, or `None` at a degenerate point.
 fn unit_normal(s: &NurbsSurface, u: f64, v: f64) -> Option<DVec3> {
-    let d = s.derivatives::<2>(u, v);
+    normal_of(&s.derivatives::<2>(u, v))
+}
+
+/// [`unit_normal`] from the surface's first partial derivatives at the point.
+fn normal_of(d: &[[DVec3; 2]; 2]) -> Option<DVec3> {
     let n = d[1][0].cross(d[0][1]);
     let len = n.length();
     (len > 1e-12 * (d[1][0].length_squared() + d[0][1].length_squared()).max(f64::MIN_POSITIVE))
@@ -147,9 +154,13 @@ pub fn surface_figures(s: &NurbsSurface) -> SurfaceFigures {
     let mut radius = vec![f64::INFINITY; us.len() * nv];
     let mut normal = vec![None; us.len() * nv];
     let mut mean = DVec3::ZERO;
+    // The basis functions once per grid line, not once per sample: the same numbers
+    // as `principal_curvatures` at each (u, v).
+    let basis_v: Vec<_> = vs.iter().map(|&v| s.basis_v::<3>(v)).collect();
     for (i, &u) in us.iter().enumerate() {
-        for (j, &v) in vs.iter().enumerate() {
-            if let Some(p) = principal_curvatures(s, u, v) {
+        let bu = s.basis_u::<3>(u);
+        for (j, bv) in basis_v.iter().enumerate() {
+            if let Some(p) = principal_of(&s.derivatives_from(&bu, bv)) {
                 radius[i * nv + j] = p.min_radius();
                 normal[i * nv + j] = Some(p.normal);
                 mean += p.normal;

@@ -24,6 +24,7 @@
 use super::memo::Pieces;
 use crate::geom::fingerprint::Fingerprint;
 use glam::{DVec2, DVec3};
+use rayon::prelude::*;
 
 use super::corner::{build_corner, CornerInput};
 use super::two_view::{parameter_at_x, side_curve_from_two_views, TwoView};
@@ -486,7 +487,17 @@ pub fn build_with(spec: &PunchOpeningSpec, pieces: &Pieces) -> Result<PunchOpeni
         curves[k] = Some(curve);
     }
 
-    // Step 4: the pieces in order, joined.
+    // Step 4: the pieces in order, joined. The sides' figures (a thousand projections
+    // each) first, each side on its own, in parallel.
+    let mut side_figures: Vec<Option<crate::geom::Result<SideQuality>>> = spec
+        .pieces
+        .par_iter()
+        .zip(&curves)
+        .map(|(piece, curve)| match (piece, curve) {
+            (PieceSpec::Side(s), Some(curve)) => Some(side_quality(curve, s, QUALITY_SAMPLES)),
+            _ => None,
+        })
+        .collect();
     let mut pieces = Vec::with_capacity(n);
     let mut quality = Vec::with_capacity(n);
     for (k, (piece, curve)) in spec.pieces.iter().zip(curves).enumerate() {
@@ -499,9 +510,10 @@ pub fn build_with(spec: &PunchOpeningSpec, pieces: &Pieces) -> Result<PunchOpeni
         };
         match piece {
             PieceSpec::Side(s) => {
-                quality.push(PieceQuality::Side(
-                    side_quality(&curve, s, QUALITY_SAMPLES).map_err(at(k))?,
-                ));
+                let figures = side_figures[k]
+                    .take()
+                    .expect("every side with a curve has its figures (worked out above)");
+                quality.push(PieceQuality::Side(figures.map_err(at(k))?));
                 if let Some(PieceQuality::Side(q)) = quality.last_mut() {
                     q.points = sides[k].as_ref().map_or(0, |b| b.points.len());
                 }

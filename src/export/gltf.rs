@@ -23,6 +23,7 @@ use std::collections::HashMap;
 use std::sync::Arc;
 
 use glam::DVec3;
+use rayon::prelude::*;
 use serde_json::{json, Map, Value};
 
 use super::scene::{Geometry, Node, Scene};
@@ -158,6 +159,40 @@ pub struct GltfCache {
 }
 
 impl GltfCache {
+    /// Converts every tessellation of `scene` not in the cache yet, each on its own
+    /// (in parallel: a cold build converts a few hundred thousand vertices), so the
+    /// document is then assembled from the cache in order.
+    fn prepare(&mut self, scene: &Scene) {
+        fn walk<'a>(node: &'a Node, out: &mut Vec<&'a Arc<Geometry>>) {
+            out.extend(node.geometry.iter().filter(|g| !g.is_empty()));
+            for child in &node.children {
+                walk(child, out);
+            }
+        }
+        let mut all = Vec::new();
+        for node in &scene.nodes {
+            walk(node, &mut all);
+        }
+        let cached = |g: &Arc<Geometry>| {
+            self.entries
+                .get(&(Arc::as_ptr(g) as usize))
+                .is_some_and(|(kept, _)| Arc::ptr_eq(kept, g))
+        };
+        let mut seen = std::collections::HashSet::new();
+        let missing: Vec<&Arc<Geometry>> = all
+            .into_iter()
+            .filter(|g| !cached(g) && seen.insert(Arc::as_ptr(g) as usize))
+            .collect();
+        let converted: Vec<Arc<Encoded>> = missing
+            .par_iter()
+            .map(|g| Arc::new(Encoded::of(g)))
+            .collect();
+        for (g, e) in missing.into_iter().zip(converted) {
+            self.entries
+                .insert(Arc::as_ptr(g) as usize, ((*g).clone(), e));
+        }
+    }
+
     /// The encoded bytes of `g`, from the cache or converted now; kept in `used`.
     fn encoded(&self, g: &Arc<Geometry>, used: &mut EncodedMap) -> Arc<Encoded> {
         let at = Arc::as_ptr(g) as usize;
@@ -278,6 +313,7 @@ impl Document {
             source: scene.source_name.clone(),
             ..Document::default()
         };
+        cache.prepare(scene);
         let mut used = HashMap::new();
         for node in &scene.nodes {
             let i = doc.node(node, cache, &mut used);

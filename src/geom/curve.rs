@@ -23,6 +23,15 @@ pub struct NurbsCurve<P> {
     points: Vec<P>,
     /// `None` for a polynomial B-spline (all weights 1).
     weights: Option<Vec<f64>>,
+    /// The largest control-point magnitude ([`NurbsCurve::control_scale`]), kept:
+    /// every projection onto the curve sizes its tolerances by it, and reading a long
+    /// curve's points for each took most of the time of a projection.
+    scale: f64,
+}
+
+/// The largest magnitude among `points`.
+fn scale_of<P: Point>(points: &[P]) -> f64 {
+    points.iter().map(|p| p.length()).fold(0.0, f64::max)
 }
 
 /// A curve drawn in a 2-D view.
@@ -45,6 +54,7 @@ impl<P: Point> NurbsCurve<P> {
         Ok(Self {
             degree,
             knots,
+            scale: scale_of(&points),
             points,
             weights: None,
         })
@@ -91,6 +101,7 @@ impl<P: Point> NurbsCurve<P> {
         Self {
             degree,
             knots: KnotVector::trusted(knots),
+            scale: scale_of(&points),
             points,
             weights,
         }
@@ -217,6 +228,25 @@ impl<P: Point> NurbsCurve<P> {
             )
         };
         let p = self.degree;
+        // Degrees up to 5 (nearly every curve) with their basis sized at compile time.
+        match p {
+            1 => {
+                return self.derivatives_with(span, &self.knots.basis_rows::<2, N>(span, t, N - 1))
+            }
+            2 => {
+                return self.derivatives_with(span, &self.knots.basis_rows::<3, N>(span, t, N - 1))
+            }
+            3 => {
+                return self.derivatives_with(span, &self.knots.basis_rows::<4, N>(span, t, N - 1))
+            }
+            4 => {
+                return self.derivatives_with(span, &self.knots.basis_rows::<5, N>(span, t, N - 1))
+            }
+            5 => {
+                return self.derivatives_with(span, &self.knots.basis_rows::<6, N>(span, t, N - 1))
+            }
+            _ => {}
+        }
         let mut basis = [[0.0; super::MAX_DEGREE + 1]; MAX_DERIVATIVE + 1];
         self.knots.basis_derivatives(span, p, t, N - 1, &mut basis);
         let first = span - p;
@@ -227,6 +257,30 @@ impl<P: Point> NurbsCurve<P> {
             for k in 0..N {
                 a[k] = a[k] + point * (basis[k][r] * wi);
                 w[k] += basis[k][r] * wi;
+            }
+        }
+        if self.weights.is_none() {
+            return a;
+        }
+        rational_derivatives(&a, &w)
+    }
+
+    /// The point and derivatives in `span` from the basis `rows` of the curve's degree
+    /// (`O = p + 1`, [`KnotVector::basis_rows`]): the sums of [`NurbsCurve::derivatives_in`].
+    #[inline(always)]
+    fn derivatives_with<const O: usize, const N: usize>(
+        &self,
+        span: usize,
+        rows: &[[f64; O]; N],
+    ) -> [P; N] {
+        let first = span + 1 - O;
+        let mut a = [P::ZERO; N];
+        let mut w = [0.0; N];
+        for (r, &point) in self.points[first..=span].iter().enumerate() {
+            let wi = self.weight(first + r);
+            for k in 0..N {
+                a[k] = a[k] + point * (rows[k][r] * wi);
+                w[k] += rows[k][r] * wi;
             }
         }
         if self.weights.is_none() {
@@ -260,7 +314,7 @@ impl<P: Point> NurbsCurve<P> {
 
     /// A size for relative tolerances: the largest control-point coordinate magnitude.
     pub fn control_scale(&self) -> f64 {
-        self.points.iter().map(|p| p.length()).fold(0.0, f64::max)
+        self.scale
     }
 
     /// Parameters that split the domain into the non-empty knot spans, ends included.
@@ -518,10 +572,12 @@ impl<P: Point> NurbsCurve<P> {
     /// Applies `f` to every control point (weights unchanged). Exact for affine maps,
     /// which is how transforms and view embeddings act on NURBS.
     pub fn map_points<Q: Point>(&self, f: impl Fn(P) -> Q) -> NurbsCurve<Q> {
+        let points: Vec<Q> = self.points.iter().map(|&p| f(p)).collect();
         NurbsCurve {
             degree: self.degree,
             knots: self.knots.clone(),
-            points: self.points.iter().map(|&p| f(p)).collect(),
+            scale: scale_of(&points),
+            points,
             weights: self.weights.clone(),
         }
     }

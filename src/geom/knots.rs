@@ -256,10 +256,29 @@ impl KnotVector {
         order: usize,
         out: &mut [BasisRow; MAX_DERIVATIVE + 1],
     ) {
+        let rows = self.basis_rows::<O, { MAX_DERIVATIVE + 1 }>(span, u, order);
+        *out = [[0.0; MAX_DEGREE + 1]; MAX_DERIVATIVE + 1];
+        for (row, r) in out.iter_mut().zip(&rows) {
+            row[..O].copy_from_slice(r);
+        }
+    }
+
+    /// The basis functions of degree `O - 1` non-zero in `span` and their derivatives
+    /// up to `min(order, N - 1)` at `u`, `rows[k][r]` as in
+    /// [`KnotVector::basis_derivatives`] (rows above the order are zero), in arrays sized
+    /// at compile time: what a curve's point and first derivatives take (arc lengths
+    /// evaluate millions), without clearing rows of [`MAX_DEGREE`] + 1 entries.
+    #[inline(always)]
+    pub(crate) fn basis_rows<const O: usize, const N: usize>(
+        &self,
+        span: usize,
+        u: f64,
+        order: usize,
+    ) -> [[f64; O]; N] {
         let degree = O - 1;
-        let d = order.min(MAX_DERIVATIVE).min(degree);
+        let d = order.min(N - 1).min(MAX_DERIVATIVE).min(degree);
         // lower[k]: the basis of degree p - k, as in basis_with_lower.
-        let mut lower = [[0.0; O]; MAX_DERIVATIVE + 1];
+        let mut lower = [[0.0; O]; N];
         let mut n = [0.0; O];
         let mut left = [0.0; O];
         let mut right = [0.0; O];
@@ -273,16 +292,17 @@ impl KnotVector {
                 lower[degree - j] = n;
             }
         }
-        *out = [[0.0; MAX_DEGREE + 1]; MAX_DERIVATIVE + 1];
-        out[0][..O].copy_from_slice(&lower[0]);
+        let mut out = [[0.0; O]; N];
+        out[0] = lower[0];
         let k = &self.knots;
         for j in 1..=d {
             let mut cur = lower[j];
             for step in 0..j {
                 cur = raise_differentiated(k, span, degree - j + step + 1, &cur);
             }
-            out[j][..O].copy_from_slice(&cur);
+            out[j] = cur;
         }
+        out
     }
 
     /// [`KnotVector::basis_derivatives`] for any degree (up to [`MAX_DEGREE`]).

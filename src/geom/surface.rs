@@ -36,6 +36,15 @@ pub struct NurbsSurface {
     /// `points[i * count_v + j]`.
     points: Vec<DVec3>,
     weights: Option<Vec<f64>>,
+    /// The largest control-point magnitude ([`NurbsSurface::control_scale`]), kept:
+    /// every projection onto the surface sizes its tolerances by it, and reading a large
+    /// net for each took most of the time of a projection.
+    scale: f64,
+}
+
+/// The largest magnitude among `points`.
+fn scale_of(points: &[DVec3]) -> f64 {
+    points.iter().map(|p| p.length()).fold(0.0, f64::max)
 }
 
 impl NurbsSurface {
@@ -74,6 +83,7 @@ impl NurbsSurface {
             knots_v,
             count_u,
             count_v,
+            scale: scale_of(&points),
             points,
             weights: None,
         })
@@ -117,6 +127,7 @@ impl NurbsSurface {
             knots_v: KnotVector::trusted(knots.1),
             count_u: counts.0,
             count_v: counts.1,
+            scale: scale_of(&points),
             points,
             weights,
         }
@@ -216,7 +227,7 @@ impl NurbsSurface {
     }
     /// A size for relative tolerances: the largest control-point magnitude.
     pub fn control_scale(&self) -> f64 {
-        self.points.iter().map(|p| p.length()).fold(0.0, f64::max)
+        self.scale
     }
 
     /// The point `S(u, v)`.
@@ -331,10 +342,22 @@ impl NurbsSurface {
     /// as vanishing when it is below 1e-10 of the control net's extent over the domain:
     /// at a collapsed edge it is rounding noise, not exactly zero.
     pub fn normal(&self, u: f64, v: f64) -> Result<DVec3> {
+        self.normal_within(u, v, self.net_extent())
+    }
+
+    /// The diagonal of the control net's box: what [`NurbsSurface::normal_within`]
+    /// takes, worked out once for the many normals of one surface (it reads every
+    /// control point, which costs more than a normal of a large net).
+    pub fn net_extent(&self) -> f64 {
+        let (lo, hi) = self.control_bounds();
+        (hi - lo).length()
+    }
+
+    /// [`NurbsSurface::normal`] with the net's extent ([`NurbsSurface::net_extent`])
+    /// given: the same result.
+    pub fn normal_within(&self, u: f64, v: f64, extent: f64) -> Result<DVec3> {
         let d = self.derivatives::<2>(u, v);
         let (su, sv) = (d[1][0], d[0][1]);
-        let (lo, hi) = self.control_bounds();
-        let extent = (hi - lo).length();
         let (du, dv) = (self.domain_u(), self.domain_v());
         let small_u = su.length() <= 1e-10 * extent / (du.1 - du.0);
         let small_v = sv.length() <= 1e-10 * extent / (dv.1 - dv.0);
@@ -601,8 +624,10 @@ impl NurbsSurface {
 
     /// Applies `f` to every control point (weights unchanged): exact for affine maps.
     pub fn map_points(&self, f: impl Fn(DVec3) -> DVec3) -> Self {
+        let points: Vec<DVec3> = self.points.iter().map(|&p| f(p)).collect();
         Self {
-            points: self.points.iter().map(|&p| f(p)).collect(),
+            scale: scale_of(&points),
+            points,
             ..self.clone()
         }
     }

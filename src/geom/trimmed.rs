@@ -327,6 +327,12 @@ fn polygon_area(points: impl Iterator<Item = DVec2>) -> f64 {
 /// The winding number of a closed polygon around `q` (0 outside).
 pub(crate) fn winding(points: impl Iterator<Item = DVec2>, q: DVec2) -> i32 {
     let pts: Vec<DVec2> = points.collect();
+    polygon_winding(&pts, q)
+}
+
+/// [`winding`] of the closed polygon `pts` (its last point joined to its first), for
+/// many queries against one polygon without copying it for each.
+pub(crate) fn polygon_winding(pts: &[DVec2], q: DVec2) -> i32 {
     let n = pts.len();
     let mut w = 0;
     for i in 0..n {

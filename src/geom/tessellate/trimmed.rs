@@ -11,11 +11,13 @@
 //! the worst of them, for a few rounds (the outline's own segments are its chords
 //! within the tolerance already).
 
+use std::collections::HashSet;
+
 use glam::{DVec2, DVec3};
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 
 use super::super::error::{GeomError, Result};
-use super::super::trimmed::{winding, TrimmedSurface};
+use super::super::trimmed::{polygon_winding, TrimmedSurface};
 use super::{tessellate_curve, tessellate_surface, SurfaceMesh, Tolerance};
 
 /// Rounds of inserting points where a triangle deviates from the surface.
@@ -41,7 +43,15 @@ pub fn tessellate_trimmed(face: &TrimmedSurface, tol: &Tolerance) -> Result<Surf
     let mut uv: Vec<DVec2> = line.params[..n].iter().map(|&t| face.uv_at(t)).collect();
     let mut positions: Vec<DVec3> = line.points[..n].to_vec();
     let boundary: Vec<DVec2> = uv.clone();
-    let inside = |q: DVec2| winding(boundary.iter().copied(), q) != 0;
+    // Outside the loop's box the winding number is 0: most of the untrimmed grid's
+    // points are settled without walking the loop.
+    let (lo, hi) = boundary
+        .iter()
+        .fold((DVec2::INFINITY, DVec2::NEG_INFINITY), |(lo, hi), &q| {
+            (lo.min(q), hi.max(q))
+        });
+    let inside =
+        |q: DVec2| q.cmpge(lo).all() && q.cmple(hi).all() && polygon_winding(&boundary, q) != 0;
 
     // Interior points: the untrimmed tessellation's grid inside the loop, clear of it.
     let grid = tessellate_surface(s, tol)?;
@@ -64,31 +74,46 @@ pub fn tessellate_trimmed(face: &TrimmedSurface, tol: &Tolerance) -> Result<Surf
         ));
     }
 
+    // Triangles that met the tolerance in an earlier round: a triangle's check depends
+    // on its three vertices only, so one still in the triangulation passes again and is
+    // not measured again.
+    let mut passed: HashSet<[usize; 3]> = HashSet::new();
     for _ in 0..REFINE_ROUNDS {
         let mut added = false;
         let faces = inner_triangles(&cdt, n, &inside);
         let mut inserts: Vec<DVec2> = Vec::new();
         for [a, b, c] in faces {
+            let mut key = [a, b, c];
+            key.sort_unstable();
+            if passed.contains(&key) {
+                continue;
+            }
             // The middle and the midpoints of the edges that are not outline segments
             // (those are the outline's own chords, within the tolerance already).
             let outline_edge = |i: usize, j: usize| {
                 i < n && j < n && (i + 1 == j || j + 1 == i || (i + j + 1 == n && i.min(j) == 0))
             };
-            let mut probes = vec![(
+            let mut probes = [(DVec2::ZERO, DVec3::ZERO); 4];
+            probes[0] = (
                 (uv[a] + uv[b] + uv[c]) / 3.0,
                 (positions[a] + positions[b] + positions[c]) / 3.0,
-            )];
+            );
+            let mut count = 1;
             for (i, j) in [(a, b), (b, c), (c, a)] {
                 if !outline_edge(i, j) {
-                    probes.push((0.5 * (uv[i] + uv[j]), 0.5 * (positions[i] + positions[j])));
+                    probes[count] = (0.5 * (uv[i] + uv[j]), 0.5 * (positions[i] + positions[j]));
+                    count += 1;
                 }
             }
-            let worst = probes
-                .into_iter()
-                .map(|(q, flat)| (q, s.point_at(q.x, q.y).distance(flat)))
+            let worst = probes[..count]
+                .iter()
+                .map(|&(q, flat)| (q, s.point_at(q.x, q.y).distance(flat)))
                 .max_by(|x, y| x.1.total_cmp(&y.1));
-            if let Some((q, _)) = worst.filter(|w| w.1 > tol.chordal) {
-                inserts.push(q);
+            match worst.filter(|w| w.1 > tol.chordal) {
+                Some((q, _)) => inserts.push(q),
+                None => {
+                    passed.insert(key);
+                }
             }
         }
         for q in inserts {
@@ -110,9 +135,10 @@ pub fn tessellate_trimmed(face: &TrimmedSurface, tol: &Tolerance) -> Result<Surf
         .into_iter()
         .map(|[a, b, c]| [a as u32, b as u32, c as u32])
         .collect();
+    let extent = s.net_extent();
     let normals = uv
         .iter()
-        .map(|q| s.normal(q.x, q.y).unwrap_or(DVec3::Z))
+        .map(|q| s.normal_within(q.x, q.y, extent).unwrap_or(DVec3::Z))
         .collect();
     Ok(SurfaceMesh {
         uv,
