@@ -21,8 +21,9 @@
 //!    `E(b) = 4 sum b_i b_j E_ij + 27 b_0 b_1 b_2 (E_g - 4/9 sum E_ij)`, exact for a
 //!    surface that is locally quadratic (plus a cubic bubble), whose largest length over a
 //!    25-point barycentric lattice must stay below 97 % of the tolerance. Normals of
-//!    neighbouring vertices must not turn by more than the angle limit, and edges must
-//!    not exceed the edge limit.
+//!    neighbouring vertices must not turn by more than the angle limit (along edges
+//!    longer than the chordal tolerance: a fold far finer than the tolerance is not
+//!    resolved), and edges must not exceed the edge limit.
 //! 3. **Fit.** The guess bounds magnitudes, so it is conservative; once it verifies,
 //!    every span's count is lowered once by the square root of its measured deviation
 //!    ratio (and its angle and edge-length ratios) and the grid is verified again.
@@ -41,7 +42,7 @@ use rayon::prelude::*;
 
 use crate::geom::error::{GeomError, Result};
 use crate::geom::knots::KnotVector;
-use crate::geom::surface::NurbsSurface;
+use crate::geom::surface::{Basis, NurbsSurface};
 use crate::geom::union_find::UnionFind;
 
 use super::{SurfaceMesh, Tolerance, MAX_VERTICES};
@@ -75,7 +76,8 @@ const LATTICE: usize = 6;
 /// midpoints and centroid and extrapolated over the triangle by a model exact for
 /// locally quadratic surfaces (see the module documentation). Normals of neighbouring
 /// vertices turn by at most `tol.angle` (not checked across C0 knots, where the surface
-/// has a crease, nor at degenerate points) and edges are at most `tol.max_edge` long.
+/// has a crease, nor at degenerate points, nor along edges shorter than `tol.chordal`)
+/// and edges are at most `tol.max_edge` long.
 /// If only the angle or edge limits are still violated after the last refinement round,
 /// the mesh is returned anyway.
 ///
@@ -173,26 +175,49 @@ fn initial_counts(
     let mut counts_v = vec![1; sv.count()];
     let budget = 8.0 * INITIAL_TARGET * tol.chordal;
     let s = GUESS_SAMPLES as f64;
+    // The samples' basis functions, once per span and sample in each direction (the
+    // same numbers as `derivatives` at each sample, without the work per sample).
+    let samples = |spans: &Spans, basis: &dyn Fn(f64) -> Basis<3>| -> Vec<Basis<3>> {
+        (0..spans.count())
+            .flat_map(|i| {
+                let (a, b) = spans.bounds(i);
+                (0..GUESS_SAMPLES).map(move |k| a + (b - a) * (k as f64 + 0.5) / s)
+            })
+            .map(basis)
+            .collect()
+    };
+    let basis_u = samples(su, &|u| surface.basis_u::<3>(u));
+    let basis_v = samples(sv, &|v| surface.basis_v::<3>(v));
     for (i, count_u) in counts_u.iter_mut().enumerate() {
         let (u0, u1) = su.bounds(i);
         for (j, count_v) in counts_v.iter_mut().enumerate() {
             let (v0, v1) = sv.bounds(j);
             let mut b = Bounds::default();
-            for a in 0..GUESS_SAMPLES {
-                let u = u0 + (u1 - u0) * (a as f64 + 0.5) / s;
-                for c in 0..GUESS_SAMPLES {
-                    let v = v0 + (v1 - v0) * (c as f64 + 0.5) / s;
-                    b.add(&surface.derivatives::<3>(u, v));
+            for bu in &basis_u[i * GUESS_SAMPLES..(i + 1) * GUESS_SAMPLES] {
+                for bv in &basis_v[j * GUESS_SAMPLES..(j + 1) * GUESS_SAMPLES] {
+                    b.add(&surface.derivatives_from(bu, bv));
                 }
             }
             let (lu, lv) = (u1 - u0, v1 - v0);
             let (mut du, mut dv) =
                 cell_size(SAFETY * b.uu, SAFETY * b.uv, SAFETY * b.vv, budget, lu, lv);
+            // The angle limit asks for edges no shorter than the chordal tolerance (as
+            // verification checks it: see `edge_turn`).
             if b.turn_u > 0.0 {
-                du = du.min(tol.angle / (SAFETY * b.turn_u));
+                let shortest = if b.speed_u > 0.0 {
+                    tol.chordal / b.speed_u
+                } else {
+                    0.0
+                };
+                du = du.min((tol.angle / (SAFETY * b.turn_u)).max(shortest));
             }
             if b.turn_v > 0.0 {
-                dv = dv.min(tol.angle / (SAFETY * b.turn_v));
+                let shortest = if b.speed_v > 0.0 {
+                    tol.chordal / b.speed_v
+                } else {
+                    0.0
+                };
+                dv = dv.min((tol.angle / (SAFETY * b.turn_v)).max(shortest));
             }
             if b.speed_u > 0.0 {
                 du = du.min(tol.edge_limit() / (1.05 * b.speed_u));
@@ -574,7 +599,7 @@ fn verify_rows(
         floor,
         first,
     )?;
-    check_u_edges(&mut pass, grid, 0, nu);
+    check_u_edges(&mut pass, grid, 0, nu, tol.chordal);
     for l in first..end {
         // Vertex rows are stored from `first`: row `l` starts at `(l - first) * nu`.
         let local = l - first;
@@ -587,17 +612,14 @@ fn verify_rows(
             floor,
             l + 1,
         )?;
-        check_u_edges(&mut pass, grid, local + 1, nu);
+        check_u_edges(&mut pass, grid, local + 1, nu, tol.chordal);
         let span_v = grid.v.span_of[l];
         // v edges between rows l and l + 1.
         for k in 0..nu {
             let (a, b) = (local * nu + k, (local + 1) * nu + k);
-            let cos = if grid.v.c0_end[l] {
-                1.0
-            } else {
-                cos_turn(pass.normals[a], pass.normals[b])
-            };
-            pass.edges_v[span_v].add(cos, pass.positions[a].distance(pass.positions[b]));
+            let len = pass.positions[a].distance(pass.positions[b]);
+            let cos = edge_turn(&pass, (a, b), len, grid.v.c0_end[l], tol.chordal);
+            pass.edges_v[span_v].add(cos, len);
         }
         row.fill(net, &tv.mid, l, false);
         mids_v.clear();
@@ -720,16 +742,29 @@ fn vertex_row(
     Ok(())
 }
 
-/// Angle and edge-length checks of the u edges on grid row `l`.
-fn check_u_edges(pass: &mut Pass, grid: &Grid, l: usize, nu: usize) {
+/// Angle and edge-length checks of the u edges on grid row `l`. The normal's turn along
+/// an edge shorter than `resolution` (the chordal tolerance) is not limited: see
+/// [`edge_turn`].
+fn check_u_edges(pass: &mut Pass, grid: &Grid, l: usize, nu: usize, resolution: f64) {
     for k in 0..nu - 1 {
         let (a, b) = (l * nu + k, l * nu + k + 1);
-        let cos = if grid.u.c0_end[k] {
-            1.0
-        } else {
-            cos_turn(pass.normals[a], pass.normals[b])
-        };
-        pass.edges_u[grid.u.span_of[k]].add(cos, pass.positions[a].distance(pass.positions[b]));
+        let len = pass.positions[a].distance(pass.positions[b]);
+        let cos = edge_turn(pass, (a, b), len, grid.u.c0_end[k], resolution);
+        pass.edges_u[grid.u.span_of[k]].add(cos, len);
+    }
+}
+
+/// The cosine of the normal's turn along the grid edge `a b` of length `len` for the
+/// angle limit: 1 (no turn) across a C0 knot (a crease kept as drawn) and along an
+/// edge shorter than `resolution`, the chordal tolerance. A fold or a pinch of a radius
+/// far below the tolerance (the tapered end of a bead, say) turns the normal within a
+/// hair's breadth; resolving it to the angle limit asked for millions of vertices for
+/// a detail the tolerance says is not to be drawn.
+fn edge_turn(pass: &Pass, (a, b): (usize, usize), len: f64, c0: bool, resolution: f64) -> f64 {
+    if c0 || len < resolution {
+        1.0
+    } else {
+        cos_turn(pass.normals[a], pass.normals[b])
     }
 }
 
