@@ -37,6 +37,7 @@ use glam::{DVec2, DVec3};
 use super::continuity::{measure_join, JoinQuality};
 use super::punch_opening::{inside_outline, PieceKind, PunchOpening};
 use crate::geom::construct::ruled;
+use crate::geom::curve::ArcLengths;
 use crate::geom::interpolate::{interpolate_at, Interpolation, KnotPlacement};
 use crate::geom::tessellate::{tessellate_curve, Tolerance};
 use crate::geom::{Curve3, GeomError, NurbsSurface};
@@ -391,7 +392,10 @@ fn outer_points_of(
     side: &SideSpec,
 ) -> Result<OuterPoints, Error> {
     let c = &opening.pieces[k].curve;
-    let length = c.length();
+    // The side's arc length tabulated once for all its stations (a long side of many
+    // spans measured from its start for every station took seconds).
+    let lengths = ArcLengths::new(c);
+    let length = lengths.total();
     let mut params = Vec::with_capacity(side.stations.len());
     let mut points = Vec::with_capacity(side.stations.len());
     for st in &side.stations {
@@ -400,7 +404,7 @@ fn outer_points_of(
         } else if st.at >= 1.0 {
             1.0
         } else {
-            c.parameter_at_length(st.at * length).map_err(at(k))?
+            lengths.parameter_at(st.at * length).map_err(at(k))?
         };
         let [p, d] = c.derivatives::<2>(t);
         let outward = opening.outward(d);

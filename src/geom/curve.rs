@@ -768,7 +768,12 @@ fn gauss_length<P: Point>(c: &NurbsCurve<P>, a: f64, b: f64) -> f64 {
 /// whole against the rule on its two halves, each half split again until they agree to
 /// 1e-13, at most 20 levels deep and [`LENGTH_SPLITS`] splits in all.
 fn adaptive_length<P: Point>(c: &NurbsCurve<P>, a: f64, b: f64) -> f64 {
-    let mut splits = LENGTH_SPLITS;
+    adaptive_length_within(c, a, b, LENGTH_SPLITS)
+}
+
+/// [`adaptive_length`] with at most `splits` splits.
+fn adaptive_length_within<P: Point>(c: &NurbsCurve<P>, a: f64, b: f64, splits: usize) -> f64 {
+    let mut splits = splits;
     halved_length(c, a, b, gauss_length(c, a, b), 0, &mut splits)
 }
 
@@ -821,9 +826,11 @@ pub struct ArcLengths<'a, P: Point> {
     lengths: Vec<f64>,
 }
 
-/// Pieces per knot span of [`ArcLengths`]: short enough that the adaptive quadrature
-/// of a query inside one piece rarely needs to subdivide.
-const PIECES_PER_SPAN: usize = 8;
+/// Pieces per knot span of [`ArcLengths`]. Each piece is integrated to 1e-13 whatever
+/// its length, so more pieces buy no accuracy: they only shorten a query's Newton
+/// steps, and cost the table (a bead's draped centre line has hundreds of spans, and
+/// tabulating it at eight pieces a span was 8 % of a fender build; at two, 2 %).
+const PIECES_PER_SPAN: usize = 2;
 
 /// Pieces of an [`ArcLengths`] table measured by one parallel task.
 const PIECES_PER_TASK: usize = 64;
@@ -858,7 +865,12 @@ impl<'a, P: Point> ArcLengths<'a, P> {
                 ts.push(w[0] + (w[1] - w[0]) * k as f64 / PIECES_PER_SPAN as f64);
             }
         }
-        let piece = |w: &[f64]| adaptive_length(&curve, w[0], w[1]);
+        // The split budget of a whole curve's length (`length_between`), shared out
+        // evenly and in advance, so the table does not depend on the thread count: a
+        // curve of 100,000 spans whose rules never agree took seconds per table.
+        let pieces = (ts.len() - 1).max(1);
+        let budget = 2 + LENGTH_SPLITS / pieces;
+        let piece = |w: &[f64]| adaptive_length_within(&curve, w[0], w[1], budget);
         let pieces: Vec<f64> = if ts.len() > PARALLEL_PIECES {
             ts.par_windows(2)
                 .with_min_len(PIECES_PER_TASK)
