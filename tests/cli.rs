@@ -1,18 +1,11 @@
 //! `dieface check` exit codes and output: 0 clean, 1 script errors, 2 usage errors.
 
-use std::process::Command;
+mod common;
+
+use std::path::Path;
 
 fn dieface(args: &[&str]) -> (Option<i32>, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_dieface"))
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .args(args)
-        .output()
-        .expect("run dieface");
-    (
-        out.status.code(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+    common::run_dieface(Path::new(env!("CARGO_MANIFEST_DIR")), args)
 }
 
 #[test]

@@ -1,30 +1,18 @@
 //! `dieface build` and `dieface inspect`: outputs by extension, exit codes, outputs left
 //! alone on errors, `-D` overrides and `--tolerance`, inspect's text and JSON.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
 /// A fresh folder for one test under the target's temp dir.
 fn temp(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join("cli_build")
-        .join(name);
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir
+    common::fresh_dir("cli_build", name)
 }
 
 fn dieface(dir: &Path, args: &[&str]) -> (Option<i32>, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_dieface"))
-        .current_dir(dir)
-        .args(args)
-        .output()
-        .expect("run dieface");
-    (
-        out.status.code(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+    common::run_dieface(dir, args)
 }
 
 const SCRIPT: &str = r#"

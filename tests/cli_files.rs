@@ -18,12 +18,7 @@ const TIMEOUT: Duration = Duration::from_secs(30);
 
 /// A fresh folder for one test under the target's temp dir.
 fn temp(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join("cli_files")
-        .join(name);
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir
+    common::fresh_dir("cli_files", name)
 }
 
 fn write(path: &Path, text: &str) {

@@ -2,31 +2,18 @@
 //! real binary, never a crash (issue 14): the exit code and where the message points.
 //! Huge inputs are made here at run time, never committed.
 
+mod common;
+
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 /// A fresh folder for one test under the target's temp dir.
 fn temp(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join("cli_input")
-        .join(name);
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir
+    common::fresh_dir("cli_input", name)
 }
 
 /// Runs dieface in `dir`: exit code, stdout, stderr.
 fn dieface(dir: &Path, args: &[&str]) -> (Option<i32>, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_dieface"))
-        .current_dir(dir)
-        .args(args)
-        .output()
-        .expect("run dieface");
-    (
-        out.status.code(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+    common::run_dieface(dir, args)
 }
 
 /// `check` of `bytes` written as `name` in a fresh folder.

@@ -3,20 +3,14 @@
 //! it, and scripts that are merely large stay fast (issue 14). Every large input is made
 //! here at run time.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
 /// Runs dieface with `args`; exit code, stdout, stderr.
 fn dieface(args: &[&str]) -> (Option<i32>, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_dieface"))
-        .args(args)
-        .output()
-        .expect("run dieface");
-    (
-        out.status.code(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+    common::run_dieface(Path::new(env!("CARGO_MANIFEST_DIR")), args)
 }
 
 /// A fresh directory for one test.

@@ -4,8 +4,9 @@
 //! through the real binary (`check`, `build`, `inspect --json`) and asserts the exit
 //! code and where the message points; the arithmetic is also checked as a property.
 
-use std::path::PathBuf;
-use std::process::Command;
+mod common;
+
+use std::path::{Path, PathBuf};
 
 use dieface::eval::ops::binary;
 use dieface::eval::units::Units;
@@ -17,16 +18,7 @@ use proptest::prelude::*;
 /// Runs dieface with `args` (the script's path substituted for `{}`), returning the exit
 /// code, stdout and stderr.
 fn dieface(args: &[&str]) -> (Option<i32>, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_dieface"))
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .args(args)
-        .output()
-        .expect("run dieface");
-    (
-        out.status.code(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+    common::run_dieface(Path::new(env!("CARGO_MANIFEST_DIR")), args)
 }
 
 /// Writes `text` as `name` in this test binary's temporary folder.

@@ -3,6 +3,7 @@
 use std::path::{Path, PathBuf};
 
 /// Every `.die` file under `dir` (relative to the crate root), recursively, sorted.
+#[allow(dead_code)] // not every test crate that shares these helpers reads the corpus
 pub fn die_files(dir: &str) -> Vec<PathBuf> {
     fn collect(dir: &Path, out: &mut Vec<PathBuf>) {
         let Ok(entries) = std::fs::read_dir(dir) else {
@@ -33,4 +34,31 @@ pub fn temp_files(dir: &Path) -> Vec<String> {
         .map(|e| e.file_name().to_string_lossy().into_owned())
         .filter(|n| n.ends_with(".tmp"))
         .collect()
+}
+
+/// A fresh, empty folder for one test, `target/tmp/SUITE/NAME` (removed first if a
+/// previous run left it).
+#[allow(dead_code)] // not every test crate that shares these helpers writes files
+pub fn fresh_dir(suite: &str, name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(suite)
+        .join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    dir
+}
+
+/// Runs the `dieface` binary in `dir` with `args`: its exit code, stdout and stderr.
+#[allow(dead_code)] // not every test crate that shares these helpers runs the binary
+pub fn run_dieface(dir: &Path, args: &[&str]) -> (Option<i32>, String, String) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_dieface"))
+        .current_dir(dir)
+        .args(args)
+        .output()
+        .expect("run dieface");
+    (
+        out.status.code(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
 }
