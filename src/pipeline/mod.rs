@@ -359,5 +359,17 @@ fn tessellation_diagnostic(
     if matches!(e.error, GeomError::NotFinite { .. }) {
         return d.with_help("its coordinates are too large to tessellate: keep the geometry within a few kilometres of the origin (lengths are in millimetres)");
     }
-    d.with_help("use a coarser tolerance (`--tolerance`), e.g. 0.01mm or 0.05mm")
+    if tol.chordal < DEFAULT_TOLERANCE_MM {
+        return d.with_help(format!(
+            "use a coarser tolerance (`--tolerance`), e.g. {DEFAULT_TOLERANCE_MM}mm"
+        ));
+    }
+    // At a tolerance this coarse a smooth die face needs a few hundred thousand
+    // triangles; millions mean a fold or a pinch (a radius near 0), not a fine one.
+    d.with_help(format!(
+        "at {} mm a surface needs this many triangles only where it folds back or pinches: \
+         `dieface inspect` shows its smallest radius (`min_radius`) and where; \
+         a coarser `--tolerance` is the other way out",
+        tol.chordal
+    ))
 }
