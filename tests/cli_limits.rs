@@ -332,3 +332,29 @@ fn a_raised_call_depth_still_ends_in_a_diagnostic_not_an_overflow() {
     assert!(stderr.contains("die::recursion_limit"), "{stderr}");
     assert!(stderr.contains("more than 50000 levels deep"), "{stderr}");
 }
+
+#[test]
+fn a_surface_needing_more_vertices_than_mesh_vertices_fails_naming_the_limit() {
+    let file = script(
+        "dome",
+        "let net = [[(i * 100 mm, j * 100 mm, if i == 1 and j == 1 then 40 mm else 0 mm) for j in range(0, 3)] for i in range(0, 3)]\nlet dome = nurbs_surface(degree: (2, 2), points: net)\n",
+    );
+    let out = dir("dome_out").join("d.glb");
+    let out = out.to_str().expect("utf-8");
+    let (code, _, stderr) = dieface(&["build", &file, "-o", out]);
+    assert_eq!(code, Some(0), "{stderr}");
+    let (code, _, stderr) = dieface(&[
+        "build",
+        "--color",
+        "never",
+        &file,
+        "-o",
+        out,
+        "--limit",
+        "mesh_vertices=100",
+    ]);
+    assert_eq!(code, Some(1), "{stderr}");
+    assert!(stderr.contains("die::limit::mesh_vertices"), "{stderr}");
+    assert!(stderr.contains("mesh_vertices=N`"), "{stderr}");
+    assert!(stderr.contains("dome.die:2:12"), "{stderr}");
+}

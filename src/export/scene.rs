@@ -29,8 +29,8 @@ use crate::die::model::{DieModel, Part, Shape};
 use crate::geom::fingerprint::Fingerprint;
 use crate::geom::mesh::Mesh;
 use crate::geom::tessellate::{
-    tessellate_curve_within, tessellate_surface, tessellate_trimmed, SurfaceMesh, Tolerance,
-    MAX_VERTICES,
+    tessellate_curve_within, tessellate_surface_within, tessellate_trimmed_within, SurfaceMesh,
+    Tolerance, MAX_VERTICES,
 };
 use crate::geom::GeomError;
 
@@ -172,6 +172,9 @@ pub struct SceneCache {
     /// Most points of one curve's line strip (`None`: the kernel's own limit); the
     /// pipeline sets the `samples` limit here.
     max_curve_points: Option<usize>,
+    /// Most vertices of one surface's mesh (`None`: the kernel's own limit); the
+    /// pipeline sets the `mesh_vertices` limit here.
+    max_mesh_vertices: Option<usize>,
 }
 
 /// One cached tessellation: the shape it was made from, the primitive, and whether the
@@ -194,6 +197,17 @@ impl SceneCache {
         }
     }
 
+    /// Limits the vertices of each surface's mesh (the `mesh_vertices` limit): a surface
+    /// that needs more fails with
+    /// [`crate::geom::tessellate::SURFACE_VERTEX_LIMIT`]. A new limit empties the cache.
+    pub fn set_max_mesh_vertices(&mut self, max: usize) {
+        if self.max_mesh_vertices != Some(max) {
+            self.max_mesh_vertices = Some(max);
+            self.entries.clear();
+            self.by_address.clear();
+        }
+    }
+
     /// Builds the scene like [`build_scene`], reusing cached tessellations.
     ///
     /// Three passes: every shape is looked up in the cache (in part order), the shapes
@@ -203,6 +217,7 @@ impl SceneCache {
     pub fn build(&mut self, model: &DieModel, tol: &Tolerance) -> Result<Scene, TessellationError> {
         let key = (tol.chordal.to_bits(), tol.angle.to_bits());
         let max_points = self.max_curve_points.unwrap_or(MAX_VERTICES);
+        let max_vertices = self.max_mesh_vertices.unwrap_or(MAX_VERTICES);
         if self.tolerance != Some(key) {
             self.entries.clear();
             self.by_address.clear();
@@ -221,7 +236,7 @@ impl SceneCache {
         self.misses = missing.len();
         let made: Vec<Result<Geometry, GeomError>> = missing
             .par_iter()
-            .map(|(_, _, shape)| tessellate(shape, tol, max_points))
+            .map(|(_, _, shape)| tessellate(shape, tol, (max_points, max_vertices)))
             .collect();
         let mut made_here = Vec::with_capacity(made.len());
         for ((key, part, shape), geometry) in missing.into_iter().zip(made) {
@@ -418,10 +433,14 @@ fn same(a: &Shape, b: &Shape) -> bool {
 }
 
 /// Tessellates one shape within the tolerance, a curve in at most `max_points` points.
-fn tessellate(shape: &Shape, tol: &Tolerance, max_points: usize) -> Result<Geometry, GeomError> {
+fn tessellate(
+    shape: &Shape,
+    tol: &Tolerance,
+    (max_points, max_vertices): (usize, usize),
+) -> Result<Geometry, GeomError> {
     Ok(match shape {
-        Shape::Surface(s) => surface_triangles(tessellate_surface(s, tol)?),
-        Shape::Trimmed(t) => surface_triangles(tessellate_trimmed(t, tol)?),
+        Shape::Surface(s) => surface_triangles(tessellate_surface_within(s, tol, max_vertices)?),
+        Shape::Trimmed(t) => surface_triangles(tessellate_trimmed_within(t, tol, max_vertices)?),
         Shape::Mesh(m) => mesh_triangles(m),
         Shape::Curve(c) => Geometry::LineStrip {
             points: tessellate_curve_within(c, tol, max_points)?.points,

@@ -21,7 +21,7 @@ use crate::export::scene::{Scene, SceneCache, TessellationError};
 use crate::export::step::{encode_step, StepModel};
 use crate::export::{encode_with, Format};
 use crate::geom::sew::sew;
-use crate::geom::tessellate::{Tolerance, CURVE_POINT_LIMIT};
+use crate::geom::tessellate::{Tolerance, CURVE_POINT_LIMIT, SURFACE_VERTEX_LIMIT};
 use crate::geom::GeomError;
 use crate::limits::{Limit, Limits};
 
@@ -137,6 +137,8 @@ impl Pipeline {
         let limits = *self.engine.limits();
         self.cache
             .set_max_curve_points(limits.count(Limit::Samples));
+        self.cache
+            .set_max_mesh_vertices(limits.count(Limit::MeshVertices));
         match self.cache.build(&model, &tol) {
             Ok(scene) => match crate::export::gltf::out_of_range(&scene) {
                 Some(far) => build.problems.push(range_diagnostic(&build.outcome, &far)),
@@ -337,8 +339,16 @@ fn tessellation_diagnostic(
         || crate::syntax::Span::new(outcome.file, 0, 0),
         |d| d.value.as_ref().map_or(d.span, |v| v.span),
     );
+    // A limit reached is named by its code, as during evaluation.
+    let limit = match e.error {
+        GeomError::NoConvergence { what, .. } if what == CURVE_POINT_LIMIT => Some(Limit::Samples),
+        GeomError::NoConvergence { what, .. } if what == SURFACE_VERTEX_LIMIT => {
+            Some(Limit::MeshVertices)
+        }
+        _ => None,
+    };
     let mut d = Diagnostic::new(
-        "die::geometry",
+        limit.map_or("die::geometry", crate::eval::budget::limit_code),
         format!(
             "`{}` cannot be tessellated for export within {} mm: {}",
             e.part, tol.chordal, e.error
@@ -349,12 +359,29 @@ fn tessellation_diagnostic(
     if let Some(decl) = decl {
         d = d.with_label(decl.span, "in this declaration");
     }
-    if matches!(e.error, GeomError::NoConvergence { what, .. } if what == CURVE_POINT_LIMIT) {
+    if limit == Some(Limit::Samples) {
         // The curve needs more points than the `samples` limit allows.
         return d.with_help(format!(
             "the `samples` limit bounds the points of one curve: {}; or use a coarser tolerance (`--tolerance`)",
             Limit::Samples.help(limits)
         ));
+    }
+    if limit == Some(Limit::MeshVertices) {
+        // The surface needs more vertices than the `mesh_vertices` limit allows.
+        let at_default =
+            limits.get(Limit::MeshVertices) >= Limits::default().get(Limit::MeshVertices);
+        let fold = if tol.chordal < DEFAULT_TOLERANCE_MM {
+            format!("; or use a coarser tolerance, e.g. `--tolerance {DEFAULT_TOLERANCE_MM}mm`")
+        } else if at_default {
+            format!(
+                "; at {} mm a surface needs that many only where it folds back or pinches \
+                 (`dieface inspect` shows its smallest radius, `min_radius`)",
+                tol.chordal
+            )
+        } else {
+            String::new()
+        };
+        return d.with_help(format!("{}{fold}", Limit::MeshVertices.help(limits)));
     }
     if matches!(e.error, GeomError::NotFinite { .. }) {
         return d.with_help("its coordinates are too large to tessellate: keep the geometry within a few kilometres of the origin (lengths are in millimetres)");

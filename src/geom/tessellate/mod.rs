@@ -25,8 +25,8 @@ mod surface;
 mod trimmed;
 
 pub use curve::{tessellate_curve, tessellate_curve_within, CURVE_POINT_LIMIT};
-pub use surface::tessellate_surface;
-pub use trimmed::tessellate_trimmed;
+pub use surface::{tessellate_surface, tessellate_surface_within, SURFACE_VERTEX_LIMIT};
+pub use trimmed::{tessellate_trimmed, tessellate_trimmed_within};
 
 use glam::{DVec2, DVec3};
 

@@ -86,7 +86,24 @@ const LATTICE: usize = 6;
 /// [`MAX_VERTICES`] vertices or 16 refinement rounds, and with [`GeomError::NotFinite`]
 /// when the surface evaluates to non-finite points (coordinates near overflow).
 pub fn tessellate_surface(surface: &NurbsSurface, tol: &Tolerance) -> Result<SurfaceMesh> {
+    tessellate_surface_within(surface, tol, MAX_VERTICES)
+}
+
+/// What [`tessellate_surface_within`] names when the grid would need more vertices than
+/// it was allowed.
+pub const SURFACE_VERTEX_LIMIT: &str =
+    "surface tessellation (vertex limit reached: tolerance too fine for the surface)";
+
+/// [`tessellate_surface`] with at most `max_vertices` vertices (and never more than
+/// [`MAX_VERTICES`]): the `mesh_vertices` limit, so that a surface that would need
+/// millions of triangles fails at once with [`SURFACE_VERTEX_LIMIT`].
+pub fn tessellate_surface_within(
+    surface: &NurbsSurface,
+    tol: &Tolerance,
+    max_vertices: usize,
+) -> Result<SurfaceMesh> {
     tol.validate()?;
+    let max_vertices = max_vertices.clamp(4, MAX_VERTICES);
     let spans_u = Spans::new(surface.knots_u(), surface.degree_u());
     let spans_v = Spans::new(surface.knots_v(), surface.degree_v());
     let (mut counts_u, mut counts_v) = initial_counts(surface, tol, &spans_u, &spans_v);
@@ -95,12 +112,13 @@ pub fn tessellate_surface(surface: &NurbsSurface, tol: &Tolerance) -> Result<Sur
     let mut worst = 0.0;
     let mut coarsened = false;
     for round in 0..MAX_ITERATIONS {
-        let grid = Grid::new(&spans_u, &counts_u, &spans_v, &counts_v)
-            .ok_or(GeomError::NoConvergence {
-            what: "surface tessellation (vertex limit reached: tolerance too fine for the surface)",
-            iterations: round,
-            residual: worst,
-        })?;
+        let grid = Grid::new(&spans_u, &counts_u, &spans_v, &counts_v, max_vertices).ok_or(
+            GeomError::NoConvergence {
+                what: SURFACE_VERTEX_LIMIT,
+                iterations: round,
+                residual: worst,
+            },
+        )?;
         let pass = verify(surface, &net, &grid, tol, &lattice)?;
         worst = pass.max_deviation;
         let failed = pass
@@ -419,11 +437,17 @@ struct Grid {
 }
 
 impl Grid {
-    /// `None` when the grid would exceed [`MAX_VERTICES`].
-    fn new(su: &Spans, cu: &[usize], sv: &Spans, cv: &[usize]) -> Option<Self> {
+    /// `None` when the grid would exceed `max_vertices`.
+    fn new(
+        su: &Spans,
+        cu: &[usize],
+        sv: &Spans,
+        cv: &[usize],
+        max_vertices: usize,
+    ) -> Option<Self> {
         let nu = cu.iter().try_fold(1usize, |acc, &n| acc.checked_add(n))?;
         let nv = cv.iter().try_fold(1usize, |acc, &n| acc.checked_add(n))?;
-        if nu.checked_mul(nv)? > MAX_VERTICES {
+        if nu.checked_mul(nv)? > max_vertices {
             return None;
         }
         Some(Self {

@@ -18,7 +18,7 @@ use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 
 use super::super::error::{GeomError, Result};
 use super::super::trimmed::{polygon_winding, TrimmedSurface};
-use super::{tessellate_curve, tessellate_surface, SurfaceMesh, Tolerance};
+use super::{tessellate_curve, tessellate_surface_within, SurfaceMesh, Tolerance};
 
 /// Rounds of inserting points where a triangle deviates from the surface.
 const REFINE_ROUNDS: usize = 8;
@@ -34,6 +34,16 @@ const CLEARANCE: f64 = 0.4;
 /// Errors: the curve and surface tessellators' errors; [`GeomError::InvalidMesh`] if
 /// the triangulation fails (a self-crossing outline in `(u, v)`).
 pub fn tessellate_trimmed(face: &TrimmedSurface, tol: &Tolerance) -> Result<SurfaceMesh> {
+    tessellate_trimmed_within(face, tol, super::MAX_VERTICES)
+}
+
+/// [`tessellate_trimmed`] with the untrimmed surface's grid within `max_vertices` (see
+/// [`super::tessellate_surface_within`]).
+pub fn tessellate_trimmed_within(
+    face: &TrimmedSurface,
+    tol: &Tolerance,
+    max_vertices: usize,
+) -> Result<SurfaceMesh> {
     tol.validate()?;
     let s = face.surface();
     let outer = face.outer();
@@ -54,7 +64,7 @@ pub fn tessellate_trimmed(face: &TrimmedSurface, tol: &Tolerance) -> Result<Surf
         |q: DVec2| q.cmpge(lo).all() && q.cmple(hi).all() && polygon_winding(&boundary, q) != 0;
 
     // Interior points: the untrimmed tessellation's grid inside the loop, clear of it.
-    let grid = tessellate_surface(s, tol)?;
+    let grid = tessellate_surface_within(s, tol, max_vertices)?;
     let segments = Segments::new(&boundary);
     for (&q, &p) in grid.uv.iter().zip(&grid.positions) {
         if inside(q) && segments.clear(q) {
