@@ -14,6 +14,10 @@ fn a_seeded_fuzzing_run_finds_no_crash_hang_or_exhaustion() {
     let found = std::env::temp_dir().join(format!("dieface-fuzz-test-{}", std::process::id()));
     let out = Command::new(env!("CARGO_BIN_EXE_dieface-fuzz"))
         .args(["run", "--seed", "7", "--inputs", INPUTS, "--jobs", "2"])
+        // Three times the long run's budget: the slowest regressions (kilometre-long
+        // openings) take about 6 s of CPU here, and CI's machine may be slower; a hang
+        // is still a hang at 30 s.
+        .args(["--time-ms", "30000"])
         .arg("--found")
         .arg(&found)
         .output()

@@ -220,7 +220,7 @@ impl<P: Point> NurbsCurve<P> {
 
     /// [`NurbsCurve::derivatives`] in the knot span `span`, the one that holds `t`.
     #[inline(always)]
-    fn derivatives_in<const N: usize>(&self, span: usize, t: f64) -> [P; N] {
+    pub(crate) fn derivatives_in<const N: usize>(&self, span: usize, t: f64) -> [P; N] {
         const {
             assert!(
                 N >= 1 && N <= MAX_DERIVATIVE + 1,

@@ -398,16 +398,28 @@ pub fn closest_point_on_curve<P: Point>(curve: &NurbsCurve<P>, target: P) -> Res
     let tol = Tolerances::new(curve.control_scale(), target.length());
     let (t0, t1) = curve.domain();
     let per_span = CURVE_SAMPLES_PER_DEGREE * (curve.degree() + 1);
-    let params = span_samples(&curve.span_breaks(), per_span);
-    // (t, distance, f)
-    let samples: Vec<(f64, f64, f64)> = params
-        .iter()
-        .map(|&t| {
-            let [c, d1] = curve.derivatives::<2>(t);
-            let r = c - target;
-            (t, r.length(), d1.dot(r))
-        })
-        .collect();
+    // (t, distance, f) at the parameters of `span_samples`, each span's samples
+    // evaluated in that span (looked up once per span, not once per sample: a long curve
+    // has tens of thousands).
+    let breaks = curve.span_breaks();
+    let sample = |span: usize, t: f64| {
+        let [c, d1] = curve.derivatives_in::<2>(span, t);
+        let r = c - target;
+        (t, r.length(), d1.dot(r))
+    };
+    let (knots, degree) = (curve.knots(), curve.degree());
+    let mut samples: Vec<(f64, f64, f64)> =
+        Vec::with_capacity(breaks.len().saturating_sub(1) * per_span + 1);
+    for w in breaks.windows(2) {
+        let (a, b) = (w[0], w[1]);
+        let span = knots.span(degree, a);
+        for i in 0..per_span {
+            samples.push(sample(span, a + (b - a) * (i as f64 / per_span as f64)));
+        }
+    }
+    if let Some(&last) = breaks.last() {
+        samples.push(sample(knots.span(degree, last), last));
+    }
 
     let mut best: Option<(CurvePoint<P>, f64)> = None;
     let offer = |cp: CurvePoint<P>, best: &mut Option<(CurvePoint<P>, f64)>| {
@@ -489,6 +501,35 @@ pub fn project_to_curve_near<P: Point>(
         return finite_distance(out.value, out.value.distance);
     }
     closest_point_on_curve(curve, target)
+}
+
+/// A point of `curve` near `target`, found by Newton from `t_guess` alone: the foot
+/// it converges to or, where it does not converge, its last iterate. Never the global
+/// search of [`project_to_curve_near`]: for callers that want a distance near a known
+/// match and take an upper bound where Newton fails (the point found lies on the curve,
+/// so its distance is at least the true one), rather than a search of every span of a
+/// long curve for each sample.
+///
+/// Errors: [`GeomError::NotFinite`] for a NaN or infinite target or guess, or a point
+/// that evaluates to non-finite coordinates.
+pub fn project_to_curve_locally<P: Point>(
+    curve: &NurbsCurve<P>,
+    target: P,
+    t_guess: f64,
+) -> Result<CurvePoint<P>> {
+    if !target.is_finite() {
+        return Err(GeomError::NotFinite {
+            what: "target point",
+        });
+    }
+    if !t_guess.is_finite() {
+        return Err(GeomError::NotFinite {
+            what: "parameter guess",
+        });
+    }
+    let tol = Tolerances::new(curve.control_scale(), target.length());
+    let out = newton_curve(curve, target, t_guess, tol);
+    finite_distance(out.value, out.value.distance)
 }
 
 // ---------------------------------------------------------------------------------------

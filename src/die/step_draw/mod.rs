@@ -49,7 +49,9 @@ use super::figures::{edge_samples, seam, Edge, Facing, Seam};
 use crate::geom::curve::ArcLengths;
 use crate::geom::interpolate::{interpolate_at, Interpolation, KnotPlacement};
 use crate::geom::intersect::{intersect_curve_plane, Plane};
-use crate::geom::inversion::{closest_point_on_curve, project_to_curve_near};
+use crate::geom::inversion::{
+    closest_point_on_curve, project_to_curve_locally, project_to_curve_near,
+};
 use crate::geom::join::join_curves;
 use crate::geom::tessellate::{tessellate_curve, Tolerance};
 use crate::geom::{Curve2, Curve3, GeomError, NurbsSurface};
@@ -1428,8 +1430,11 @@ fn refine_for_opening(
             }
             for q in [0.25, 0.5, 0.75] {
                 let v = w[0] + (w[1] - w[0]) * q;
+                // Near the matched point only: where Newton does not settle, its last
+                // point's distance (an upper bound) marks the span for refinement
+                // rather than searching the whole opening for every sample.
                 let hit =
-                    project_to_curve_near(opening, approx.point_at(v), matching.opening_t(v))?;
+                    project_to_curve_locally(opening, approx.point_at(v), matching.opening_t(v))?;
                 if hit.distance > tol {
                     bad.push(0.5 * (w[0] + w[1]));
                     break;
