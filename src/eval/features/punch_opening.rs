@@ -729,6 +729,21 @@ fn explain(name_of_block: &str, spec: &PunchOpeningSpec, e: &po::Error) -> Expla
         )
         .also(Part::Field(before), format!("the side view of `{prev}`"))
         .also(Part::Segment(k), format!("`{name}` starts where `{prev}` ends, without a corner")),
+        po::Problem::OffItsView {
+            view,
+            deviation,
+            bound,
+        } => Explanation::new(
+            format!(
+                "the side `{name}` could not be built as drawn: it strays {} mm from its {view} (at most {} mm, ten times delta)",
+                show(*deviation),
+                show(*bound)
+            ),
+            Part::Field(k),
+            format!("the side view of `{name}`"),
+            "a side follows its top view and its side view together, step by step; where the side view climbs far more steeply than the top view can carry (a spline driven through an extreme point, say), the steps lose it. Keep the side view's heights and slopes within what the die can be (a smooth graph over its axis, a few degrees to a few tens of degrees)",
+        )
+        .also(Part::Segment(k), format!("the side `{name}` in the top view")),
         po::Problem::NoSides => Explanation::new(
             "the top view has no side: every segment is a fillet",
             Blame::Block,
