@@ -500,7 +500,7 @@ pub fn build_with(spec: &PunchOpeningSpec, pieces: &Pieces) -> Result<PunchOpeni
             ("side view", f.side_deviation),
             ("top view", f.top_deviation),
         ] {
-            if !(deviation <= bound) {
+            if deviation.is_nan() || deviation > bound {
                 return Err(Error {
                     piece: k,
                     problem: Problem::OffItsView {

@@ -485,6 +485,20 @@ pub fn project_to_curve_near<P: Point>(
     target: P,
     t_guess: f64,
 ) -> Result<CurvePoint<P>> {
+    let out = newton_from(curve, target, t_guess)?;
+    if out.converged {
+        return finite_distance(out.value, out.value.distance);
+    }
+    closest_point_on_curve(curve, target)
+}
+
+/// Newton's projection of `target` onto `curve` from `t_guess`, after checking that
+/// both are finite: what the two local projections share.
+fn newton_from<P: Point>(
+    curve: &NurbsCurve<P>,
+    target: P,
+    t_guess: f64,
+) -> Result<Outcome<CurvePoint<P>>> {
     if !target.is_finite() {
         return Err(GeomError::NotFinite {
             what: "target point",
@@ -496,11 +510,7 @@ pub fn project_to_curve_near<P: Point>(
         });
     }
     let tol = Tolerances::new(curve.control_scale(), target.length());
-    let out = newton_curve(curve, target, t_guess, tol);
-    if out.converged {
-        return finite_distance(out.value, out.value.distance);
-    }
-    closest_point_on_curve(curve, target)
+    Ok(newton_curve(curve, target, t_guess, tol))
 }
 
 /// A point of `curve` near `target`, found by Newton from `t_guess` alone: the foot
@@ -517,18 +527,7 @@ pub fn project_to_curve_locally<P: Point>(
     target: P,
     t_guess: f64,
 ) -> Result<CurvePoint<P>> {
-    if !target.is_finite() {
-        return Err(GeomError::NotFinite {
-            what: "target point",
-        });
-    }
-    if !t_guess.is_finite() {
-        return Err(GeomError::NotFinite {
-            what: "parameter guess",
-        });
-    }
-    let tol = Tolerances::new(curve.control_scale(), target.length());
-    let out = newton_curve(curve, target, t_guess, tol);
+    let out = newton_from(curve, target, t_guess)?;
     finite_distance(out.value, out.value.distance)
 }
 
