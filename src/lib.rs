@@ -15,6 +15,7 @@ pub mod die;
 pub mod eval;
 pub mod export;
 pub mod geom;
+pub mod heap;
 pub mod limits;
 pub mod pipeline;
 pub mod syntax;

@@ -32,11 +32,15 @@ pub enum Limit {
     MeshVertices,
     /// Bytes of one file read (a script, a module, an OBJ, an MTL).
     FileBytes,
+    /// Mebibytes of heap the process may hold while a script is evaluated
+    /// (counted by the `heap` module): values that are few but large (records holding closures,
+    /// say) pass the item limits and still take gigabytes.
+    MemoryMb,
 }
 
 impl Limit {
     /// Every limit, in the order `docs/limits.md` lists them.
-    pub const ALL: [Limit; 8] = [
+    pub const ALL: [Limit; 9] = [
         Limit::Nesting,
         Limit::CallDepth,
         Limit::Work,
@@ -45,6 +49,7 @@ impl Limit {
         Limit::Samples,
         Limit::MeshVertices,
         Limit::FileBytes,
+        Limit::MemoryMb,
     ];
 
     /// The name used on the command line and in diagnostics.
@@ -58,6 +63,7 @@ impl Limit {
             Limit::Samples => "samples",
             Limit::MeshVertices => "mesh_vertices",
             Limit::FileBytes => "file_bytes",
+            Limit::MemoryMb => "memory_mb",
         }
     }
 
@@ -72,6 +78,7 @@ impl Limit {
             Limit::Samples => "samples or points",
             Limit::MeshVertices => "mesh vertices",
             Limit::FileBytes => "bytes in a file read",
+            Limit::MemoryMb => "MiB of memory held during evaluation",
         }
     }
 
@@ -121,6 +128,7 @@ impl Default for Limits {
                 Limit::Samples => 1_000_000,
                 Limit::MeshVertices => 20_000_000,
                 Limit::FileBytes => 256 << 20,
+                Limit::MemoryMb => 8192,
             };
         }
         limits

@@ -1,6 +1,7 @@
 //! The pipeline's direction, checked on the source: data flows
 //! `syntax -> eval -> geom / die -> export -> pipeline -> cli`, and a module never
-//! reaches back up it. `limits` is a leaf every stage may read. The kernel (`geom`) and the die-face features (`die`) know
+//! reaches back up it. `limits` is a leaf every stage may read; so is `heap`, the count
+//! of memory held, which the evaluation's budget reads. The kernel (`geom`) and the die-face features (`die`) know
 //! nothing of the language; the exporters read the die model, never language values.
 //!
 //! Every `crate::<module>` path, and every `super::` chain that climbs to the crate
@@ -13,11 +14,12 @@ use std::path::{Path, PathBuf};
 /// What each top-level module may use besides itself.
 const ALLOWED: &[(&str, &[&str])] = &[
     ("limits", &[]),
+    ("heap", &[]),
     ("diag", &["syntax", "limits"]),
     ("syntax", &["diag", "limits"]),
     ("geom", &["limits"]),
     ("die", &["geom", "limits"]),
-    ("eval", &["diag", "syntax", "geom", "die", "limits"]),
+    ("eval", &["diag", "syntax", "geom", "die", "limits", "heap"]),
     ("export", &["geom", "die", "limits"]),
     (
         "pipeline",

@@ -358,3 +358,19 @@ fn a_surface_needing_more_vertices_than_mesh_vertices_fails_naming_the_limit() {
     assert!(stderr.contains("mesh_vertices=N`"), "{stderr}");
     assert!(stderr.contains("dome.die:2:12"), "{stderr}");
 }
+
+#[test]
+fn records_holding_closures_reach_memory_mb_though_few_items() {
+    // A million records, each holding a closure: two million list items and record
+    // fields, under `list_items`, but a kilobyte each.
+    let stderr = check_fails(
+        "closures",
+        "let ok = 1 mm\nlet a = [[{k: fn(x) => x} for i in range(0, 1000)] for j in range(0, 1000)]\n",
+        &["--limit", "memory_mb=200"],
+    );
+    names_limit(&stderr, "memory_mb", "closures.die:2:");
+    assert!(
+        stderr.contains("`a` needs more than 200 MiB of memory"),
+        "{stderr}"
+    );
+}

@@ -26,6 +26,11 @@ pub struct Budget {
     out_of_work: AtomicBool,
 }
 
+/// Every how many evaluation steps the heap is looked at: a step makes at most a few
+/// small values (lists and strings are bounded on their own), so the heap cannot
+/// outrun the check by much, and the look costs nothing measurable.
+const MEMORY_CHECK_STEPS: u64 = 1024;
+
 impl Budget {
     /// A fresh budget under `limits`.
     pub fn new(limits: Limits) -> Self {
@@ -40,9 +45,24 @@ impl Budget {
         &self.limits
     }
 
-    /// Counts one evaluation step; `false` once the `work` limit is passed.
-    pub fn step(&self) -> bool {
-        self.steps.fetch_add(1, Ordering::Relaxed) < self.limits.get(Limit::Work)
+    /// Counts one evaluation step: the limit passed once the `work` limit is, or once
+    /// the heap the process holds passes `memory_mb` (looked at every
+    /// [`MEMORY_CHECK_STEPS`] steps).
+    pub fn step(&self) -> Result<(), Limit> {
+        let done = self.steps.fetch_add(1, Ordering::Relaxed);
+        if done >= self.limits.get(Limit::Work) {
+            return Err(Limit::Work);
+        }
+        if done % MEMORY_CHECK_STEPS == 0 && !self.memory_ok() {
+            return Err(Limit::MemoryMb);
+        }
+        Ok(())
+    }
+
+    /// Whether the heap the process holds is within the `memory_mb` limit.
+    pub fn memory_ok(&self) -> bool {
+        let held = u64::try_from(crate::heap::live_bytes()).unwrap_or(u64::MAX);
+        held <= self.limits.get(Limit::MemoryMb).saturating_mul(1 << 20)
     }
 
     /// Counts the items of a list just made; `false` once all lists of the
@@ -90,5 +110,6 @@ pub fn limit_code(limit: Limit) -> &'static str {
         Limit::Samples => "die::limit::samples",
         Limit::MeshVertices => "die::limit::mesh_vertices",
         Limit::FileBytes => "die::limit::file_bytes",
+        Limit::MemoryMb => "die::limit::memory_mb",
     }
 }

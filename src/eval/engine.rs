@@ -903,7 +903,10 @@ impl Engine {
             Err(diag) => {
                 // Once the steps have run out, every declaration still to come runs out
                 // at once: only the first is reported.
-                if diag.code != limit_code(Limit::Work) || self.budget.first_out_of_work() {
+                let budget_limit = [Limit::Work, Limit::MemoryMb]
+                    .iter()
+                    .any(|&l| diag.code == limit_code(l));
+                if !budget_limit || self.budget.first_out_of_work() {
                     diagnostics.push(diag);
                 }
                 run.failed.insert(name.to_string());

@@ -81,21 +81,21 @@ impl<'w> Ctx<'w> {
     /// call), naming the declaration.
     fn step(&self, span: Span) -> Result<(), Diagnostic> {
         let budget = self.budget();
-        if budget.step() {
+        let Err(limit) = budget.step() else {
             return Ok(());
-        }
-        let limits = budget.limits();
-        let n = limits.get(Limit::Work);
-        let message = match self.decl {
-            Some(d) => format!("`{d}` takes more than {n} evaluation steps"),
-            None => format!("this takes more than {n} evaluation steps"),
         };
-        Err(exceeded(
-            Limit::Work,
-            limits,
-            self.call.unwrap_or(span),
-            message,
-        ))
+        let limits = budget.limits();
+        let n = limits.get(limit);
+        let what = match self.decl {
+            Some(d) => format!("`{d}`"),
+            None => "this".to_string(),
+        };
+        let message = if limit == Limit::MemoryMb {
+            format!("{what} needs more than {n} MiB of memory")
+        } else {
+            format!("{what} takes more than {n} evaluation steps")
+        };
+        Err(exceeded(limit, limits, self.call.unwrap_or(span), message))
     }
 
     /// Counts the items of a list made at `span` against the items of all lists of

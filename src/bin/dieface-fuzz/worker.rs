@@ -133,6 +133,12 @@ pub fn write_frame(w: &mut impl Write, bytes: &[u8]) -> io::Result<()> {
 /// the run checks is that the limits bound the work, whatever their values.
 const FUZZ_MESH_VERTICES: u64 = 2_000_000;
 
+/// The `memory_mb` limit inputs run with: half the default memory budget of a run
+/// (2 GiB), so an evaluation that grows without bound is stopped by the limit, with its
+/// diagnostic, before the worker's budget is reached (encoding and `inspect` hold more
+/// beside it).
+const FUZZ_MEMORY_MB: u64 = 1024;
+
 /// Runs one input the way `build`, `inspect` and `inspect --json` do.
 fn run_one(scratch: &Path, folder: &str, text: &[u8]) -> Class {
     let dir = scratch.join(folder);
@@ -143,6 +149,7 @@ fn run_one(scratch: &Path, folder: &str, text: &[u8]) -> Class {
     let mut engine = Engine::new(Some(scratch.to_path_buf()));
     let mut limits = *engine.limits();
     limits.set(Limit::MeshVertices, FUZZ_MESH_VERTICES);
+    limits.set(Limit::MemoryMb, FUZZ_MEMORY_MB);
     engine.set_limits(limits);
     let mut pipeline = Pipeline::new(engine);
     let build = match pipeline.build(&path, None, &mut |_| {}) {
