@@ -7,6 +7,8 @@ use std::collections::HashMap;
 use std::time::Duration;
 
 use glam::DVec3;
+use serde::ser::{SerializeMap, SerializeSeq};
+use serde::{Serialize, Serializer};
 use serde_json::{json, Map, Value as Json};
 
 use crate::diag::Sources;
@@ -59,68 +61,149 @@ pub fn inspect_lines(outcome: &Outcome, sources: &Sources, timings: Timings) -> 
 
 /// The JSON report (`docs/inspect-json.md`): the file, every declaration with its
 /// value, and the diagnostics.
-pub fn inspect_json(outcome: &Outcome, sources: &Sources, timings: Timings) -> Json {
-    let timings = timing_index(timings);
-    let decls: Vec<Json> = outcome
-        .decls
-        .iter()
-        .map(|d| {
-            let (line, column) = sources.line_col(d.span);
-            let mut m = Map::new();
-            m.insert("name".into(), json!(d.name));
-            m.insert("kind".into(), json!(d.kind));
-            m.insert("line".into(), json!(line));
-            m.insert("column".into(), json!(column));
-            m.insert(
-                "type".into(),
-                d.value
-                    .as_ref()
-                    .map_or(Json::Null, |v| json!(type_token(v))),
-            );
-            m.insert(
-                "eval_ms".into(),
-                timings
+pub fn inspect_json<'a>(
+    outcome: &'a Outcome,
+    sources: &'a Sources,
+    timings: Timings<'a>,
+) -> InspectJson<'a> {
+    InspectJson {
+        outcome,
+        sources,
+        timings: timing_index(timings),
+    }
+}
+
+/// The JSON report, written as it is serialized: a declaration's value (a list of a
+/// million records, say) goes straight to the writer instead of first becoming a tree
+/// of JSON nodes several times its size. The same bytes as a tree would give.
+pub struct InspectJson<'a> {
+    outcome: &'a Outcome,
+    sources: &'a Sources,
+    timings: HashMap<&'a str, Duration>,
+}
+
+impl Serialize for InspectJson<'_> {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        let (outcome, sources) = (self.outcome, self.sources);
+        let decls: Vec<DeclJson> = outcome
+            .decls
+            .iter()
+            .map(|d| DeclJson {
+                decl: d,
+                sources,
+                eval_ms: self
+                    .timings
                     .get(d.name.as_str())
-                    .map_or(Json::Null, |t| json!(t.as_secs_f64() * 1e3)),
-            );
-            m.insert(
-                "value".into(),
-                d.value
-                    .as_ref()
-                    .map_or(Json::Null, |v| value_json(v, sources)),
-            );
-            Json::Object(m)
-        })
-        .collect();
-    let diagnostics: Vec<Json> = outcome
-        .diagnostics
-        .iter()
-        .map(|d| {
-            let (line, column) = sources.line_col(d.primary.span);
-            let mut m = Map::new();
-            m.insert("code".into(), json!(d.code));
-            m.insert("message".into(), json!(d.message));
-            m.insert(
-                "file".into(),
-                json!(sources
-                    .get(d.primary.span.file)
-                    .map_or("", |f| f.name.as_str())),
-            );
-            m.insert("line".into(), json!(line));
-            m.insert("column".into(), json!(column));
-            m.insert("help".into(), json!(d.help));
-            Json::Object(m)
-        })
-        .collect();
-    let mut top = Map::new();
-    top.insert("schema".into(), json!(SCHEMA));
-    top.insert(
-        "file".into(),
-        json!(sources.get(outcome.file).map_or("", |f| f.name.as_str())),
-    );
-    top.insert("declarations".into(), Json::Array(decls));
-    top.insert("diagnostics".into(), Json::Array(diagnostics));
-    Json::Object(top)
+                    .map(|t| t.as_secs_f64() * 1e3),
+            })
+            .collect();
+        let diagnostics: Vec<Json> = outcome
+            .diagnostics
+            .iter()
+            .map(|d| {
+                let (line, column) = sources.line_col(d.primary.span);
+                let mut m = Map::new();
+                m.insert("code".into(), json!(d.code));
+                m.insert("message".into(), json!(d.message));
+                m.insert(
+                    "file".into(),
+                    json!(sources
+                        .get(d.primary.span.file)
+                        .map_or("", |f| f.name.as_str())),
+                );
+                m.insert("line".into(), json!(line));
+                m.insert("column".into(), json!(column));
+                m.insert("help".into(), json!(d.help));
+                Json::Object(m)
+            })
+            .collect();
+        let mut top = serializer.serialize_map(Some(4))?;
+        top.serialize_entry("schema", &SCHEMA)?;
+        top.serialize_entry(
+            "file",
+            sources.get(outcome.file).map_or("", |f| f.name.as_str()),
+        )?;
+        top.serialize_entry("declarations", &decls)?;
+        top.serialize_entry("diagnostics", &diagnostics)?;
+        top.end()
+    }
+}
+
+/// One declaration of [`InspectJson`].
+struct DeclJson<'a> {
+    decl: &'a crate::eval::DeclResult,
+    sources: &'a Sources,
+    eval_ms: Option<f64>,
+}
+
+impl Serialize for DeclJson<'_> {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        let d = self.decl;
+        let (line, column) = self.sources.line_col(d.span);
+        let mut m = serializer.serialize_map(Some(7))?;
+        m.serialize_entry("name", &d.name)?;
+        m.serialize_entry("kind", &d.kind)?;
+        m.serialize_entry("line", &line)?;
+        m.serialize_entry("column", &column)?;
+        m.serialize_entry("type", &d.value.as_ref().map(type_token))?;
+        m.serialize_entry("eval_ms", &self.eval_ms)?;
+        m.serialize_entry(
+            "value",
+            &d.value.as_ref().map(|v| ValueJson {
+                value: v,
+                sources: self.sources,
+            }),
+        )?;
+        m.end()
+    }
+}
+
+/// A value as JSON ([`value_json`]), lists, tuples and records written item by item.
+struct ValueJson<'a> {
+    value: &'a Value,
+    sources: &'a Sources,
+}
+
+impl Serialize for ValueJson<'_> {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        let v = self.value;
+        let item = |value| ValueJson {
+            value,
+            sources: self.sources,
+        };
+        match &v.data {
+            Data::List(items) | Data::Tuple(items) if as_point(v).is_none() => {
+                let mut seq = serializer.serialize_seq(Some(items.len()))?;
+                for i in items.iter() {
+                    seq.serialize_element(&item(i))?;
+                }
+                seq.end()
+            }
+            Data::Record(r) => {
+                struct Fields<'b>(&'b [(String, Value)], &'b Sources);
+                impl Serialize for Fields<'_> {
+                    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+                        let mut m = s.serialize_map(Some(self.0.len()))?;
+                        for (n, f) in self.0 {
+                            m.serialize_entry(
+                                n,
+                                &ValueJson {
+                                    value: f,
+                                    sources: self.1,
+                                },
+                            )?;
+                        }
+                        m.end()
+                    }
+                }
+                let mut m = serializer.serialize_map(Some(2))?;
+                m.serialize_entry("kind", &r.kind)?;
+                m.serialize_entry("fields", &Fields(&r.fields, self.sources))?;
+                m.end()
+            }
+            _ => value_json(v, self.sources).serialize(serializer),
+        }
+    }
 }
 
 /// The area of a surface or a mesh.

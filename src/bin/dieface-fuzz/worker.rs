@@ -206,6 +206,14 @@ fn limit_address_space(mb: u64) {
 /// Resets the kernel's record of this process's peak resident memory (Linux
 /// `clear_refs` 5), so the next reading is the peak of one input.
 fn reset_peak_memory() {
+    // Give the heap the last input freed back to the system first: the allocator keeps
+    // it otherwise, and the next input's peak would start from the last one's (a run
+    // once blamed a 27-byte script for 2.3 GB).
+    // SAFETY: malloc_trim only releases free memory of the process's own heap.
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    unsafe {
+        libc::malloc_trim(0);
+    }
     let _ = std::fs::write("/proc/self/clear_refs", "5");
 }
 
