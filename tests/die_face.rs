@@ -200,10 +200,12 @@ fn grid_points(sd: &StepDraw, n: usize) -> Vec<DVec3> {
 }
 
 /// The share of the smallest drawn radius every patch keeps. The issue asks for 0.9;
-/// the step draw reaches 0.83 on the fender and the hood and 0.68 on the door (where a
-/// step fades into a plain wall next to a tangent start), so this is the floor that
-/// holds today, well above the 0.24 of before (1.42 mm against 6 mm drawn).
-const RADIUS_SHARE: f64 = 0.65;
+/// the step draw keeps 0.89 on the fender (`rear_to_rear_front`, where the opening
+/// runs at 28 deg to the outline so no vertical section is square to both walls), 0.91
+/// or more elsewhere on the fender, 0.95 on the door and 0.92 on the hood. Before the
+/// sections were matched along the product's normals and the runs paced to their
+/// corners it was 0.68 (and 0.24 before that).
+const RADIUS_SHARE: f64 = 0.88;
 
 /// Item 1: no step-draw patch much tighter than the smallest radius drawn in its two
 /// key sections, anywhere in the patch ([`RADIUS_SHARE`]); the key sections reproduced
@@ -280,8 +282,8 @@ fn tangent_seams(label: &str, sd: &StepDraw, binder: &[NurbsSurface], product: &
     );
 }
 
-/// Item 7: walls near their drawn draft (8 deg), never an undercut (before: 5.9 deg
-/// on the fender).
+/// Item 7: walls near their drawn draft (8 deg), never an undercut: 7.82 deg on the
+/// fender, 7.85 on the door, 7.69 on the hood (before: 5.9, then 7.15 on the fender).
 fn drafted(label: &str, sd: &StepDraw) {
     let mut worst = f64::INFINITY;
     for p in &sd.patches {
@@ -300,7 +302,7 @@ fn drafted(label: &str, sd: &StepDraw) {
         }
     }
     eprintln!("{label}: steepest wall {worst:.2} deg from vertical");
-    assert!(worst >= 7.0, "{label}: a wall at {worst} deg, drawn 8 deg");
+    assert!(worst >= 7.6, "{label}: a wall at {worst} deg, drawn 8 deg");
 }
 
 #[test]

@@ -5,9 +5,19 @@
 //! `U` serves them all: each run and each corner gets a fixed stretch of `U`, with a
 //! double knot where a run meets a corner (the curvature jumps there, from a straight
 //! run into a radius, and a double knot lets the cubic jump with it instead of
-//! overshooting) and four spans across each corner. Each section is then the least
-//! squares cubic through points spread evenly along each of its pieces, ends fixed on
-//! the guides. The matrix is the same for every section, so it is factored once.
+//! overshooting), four spans across each corner and three along each run. Each section
+//! is then the least squares cubic through points spread along each of its pieces,
+//! ends fixed on the guides. The matrix is the same for every section, so it is
+//! factored once.
+//!
+//! The stretches are the key sections' mean lengths, so in any one section a piece
+//! can be much longer or shorter than its stretch, and two pieces that meet at a
+//! double knot would ask for different parameter speeds there: the cubic, C1 at the
+//! knot, could keep neither, and the radius next to it came out up to a third tighter
+//! than drawn. So each corner is traversed evenly (the only pace at which a cubic
+//! follows an arc closely) and each straight run, which a cubic follows exactly at any
+//! pace its knots allow, eases from its neighbours' speeds at its ends to its own in
+//! between ([`Pace`]).
 //!
 //! A corner that fades out (a step running out next to a plain wall) keeps an arc of
 //! some length ([`super::chain::Chain::arc_length`]), so its stretch of `U` never shrinks to
@@ -28,6 +38,15 @@ const CORNER_SPANS: usize = 4;
 
 /// Samples per span.
 const SAMPLES_PER_SPAN: usize = 4;
+
+/// The share of a run's stretch at each end over which its pace eases from the speed of
+/// the corner it meets to its own cruising speed ([`Pace`]); the run has a knot there.
+const EASE: f64 = 0.15;
+
+/// The slowest a run may cruise, as a share of its mean speed: a run asked to meet two
+/// fast corners slows in between, and a speed near 0 would leave the surface without a
+/// tangent plane there.
+const SLOWEST_CRUISE: f64 = 0.25;
 
 /// The shared structure: which runs have a stretch of `U`, the stretches, the knot
 /// vector and the factored least-squares system.
@@ -56,6 +75,18 @@ pub struct SectionBasis {
 enum Piece {
     Run(usize),
     Corner(usize),
+}
+
+impl Piece {
+    /// Where the piece's stretch of `U` is cut into knot spans, as fractions of it.
+    fn breaks(self) -> Vec<f64> {
+        match self {
+            Piece::Run(_) => vec![0.0, EASE, 1.0 - EASE, 1.0],
+            Piece::Corner(_) => (0..=CORNER_SPANS)
+                .map(|s| s as f64 / CORNER_SPANS as f64)
+                .collect(),
+        }
+    }
 }
 
 impl SectionBasis {
@@ -103,15 +134,12 @@ impl SectionBasis {
             placed.push((*p, at, u1));
             at = u1;
         }
-        // Knots: double between pieces, simple inside corners.
+        // Knots: double between pieces, simple inside each piece at its breaks.
         let mut knots = vec![0.0; 4];
         for (i, &(p, u0, u1)) in placed.iter().enumerate() {
-            let spans = match p {
-                Piece::Run(_) => 1,
-                Piece::Corner(_) => CORNER_SPANS,
-            };
-            for s in 1..spans {
-                knots.push(u0 + (u1 - u0) * s as f64 / spans as f64);
+            let breaks = p.breaks();
+            for &f in &breaks[1..breaks.len() - 1] {
+                knots.push(u0 + (u1 - u0) * f);
             }
             if i + 1 < placed.len() {
                 knots.push(u1);
@@ -123,15 +151,13 @@ impl SectionBasis {
         let kv = KnotVector::new(knots.clone(), 3, m)?;
         let mut samples = Vec::new();
         for (i, &(p, u0, u1)) in placed.iter().enumerate() {
-            let spans = match p {
-                Piece::Run(_) => 1,
-                Piece::Corner(_) => CORNER_SPANS,
-            };
-            let count = spans * SAMPLES_PER_SPAN;
-            let first = if i == 0 { 0 } else { 1 };
-            for s in first..=count {
-                let f = s as f64 / count as f64;
-                samples.push((u0 + (u1 - u0) * f, i, f));
+            let breaks = p.breaks();
+            for (j, w) in breaks.windows(2).enumerate() {
+                let first = if i == 0 && j == 0 { 0 } else { 1 };
+                for s in first..=SAMPLES_PER_SPAN {
+                    let f = w[0] + (w[1] - w[0]) * s as f64 / SAMPLES_PER_SPAN as f64;
+                    samples.push((u0 + (u1 - u0) * f, i, f));
+                }
             }
         }
         let inner = m - 2;
@@ -228,20 +254,63 @@ impl SectionBasis {
 }
 
 /// How the points are spread along one piece: the fraction of its length reached at
-/// a fraction of its stretch of `U`, a cubic whose slopes at the ends match the speeds
+/// a fraction of its stretch of `U`, with slopes at the ends that match the speeds
 /// where the piece meets its neighbours.
 #[derive(Debug, Clone, Copy)]
-struct Pace {
-    start: f64,
-    end: f64,
+enum Pace {
+    /// A corner: one cubic from slope `start` to slope `end` (1 and 1 is an even pace,
+    /// the only one at which a cubic follows an arc closely).
+    Cubic { start: f64, end: f64 },
+    /// A run: from slope `start` it eases over the first [`EASE`] of its stretch to a
+    /// steady `cruise`, and over the last [`EASE`] on to slope `end` (the speed is
+    /// quadratic in each easing, flat at the cruise). That is a C2 cubic on the run's
+    /// knots, so the fit reproduces the straight run exactly at any such pace.
+    Eased { start: f64, cruise: f64, end: f64 },
 }
 
 impl Pace {
     fn at(&self, t: f64) -> f64 {
-        let (t2, t3) = (t * t, t * t * t);
-        (t3 - 2.0 * t2 + t) * self.start + (-2.0 * t3 + 3.0 * t2) + (t3 - t2) * self.end
+        match *self {
+            Pace::Cubic { start, end } => {
+                let (t2, t3) = (t * t, t * t * t);
+                (t3 - 2.0 * t2 + t) * start + (-2.0 * t3 + 3.0 * t2) + (t3 - t2) * end
+            }
+            Pace::Eased { start, cruise, end } => {
+                let e = EASE;
+                // Length covered while easing in from `start` over `e`.
+                let first = cruise * e + (start - cruise) * e / 3.0;
+                if t < e {
+                    let g = 1.0 - t / e;
+                    cruise * t + (start - cruise) * e / 3.0 * (1.0 - g * g * g)
+                } else if t <= 1.0 - e {
+                    first + cruise * (t - e)
+                } else {
+                    let g = (t - (1.0 - e)) / e;
+                    first + cruise * (t - e) + (end - cruise) * e / 3.0 * g * g * g
+                }
+            }
+        }
+    }
+
+    /// The eased pace with end slopes `start` and `end` (`None` at a free end, which
+    /// then keeps the cruise), the cruise chosen so the whole run is covered.
+    fn eased(start: Option<f64>, end: Option<f64>) -> Pace {
+        // Covered: cruise + (start - cruise) e/3 + (end - cruise) e/3 = 1.
+        let k = EASE / 3.0;
+        let given = start.iter().chain(end.iter());
+        let (sum, count) = given.fold((0.0, 0.0), |(s, n), v| (s + v, n + 1.0));
+        let cruise = ((1.0 - sum * k) / (1.0 - count * k)).max(SLOWEST_CRUISE);
+        Pace::Eased {
+            start: start.unwrap_or(cruise),
+            cruise,
+            end: end.unwrap_or(cruise),
+        }
     }
 }
+
+/// The most a run's speed at an end may differ from its mean speed, either way
+/// (at both ends at once it still cruises at [`SLOWEST_CRUISE`] or faster).
+const RUN_SPEED_RATIO: f64 = 6.0;
 
 impl SectionBasis {
     /// The pace of each piece of `geo`: both pieces that meet at a double knot ask for
@@ -256,12 +325,13 @@ impl SectionBasis {
         let n = own.len();
         // Where a run meets a corner the corner keeps its own speed (a cubic follows an
         // arc closely only at an even pace) and the run, which is straight and follows
-        // any pace exactly, takes it up, within three times its own; two corners meet
-        // at the geometric mean of theirs.
+        // any pace exactly, takes it up, within [`RUN_SPEED_RATIO`] of its own; two
+        // corners meet at the geometric mean of theirs.
         let junction = |a: usize, b: usize| -> f64 {
+            let ratio = RUN_SPEED_RATIO;
             match (self.pieces[a].0, self.pieces[b].0) {
-                (Piece::Run(_), Piece::Corner(_)) => own[b].clamp(own[a] / 3.0, 3.0 * own[a]),
-                (Piece::Corner(_), Piece::Run(_)) => own[a].clamp(own[b] / 3.0, 3.0 * own[b]),
+                (Piece::Run(_), Piece::Corner(_)) => own[b].clamp(own[a] / ratio, ratio * own[a]),
+                (Piece::Corner(_), Piece::Run(_)) => own[a].clamp(own[b] / ratio, ratio * own[b]),
                 _ => (own[a] * own[b]).sqrt(),
             }
         };
@@ -270,32 +340,31 @@ impl SectionBasis {
                 let (p, u0, u1) = self.pieces[i];
                 let length = geo.length(p);
                 if length <= 0.0 {
-                    return Pace {
+                    return Pace::Cubic {
                         start: 1.0,
                         end: 1.0,
                     };
                 }
-                let left = if i > 0 { junction(i - 1, i) } else { own[i] };
-                let right = if i + 1 < n {
-                    junction(i, i + 1)
-                } else {
-                    own[i]
-                };
                 let scale = (u1 - u0) / length;
+                let left = (i > 0).then(|| junction(i - 1, i) * scale);
+                let right = (i + 1 < n).then(|| junction(i, i + 1) * scale);
+                if let Piece::Run(_) = p {
+                    return Pace::eased(left, right);
+                }
                 // Slopes up to 3 keep the fraction increasing (Fritsch and Carlson); their
                 // sum up to 5 keeps the speed at a quarter of the mean or more midway
                 // (at a sum of 6 it stops there: a line of the surface with no tangent
                 // plane).
                 let (start, end) = (
-                    (left * scale).clamp(0.0, 3.0),
-                    (right * scale).clamp(0.0, 3.0),
+                    left.unwrap_or(1.0).clamp(0.0, 3.0),
+                    right.unwrap_or(1.0).clamp(0.0, 3.0),
                 );
                 let shrink = if start + end > 5.0 {
                     5.0 / (start + end)
                 } else {
                     1.0
                 };
-                Pace {
+                Pace::Cubic {
                     start: start * shrink,
                     end: end * shrink,
                 }

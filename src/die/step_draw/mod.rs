@@ -13,8 +13,10 @@
 //!    `G_U` (u = 0) to `G_D` (u = 1);
 //! 2. splits the guides at the sections into patches; in each patch the product piece
 //!    keeps its own knots `V` (refined where the opening needs it: knot insertion does not
-//!    move the product) and the opening piece is re-approximated at those knots, matched
-//!    by arc-length fraction: the guides are then compatible;
+//!    move the product) and the opening piece is re-approximated at those knots, each
+//!    product point matched with the opening point on its normal in the top view
+//!    ([`matching`]; the paper matches by arc-length fraction, which slants the sections
+//!    in corners and tightens the radii there): the guides are then compatible;
 //! 3. puts an intermediate section at every knot of `V` (eq. 7-9): each end section is
 //!    carried along `G_U` (translated, turned about Z with the guide), scaled (eq. 7) and
 //!    rotated so its ends land on `G_U(v_j)` and `G_D(v_j)` (turned about Z, then tilted
@@ -37,11 +39,13 @@ use rayon::prelude::*;
 mod along;
 mod chain;
 mod fit;
+mod matching;
 mod slopes;
 
 use along::Along;
 use chain::{align, Chain};
 use fit::SectionBasis;
+use matching::Matching;
 use slopes::{BinderSlope, ProductSlope};
 
 use super::continuity::{measure_join, JoinQuality};
@@ -438,7 +442,13 @@ pub fn build(guides: &Guides, sections: &[SectionSpec], opts: &Options) -> Resul
 
     // Step 2-3: patches, their guides and sections.
     let subs = sub_patches(
-        guides, sections, &placed, &positions, &stations, &starts, tol,
+        guides,
+        sections,
+        &placed,
+        &positions,
+        &stations,
+        (&key_sections, &starts),
+        tol,
     )?;
     // Step 4: rows with the Fig. 12 end derivatives.
     let patches = interpolate_rows(&subs, &u_knots, guides.closed)?;
@@ -671,7 +681,7 @@ fn sub_patches(
     placed: &[PlacedSection],
     positions: &[f64],
     stations: &Stations,
-    starts: &[SlopeStart],
+    (keys, starts): (&[(String, Curve3)], &[SlopeStart]),
     tol: f64,
 ) -> Result<Vec<SubPatch>, Error> {
     let n = sections.len();
@@ -685,6 +695,7 @@ fn sub_patches(
             patch(
                 guides,
                 (&placed[k].ends, &placed[next].ends),
+                (&keys[k].1, &keys[next].1),
                 positions[k],
                 &inputs.stations(starts[k]),
                 tol,
@@ -993,11 +1004,11 @@ impl Stations<'_> {
 
     /// [`Stations::section`] and its largest distance from the exact runs and corners.
     ///
-    /// A section's plane is vertical through its two guide points, which in a corner of
-    /// the outline cuts the walls at a slant. A key section is built as drawn in its
-    /// plane; a section cut more slanted than its key sections (by the ratio of their
-    /// [`obliquity`]) is stretched across by that ratio, so the walls keep their true
-    /// radii and draft instead of turning tighter and steeper in the slanted cut.
+    /// A section's plane is vertical through its two guide points, which may cut the
+    /// walls at a slant. A key section is built as drawn in its plane; a section cut
+    /// more slanted than its key sections (by the ratio of their [`obliquity`], at each
+    /// end) is stretched across by that ratio, so the walls keep their true radii and
+    /// draft instead of turning tighter and steeper in the slanted cut.
     fn section_with_error(
         &self,
         s: f64,
@@ -1012,14 +1023,13 @@ impl Stations<'_> {
         let h = (across / length).extend(0.0);
         let mut chain = self.along.at(s);
         // How much more slanted this plane is than the key sections' (whose drawings
-        // are taken as they are), at the product end and at the opening end.
-        // (One figure for the whole section, the mean of both ends': a slant that
-        // changes across the section, stretched as such, bent the die and punch radii
-        // tighter than drawn; a single stretch keeps them.)
+        // are taken as they are), at the product end and at the opening end; the slant
+        // goes linearly from one to the other across the section. (The sections leave
+        // the product square ([`matching`]), so the two differ only where the opening
+        // turns otherwise than the outline.)
         let (cp, co) = obliquity(h, tangents);
-        let key = 0.5 * (chain.obliquity.0 + chain.obliquity.1);
-        let c0 = (0.5 * (cp + co) / key).clamp(0.5, 2.0);
-        let c1 = c0;
+        let c0 = (cp / chain.obliquity.0).clamp(0.5, 2.0);
+        let c1 = (co / chain.obliquity.1).clamp(0.5, 2.0);
         let square = |angle: f64, c: f64| angle.sin().atan2(angle.cos() * c);
         chain.start = DVec2::new(0.0, b.z);
         let last = chain.runs.len() - 1;
@@ -1242,11 +1252,13 @@ fn across_seam(first: &Curve3, second: &Curve3) -> crate::geom::Result<Curve3> {
     Ok(out)
 }
 
-/// The sub-patches of the patch between two key sections; `start` is the left key
-/// section's position along the outline (for [`Stations::section`]).
+/// The sub-patches of the patch between two key sections (`keys`, as built once for
+/// both their patches); `start` is the left key section's position along the outline
+/// (for [`Stations::section`]).
 fn patch(
     guides: &Guides,
     ends: (&SectionEnds, &SectionEnds),
+    keys: (&Curve3, &Curve3),
     start: f64,
     stations: &Stations,
     tol: f64,
@@ -1259,10 +1271,17 @@ fn patch(
     let params: Vec<f64> = knots.iter().map(|&(k, _)| k).collect();
     // Each knot's point on the opening, by arc-length fraction.
     let mut sections = Vec::with_capacity(params.len());
-    for &v in &params {
+    for (i, &v) in params.iter().enumerate() {
+        // The two key sections as built once for both their patches, so neighbours
+        // share them exactly.
+        if i == 0 || i + 1 == params.len() {
+            sections.push(if i == 0 { keys.0 } else { keys.1 }.clone());
+            continue;
+        }
         let t = matching.opening_t(v);
         let (a, b) = (opening.point_at(t), product.point_at(v));
-        let s = start + matching.product.fraction_at(v) * matching.product.total;
+        let lengths = &matching.product_lengths;
+        let s = start + lengths.fraction_at(v) * lengths.total;
         let tangents = (opening.derivative_at(t), product.derivative_at(v));
         sections.push(stations.section(s, (a, b), tangents)?);
     }
@@ -1317,65 +1336,23 @@ fn patch(
     Ok(subs)
 }
 
-/// The correspondence between a patch's product piece and its opening piece by
-/// arc-length fraction (exact lengths, so the matching is as smooth as the curves and
-/// its derivative is the one [`Matching::opening_derivative`] works out; the points
-/// taken on the opening are always exactly on it).
-struct Matching<'a> {
-    product: ArcFractions<'a>,
-    opening: ArcFractions<'a>,
-}
-
-impl<'a> Matching<'a> {
-    fn new(product: &'a Curve3, opening: &'a Curve3) -> Self {
-        Self {
-            product: ArcFractions::new(product),
-            opening: ArcFractions::new(opening),
-        }
-    }
-
-    /// The opening parameter matched with the product parameter `v`.
-    fn opening_t(&self, v: f64) -> f64 {
-        self.opening.t_at(self.product.fraction_at(v))
-    }
-
-    /// The derivative, per unit of the product parameter, of the matched opening point:
-    /// the opening's unit tangent times its length per unit of fraction times the
-    /// fraction's rate along the product.
-    fn opening_derivative(&self, product: &Curve3, opening: &Curve3, v: f64) -> DVec3 {
-        self.opening_derivative_at_speed(opening, v, product.derivative_at(v).length())
-    }
-
-    /// [`Matching::opening_derivative`] for a product parameter whose speed `|G_D'|` is
-    /// given (one side of a joint, or a sub-piece's own parameter).
-    fn opening_derivative_at_speed(&self, opening: &Curve3, v: f64, product_speed: f64) -> DVec3 {
-        let t = self.opening_t(v);
-        let dop = opening.derivative_at(t);
-        let speed = dop.length();
-        if speed == 0.0 || self.product.total == 0.0 {
-            return DVec3::ZERO;
-        }
-        dop / speed * self.opening.total * product_speed / self.product.total
-    }
-}
-
 /// Arc-length fractions of a curve: [`ArcLengths`] (exact lengths by Gauss-Legendre
 /// quadrature, parameters by Newton inside one tabulated piece) seen as fractions of
 /// the whole length.
-struct ArcFractions<'a> {
+pub(super) struct ArcFractions<'a> {
     lengths: ArcLengths<'a, DVec3>,
-    total: f64,
+    pub(super) total: f64,
 }
 
 impl<'a> ArcFractions<'a> {
-    fn new(c: &'a Curve3) -> Self {
+    pub(super) fn new(c: &'a Curve3) -> Self {
         let lengths = ArcLengths::new(c);
         let total = lengths.total();
         Self { lengths, total }
     }
 
     /// The fraction of the length up to parameter `t`.
-    fn fraction_at(&self, t: f64) -> f64 {
+    pub(super) fn fraction_at(&self, t: f64) -> f64 {
         if self.total == 0.0 {
             return 0.0;
         }
@@ -1383,7 +1360,7 @@ impl<'a> ArcFractions<'a> {
     }
 
     /// The parameter at fraction `f` of the length.
-    fn t_at(&self, f: f64) -> f64 {
+    pub(super) fn t_at(&self, f: f64) -> f64 {
         let s = f.clamp(0.0, 1.0) * self.total;
         // Only a non-finite length is refused: the curve's start stands in for it.
         self.lengths
@@ -1423,8 +1400,13 @@ fn refine_for_opening(
         // The geometric distance of the approximation from the opening (not from the
         // matched point, which may slide along the curve without any shape error).
         let mut bad = Vec::new();
-        for w in knots.windows(2) {
-            let span_length = product.point_at(w[0]).distance(product.point_at(w[1]));
+        for (i, w) in knots.windows(2).enumerate() {
+            // A span is short when both its guides' pieces are (the matching spreads a
+            // short product span over a long opening span round a corner).
+            let span_length = product
+                .point_at(w[0])
+                .distance(product.point_at(w[1]))
+                .max(points[i].distance(points[i + 1]));
             if span_length < MIN_SPAN {
                 continue;
             }
