@@ -384,3 +384,22 @@ fn symmetric_hood_gives_a_symmetric_step_draw() {
     // tenth of the 0.01 mm tolerance on either side: 2e-3 mm bounds the difference.
     assert!(d <= 2e-3, "the mirror image is {d} mm off the step draw");
 }
+
+/// A product corner far tighter than the step draw is wide (7 mm under 140 mm walls)
+/// is matched by arc length, not along the product's normals, which would fan out over
+/// 33 mm of opening per mm of product there and fold the patch: the step draw then
+/// covered 8.1e6 mm² (a 242 MB GLB) where it spans about 7.6e5 mm².
+#[test]
+fn a_tight_product_corner_does_not_fold_the_step_draw() {
+    let values = script::evaluate_clean(
+        "tight_product_corner.die",
+        include_str!("data/tight_product_corner.die"),
+    );
+    let (sd, _, _) = pick(values);
+    let area: f64 = sd.patches.iter().map(|p| p.surface.area()).sum();
+    eprintln!("tight corner: step draw area {area:.0} mm²");
+    assert!(
+        (7.0e5..8.0e5).contains(&area),
+        "the step draw covers {area} mm²"
+    );
+}
