@@ -13,8 +13,9 @@
 //! theirs, faded linearly along the patch by the product's arc length, so both key
 //! sections stay where they are. Where that does not give a matching that runs forward
 //! along the opening (a concave stretch whose normals cross before they reach it), or
-//! that spreads a tight product corner over far too much opening ([`MAX_SPREAD`]), the
-//! patch falls back to arc-length fractions.
+//! that spreads a tight product corner over far too much opening ([`MAX_SPREAD`]), or
+//! whose opening no knots of the product can follow (a normal that meets the opening at
+//! a graze), the patch falls back to arc-length fractions.
 
 use glam::{DVec2, DVec3};
 
@@ -68,6 +69,24 @@ impl<'a> Matching<'a> {
             m.normals = false;
         }
         m
+    }
+
+    /// The plain arc-length matching (the paper's), for a patch the normals do not
+    /// suit.
+    pub fn by_arc_length(product: &'a Curve3, opening: &'a Curve3) -> Self {
+        Self {
+            product,
+            opening,
+            product_lengths: ArcFractions::new(product),
+            opening_lengths: ArcFractions::new(opening),
+            normals: false,
+            ends: (0.0, 0.0),
+        }
+    }
+
+    /// Whether points are matched along the product's normals.
+    pub fn along_normals(&self) -> bool {
+        self.normals
     }
 
     /// Whether the matching runs forward along the opening over the whole patch, never

@@ -1265,8 +1265,16 @@ fn patch(
 ) -> Result<Vec<SubPatch>, Problem> {
     let product = piece(&guides.product, ends.0.product_t, ends.1.product_t)?;
     let opening = piece(&guides.opening, ends.0.opening_t, ends.1.opening_t)?;
-    let matching = Matching::new(&product, &opening);
-    let product = refine_for_opening(&product, &opening, &matching, OPENING_SHARE * tol)?;
+    let mut matching = Matching::new(&product, &opening);
+    let (mut refined, settled) =
+        refine_for_opening(&product, &opening, &matching, OPENING_SHARE * tol)?;
+    if !settled && matching.along_normals() {
+        // Somewhere a normal meets the opening at a graze and the matched points race
+        // along it: no knots follow that, so the patch is matched by arc length.
+        matching = Matching::by_arc_length(&product, &opening);
+        refined = refine_for_opening(&product, &opening, &matching, OPENING_SHARE * tol)?.0;
+    }
+    let product = refined;
     let knots = product.knots().distinct();
     let params: Vec<f64> = knots.iter().map(|&(k, _)| k).collect();
     // Each knot's point on the opening, by arc-length fraction.
@@ -1371,13 +1379,14 @@ impl<'a> ArcFractions<'a> {
 
 /// Inserts knots into the product piece (which leaves it unchanged) until the opening
 /// re-approximated at its knots stays within `tol` of the real opening piece, or the
-/// spans are short.
+/// spans are short; with whether it got there (not when the rounds or the knots ran
+/// out first).
 fn refine_for_opening(
     product: &Curve3,
     opening: &Curve3,
     matching: &Matching,
     tol: f64,
-) -> crate::geom::Result<Curve3> {
+) -> crate::geom::Result<(Curve3, bool)> {
     let mut product = product.clone();
     for _ in 0..8 {
         let knots: Vec<f64> = product.knots().distinct().iter().map(|&(k, _)| k).collect();
@@ -1423,12 +1432,15 @@ fn refine_for_opening(
                 }
             }
         }
-        if bad.is_empty() || knots.len() + bad.len() > MAX_KNOTS {
+        if bad.is_empty() {
+            return Ok((product, true));
+        }
+        if knots.len() + bad.len() > MAX_KNOTS {
             break;
         }
         product = product.refine(&bad)?;
     }
-    Ok(product)
+    Ok((product, false))
 }
 
 /// Greville abscissae (control nodes) of a cubic with `m` control points, on [0, 1].
