@@ -336,3 +336,36 @@ fn a_broken_module_reports_its_own_error_not_a_missing_field() {
     );
     assert!(stderr.contains("2 problems"), "{stderr}");
 }
+
+/// A tolerance finer than a nanometre is refused at once, from the command line and
+/// from the script (a fuzzed `param tolerance = 1e-12 mm` spent 11 s tessellating).
+#[test]
+fn a_tolerance_finer_than_a_nanometre_is_refused() {
+    let dir = temp("fine_tolerance");
+    std::fs::write(
+        dir.join("s.die"),
+        "let a = sketch(top) { from (0, 0); line to (10, 0) }\n",
+    )
+    .expect("write");
+    let (code, _, stderr) = dieface(
+        &dir,
+        &["build", "s.die", "-o", "s.glb", "--tolerance", "1e-9mm"],
+    );
+    assert_eq!(code, Some(2), "{stderr}");
+    assert!(stderr.contains("at least 0.000001 mm"), "{stderr}");
+    std::fs::write(
+        dir.join("p.die"),
+        "param tolerance = 1e-12 mm\nlet a = sketch(top) { from (0, 0); line to (10, 0) }\n",
+    )
+    .expect("write");
+    let (code, _, stderr) = dieface(&dir, &["build", "p.die", "-o", "p.glb", "--color", "never"]);
+    assert_eq!(code, Some(1), "{stderr}");
+    assert!(stderr.contains("die::bad_tolerance"), "{stderr}");
+    assert!(!dir.join("p.glb").exists());
+    // A nanometre itself is accepted.
+    let (code, _, stderr) = dieface(
+        &dir,
+        &["build", "s.die", "-o", "s.glb", "--tolerance", "1e-6mm"],
+    );
+    assert_eq!(code, Some(0), "{stderr}");
+}

@@ -12,6 +12,12 @@ use crate::limits::Limits;
 /// The tolerance used when neither the command line nor the script sets one, in mm.
 pub const DEFAULT_TOLERANCE_MM: f64 = 0.05;
 
+/// The finest tolerance a build accepts, in mm (a nanometre). Finer is below what
+/// double precision resolves across a die-sized part: every chord check then fails by
+/// rounding, and a fuzzed `param tolerance = 1e-12 mm` spent 11 s tessellating before a
+/// limit stopped it.
+pub const MIN_TOLERANCE_MM: f64 = 1e-6;
+
 /// The name of the script parameter that sets the tolerance.
 pub const TOLERANCE_PARAM: &str = "tolerance";
 
@@ -30,7 +36,9 @@ pub fn tolerance_for(outcome: &Outcome, given: Option<f64>) -> Result<Tolerance,
     };
     let value = decl.value.as_ref();
     let mm = value.and_then(|v| match v.data {
-        Data::Number(q) if q.dim == Dim::LENGTH && q.value.is_finite() && q.value > 0.0 => {
+        Data::Number(q)
+            if q.dim == Dim::LENGTH && q.value.is_finite() && q.value >= MIN_TOLERANCE_MM =>
+        {
             Some(q.value)
         }
         _ => None,
@@ -38,10 +46,13 @@ pub fn tolerance_for(outcome: &Outcome, given: Option<f64>) -> Result<Tolerance,
     match mm.map(Tolerance::new) {
         Some(Ok(t)) => Ok(t),
         _ => {
-            let what = value.map_or_else(|| "no value".to_string(), |v| v.type_name());
+            let what = match value.map(|v| &v.data) {
+                Some(Data::Number(q)) if q.dim == Dim::LENGTH => format!("{} mm", q.value),
+                _ => value.map_or_else(|| "no value".to_string(), |v| v.type_name()),
+            };
             Err(Diagnostic::new(
                 "die::bad_tolerance",
-                format!("`param tolerance` sets the tessellation's chordal tolerance and must be a positive length, but this is {what}"),
+                format!("`param tolerance` sets the tessellation's chordal tolerance and must be a length of at least {MIN_TOLERANCE_MM} mm, but this is {what}"),
                 value.map_or(decl.span, |v| v.span),
                 format!("this is {what}"),
             )
@@ -64,8 +75,12 @@ pub fn parse_tolerance(text: &str, limits: &Limits) -> Result<f64, String> {
     )?;
     match value.data {
         Data::Number(q) if q.dim == Dim::LENGTH => {
-            if q.value.is_finite() && q.value > 0.0 {
+            if q.value.is_finite() && q.value >= MIN_TOLERANCE_MM {
                 Ok(q.value)
+            } else if q.value.is_finite() && q.value > 0.0 {
+                Err(format!(
+                    "the tolerance must be at least {MIN_TOLERANCE_MM} mm (a nanometre): finer is below what double precision resolves on a part"
+                ))
             } else {
                 Err("the tolerance must be positive".into())
             }
