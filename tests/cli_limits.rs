@@ -218,22 +218,11 @@ fn a_line_far_out_fails_to_build_at_its_declaration() {
 
 #[test]
 fn a_curve_needing_more_points_than_samples_fails_naming_the_limit() {
-    let file = script("circle", "let c = circle((0, 0, 0), 1000 mm)\n");
-    let out = dir("circle_out").join("c.glb");
-    let out = out.to_str().expect("utf-8");
-    let (code, _, stderr) = dieface(&["build", &file, "-o", out]);
-    assert_eq!(code, Some(0), "{stderr}");
-    let (code, _, stderr) = dieface(&[
-        "build",
-        "--color",
-        "never",
-        &file,
-        "-o",
-        out,
-        "--limit",
+    let stderr = builds_until_limited(
+        "circle",
+        "let c = circle((0, 0, 0), 1000 mm)\n",
         "samples=20",
-    ]);
-    assert_eq!(code, Some(1), "{stderr}");
+    );
     assert!(stderr.contains("samples=N`"), "{stderr}");
     assert!(stderr.contains("circle.die:1:9"), "{stderr}");
 }
@@ -335,25 +324,11 @@ fn a_raised_call_depth_still_ends_in_a_diagnostic_not_an_overflow() {
 
 #[test]
 fn a_surface_needing_more_vertices_than_mesh_vertices_fails_naming_the_limit() {
-    let file = script(
+    let stderr = builds_until_limited(
         "dome",
         "let net = [[(i * 100 mm, j * 100 mm, if i == 1 and j == 1 then 40 mm else 0 mm) for j in range(0, 3)] for i in range(0, 3)]\nlet dome = nurbs_surface(degree: (2, 2), points: net)\n",
-    );
-    let out = dir("dome_out").join("d.glb");
-    let out = out.to_str().expect("utf-8");
-    let (code, _, stderr) = dieface(&["build", &file, "-o", out]);
-    assert_eq!(code, Some(0), "{stderr}");
-    let (code, _, stderr) = dieface(&[
-        "build",
-        "--color",
-        "never",
-        &file,
-        "-o",
-        out,
-        "--limit",
         "mesh_vertices=100",
-    ]);
-    assert_eq!(code, Some(1), "{stderr}");
+    );
     assert!(stderr.contains("die::limit::mesh_vertices"), "{stderr}");
     assert!(stderr.contains("mesh_vertices=N`"), "{stderr}");
     assert!(stderr.contains("dome.die:2:12"), "{stderr}");
@@ -373,4 +348,20 @@ fn records_holding_closures_reach_memory_mb_though_few_items() {
         stderr.contains("`a` needs more than 200 MiB of memory"),
         "{stderr}"
     );
+}
+
+/// Builds script `text` (saved as `<name>.die`) at the default limits, which must
+/// succeed, then with `--limit <limit>`, which must fail with exit 1; the second
+/// build's error text.
+fn builds_until_limited(name: &str, text: &str, limit: &str) -> String {
+    let file = script(name, text);
+    let out = dir(&format!("{name}_out")).join("out.glb");
+    let out = out.to_str().expect("utf-8");
+    let (code, _, stderr) = dieface(&["build", &file, "-o", out]);
+    assert_eq!(code, Some(0), "{stderr}");
+    let (code, _, stderr) = dieface(&[
+        "build", "--color", "never", &file, "-o", out, "--limit", limit,
+    ]);
+    assert_eq!(code, Some(1), "{stderr}");
+    stderr
 }

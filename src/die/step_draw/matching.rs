@@ -50,15 +50,11 @@ pub(super) struct Matching<'a> {
 }
 
 impl<'a> Matching<'a> {
+    /// The matching along the product's normals where it suits the patch (it runs
+    /// forward, within [`MAX_SPREAD`]), else by arc length.
     pub fn new(product: &'a Curve3, opening: &'a Curve3) -> Self {
-        let mut m = Self {
-            product,
-            opening,
-            product_lengths: ArcFractions::new(product),
-            opening_lengths: ArcFractions::new(opening),
-            normals: true,
-            ends: (0.0, 0.0),
-        };
+        let mut m = Self::by_arc_length(product, opening);
+        m.normals = true;
         let (v0, v1) = product.domain();
         let (t0, t1) = opening.domain();
         match (m.key_turn(v0, t0), m.key_turn(v1, t1)) {
@@ -132,9 +128,10 @@ impl<'a> Matching<'a> {
         Some(tangent.perp_dot(square).atan2(tangent.dot(square)))
     }
 
-    /// The direction square to the matching line at `v` (the product's tangent turned
-    /// by the faded key turn), and its rate per unit of `v`.
-    fn square_at(&self, v: f64) -> Option<(DVec3, DVec2, DVec2)> {
+    /// The direction square to the matching line at `v`, where the product's length
+    /// fraction is `f` (the product's tangent turned by the faded key turn), and its rate
+    /// per unit of `v`.
+    fn square_at(&self, v: f64, f: f64) -> Option<(DVec3, DVec2, DVec2)> {
         let [b, d1, d2] = self.product.derivatives::<3>(v);
         let (p1, p2) = (d1.truncate(), d2.truncate());
         let speed = p1.length();
@@ -143,7 +140,6 @@ impl<'a> Matching<'a> {
         }
         let tangent = p1 / speed;
         let tangent_rate = (p2 - tangent * tangent.dot(p2)) / speed;
-        let f = self.product_lengths.fraction_at(v);
         let fraction_rate = if self.product_lengths.total > 0.0 {
             d1.length() / self.product_lengths.total
         } else {
@@ -163,7 +159,10 @@ impl<'a> Matching<'a> {
     /// square to [`Matching::square_at`]), found by Newton from the arc-length match,
     /// with its rate `dt/dv`; `None` where it does not settle.
     fn normal_match(&self, v: f64) -> Option<(f64, f64)> {
-        let (b, square, square_rate) = self.square_at(v)?;
+        // The length fraction is a quadrature: worked out once for the turn and the
+        // first guess.
+        let f = self.product_lengths.fraction_at(v);
+        let (b, square, square_rate) = self.square_at(v, f)?;
         let (lo, hi) = self.opening.domain();
         let (v0, v1) = self.product.domain();
         // The key sections' own points, exactly (they are shared with the neighbours).
@@ -174,7 +173,7 @@ impl<'a> Matching<'a> {
         } else {
             None
         };
-        let mut t = key.unwrap_or_else(|| self.arc_length_t(v));
+        let mut t = key.unwrap_or_else(|| self.opening_lengths.t_at(f));
         for _ in 0..50 {
             let [o, od] = self.opening.derivatives::<2>(t);
             let value = (o - b).truncate().dot(square);
