@@ -316,6 +316,9 @@ fn newton_curve<P: Point>(
         }
         let Some(tn) = accepted else { break };
         if tn == t {
+            // The step is below the parameter's resolution: the point no longer moves
+            // at all (P&T's third test), so `t` is the minimum to rounding.
+            last_move = 0.0;
             break;
         }
         last_move = (tn - t).abs() * speed;
@@ -666,6 +669,9 @@ fn newton_surface(
         }
         let Some((nu, nv)) = accepted else { break };
         if nu == u && nv == v {
+            // The step is below the parameters' resolution: the point no longer moves
+            // at all (P&T's third test), so `(u, v)` is the minimum to rounding.
+            last_move = 0.0;
             break;
         }
         last_move = (su * (nu - u) + sv * (nv - v)).length();

@@ -28,7 +28,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use glam::DVec2;
-use nalgebra::{DMatrix, DVector};
+use nalgebra::DMatrix;
 
 use super::chain::{dir, Chain};
 use crate::geom::{GeomError, KnotVector};
@@ -63,8 +63,12 @@ pub struct SectionBasis {
     knots: Vec<f64>,
     /// Sample parameters and, for each, the piece and the fraction within it.
     samples: Vec<(f64, usize, f64)>,
-    /// The basis matrix of the interior control points at the samples.
-    basis: DMatrix<f64>,
+    /// Per sample, the interior control points it weighs (the first one's index and
+    /// the four basis values; a weight on an end point is 0 here): the rows of the
+    /// least-squares matrix, which has four non-zeros in each.
+    rows: Vec<(usize, [f64; 4])>,
+    /// Interior control points (the matrix's columns).
+    inner: usize,
     /// Basis values of the first and last control point at the samples.
     ends: Vec<(f64, f64)>,
     /// Cholesky factor of `A^T A`.
@@ -161,12 +165,13 @@ impl SectionBasis {
             }
         }
         let inner = m - 2;
-        let mut basis = DMatrix::zeros(samples.len(), inner);
+        let mut rows = Vec::with_capacity(samples.len());
         let mut ends = Vec::with_capacity(samples.len());
-        for (row, &(u, _, _)) in samples.iter().enumerate() {
+        for &(u, _, _) in &samples {
             let span = kv.span(3, u);
             let b = kv.basis(span, 3, u);
             let (mut first, mut last) = (0.0, 0.0);
+            let mut weights = [0.0; 4];
             for r in 0..4 {
                 let col = span - 3 + r;
                 if col == 0 {
@@ -174,12 +179,24 @@ impl SectionBasis {
                 } else if col == m - 1 {
                     last = b[r];
                 } else {
-                    basis[(row, col - 1)] = b[r];
+                    weights[r] = b[r];
                 }
             }
+            // Interior index of the span's first control point (an end point's weight
+            // is 0 above, so an index past either end is never used).
+            rows.push((span - 3, weights));
             ends.push((first, last));
         }
-        let ata = basis.transpose() * &basis;
+        let mut ata = DMatrix::zeros(inner, inner);
+        for &(first, w) in &rows {
+            for (r, &a) in w.iter().enumerate() {
+                for (c, &b) in w.iter().enumerate() {
+                    if a != 0.0 && b != 0.0 {
+                        ata[(first + r - 1, first + c - 1)] += a * b;
+                    }
+                }
+            }
+        }
         let normal = ata.cholesky().ok_or(GeomError::Singular {
             what: "step-draw section basis (too few samples for the knots)",
         })?;
@@ -189,7 +206,8 @@ impl SectionBasis {
             pieces: placed,
             knots,
             samples,
-            basis,
+            rows,
+            inner,
             ends,
             normal,
         })
@@ -232,20 +250,22 @@ impl SectionBasis {
             .collect();
         let p0 = warp(chain.start);
         let p1 = warp(chain.end());
-        let inner = self.basis.ncols();
-        let mut out = vec![p0; inner + 2];
-        for axis in 0..2 {
-            let rhs = DVector::from_iterator(
-                points.len(),
-                points
-                    .iter()
-                    .zip(&self.ends)
-                    .map(|(p, &(a, b))| p[axis] - a * p0[axis] - b * p1[axis]),
-            );
-            let x = self.normal.solve(&(self.basis.transpose() * rhs));
-            for i in 0..inner {
-                out[i + 1][axis] = x[i];
+        let inner = self.inner;
+        // A^T (points - end terms), both axes at once, from the rows' four non-zeros.
+        let mut atb = DMatrix::<f64>::zeros(inner, 2);
+        for ((p, &(a, b)), &(first, w)) in points.iter().zip(&self.ends).zip(&self.rows) {
+            let rest = *p - a * p0 - b * p1;
+            for (r, &weight) in w.iter().enumerate() {
+                if weight != 0.0 {
+                    atb[(first + r - 1, 0)] += weight * rest.x;
+                    atb[(first + r - 1, 1)] += weight * rest.y;
+                }
             }
+        }
+        let x = self.normal.solve(&atb);
+        let mut out = vec![p0; inner + 2];
+        for i in 0..inner {
+            out[i + 1] = DVec2::new(x[(i, 0)], x[(i, 1)]);
         }
         out[inner + 1] = p1;
         let curve = crate::geom::Curve2::new(3, self.knots.clone(), out)?;

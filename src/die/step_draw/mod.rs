@@ -1266,18 +1266,21 @@ fn patch(
     let product = piece(&guides.product, ends.0.product_t, ends.1.product_t)?;
     let opening = piece(&guides.opening, ends.0.opening_t, ends.1.opening_t)?;
     let mut matching = Matching::new(&product, &opening);
-    let (mut refined, settled) =
-        refine_for_opening(&product, &opening, &matching, OPENING_SHARE * tol)?;
-    if !settled && matching.along_normals() {
+    let mut refined = refine_for_opening(&product, &opening, &matching, OPENING_SHARE * tol)?;
+    if !refined.settled && matching.along_normals() {
         // Somewhere a normal meets the opening at a graze and the matched points race
         // along it: no knots follow that, so the patch is matched by arc length.
         matching = Matching::by_arc_length(&product, &opening);
-        refined = refine_for_opening(&product, &opening, &matching, OPENING_SHARE * tol)?.0;
+        refined = refine_for_opening(&product, &opening, &matching, OPENING_SHARE * tol)?;
     }
-    let product = refined;
+    let Refined {
+        product,
+        opening_ts,
+        ..
+    } = refined;
     let knots = product.knots().distinct();
     let params: Vec<f64> = knots.iter().map(|&(k, _)| k).collect();
-    // Each knot's point on the opening, by arc-length fraction.
+    // Each knot's section, between its product point and its matched opening point.
     let mut sections = Vec::with_capacity(params.len());
     for (i, &v) in params.iter().enumerate() {
         // The two key sections as built once for both their patches, so neighbours
@@ -1286,7 +1289,7 @@ fn patch(
             sections.push(if i == 0 { keys.0 } else { keys.1 }.clone());
             continue;
         }
-        let t = matching.opening_t(v);
+        let t = opening_ts[i];
         let (a, b) = (opening.point_at(t), product.point_at(v));
         let lengths = &matching.product_lengths;
         let s = start + lengths.fraction_at(v) * lengths.total;
@@ -1377,23 +1380,33 @@ impl<'a> ArcFractions<'a> {
     }
 }
 
+/// The product piece refined for the opening ([`refine_for_opening`]): its knots, each
+/// knot's matched opening parameter, and whether the refinement got within tolerance.
+struct Refined {
+    product: Curve3,
+    /// The matched opening parameter at each distinct knot of `product`, in order.
+    opening_ts: Vec<f64>,
+    /// False when the rounds or the knots ran out before the opening was followed.
+    settled: bool,
+}
+
 /// Inserts knots into the product piece (which leaves it unchanged) until the opening
 /// re-approximated at its knots stays within `tol` of the real opening piece, or the
-/// spans are short; with whether it got there (not when the rounds or the knots ran
-/// out first).
+/// spans are short. Each knot's match is worked out once (a match is a Newton solve
+/// started from an arc-length quadrature), not again in every round.
 fn refine_for_opening(
     product: &Curve3,
     opening: &Curve3,
     matching: &Matching,
     tol: f64,
-) -> crate::geom::Result<(Curve3, bool)> {
+) -> crate::geom::Result<Refined> {
     let mut product = product.clone();
+    let mut known: Vec<(f64, f64)> = Vec::new();
     for _ in 0..8 {
         let knots: Vec<f64> = product.knots().distinct().iter().map(|&(k, _)| k).collect();
-        let points: Vec<DVec3> = knots
-            .iter()
-            .map(|&v| opening.point_at(matching.opening_t(v)))
-            .collect();
+        let ts = matched_at(&knots, &known, matching);
+        known = knots.iter().copied().zip(ts.iter().copied()).collect();
+        let points: Vec<DVec3> = ts.iter().map(|&t| opening.point_at(t)).collect();
         let d0 = matching.opening_derivative(&product, opening, 0.0);
         let d1 = matching.opening_derivative(&product, opening, 1.0);
         let Ok(approx) = interpolate_at(
@@ -1421,11 +1434,12 @@ fn refine_for_opening(
             }
             for q in [0.25, 0.5, 0.75] {
                 let v = w[0] + (w[1] - w[0]) * q;
-                // Near the matched point only: where Newton does not settle, its last
-                // point's distance (an upper bound) marks the span for refinement
-                // rather than searching the whole opening for every sample.
-                let hit =
-                    project_to_curve_locally(opening, approx.point_at(v), matching.opening_t(v))?;
+                // Near the span's own stretch of opening only (the matching runs
+                // forward, so its knots' matches bracket it): where Newton does not
+                // settle, its last point's distance (an upper bound) marks the span
+                // for refinement rather than searching the whole opening.
+                let guess = ts[i] + (ts[i + 1] - ts[i]) * q;
+                let hit = project_to_curve_locally(opening, approx.point_at(v), guess)?;
                 if hit.distance > tol {
                     bad.push(0.5 * (w[0] + w[1]));
                     break;
@@ -1433,14 +1447,43 @@ fn refine_for_opening(
             }
         }
         if bad.is_empty() {
-            return Ok((product, true));
+            return Ok(Refined {
+                product,
+                opening_ts: ts,
+                settled: true,
+            });
         }
         if knots.len() + bad.len() > MAX_KNOTS {
             break;
         }
         product = product.refine(&bad)?;
     }
-    Ok((product, false))
+    let knots: Vec<f64> = product.knots().distinct().iter().map(|&(k, _)| k).collect();
+    let opening_ts = matched_at(&knots, &known, matching);
+    Ok(Refined {
+        product,
+        opening_ts,
+        settled: false,
+    })
+}
+
+/// The matched opening parameter at each of `knots` (increasing), taken from `known`
+/// (earlier knots with their matches, increasing) where a knot is there already:
+/// inserting knots leaves the others exactly as they were.
+fn matched_at(knots: &[f64], known: &[(f64, f64)], matching: &Matching) -> Vec<f64> {
+    let mut next = known.iter().peekable();
+    knots
+        .iter()
+        .map(|&v| {
+            while next.peek().is_some_and(|&&(k, _)| k < v) {
+                next.next();
+            }
+            match next.peek() {
+                Some(&&(k, t)) if k == v => t,
+                _ => matching.opening_t(v),
+            }
+        })
+        .collect()
 }
 
 /// Greville abscissae (control nodes) of a cubic with `m` control points, on [0, 1].
