@@ -917,8 +917,17 @@ impl<'a, P: Point> ArcLengths<'a, P> {
         };
         let tol = 1e-12 * self.total().max(1.0);
         let curve: &NurbsCurve<P> = &self.curve;
+        // Each Newton step measures only the stretch from the step before (it shrinks
+        // quadratically, so its rules agree at once), the first from the piece's start.
+        let last = std::cell::Cell::new(None::<(f64, f64)>);
         invert_length(curve, (lo, hi), t, tol, |t| {
-            adaptive_length(curve, a, t) - rest
+            let length = match last.get() {
+                None => adaptive_length(curve, a, t),
+                Some((t_last, l_last)) if t >= t_last => l_last + adaptive_length(curve, t_last, t),
+                Some((t_last, l_last)) => l_last - adaptive_length(curve, t, t_last),
+            };
+            last.set(Some((t, length)));
+            length - rest
         })
     }
 
