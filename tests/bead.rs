@@ -151,11 +151,19 @@ fn fender_corner_bead_tapers_rises_and_keeps_its_crest_rule() {
     for i in 0..=100 {
         let v = r0 + (r1 - r0) * i as f64 / 100.0;
         let p = rule.point_at(v);
-        let off = closest_point_on_curve(&centre_top, p.truncate())
-            .expect("a closest point")
-            .distance;
-        assert!(off < 1e-3, "the crest rule is {off} mm off the centre line");
+        let foot = closest_point_on_curve(&centre_top, p.truncate()).expect("a closest point");
         let above = p.z - binder_z(binder, p);
+        // The crest stands square to the binder's trace across the bead, so it leans
+        // off the centre line by its height times the sine of the binder's slope there.
+        let across = centre_top.derivative_at(foot.t).normalize().perp();
+        let at = |d: f64| (foot.point + across * d).extend(p.z);
+        let slope = binder_z(binder, at(0.5)) - binder_z(binder, at(-0.5));
+        let lean = above.abs() * slope.abs() / slope.hypot(1.0);
+        assert!(
+            foot.distance < 1e-3 + lean,
+            "the crest rule is {} mm off the centre line (it may lean {lean} mm)",
+            foot.distance
+        );
         let top = crest(binder, bead, v);
         assert!(
             (above - top).abs() < 2e-3,
@@ -579,7 +587,7 @@ fn bead_radius_figures_are_reported() {
 /// the tapered ends none below 90 % of the drawn shoulder. Fails on the current method
 /// (full height 2.4 to 2.6 mm against 3 mm drawn; ends 0.37 to 1.26 mm).
 #[test]
-#[ignore = "issue 12 item 8: with the run-out lowered and the sections quadratic through softened joins the figures are 2.60 / 2.62 (wheel_arch), 2.69 / 2.69 (rear_corner), 2.77 / 2.69 (sill), 2.82 / 2.63 mm (belt_front) against 2.7 required; the remaining overshoot is the section fit across the profile's joins (needs C1 breaks there)"]
+#[ignore = "issue 12 item 8: with the profile raised square to the binder the figures are 2.77 / 2.77 (wheel_arch), 2.77 / 2.77 (rear_corner), 2.78 / 2.77 (sill), 2.83 / 2.62 mm (belt_front) against 2.7 required; belt_front's tapered ends miss: its square profile's top corners run down the taper at up to 1 in 4, which tightens them across their slope, while the flat binder left beside the sunk profile takes the points the corners need"]
 fn bead_radii_are_kept_as_drawn() {
     let mut failures = Vec::new();
     for path in ["fender/fender.die", "door_outer/door_outer.die"] {
@@ -592,16 +600,7 @@ fn bead_radii_are_kept_as_drawn() {
             }
         }
     }
-    let (engine, out) = flat(
-        "bead b {
-    binder = binder
-    line = sketch(top) { from (-100, -260); line to (100, -260) }
-    profile = beads.round(height: 6 mm, radius: 6 mm, shoulder: 3 mm)
-    taper = 20 mm
-}",
-    );
-    let values = values_of(&engine, &out);
-    let q = bead_of(find(&values, "b")).quality;
+    let q = straight_tapered_bead("");
     eprintln!(
         "flat tapered bead: min radius {:.3} mm, ends {:.3} mm, drawn {:.3} mm",
         q.min_radius, q.end_min_radius, q.drawn_radius
@@ -613,6 +612,51 @@ fn bead_radii_are_kept_as_drawn() {
         ));
     }
     assert!(failures.is_empty(), "{}", failures.join("; "));
+}
+
+/// A straight round bead (3 mm shoulders, 20 mm taper) 60 mm out from the bottom side
+/// of [`flat_with`]'s binder, with `binder_extra` in the binder's block; its figures.
+fn straight_tapered_bead(binder_extra: &str) -> dieface::die::bead::BeadQuality {
+    let (engine, out) = flat_with(
+        "bead b {
+    binder = binder
+    line = sketch(top) { from (-100, -260); line to (100, -260) }
+    profile = beads.round(height: 6 mm, radius: 6 mm, shoulder: 3 mm)
+    taper = 20 mm
+}",
+        binder_extra,
+    );
+    let values = values_of(&engine, &out);
+    bead_of(find(&values, "b")).quality
+}
+
+/// On a binder that slopes across the bead the profile stands square to the binder, not
+/// straight up: raised along press Z it would be sheared, its downhill shoulder
+/// sharpened (2.2 mm of 3 mm drawn on this 10 deg binder; 2.76 mm square to it) and
+/// its uphill one softened. Both shoulders keep 90 % of the drawn radius, the section
+/// follows the profile, and the bead is as tall as drawn, measured square to the binder.
+#[test]
+fn a_bead_across_a_sloping_binder_keeps_its_radii() {
+    let q = straight_tapered_bead("angle = 10 deg");
+    eprintln!(
+        "sloping binder: min radius {:.3} mm, ends {:.3} mm, drawn {:.3} mm, height {:.4} mm, \
+         section error {:.4} mm",
+        q.min_radius, q.end_min_radius, q.drawn_radius, q.height, q.section_error
+    );
+    assert!(
+        q.min_radius >= 0.9 * q.drawn_radius,
+        "full height: {} mm against {} drawn",
+        q.min_radius,
+        q.drawn_radius
+    );
+    assert!(
+        q.end_min_radius >= 0.9 * q.drawn_radius,
+        "ends: {} mm against {} drawn",
+        q.end_min_radius,
+        q.drawn_radius
+    );
+    assert!(q.section_error <= 0.01, "section error {}", q.section_error);
+    assert!((q.height - 6.0).abs() <= 1e-3, "height {}", q.height);
 }
 
 /// The run-out sinks the profile into the binder instead of squashing it, so the tapered

@@ -20,12 +20,14 @@
 //!    profile is matched by arc length.
 //! 4. **Skinning** (step 4): sections every `spacing` (more where the skin would
 //!    leave the binder) are placed in vertical planes across the bead, dropped onto the
-//!    binder, raised by the profile, and skinned by [`loft`]; every section, foot line
-//!    and rule is an iso-curve of the surface.
+//!    binder, raised by the profile square to the binder, and skinned by [`loft`];
+//!    every section, foot line and rule is an iso-curve of the surface.
 //!
 //! The centre line resampled every `line_spacing` is the *line bead* of forming
-//! simulation (a polyline with a restraining force). Heights are measured along press
-//! Z, the direction the binder closes in.
+//! simulation (a polyline with a restraining force). The course is dropped onto the
+//! binder along press Z, the direction the binder closes in; the profile's heights
+//! stand square to the binder's trace in each section plane ([`raised`]), so a bead
+//! across a sloping binder keeps its drawn radii.
 
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
@@ -101,14 +103,15 @@ pub struct BeadSpec {
 pub struct BeadQuality {
     /// Largest distance (mm, along Z) between the bead's feet and the binder, sampled.
     pub foot_gap: f64,
-    /// Largest distance (mm, along Z) between a section's points and the binder plus
-    /// the profile height they should have.
+    /// Largest distance (mm, in the section plane) between a section's points and the
+    /// profile they should follow, standing square to the binder's trace.
     pub section_error: f64,
     /// Number of sections skinned.
     pub sections: usize,
     /// Length (mm) of the centre line on the binder.
     pub length: f64,
-    /// The tallest point (mm) of the bead above the binder.
+    /// The tallest point (mm) of the bead above the binder (square to its trace across
+    /// the bead).
     pub height: f64,
     /// Narrowest and widest distance (mm, top view) between the feet.
     pub width: (f64, f64),
@@ -545,6 +548,61 @@ fn centre_line(binder: &Binder, course: &CourseMap) -> Result<Curve3, Problem> {
     Ok(interpolate(&centre_points, &Interpolation::default())?)
 }
 
+/// The points of a section raised by their heights above the binder, each square to the
+/// binder's trace in the section plane (the line the binder points `bases` draw across
+/// the bead, in order), not straight up: a profile raised along press Z on a binder that
+/// slopes across the bead is sheared, and its radius on the downhill side comes out
+/// tighter than drawn (a 3 mm shoulder at 2.6 mm on a 3 deg slope).
+fn raised(bases: &[DVec3], heights: impl Iterator<Item = f64>) -> Vec<DVec3> {
+    let n = bases.len();
+    heights
+        .enumerate()
+        .map(|(i, h)| {
+            let base = bases[i];
+            if n < 2 || h == 0.0 {
+                return base + DVec3::Z * h;
+            }
+            let (a, b) = (bases[i.saturating_sub(1)], bases[(i + 1).min(n - 1)]);
+            let tangent = b - a;
+            let across = tangent.truncate();
+            let run = across.length();
+            if run <= 0.0 {
+                return base + DVec3::Z * h;
+            }
+            // In the vertical plane through the trace: the tangent's horizontal and
+            // vertical parts, turned a quarter upwards.
+            let (horizontal, rise) = (run, tangent.z);
+            let len = horizontal.hypot(rise);
+            let normal = (-(across / run) * rise / len).extend(horizontal / len);
+            base + normal * h
+        })
+        .collect()
+}
+
+/// Points of one section, in order across, measured in the frame [`raised`] builds
+/// them in: each point's (offset across, height) from the binder's trace, square to it.
+/// `offsets` are the points' top-view offsets across, `vertical` their heights straight
+/// above the binder and `trace` the binder's heights under them. A point `v` above the
+/// trace where it climbs at angle `a` across stands `v cos a` square to it, above the
+/// trace point `v sin a cos a` further across.
+fn square_to_trace(offsets: &[f64], vertical: &[f64], trace: &[f64]) -> Vec<(f64, f64)> {
+    let n = offsets.len().min(vertical.len()).min(trace.len());
+    (0..n)
+        .map(|i| {
+            let (a, b) = (i.saturating_sub(1), (i + 1).min(n - 1));
+            let run = offsets[b] - offsets[a];
+            let slope = if run.abs() > 0.0 {
+                (trace[b] - trace[a]) / run
+            } else {
+                0.0
+            };
+            let cos = 1.0 / slope.hypot(1.0);
+            let v = vertical[i];
+            (offsets[i] + v * slope * cos * cos, v * cos)
+        })
+        .collect()
+}
+
 /// Steps 2-3: makes the bead's section at any fraction along it, in three steps: laid
 /// out in the top view ([`SectionMaker::layout`], on its own for each section, so
 /// sections are laid out in parallel), dropped onto the binder
@@ -608,11 +666,11 @@ impl SectionMaker<'_> {
 
     /// The laid-out section's points on `binder`, raised by the profile's heights.
     fn on_binder(binder: &Binder, layout: &Layout) -> Result<Vec<DVec3>, Problem> {
-        let mut points = Vec::with_capacity(layout.points.len());
-        for &(p, offset, height) in &layout.points {
-            let base = binder.base(p, Some(offset))?;
-            points.push(base + DVec3::Z * height);
+        let mut bases = Vec::with_capacity(layout.points.len());
+        for &(p, offset, _) in &layout.points {
+            bases.push(binder.base(p, Some(offset))?);
         }
+        let points = raised(&bases, layout.points.iter().map(|&(_, _, h)| h));
         match &layout.folds {
             Some(problem) => Err(problem.clone()),
             None => Ok(points),
@@ -926,8 +984,24 @@ impl BinderQuestions {
             foot_gap = foot_gap.max(foot_gap_of(binder, f)?);
         }
         let mut height = 0.0f64;
-        for p in self.tops.iter().flatten() {
-            height = height.max(p.z - binder.base(p.truncate(), None)?.z);
+        for section in &self.tops {
+            // Square to the binder's trace across the section, as it was raised.
+            let (Some(first), Some(last)) = (section.first(), section.last()) else {
+                continue;
+            };
+            let across = (last.truncate() - first.truncate()).normalize_or_zero();
+            let mut offsets = Vec::with_capacity(section.len());
+            let mut vertical = Vec::with_capacity(section.len());
+            let mut trace = Vec::with_capacity(section.len());
+            for p in section {
+                let base = binder.base(p.truncate(), None)?;
+                offsets.push((p.truncate() - first.truncate()).dot(across));
+                vertical.push(p.z - base.z);
+                trace.push(base.z);
+            }
+            for (_, h) in square_to_trace(&offsets, &vertical, &trace) {
+                height = height.max(h);
+            }
         }
         let mut samples = Vec::with_capacity(self.conformance.len());
         let mut stop = None;
@@ -1108,8 +1182,14 @@ impl Conformance {
         // A run-out profile is a polyline: measured segment by segment.
         let polyline = (exact.degree() == 1).then(|| runout::Segments::new(exact.control_points()));
         let mut segment = 0;
-        for (p, &h) in self.samples.iter().zip(heights) {
-            let offset = (p.truncate() - c).dot(across);
+        // As many samples as the binder answered for.
+        let samples = &self.samples[..heights.len()];
+        let offsets: Vec<f64> = samples
+            .iter()
+            .map(|p| (p.truncate() - c).dot(across))
+            .collect();
+        let trace: Vec<f64> = samples.iter().zip(heights).map(|(p, h)| p.z - h).collect();
+        for (offset, h) in square_to_trace(&offsets, heights, &trace) {
             let s = match self.stretch {
                 None => offset,
                 Some((low, high)) => s0 + (offset - low) / (high - low) * (s1 - s0),
