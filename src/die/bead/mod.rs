@@ -554,27 +554,41 @@ fn centre_line(binder: &Binder, course: &CourseMap) -> Result<Curve3, Problem> {
 /// slopes across the bead is sheared, and its radius on the downhill side comes out
 /// tighter than drawn (a 3 mm shoulder at 2.6 mm on a 3 deg slope).
 fn raised(bases: &[DVec3], heights: impl Iterator<Item = f64>) -> Vec<DVec3> {
-    let n = bases.len();
-    heights
-        .enumerate()
-        .map(|(i, h)| {
-            let base = bases[i];
-            if n < 2 || h == 0.0 {
-                return base + DVec3::Z * h;
+    let (Some(first), Some(last)) = (bases.first(), bases.last()) else {
+        return Vec::new();
+    };
+    // The section's points lie on one line across in the top view.
+    let across = (last.truncate() - first.truncate()).normalize_or_zero();
+    let offsets: Vec<f64> = bases
+        .iter()
+        .map(|b| (b.truncate() - first.truncate()).dot(across))
+        .collect();
+    let trace: Vec<f64> = bases.iter().map(|b| b.z).collect();
+    bases
+        .iter()
+        .zip(trace_slopes(&offsets, &trace))
+        .zip(heights)
+        .map(|((&base, slope), h)| {
+            // The trace's normal in the section plane: its tangent turned a quarter up.
+            let cos = 1.0 / slope.hypot(1.0);
+            base + (-across * slope * cos).extend(cos) * h
+        })
+        .collect()
+}
+
+/// The binder trace's slope (rise per unit across) at each of its points, from their
+/// neighbours (one-sided at the ends; 0 where they do not spread across).
+fn trace_slopes(offsets: &[f64], trace: &[f64]) -> Vec<f64> {
+    let n = offsets.len().min(trace.len());
+    (0..n)
+        .map(|i| {
+            let (a, b) = (i.saturating_sub(1), (i + 1).min(n - 1));
+            let run = offsets[b] - offsets[a];
+            if run.abs() > 0.0 {
+                (trace[b] - trace[a]) / run
+            } else {
+                0.0
             }
-            let (a, b) = (bases[i.saturating_sub(1)], bases[(i + 1).min(n - 1)]);
-            let tangent = b - a;
-            let across = tangent.truncate();
-            let run = across.length();
-            if run <= 0.0 {
-                return base + DVec3::Z * h;
-            }
-            // In the vertical plane through the trace: the tangent's horizontal and
-            // vertical parts, turned a quarter upwards.
-            let (horizontal, rise) = (run, tangent.z);
-            let len = horizontal.hypot(rise);
-            let normal = (-(across / run) * rise / len).extend(horizontal / len);
-            base + normal * h
         })
         .collect()
 }
@@ -586,19 +600,12 @@ fn raised(bases: &[DVec3], heights: impl Iterator<Item = f64>) -> Vec<DVec3> {
 /// trace where it climbs at angle `a` across stands `v cos a` square to it, above the
 /// trace point `v sin a cos a` further across.
 fn square_to_trace(offsets: &[f64], vertical: &[f64], trace: &[f64]) -> Vec<(f64, f64)> {
-    let n = offsets.len().min(vertical.len()).min(trace.len());
-    (0..n)
-        .map(|i| {
-            let (a, b) = (i.saturating_sub(1), (i + 1).min(n - 1));
-            let run = offsets[b] - offsets[a];
-            let slope = if run.abs() > 0.0 {
-                (trace[b] - trace[a]) / run
-            } else {
-                0.0
-            };
+    trace_slopes(offsets, trace)
+        .into_iter()
+        .zip(offsets.iter().zip(vertical))
+        .map(|(slope, (&offset, &v))| {
             let cos = 1.0 / slope.hypot(1.0);
-            let v = vertical[i];
-            (offsets[i] + v * slope * cos * cos, v * cos)
+            (offset + v * slope * cos * cos, v * cos)
         })
         .collect()
 }
