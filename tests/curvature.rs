@@ -60,3 +60,48 @@ fn min_radius_of_a_torus_is_its_tube_radius_and_a_plane_has_none() {
     let c = min_radius(&cylinder, 4);
     assert!((c.radius - 6.0).abs() < 1e-9, "{c:?}");
 }
+
+/// A profile that tightens towards its end and runs on straight from there (a cubic
+/// with a triple knot, C1 by its collinear control points, as a step-draw section turns
+/// from a corner into a run), swept straight along Y: the tightest radius is the
+/// left-hand limit at the knot, which evaluating at the knot itself (the run's side)
+/// never reads.
+#[test]
+fn min_radius_reads_the_tight_side_of_a_knot_where_curvature_jumps() {
+    use dieface::geom::construct::ruled;
+    let p = [
+        DVec3::new(0.0, 0.0, 0.0),
+        DVec3::new(10.0, 0.0, 0.0),
+        DVec3::new(16.0, 0.0, 1.0),
+        DVec3::new(19.0, 0.0, 4.0),
+    ];
+    let step = p[3] - p[2];
+    let mut points = p.to_vec();
+    points.extend((1..=3).map(|k| p[3] + k as f64 * step));
+    let knots = vec![0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 2.0, 2.0, 2.0, 2.0];
+    let profile = Curve3::new(3, knots, points).expect("a valid cubic");
+    let swept = profile.map_points(|q| q + DVec3::new(0.0, 50.0, 0.0));
+    let s = ruled(&profile, &swept).expect("a valid sweep");
+
+    // The Bezier piece's curvature from its control points, at its end and inside.
+    let curvature = |t: f64| {
+        let d1 = 3.0
+            * ((1.0 - t) * (1.0 - t) * (p[1] - p[0])
+                + 2.0 * t * (1.0 - t) * (p[2] - p[1])
+                + t * t * (p[3] - p[2]));
+        let d2 = 6.0 * ((1.0 - t) * (p[2] - 2.0 * p[1] + p[0]) + t * (p[3] - 2.0 * p[2] + p[1]));
+        d1.cross(d2).length() / d1.length().powi(3)
+    };
+    let at_end = curvature(1.0);
+    for k in 0..100 {
+        let t = k as f64 / 100.0;
+        assert!(curvature(t) < at_end, "the piece is tightest at its end");
+    }
+    let m = min_radius(&s, 4);
+    assert!(
+        (m.radius * at_end - 1.0).abs() < 1e-6,
+        "smallest radius {} mm, the piece's end {} mm",
+        m.radius,
+        1.0 / at_end
+    );
+}

@@ -19,7 +19,9 @@
 
 use glam::DVec3;
 
-use crate::geom::curvature::{principal_curvatures, principal_of, span_steps};
+use crate::geom::curvature::{
+    curvature_steps, principal_curvatures, principal_of, refine_lowest_minima, span_steps,
+};
 use crate::geom::inversion::project_to_surface_near;
 use crate::geom::{Curve3, GeomError, KnotVector, NurbsSurface};
 
@@ -34,9 +36,6 @@ const SAMPLES_PER_DIRECTION: usize = 96;
 
 /// Most samples per knot span and direction.
 const MAX_PER_SPAN: usize = 12;
-
-/// Subdivisions of the local grid that refines the worst sample.
-const REFINE: usize = 16;
 
 /// Samples per knot span of a section curve.
 const SECTION_PER_SPAN: usize = 2;
@@ -79,7 +78,10 @@ fn grid(s: &NurbsSurface) -> (Vec<f64>, Vec<f64>) {
     } else {
         pv = pv.max(2);
     }
-    (span_steps(&bu, pu), span_steps(&bv, pv))
+    (
+        curvature_steps(s.knots_u(), s.degree_u(), pu),
+        curvature_steps(s.knots_v(), s.degree_v(), pv),
+    )
 }
 
 /// `+1` when the mean normal of `s` (the sum of the unit normals over its sample grid)
@@ -145,8 +147,8 @@ fn normal_of(d: &[[DVec3; 2]; 2]) -> Option<DVec3> {
 ///
 /// One pass over a grid of every knot span in both directions (see `grid`: at least
 /// two samples per span across the more finely knotted direction) computes the
-/// principal curvatures and the normal at each sample; then a finer grid over the cells
-/// around the worst radius, and another around the worst draft, refine both. Degenerate
+/// principal curvatures and the normal at each sample; then finer grids over the cells
+/// around the lowest few local minima of the radius, and of the draft, refine both. Degenerate
 /// points (collapsed edges) are skipped.
 pub fn surface_figures(s: &NurbsSurface) -> SurfaceFigures {
     let (us, vs) = grid(s);
@@ -172,48 +174,14 @@ pub fn surface_figures(s: &NurbsSurface) -> SurfaceFigures {
         .iter()
         .map(|n| n.map_or(f64::INFINITY, |n| draft_of(n, sign)))
         .collect();
-    let worst = |values: &[f64]| {
-        values
-            .iter()
-            .enumerate()
-            .min_by(|a, b| a.1.total_cmp(b.1))
-            .map_or(0, |(k, _)| k)
-    };
-    // The local grid over the cells around sample `k`, best of `measure` there.
-    let refine = |k: usize, best: f64, measure: &dyn Fn(f64, f64) -> Option<f64>| {
-        let (i, j) = (k / nv, k % nv);
-        let (ua, ub) = (us[i.saturating_sub(1)], us[(i + 1).min(us.len() - 1)]);
-        let (va, vb) = (vs[j.saturating_sub(1)], vs[(j + 1).min(nv - 1)]);
-        let mut out = (best, (us[i], vs[j]));
-        for a in 0..=REFINE {
-            for b in 0..=REFINE {
-                let u = ua + (ub - ua) * a as f64 / REFINE as f64;
-                let v = va + (vb - va) * b as f64 / REFINE as f64;
-                if let Some(m) = measure(u, v) {
-                    if m < out.0 {
-                        out = (m, (u, v));
-                    }
-                }
-            }
-        }
-        out
-    };
-    let kr = worst(&radius);
-    let (min_radius, ruv) = if radius[kr].is_finite() {
-        refine(kr, radius[kr], &|u, v| {
-            principal_curvatures(s, u, v).map(|p| p.min_radius())
-        })
-    } else {
-        (f64::INFINITY, (us[kr / nv], vs[kr % nv]))
-    };
-    let kd = worst(&draft);
-    let (draft, duv) = if draft[kd].is_finite() {
-        refine(kd, draft[kd], &|u, v| {
-            unit_normal(s, u, v).map(|n| draft_of(n, sign))
-        })
-    } else {
-        (90.0, (us[kd / nv], vs[kd % nv]))
-    };
+    let (min_radius, ruv) = refine_lowest_minima(&us, &vs, &radius, &|u, v| {
+        principal_curvatures(s, u, v).map(|p| p.min_radius())
+    })
+    .unwrap_or((f64::INFINITY, (us[0], vs[0])));
+    let (draft, duv) = refine_lowest_minima(&us, &vs, &draft, &|u, v| {
+        unit_normal(s, u, v).map(|n| draft_of(n, sign))
+    })
+    .unwrap_or((90.0, (us[0], vs[0])));
     SurfaceFigures {
         min_radius,
         min_radius_at: s.point_at(ruv.0, ruv.1),

@@ -40,12 +40,14 @@ mod along;
 mod chain;
 mod fit;
 mod matching;
+mod slant;
 mod slopes;
 
 use along::Along;
 use chain::{align, Chain};
 use fit::SectionBasis;
 use matching::Matching;
+use slant::{log_mean, obliquity, OpeningDirection};
 use slopes::{BinderSlope, ProductSlope};
 
 use super::continuity::{measure_join, JoinQuality};
@@ -402,10 +404,11 @@ pub fn build(guides: &Guides, sections: &[SectionSpec], opts: &Options) -> Resul
         .iter()
         .map(|&(k, _)| k)
         .collect();
+    let opening_direction = OpeningDirection::new(&guides.opening, guides.closed);
     let placed = sections
         .iter()
         .enumerate()
-        .map(|(k, s)| place_key_section(guides, k, s, &product_knots, tol))
+        .map(|(k, s)| place_key_section(guides, k, s, &product_knots, &opening_direction, tol))
         .collect::<Result<Vec<_>, _>>()?;
     let ends: Vec<SectionEnds> = placed.iter().map(|p| p.ends).collect();
     check_sections_in_order(&ends, guides.closed)?;
@@ -426,6 +429,7 @@ pub fn build(guides: &Guides, sections: &[SectionSpec], opts: &Options) -> Resul
     let stations = Stations {
         along: &along,
         basis: &basis,
+        opening: &opening_direction,
         product: guides
             .product_surface
             .as_ref()
@@ -504,6 +508,7 @@ fn place_key_section(
     k: usize,
     s: &SectionSpec,
     product_knots: &[f64],
+    opening_direction: &OpeningDirection,
     tol: f64,
 ) -> Result<PlacedSection, Error> {
     let product = &guides.product;
@@ -560,7 +565,9 @@ fn place_key_section(
     let c = obliquity(
         (s.b - s.a).normalize_or_zero().extend(0.0),
         (
-            guides.opening.derivative_at(e.opening_t),
+            opening_direction
+                .at(e.opening_t)
+                .map_err(|g| fail(k, g.into()))?,
             product.derivative_at(e.product_t),
         ),
     );
@@ -644,7 +651,10 @@ fn key_sections(
             guides.product.point_at(e.product_t),
         );
         let tangents = (
-            guides.opening.derivative_at(e.opening_t),
+            stations
+                .opening
+                .at(e.opening_t)
+                .map_err(|g| fail(k, g.into()))?,
             guides.product.derivative_at(e.product_t),
         );
         let (curve, error) = stations
@@ -925,10 +935,12 @@ fn drawn_radius(chain: &Chain) -> f64 {
 /// Builds the section at any position along the outline: the key sections' runs and
 /// corners carried there ([`Along`]), started along the product's slope and ended
 /// along the binder's where those are known, made to reach the opening point, and
-/// fitted on the shared knots ([`SectionBasis`]).
+/// fitted on the shared knots ([`SectionBasis`]); with the opening line's direction
+/// that the sections' slant is measured against.
 struct Stations<'a> {
     along: &'a Along,
     basis: &'a SectionBasis,
+    opening: &'a OpeningDirection<'a>,
     product: Option<ProductSlope<'a>>,
     binder: Option<BinderSlope<'a>>,
 }
@@ -941,6 +953,7 @@ struct Stations<'a> {
 struct StationInputs<'a> {
     along: &'a Along,
     basis: &'a SectionBasis,
+    opening: &'a OpeningDirection<'a>,
     product: Option<&'a NurbsSurface>,
     binder: Option<&'a [NurbsSurface]>,
 }
@@ -951,6 +964,7 @@ impl<'a> StationInputs<'a> {
         StationInputs {
             along: stations.along,
             basis: stations.basis,
+            opening: stations.opening,
             product: stations.product.as_ref().map(ProductSlope::surface),
             binder: stations.binder.as_ref().map(BinderSlope::patches),
         }
@@ -961,6 +975,7 @@ impl<'a> StationInputs<'a> {
         Stations {
             along: self.along,
             basis: self.basis,
+            opening: self.opening,
             product: self
                 .product
                 .map(|s| ProductSlope::starting_at(s, start.product)),
@@ -1078,33 +1093,6 @@ impl Stations<'_> {
         };
         Ok((fitted.reversed(), error / c0.min(c1)))
     }
-}
-
-/// `(b - a) / ln(b / a)`, or `a` when they are equal.
-fn log_mean(a: f64, b: f64) -> f64 {
-    if (b - a).abs() <= 1e-9 * a {
-        a
-    } else {
-        (b - a) / (b / a).ln()
-    }
-}
-
-/// How square a section plane along `h` (horizontal, unit) cuts the walls at its
-/// product end and at its opening end: the cosine of its angle to each guide's normal
-/// in the top view (from their tangents), at least 0.5.
-fn obliquity(h: DVec3, (opening, product): (DVec3, DVec3)) -> (f64, f64) {
-    let square = |t: DVec3| {
-        let t = t.truncate().normalize_or_zero();
-        if t == DVec2::ZERO {
-            1.0
-        } else {
-            h.truncate().perp_dot(t).abs()
-        }
-    };
-    (
-        square(product).clamp(0.5, 1.0),
-        square(opening).clamp(0.5, 1.0),
-    )
 }
 
 /// A patch between two sections before its rows are interpolated.
@@ -1227,6 +1215,30 @@ fn piece(curve: &Curve3, t0: f64, t1: f64) -> crate::geom::Result<Curve3> {
     p.reparametrized(0.0, 1.0)
 }
 
+/// Where parameter `t` of [`piece`]`(curve, t0, t1)` (on [0, 1]) lies on `curve` itself.
+fn whole_parameter(curve: &Curve3, t0: f64, t1: f64) -> impl Fn(f64) -> f64 {
+    let (lo, hi) = curve.domain();
+    let period = hi - lo;
+    // The piece's start and the length of parameter it covers, as `piece` cuts it.
+    let (start, span) = if t1 > t0 {
+        (t0, t1 - t0)
+    } else if t1 <= lo {
+        (t0, hi - t0)
+    } else if t0 >= hi {
+        (lo, t1 - lo)
+    } else {
+        (t0, t1 + period - t0)
+    };
+    move |t| {
+        let w = start + t * span;
+        if w > hi {
+            w - period
+        } else {
+            w
+        }
+    }
+}
+
 /// The piece of a closed curve that runs over its seam: the end `first` (up to the
 /// seam) and the start `second` joined with the parameter running on at the same rate,
 /// then the seam's knot removed as often as the curve allows within 1e-9 of its size.
@@ -1265,6 +1277,8 @@ fn patch(
 ) -> Result<Vec<SubPatch>, Problem> {
     let product = piece(&guides.product, ends.0.product_t, ends.1.product_t)?;
     let opening = piece(&guides.opening, ends.0.opening_t, ends.1.opening_t)?;
+    // The whole line's parameter of a point of the piece, for its averaged direction.
+    let on_whole = whole_parameter(&guides.opening, ends.0.opening_t, ends.1.opening_t);
     let mut matching = Matching::new(&product, &opening);
     let mut refined = refine_for_opening(&product, &opening, &matching, OPENING_SHARE * tol)?;
     if !refined.settled && matching.along_normals() {
@@ -1293,7 +1307,7 @@ fn patch(
         let (a, b) = (opening.point_at(t), product.point_at(v));
         let lengths = &matching.product_lengths;
         let s = start + lengths.fraction_at(v) * lengths.total;
-        let tangents = (opening.derivative_at(t), product.derivative_at(v));
+        let tangents = (stations.opening.at(on_whole(t))?, product.derivative_at(v));
         sections.push(stations.section(s, (a, b), tangents)?);
     }
     // The opening guide on the product's knots: through the sections' opening ends.
