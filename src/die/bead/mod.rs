@@ -34,7 +34,7 @@ use rayon::prelude::*;
 
 use crate::die::figures::{surface_figures, SurfaceFigures};
 use crate::geom::construct::{loft, section_parameters, Loft};
-use crate::geom::curvature::principal_of;
+use crate::geom::curvature::{curvature_steps, principal_of};
 use crate::geom::curve::ArcLengths;
 use crate::geom::interpolate::{interpolate, interpolate_at, Interpolation};
 use crate::geom::inversion::project_to_curve_near;
@@ -1379,7 +1379,9 @@ struct SkinRadii {
 
 /// The smallest radius of curvature of the skin `surface` (lofted through `sections`
 /// at the fractions `stations` along the bead), sampled at every section and half-way
-/// between neighbours, [`RADIUS_SAMPLES_PER_SPAN`] times across each knot span; split
+/// between neighbours, [`RADIUS_SAMPLES_PER_SPAN`] times across each knot span and on
+/// the near side of each knot, where a quadratic section's curvature jumps
+/// ([`curvature_steps`]); split
 /// into the full-height part and the tapered ends (the first and last `taper`
 /// fraction of the bead).
 fn skin_radii(
@@ -1399,19 +1401,11 @@ fn skin_radii(
             ));
         }
     }
-    let breaks: Vec<f64> = surface
-        .knots_u()
-        .distinct()
-        .iter()
-        .map(|&(t, _)| t)
-        .collect();
-    let mut us = Vec::with_capacity(breaks.len() * RADIUS_SAMPLES_PER_SPAN + 1);
-    for w in breaks.windows(2) {
-        for i in 0..RADIUS_SAMPLES_PER_SPAN {
-            us.push(w[0] + (w[1] - w[0]) * i as f64 / RADIUS_SAMPLES_PER_SPAN as f64);
-        }
-    }
-    us.extend(breaks.last());
+    let us = curvature_steps(
+        surface.knots_u(),
+        surface.degree_u(),
+        RADIUS_SAMPLES_PER_SPAN,
+    );
     let mut radii = SkinRadii {
         full: f64::INFINITY,
         full_at: surface.point_at(us[0], along[0].0),
