@@ -1186,31 +1186,49 @@ fn check_order(ts: &[f64], closed: bool) -> Result<(), Error> {
     Ok(())
 }
 
+/// Where [`piece`] cuts a curve: one stretch of its domain, or the stretch from a
+/// parameter to the end followed by the one from the start to another (over the seam of
+/// a closed curve).
+#[derive(Debug, Clone, Copy)]
+enum Cut {
+    Within(f64, f64),
+    OverSeam(f64, f64),
+}
+
+impl Cut {
+    /// The cut of `curve` from `t0` to `t1`, wrapping over the seam when `t1 <= t0`; a
+    /// cut within rounding of an existing knot is made at the knot (no sliver spans).
+    fn of(curve: &Curve3, t0: f64, t1: f64) -> Cut {
+        let (lo, hi) = curve.domain();
+        let snap = |t: f64| -> f64 {
+            curve
+                .knots()
+                .distinct()
+                .iter()
+                .map(|&(k, _)| k)
+                .find(|k| (k - t).abs() <= 1e-9 * (hi - lo))
+                .unwrap_or(t)
+        };
+        let (t0, t1) = (snap(t0), snap(t1));
+        if t1 > t0 {
+            Cut::Within(t0, t1)
+        } else if t1 <= lo {
+            Cut::Within(t0, hi)
+        } else if t0 >= hi {
+            Cut::Within(lo, t1)
+        } else {
+            Cut::OverSeam(t0, t1)
+        }
+    }
+}
+
 /// The piece of `curve` from `t0` to `t1`, wrapping over the seam of a closed curve when
 /// `t1 <= t0`, on [0, 1].
 fn piece(curve: &Curve3, t0: f64, t1: f64) -> crate::geom::Result<Curve3> {
     let (lo, hi) = curve.domain();
-    // A cut within rounding of an existing knot is made at the knot: no sliver spans.
-    let snap = |t: f64| -> f64 {
-        curve
-            .knots()
-            .distinct()
-            .iter()
-            .map(|&(k, _)| k)
-            .find(|k| (k - t).abs() <= 1e-9 * (hi - lo))
-            .unwrap_or(t)
-    };
-    let (t0, t1) = (snap(t0), snap(t1));
-    let p = if t1 > t0 {
-        curve.between(t0, t1)?
-    } else if t1 <= lo {
-        curve.between(t0, hi)?
-    } else if t0 >= hi {
-        curve.between(lo, t1)?
-    } else {
-        let first = curve.between(t0, hi)?;
-        let second = curve.between(lo, t1)?;
-        across_seam(&first, &second)?
+    let p = match Cut::of(curve, t0, t1) {
+        Cut::Within(a, b) => curve.between(a, b)?,
+        Cut::OverSeam(a, b) => across_seam(&curve.between(a, hi)?, &curve.between(lo, b)?)?,
     };
     p.reparametrized(0.0, 1.0)
 }
@@ -1219,15 +1237,10 @@ fn piece(curve: &Curve3, t0: f64, t1: f64) -> crate::geom::Result<Curve3> {
 fn whole_parameter(curve: &Curve3, t0: f64, t1: f64) -> impl Fn(f64) -> f64 {
     let (lo, hi) = curve.domain();
     let period = hi - lo;
-    // The piece's start and the length of parameter it covers, as `piece` cuts it.
-    let (start, span) = if t1 > t0 {
-        (t0, t1 - t0)
-    } else if t1 <= lo {
-        (t0, hi - t0)
-    } else if t0 >= hi {
-        (lo, t1 - lo)
-    } else {
-        (t0, t1 + period - t0)
+    // The piece's start and the length of parameter it covers.
+    let (start, span) = match Cut::of(curve, t0, t1) {
+        Cut::Within(a, b) => (a, b - a),
+        Cut::OverSeam(a, b) => (a, b + period - a),
     };
     move |t| {
         let w = start + t * span;
