@@ -18,4 +18,5 @@ pub mod geom;
 pub mod heap;
 pub mod limits;
 pub mod pipeline;
+pub mod sheet;
 pub mod syntax;

@@ -1,5 +1,5 @@
 //! The pipeline's direction, checked on the source: data flows
-//! `syntax -> eval -> geom / die -> export -> pipeline -> cli`, and a module never
+//! `syntax -> eval -> geom / die / sheet -> export -> pipeline -> cli`, and a module never
 //! reaches back up it. `limits` is a leaf every stage may read; so is `heap`, the count
 //! of memory held, which the evaluation's budget reads. The kernel (`geom`) and the die-face features (`die`) know
 //! nothing of the language; the exporters read the die model, never language values.
@@ -19,16 +19,22 @@ const ALLOWED: &[(&str, &[&str])] = &[
     ("syntax", &["diag", "limits"]),
     ("geom", &["limits"]),
     ("die", &["geom", "limits"]),
-    ("eval", &["diag", "syntax", "geom", "die", "limits", "heap"]),
-    ("export", &["geom", "die", "limits"]),
+    ("sheet", &["geom", "limits"]),
+    (
+        "eval",
+        &["diag", "syntax", "geom", "die", "sheet", "limits", "heap"],
+    ),
+    ("export", &["geom", "die", "sheet", "limits"]),
     (
         "pipeline",
-        &["diag", "syntax", "eval", "geom", "die", "export", "limits"],
+        &[
+            "diag", "syntax", "eval", "geom", "die", "sheet", "export", "limits",
+        ],
     ),
     (
         "cli",
         &[
-            "diag", "syntax", "eval", "geom", "die", "export", "pipeline", "limits",
+            "diag", "syntax", "eval", "geom", "die", "sheet", "export", "pipeline", "limits",
         ],
     ),
 ];

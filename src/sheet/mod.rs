@@ -1,0 +1,14 @@
+//! Sheet modeling (paper 003; `docs/methods.md`): thin parts declared as zero-thickness
+//! sheets that store the topology of the solid they will become.
+//!
+//! A sheet's two sides are two faces of that solid (twins), each of its edges and
+//! vertices has a twin on the other side, the solid's thickness faces are zero-area
+//! loops and the edges between them zero-length edges (paper 003, section 2, Fig. 3).
+//! The topology changes only through Euler operators ([`topology`]), so it stays valid
+//! after every operation.
+//!
+//! What is here so far: the boundary representation with its Euler operators and its
+//! validity check, and the initial sheet. The sheet operations of the language, the
+//! geometry and the thickening come next (issue 15).
+
+pub mod topology;

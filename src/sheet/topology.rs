@@ -1,0 +1,1102 @@
+//! The boundary representation of the solid a sheet model becomes: half-edges, edges,
+//! vertices, loops and faces, changed only by Euler operators, with the twin relations
+//! of a sheet (paper 003, sections 2-3).
+//!
+//! The data structure is the half-edge structure of Mantyla (*An Introduction to Solid
+//! Modeling*, 1988, ch. 10-11): every face has loops (the first its outer boundary, the
+//! others rings), every loop a cycle of half-edges, every edge two half-edges (one in
+//! each loop it borders, running opposite ways). The Euler operators are his low-level
+//! ones (`mvfs`, `lmev`, `lmef`, `lkemr`, `lkfmrh` and the inverses `lkev`, `lkef`):
+//! each keeps the Euler-Poincare formula `V - E + F - R = 2 (S - G)` (R rings, S shells,
+//! G genus), which [`Brep::check`] verifies with every link.
+//!
+//! A [`Sheet`] adds what makes the solid a sheet's: every face but the thickness faces
+//! has a twin (the other side), every edge but the zero-length ones has a twin, every
+//! vertex has a twin joined to it by a zero-length edge. [`Sheet::initial`] builds the
+//! first sheet of a model, a slab of zero thickness over an n-sided outline.
+//!
+//! Elements are never reused once killed: ids stay stable through an operation, so
+//! what a designer picked (by name or by a point near it) can be followed.
+
+use std::collections::BTreeSet;
+
+/// A half-edge: one side of an edge, in one loop, running from its vertex to the next
+/// half-edge's.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct HalfEdgeId(pub u32);
+
+/// An edge: two half-edges running opposite ways.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct EdgeId(pub u32);
+
+/// A vertex.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct VertexId(pub u32);
+
+/// A loop: a cycle of half-edges bounding a face.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct LoopId(pub u32);
+
+/// A face: an outer loop and any rings.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct FaceId(pub u32);
+
+macro_rules! index_of {
+    ($($t:ty),*) => {$(
+        impl $t {
+            /// The id as an index into its table.
+            pub fn index(self) -> usize {
+                self.0 as usize
+            }
+        }
+    )*};
+}
+index_of!(HalfEdgeId, EdgeId, VertexId, LoopId, FaceId);
+
+/// One half-edge's links.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct HalfEdge {
+    /// Its edge; `None` only for the lone half-edge of a loop that is a single vertex
+    /// (the face of [`Brep::mvfs`] before any edge).
+    edge: Option<EdgeId>,
+    /// Where it starts.
+    vertex: VertexId,
+    /// The loop it runs in.
+    lp: LoopId,
+    next: HalfEdgeId,
+    prev: HalfEdgeId,
+}
+
+/// One edge's two half-edges: `plus` and `minus` run opposite ways.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Edge {
+    plus: HalfEdgeId,
+    minus: HalfEdgeId,
+}
+
+/// One vertex: a half-edge that starts there (`None` when none does).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Vertex {
+    half: Option<HalfEdgeId>,
+}
+
+/// One loop: a half-edge in it, and its face.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Loop {
+    half: HalfEdgeId,
+    face: FaceId,
+}
+
+/// One face: its loops, the outer one first.
+#[derive(Debug, Clone, PartialEq)]
+struct Face {
+    loops: Vec<LoopId>,
+}
+
+/// Why a topology is not valid, or why an operator cannot be applied.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum TopologyError {
+    /// An id that names no live element.
+    Dead(String),
+    /// The operator's arguments do not stand in the relation it needs.
+    NotApplicable(String),
+    /// A broken link or a violated invariant (a bug in an operator).
+    Invalid(String),
+}
+
+impl std::fmt::Display for TopologyError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            TopologyError::Dead(what) => write!(f, "{what} no longer exists"),
+            TopologyError::NotApplicable(why) => write!(f, "{why}"),
+            TopologyError::Invalid(why) => write!(f, "invalid topology: {why}"),
+        }
+    }
+}
+
+impl std::error::Error for TopologyError {}
+
+/// Result of the topology's operations.
+pub type Result<T> = std::result::Result<T, TopologyError>;
+
+/// Element counts and the Euler-Poincare terms of a topology.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Counts {
+    /// Vertices.
+    pub vertices: usize,
+    /// Edges.
+    pub edges: usize,
+    /// Faces.
+    pub faces: usize,
+    /// Loops that are not a face's outer loop.
+    pub rings: usize,
+    /// Connected shells.
+    pub shells: usize,
+    /// Genus (through holes), as the operators made it.
+    pub genus: usize,
+}
+
+impl Counts {
+    /// `V - E + F - R - 2 (S - G)`: zero for a valid topology.
+    pub fn euler_poincare(&self) -> i64 {
+        self.vertices as i64 - self.edges as i64 + self.faces as i64
+            - self.rings as i64
+            - 2 * (self.shells as i64 - self.genus as i64)
+    }
+}
+
+/// A boundary representation changed only by Euler operators.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Brep {
+    halves: Vec<Option<HalfEdge>>,
+    edges: Vec<Option<Edge>>,
+    vertices: Vec<Option<Vertex>>,
+    loops: Vec<Option<Loop>>,
+    faces: Vec<Option<Face>>,
+    /// Through holes made by [`Brep::lkfmrh`] within one shell, less those closed.
+    genus: usize,
+}
+
+impl Brep {
+    /// An empty topology.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    fn half(&self, h: HalfEdgeId) -> Result<&HalfEdge> {
+        self.halves
+            .get(h.index())
+            .and_then(Option::as_ref)
+            .ok_or_else(|| TopologyError::Dead(format!("half-edge {}", h.0)))
+    }
+
+    fn half_mut(&mut self, h: HalfEdgeId) -> &mut HalfEdge {
+        self.halves[h.index()]
+            .as_mut()
+            .expect("operators link only live half-edges, checked on entry")
+    }
+
+    fn edge_of(&self, e: EdgeId) -> Result<&Edge> {
+        self.edges
+            .get(e.index())
+            .and_then(Option::as_ref)
+            .ok_or_else(|| TopologyError::Dead(format!("edge {}", e.0)))
+    }
+
+    fn loop_of(&self, l: LoopId) -> Result<&Loop> {
+        self.loops
+            .get(l.index())
+            .and_then(Option::as_ref)
+            .ok_or_else(|| TopologyError::Dead(format!("loop {}", l.0)))
+    }
+
+    fn face_of(&self, f: FaceId) -> Result<&Face> {
+        self.faces
+            .get(f.index())
+            .and_then(Option::as_ref)
+            .ok_or_else(|| TopologyError::Dead(format!("face {}", f.0)))
+    }
+
+    fn new_half(&mut self, h: HalfEdge) -> HalfEdgeId {
+        self.halves.push(Some(h));
+        HalfEdgeId(self.halves.len() as u32 - 1)
+    }
+
+    fn new_vertex(&mut self) -> VertexId {
+        self.vertices.push(Some(Vertex { half: None }));
+        VertexId(self.vertices.len() as u32 - 1)
+    }
+
+    fn new_loop(&mut self, half: HalfEdgeId, face: FaceId) -> LoopId {
+        self.loops.push(Some(Loop { half, face }));
+        LoopId(self.loops.len() as u32 - 1)
+    }
+
+    fn new_face(&mut self) -> FaceId {
+        self.faces.push(Some(Face { loops: Vec::new() }));
+        FaceId(self.faces.len() as u32 - 1)
+    }
+
+    /// The half-edge after `h` in its loop.
+    pub fn next(&self, h: HalfEdgeId) -> Result<HalfEdgeId> {
+        Ok(self.half(h)?.next)
+    }
+
+    /// The half-edge before `h` in its loop.
+    pub fn prev(&self, h: HalfEdgeId) -> Result<HalfEdgeId> {
+        Ok(self.half(h)?.prev)
+    }
+
+    /// Where `h` starts.
+    pub fn vertex(&self, h: HalfEdgeId) -> Result<VertexId> {
+        Ok(self.half(h)?.vertex)
+    }
+
+    /// The edge of `h` (`None` for a loop that is a single vertex).
+    pub fn edge(&self, h: HalfEdgeId) -> Result<Option<EdgeId>> {
+        Ok(self.half(h)?.edge)
+    }
+
+    /// The loop `h` runs in.
+    pub fn loop_with(&self, h: HalfEdgeId) -> Result<LoopId> {
+        Ok(self.half(h)?.lp)
+    }
+
+    /// The face of loop `l`.
+    pub fn face_with(&self, l: LoopId) -> Result<FaceId> {
+        Ok(self.loop_of(l)?.face)
+    }
+
+    /// The other half of `h`'s edge.
+    pub fn mate(&self, h: HalfEdgeId) -> Result<HalfEdgeId> {
+        let e = self
+            .half(h)?
+            .edge
+            .ok_or_else(|| TopologyError::NotApplicable("a lone vertex has no mate".into()))?;
+        let edge = self.edge_of(e)?;
+        Ok(if edge.plus == h {
+            edge.minus
+        } else {
+            edge.plus
+        })
+    }
+
+    /// The two half-edges of `e` (plus, minus).
+    pub fn halves_of(&self, e: EdgeId) -> Result<(HalfEdgeId, HalfEdgeId)> {
+        let edge = self.edge_of(e)?;
+        Ok((edge.plus, edge.minus))
+    }
+
+    /// The loops of `f`, the outer one first.
+    pub fn loops_of(&self, f: FaceId) -> Result<&[LoopId]> {
+        Ok(&self.face_of(f)?.loops)
+    }
+
+    /// The half-edges of loop `l`, in order from its first.
+    pub fn loop_halves(&self, l: LoopId) -> Result<Vec<HalfEdgeId>> {
+        let first = self.loop_of(l)?.half;
+        let mut out = vec![first];
+        let mut h = self.half(first)?.next;
+        while h != first {
+            if out.len() > self.halves.len() {
+                return Err(TopologyError::Invalid(format!("loop {} never closes", l.0)));
+            }
+            out.push(h);
+            h = self.half(h)?.next;
+        }
+        Ok(out)
+    }
+
+    /// The live faces, in id order.
+    pub fn faces(&self) -> impl Iterator<Item = FaceId> + '_ {
+        ids(&self.faces).map(|i| FaceId(i as u32))
+    }
+
+    /// The live edges, in id order.
+    pub fn edges(&self) -> impl Iterator<Item = EdgeId> + '_ {
+        ids(&self.edges).map(|i| EdgeId(i as u32))
+    }
+
+    /// The live vertices, in id order.
+    pub fn vertices(&self) -> impl Iterator<Item = VertexId> + '_ {
+        ids(&self.vertices).map(|i| VertexId(i as u32))
+    }
+
+    /// The live loops, in id order.
+    pub fn loops(&self) -> impl Iterator<Item = LoopId> + '_ {
+        ids(&self.loops).map(|i| LoopId(i as u32))
+    }
+
+    /// Makes a new shell of one vertex and one face whose loop is that vertex alone.
+    pub fn mvfs(&mut self) -> (VertexId, FaceId, HalfEdgeId) {
+        let v = self.new_vertex();
+        let f = self.new_face();
+        let h = HalfEdgeId(self.halves.len() as u32);
+        let l = self.new_loop(h, f);
+        let made = self.new_half(HalfEdge {
+            edge: None,
+            vertex: v,
+            lp: l,
+            next: h,
+            prev: h,
+        });
+        debug_assert_eq!(made, h);
+        self.faces[f.index()]
+            .as_mut()
+            .expect("made above")
+            .loops
+            .push(l);
+        self.vertices[v.index()] = Some(Vertex { half: Some(h) });
+        (v, f, h)
+    }
+
+    /// Puts a half-edge of `e` starting at `v` into the loop of `at`, just before it (or
+    /// `at` itself when it is a lone vertex's half-edge); `plus` says which half.
+    fn add_half(&mut self, e: EdgeId, v: VertexId, at: HalfEdgeId, plus: bool) -> HalfEdgeId {
+        let where_ = *self.half(at).expect("operators pass live half-edges");
+        let h = if where_.edge.is_none() {
+            let w = self.half_mut(at);
+            w.edge = Some(e);
+            w.vertex = v;
+            at
+        } else {
+            let h = self.new_half(HalfEdge {
+                edge: Some(e),
+                vertex: v,
+                lp: where_.lp,
+                next: at,
+                prev: where_.prev,
+            });
+            self.half_mut(where_.prev).next = h;
+            self.half_mut(at).prev = h;
+            h
+        };
+        let edge = self.edges[e.index()]
+            .as_mut()
+            .expect("the operator made it");
+        if plus {
+            edge.plus = h;
+        } else {
+            edge.minus = h;
+        }
+        h
+    }
+
+    /// Takes half-edge `h` out of its loop; returns the half-edge that now stands in its
+    /// place (its predecessor, or `h` itself made a lone vertex's half-edge when it was
+    /// the loop's only one).
+    fn delete_half(&mut self, h: HalfEdgeId) -> HalfEdgeId {
+        let he = *self.half(h).expect("operators pass live half-edges");
+        if he.next == h {
+            self.half_mut(h).edge = None;
+            h
+        } else {
+            self.half_mut(he.prev).next = he.next;
+            self.half_mut(he.next).prev = he.prev;
+            self.halves[h.index()] = None;
+            he.prev
+        }
+    }
+
+    fn new_edge(&mut self) -> EdgeId {
+        // Both halves are set by `add_half` right after.
+        self.edges.push(Some(Edge {
+            plus: HalfEdgeId(u32::MAX),
+            minus: HalfEdgeId(u32::MAX),
+        }));
+        EdgeId(self.edges.len() as u32 - 1)
+    }
+
+    /// Make edge, vertex: splits the vertex where `h1` and `h2` start (the half-edges
+    /// from `h1` round to `h2` move to the new vertex) by a new edge from the old vertex
+    /// to the new one. With `h1 == h2`, a new edge dangles from the vertex into the loop
+    /// of `h1`, just before it.
+    pub fn lmev(&mut self, h1: HalfEdgeId, h2: HalfEdgeId) -> Result<(EdgeId, VertexId)> {
+        let v = self.half(h1)?.vertex;
+        if self.half(h2)?.vertex != v {
+            return Err(TopologyError::NotApplicable(
+                "lmev: the two half-edges must start at the same vertex".into(),
+            ));
+        }
+        // The half-edges from h1 round the vertex to h2 (mate, next) must reach h2.
+        let mut h = h1;
+        let mut moved = Vec::new();
+        while h != h2 {
+            moved.push(h);
+            if moved.len() > self.halves.len() {
+                return Err(TopologyError::NotApplicable(
+                    "lmev: h2 is not reached from h1 round their vertex".into(),
+                ));
+            }
+            h = self.half(self.mate(h)?)?.next;
+        }
+        let e = self.new_edge();
+        let nv = self.new_vertex();
+        for h in moved {
+            self.half_mut(h).vertex = nv;
+        }
+        self.add_half(e, v, h1, false);
+        self.add_half(e, nv, h2, true);
+        let nv_half = self.half(h2)?.prev;
+        self.vertices[nv.index()] = Some(Vertex {
+            half: Some(nv_half),
+        });
+        self.vertices[v.index()] = Some(Vertex { half: Some(h2) });
+        Ok((e, nv))
+    }
+
+    /// Make edge, face: a new edge from the vertex of `h1` to the vertex of `h2` (both in
+    /// one loop) splits that loop in two; the half-edges from `h1` up to `h2` go with
+    /// the new edge into the outer loop of a new face.
+    pub fn lmef(&mut self, h1: HalfEdgeId, h2: HalfEdgeId) -> Result<(EdgeId, FaceId)> {
+        let lp = self.half(h1)?.lp;
+        if self.half(h2)?.lp != lp {
+            return Err(TopologyError::NotApplicable(
+                "lmef: the two half-edges must be in one loop".into(),
+            ));
+        }
+        if h1 == h2 {
+            return Err(TopologyError::NotApplicable(
+                "lmef: the two half-edges must differ".into(),
+            ));
+        }
+        let face = self.new_face();
+        let new_loop = self.new_loop(h1, face);
+        self.faces[face.index()]
+            .as_mut()
+            .expect("made above")
+            .loops
+            .push(new_loop);
+        let e = self.new_edge();
+        let mut h = h1;
+        while h != h2 {
+            self.half_mut(h).lp = new_loop;
+            h = self.half(h)?.next;
+        }
+        let v1 = self.half(h1)?.vertex;
+        let v2 = self.half(h2)?.vertex;
+        let n1 = self.add_half(e, v2, h1, false);
+        let n2 = self.add_half(e, v1, h2, true);
+        let (p1, p2) = (self.half(n1)?.prev, self.half(n2)?.prev);
+        self.half_mut(p1).next = n2;
+        self.half_mut(p2).next = n1;
+        self.half_mut(n1).prev = p2;
+        self.half_mut(n2).prev = p1;
+        self.loops[new_loop.index()] = Some(Loop { half: n1, face });
+        let old_face = self.loop_of(lp)?.face;
+        self.loops[lp.index()] = Some(Loop {
+            half: n2,
+            face: old_face,
+        });
+        Ok((e, face))
+    }
+
+    /// Kill edge, make ring: removes edge `e`, whose two half-edges run in one loop,
+    /// splitting that loop into two; the part on the `minus` half's side becomes a new
+    /// ring of the same face.
+    pub fn lkemr(&mut self, e: EdgeId) -> Result<LoopId> {
+        let Edge {
+            plus: h1,
+            minus: h2,
+        } = *self.edge_of(e)?;
+        let old = self.half(h1)?.lp;
+        if self.half(h2)?.lp != old {
+            return Err(TopologyError::NotApplicable(
+                "lkemr: the edge must run twice in one loop".into(),
+            ));
+        }
+        let face = self.loop_of(old)?.face;
+        let h3 = self.half(h1)?.next;
+        let h2_next = self.half(h2)?.next;
+        self.half_mut(h1).next = h2_next;
+        self.half_mut(h2_next).prev = h1;
+        self.half_mut(h2).next = h3;
+        self.half_mut(h3).prev = h2;
+        let ring = self.new_loop(h2, face);
+        let mut h = h2;
+        loop {
+            self.half_mut(h).lp = ring;
+            h = self.half(h)?.next;
+            if h == h2 {
+                break;
+            }
+        }
+        let (p, q) = (self.half(h1)?.vertex, self.half(h2)?.vertex);
+        let a = self.delete_half(h1);
+        let b = self.delete_half(h2);
+        self.loops[old.index()] = Some(Loop { half: a, face });
+        self.loops[ring.index()] = Some(Loop { half: b, face });
+        self.faces[face.index()]
+            .as_mut()
+            .expect("the loop's face is live")
+            .loops
+            .push(ring);
+        // Each end keeps the half-edge that now follows the one before the deleted half.
+        let (pa, qb) = (self.leaving_after(a)?, self.leaving_after(b)?);
+        self.vertices[p.index()] = Some(Vertex { half: Some(pa) });
+        self.vertices[q.index()] = Some(Vertex { half: Some(qb) });
+        self.edges[e.index()] = None;
+        Ok(ring)
+    }
+
+    /// Kill face, make ring (and hole): face `f2`, which has only an outer loop, is
+    /// removed and its loop becomes a ring of `f1`. Within one shell this makes a
+    /// through hole (the genus grows); across two shells it joins them.
+    pub fn lkfmrh(&mut self, f1: FaceId, f2: FaceId) -> Result<LoopId> {
+        if f1 == f2 {
+            return Err(TopologyError::NotApplicable(
+                "lkfmrh: a face cannot become a ring of itself".into(),
+            ));
+        }
+        self.face_of(f1)?;
+        let loops = self.face_of(f2)?.loops.clone();
+        if loops.len() != 1 {
+            return Err(TopologyError::NotApplicable(
+                "lkfmrh: the face to kill must have only its outer loop".into(),
+            ));
+        }
+        let same_shell = self.shell_of_face(f1)? == self.shell_of_face(f2)?;
+        let l = loops[0];
+        let lp = self.loops[l.index()]
+            .as_mut()
+            .expect("a face's loop is live");
+        lp.face = f1;
+        self.faces[f1.index()]
+            .as_mut()
+            .expect("checked above")
+            .loops
+            .push(l);
+        self.faces[f2.index()] = None;
+        if same_shell {
+            self.genus += 1;
+        }
+        Ok(l)
+    }
+
+    /// Kill edge, vertex: the inverse of [`Brep::lmev`]: removes edge `e` and the
+    /// vertex its `plus` half starts at; the half-edges leaving that vertex move to the
+    /// vertex its `minus` half starts at.
+    pub fn lkev(&mut self, e: EdgeId) -> Result<VertexId> {
+        let Edge {
+            plus: h1,
+            minus: h2,
+        } = *self.edge_of(e)?;
+        let (gone, kept) = (self.half(h1)?.vertex, self.half(h2)?.vertex);
+        if gone == kept {
+            return Err(TopologyError::NotApplicable(
+                "lkev: the edge is a loop at one vertex".into(),
+            ));
+        }
+        // Every half-edge leaving `gone` moves to `kept` (round the vertex by mate, next).
+        let mut h = self.half(h2)?.next;
+        let mut guard = 0;
+        while h != h1 {
+            self.half_mut(h).vertex = kept;
+            h = self.half(self.mate(h)?)?.next;
+            guard += 1;
+            if guard > self.halves.len() {
+                return Err(TopologyError::Invalid(
+                    "lkev: the star of the vertex never closes".into(),
+                ));
+            }
+        }
+        let lp1 = self.half(h1)?.lp;
+        let a = self.delete_half(h1);
+        self.set_loop_half(lp1, a);
+        let lp2 = self.half(h2)?.lp;
+        let b = self.delete_half(h2);
+        self.set_loop_half(lp2, b);
+        self.vertices[gone.index()] = None;
+        self.edges[e.index()] = None;
+        let half = self.leaving_after(b)?;
+        self.vertices[kept.index()] = Some(Vertex { half: Some(half) });
+        Ok(gone)
+    }
+
+    /// Kill edge, face: the inverse of [`Brep::lmef`]: removes edge `e` between two
+    /// different faces and merges the face on its `plus` half's side into the face on
+    /// its `minus` half's side (its loops move there).
+    pub fn lkef(&mut self, e: EdgeId) -> Result<FaceId> {
+        let Edge {
+            plus: h1,
+            minus: h2,
+        } = *self.edge_of(e)?;
+        let (l1, l2) = (self.half(h1)?.lp, self.half(h2)?.lp);
+        let (f1, f2) = (self.loop_of(l1)?.face, self.loop_of(l2)?.face);
+        if f1 == f2 {
+            return Err(TopologyError::NotApplicable(
+                "lkef: the edge must lie between two faces".into(),
+            ));
+        }
+        if self.face_of(f1)?.loops[0] != l1 || self.face_of(f2)?.loops[0] != l2 {
+            return Err(TopologyError::NotApplicable(
+                "lkef: the edge must lie on both faces' outer loops".into(),
+            ));
+        }
+        // Every half-edge of l1 joins l2.
+        let mut h = h1;
+        loop {
+            self.half_mut(h).lp = l2;
+            h = self.half(h)?.next;
+            if h == h1 {
+                break;
+            }
+        }
+        // One cycle through both halves (Mantyla's splice), then each half deleted.
+        let (p1, p2) = (self.half(h1)?.prev, self.half(h2)?.prev);
+        self.half_mut(p1).next = h2;
+        self.half_mut(p2).next = h1;
+        self.half_mut(h2).prev = p1;
+        self.half_mut(h1).prev = p2;
+        let (a, b) = (self.half(h1)?.vertex, self.half(h2)?.vertex);
+        let r2 = self.delete_half(h2);
+        let r1 = self.delete_half(h1);
+        // What stood before `h2` in the spliced cycle ended at a (where `h1` started),
+        // what stood before `h1` ended at b; for an edge closing on itself (a = b) the
+        // first was `h1`, and the deletions leave a lone vertex's half-edge.
+        if self.half(r2).is_ok() {
+            let leaving = self.leaving_after(r2)?;
+            self.vertices[a.index()] = Some(Vertex {
+                half: Some(leaving),
+            });
+        }
+        let leaving = self.leaving_after(r1)?;
+        self.vertices[b.index()] = Some(Vertex {
+            half: Some(leaving),
+        });
+        self.loops[l2.index()] = Some(Loop { half: r1, face: f2 });
+        self.loops[l1.index()] = None;
+        let rings: Vec<LoopId> = self.face_of(f1)?.loops[1..].to_vec();
+        for r in &rings {
+            self.loops[r.index()]
+                .as_mut()
+                .expect("a face's loop is live")
+                .face = f2;
+        }
+        self.faces[f2.index()]
+            .as_mut()
+            .expect("checked above")
+            .loops
+            .extend(rings);
+        self.faces[f1.index()] = None;
+        self.edges[e.index()] = None;
+        Ok(f1)
+    }
+
+    /// Makes `h` the first half-edge of loop `lp`.
+    fn set_loop_half(&mut self, lp: LoopId, h: HalfEdgeId) {
+        if let Some(l) = self.loops[lp.index()].as_mut() {
+            l.half = h;
+        }
+    }
+
+    /// The half-edge leaving the vertex where `h` (what [`Brep::delete_half`] returned)
+    /// ends: `h` itself when it is a lone vertex's half-edge, else the one after it.
+    fn leaving_after(&self, h: HalfEdgeId) -> Result<HalfEdgeId> {
+        let he = self.half(h)?;
+        Ok(if he.edge.is_none() { h } else { he.next })
+    }
+
+    /// The shell (smallest face id of its connected component) of face `f`.
+    fn shell_of_face(&self, f: FaceId) -> Result<FaceId> {
+        let shells = self.shells()?;
+        shells
+            .into_iter()
+            .find(|s| s.contains(&f))
+            .and_then(|s| s.into_iter().next())
+            .ok_or_else(|| TopologyError::Dead(format!("face {}", f.0)))
+    }
+
+    /// The faces of each connected shell (faces joined across edges or sharing a
+    /// vertex), each set in id order, the shells by their smallest face.
+    pub fn shells(&self) -> Result<Vec<BTreeSet<FaceId>>> {
+        let faces: Vec<FaceId> = self.faces().collect();
+        let mut parent: Vec<usize> = (0..self.faces.len()).collect();
+        fn root(parent: &mut [usize], mut i: usize) -> usize {
+            while parent[i] != i {
+                parent[i] = parent[parent[i]];
+                i = parent[i];
+            }
+            i
+        }
+        // Faces meeting at a vertex are in one shell.
+        let mut at_vertex: Vec<Option<usize>> = vec![None; self.vertices.len()];
+        for h in ids(&self.halves) {
+            let he = self.halves[h].expect("ids lists live slots");
+            let f = self.loop_of(he.lp)?.face.index();
+            match at_vertex[he.vertex.index()] {
+                None => at_vertex[he.vertex.index()] = Some(f),
+                Some(g) => {
+                    let (a, b) = (root(&mut parent, f), root(&mut parent, g));
+                    parent[a.max(b)] = a.min(b);
+                }
+            }
+        }
+        let mut out: Vec<BTreeSet<FaceId>> = Vec::new();
+        let mut index_of_root = std::collections::BTreeMap::new();
+        for f in faces {
+            let r = root(&mut parent, f.index());
+            let k = *index_of_root.entry(r).or_insert_with(|| {
+                out.push(BTreeSet::new());
+                out.len() - 1
+            });
+            out[k].insert(f);
+        }
+        Ok(out)
+    }
+
+    /// The element counts and Euler-Poincare terms.
+    pub fn counts(&self) -> Result<Counts> {
+        let faces = self.faces().count();
+        let loops = self.loops().count();
+        Ok(Counts {
+            vertices: self.vertices().count(),
+            edges: self.edges().count(),
+            faces,
+            rings: loops - faces,
+            shells: self.shells()?.len(),
+            genus: self.genus,
+        })
+    }
+
+    /// Checks every link and the Euler-Poincare formula: each half-edge's next and prev
+    /// agree, its loop's cycle holds it, its edge names it, and the half-edge after it
+    /// starts where its mate does (so edges join the vertices they claim); each loop's
+    /// face lists it, each face's loops point back, each vertex's half-edge leaves it.
+    pub fn check(&self) -> Result<Counts> {
+        let bad = |why: String| Err(TopologyError::Invalid(why));
+        for h in ids(&self.halves).map(|i| HalfEdgeId(i as u32)) {
+            let he = self.half(h)?;
+            if self.half(he.next)?.prev != h || self.half(he.prev)?.next != h {
+                return bad(format!("half-edge {}: next and prev disagree", h.0));
+            }
+            if self.half(he.next)?.lp != he.lp {
+                return bad(format!("half-edge {}: its next runs in another loop", h.0));
+            }
+            self.vertices
+                .get(he.vertex.index())
+                .and_then(Option::as_ref)
+                .ok_or_else(|| TopologyError::Invalid(format!("half-edge {}: dead vertex", h.0)))?;
+            match he.edge {
+                None => {
+                    if he.next != h {
+                        return bad(format!("half-edge {}: no edge in a loop of many", h.0));
+                    }
+                }
+                Some(e) => {
+                    let edge = self.edge_of(e).map_err(|_| {
+                        TopologyError::Invalid(format!("half-edge {}: dead edge", h.0))
+                    })?;
+                    if edge.plus != h && edge.minus != h {
+                        return bad(format!("half-edge {}: its edge does not name it", h.0));
+                    }
+                    let mate = self.mate(h)?;
+                    if self.half(mate)?.vertex != self.half(he.next)?.vertex {
+                        return bad(format!(
+                            "half-edge {}: it ends where its mate does not start",
+                            h.0
+                        ));
+                    }
+                }
+            }
+        }
+        for e in self.edges() {
+            let edge = self.edge_of(e)?;
+            for h in [edge.plus, edge.minus] {
+                if self
+                    .half(h)
+                    .map_err(|_| TopologyError::Invalid(format!("edge {}: dead half-edge", e.0)))?
+                    .edge
+                    != Some(e)
+                {
+                    return bad(format!("edge {}: its half-edge names another edge", e.0));
+                }
+            }
+        }
+        let mut in_loops = 0;
+        for l in self.loops() {
+            let lp = self.loop_of(l)?;
+            let face = self
+                .face_of(lp.face)
+                .map_err(|_| TopologyError::Invalid(format!("loop {}: dead face", l.0)))?;
+            if !face.loops.contains(&l) {
+                return bad(format!("loop {}: its face does not list it", l.0));
+            }
+            let cycle = self.loop_halves(l)?;
+            if cycle
+                .iter()
+                .any(|&h| self.halves[h.index()].map(|x| x.lp) != Some(l))
+            {
+                return bad(format!(
+                    "loop {}: a half-edge of its cycle runs elsewhere",
+                    l.0
+                ));
+            }
+            in_loops += cycle.len();
+        }
+        if in_loops != self.halves.iter().flatten().count() {
+            return bad("a half-edge is in no loop's cycle".into());
+        }
+        for f in self.faces() {
+            let face = self.face_of(f)?;
+            if face.loops.is_empty() {
+                return bad(format!("face {}: no loop", f.0));
+            }
+            for &l in &face.loops {
+                if self.loop_of(l)?.face != f {
+                    return bad(format!("face {}: loop {} names another face", f.0, l.0));
+                }
+            }
+        }
+        for v in self.vertices() {
+            let vx = self.vertices[v.index()].expect("ids lists live slots");
+            match vx.half {
+                Some(h) if self.half(h)?.vertex == v => {}
+                Some(_) => return bad(format!("vertex {}: its half-edge leaves elsewhere", v.0)),
+                None => return bad(format!("vertex {}: no half-edge leaves it", v.0)),
+            }
+        }
+        let counts = self.counts()?;
+        if counts.euler_poincare() != 0 {
+            return bad(format!("Euler-Poincare fails: {counts:?}"));
+        }
+        Ok(counts)
+    }
+}
+
+/// The indices of the live slots of a table.
+fn ids<T>(table: &[Option<T>]) -> impl Iterator<Item = usize> + '_ {
+    table
+        .iter()
+        .enumerate()
+        .filter_map(|(i, x)| x.as_ref().map(|_| i))
+}
+
+/// What a face of a sheet model is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FaceRole {
+    /// One side of a sheet, with its twin (the other side).
+    Side {
+        /// The other side.
+        twin: FaceId,
+    },
+    /// A thickness face: a zero-area loop in the sheet model.
+    Thickness,
+}
+
+/// What an edge of a sheet model is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum EdgeRole {
+    /// An edge of a side, with its twin on the other side.
+    Side {
+        /// The twin edge.
+        twin: EdgeId,
+    },
+    /// A zero-length edge, joining a vertex to its twin.
+    ZeroLength,
+}
+
+/// A sheet model's topology: the solid's [`Brep`] with each face's, edge's and
+/// vertex's role and twin.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Sheet {
+    /// The topology.
+    pub brep: Brep,
+    faces: Vec<Option<FaceRole>>,
+    edges: Vec<Option<EdgeRole>>,
+    vertex_twins: Vec<Option<VertexId>>,
+}
+
+impl Sheet {
+    /// The first sheet of a model: a slab of zero thickness over an outline of `n`
+    /// vertices (3 or more), built by Euler operators only. Returns the sheet and its two
+    /// sides (bottom, top): the bottom's outer loop runs through the outline's vertices,
+    /// the top's through their twins; between them, one thickness face per outline edge.
+    pub fn initial(n: usize) -> Result<(Sheet, FaceId, FaceId)> {
+        if n < 3 {
+            return Err(TopologyError::NotApplicable(format!(
+                "a sheet's outline needs 3 vertices or more, not {n}"
+            )));
+        }
+        let mut b = Brep::new();
+        // The outline as a lamina: a chain of n vertices, closed by lmef into two faces.
+        let (v0, bottom, h0) = b.mvfs();
+        let mut tip = h0;
+        let mut first_edge = None;
+        for _ in 1..n {
+            let (e, _) = b.lmev(tip, tip)?;
+            first_edge.get_or_insert(e);
+            // The half-edge leaving the new vertex: the one just before `tip` now.
+            tip = b.prev(tip)?;
+        }
+        let first_edge = first_edge.expect("n >= 3 makes at least two edges");
+        let leaving_v0 = Self::half_leaving(&b, first_edge, v0)?;
+        let (_, top) = b.lmef(tip, leaving_v0)?;
+        // Lift the top's loop: every vertex gets its twin by a zero-length edge, then
+        // consecutive twins are joined, each join cutting a thickness face off the top.
+        let top_loop = b.loops_of(top)?[0];
+        let ring: Vec<HalfEdgeId> = b.loop_halves(top_loop)?;
+        let outline: Vec<EdgeId> = ring
+            .iter()
+            .map(|&h| {
+                b.edge(h)?.ok_or_else(|| {
+                    TopologyError::Invalid("an outline half-edge has no edge".into())
+                })
+            })
+            .collect::<Result<_>>()?;
+        let mut up = Vec::with_capacity(n);
+        let mut twins = Vec::with_capacity(n);
+        for &h in &ring {
+            let v = b.vertex(h)?;
+            let (e, w) = b.lmev(h, h)?;
+            up.push(e);
+            twins.push((v, w));
+        }
+        let mut lifted = Vec::with_capacity(n);
+        let mut thickness = Vec::with_capacity(n);
+        for k in 0..n {
+            let next = (k + 1) % n;
+            let a = Self::half_leaving(&b, up[k], twins[k].1)?;
+            // The half-edge of the top's loop that leaves the next twin (after the
+            // first join, the twin's own zero-length half runs in a thickness face).
+            let c = b
+                .loop_halves(b.loop_with(a)?)?
+                .into_iter()
+                .find(|&h| b.vertex(h).ok() == Some(twins[next].1))
+                .ok_or_else(|| TopologyError::Invalid("a twin left the top's loop".into()))?;
+            let (e, f) = b.lmef(a, c)?;
+            lifted.push(e);
+            thickness.push(f);
+        }
+        let mut sheet = Sheet {
+            faces: Vec::new(),
+            edges: Vec::new(),
+            vertex_twins: Vec::new(),
+            brep: b,
+        };
+        sheet.sync_tables();
+        for f in thickness {
+            sheet.faces[f.index()] = Some(FaceRole::Thickness);
+        }
+        sheet.faces[top.index()] = Some(FaceRole::Side { twin: bottom });
+        sheet.faces[bottom.index()] = Some(FaceRole::Side { twin: top });
+        for &e in &up {
+            sheet.edges[e.index()] = Some(EdgeRole::ZeroLength);
+        }
+        for &(v, w) in &twins {
+            sheet.vertex_twins[v.index()] = Some(w);
+            sheet.vertex_twins[w.index()] = Some(v);
+        }
+        // The edge joining twins k and k + 1 is the twin of outline edge k (from vertex
+        // k to vertex k + 1, as `ring` runs).
+        for (k, (&l, &o)) in lifted.iter().zip(&outline).enumerate() {
+            debug_assert_eq!(sheet.brep.vertex(ring[k])?, twins[k].0);
+            sheet.edges[l.index()] = Some(EdgeRole::Side { twin: o });
+            sheet.edges[o.index()] = Some(EdgeRole::Side { twin: l });
+        }
+        sheet.check()?;
+        Ok((sheet, bottom, top))
+    }
+
+    /// The half of edge `e` that leaves vertex `v`.
+    fn half_leaving(b: &Brep, e: EdgeId, v: VertexId) -> Result<HalfEdgeId> {
+        let (p, m) = b.halves_of(e)?;
+        if b.vertex(p)? == v {
+            Ok(p)
+        } else if b.vertex(m)? == v {
+            Ok(m)
+        } else {
+            Err(TopologyError::Invalid(format!(
+                "edge {} does not leave vertex {}",
+                e.0, v.0
+            )))
+        }
+    }
+
+    /// Grows the role tables to the topology's tables.
+    fn sync_tables(&mut self) {
+        self.faces.resize(self.brep.faces.len(), None);
+        self.edges.resize(self.brep.edges.len(), None);
+        self.vertex_twins.resize(self.brep.vertices.len(), None);
+    }
+
+    /// The role of face `f`.
+    pub fn face_role(&self, f: FaceId) -> Result<FaceRole> {
+        self.faces
+            .get(f.index())
+            .copied()
+            .flatten()
+            .ok_or_else(|| TopologyError::Dead(format!("face {}", f.0)))
+    }
+
+    /// The role of edge `e`.
+    pub fn edge_role(&self, e: EdgeId) -> Result<EdgeRole> {
+        self.edges
+            .get(e.index())
+            .copied()
+            .flatten()
+            .ok_or_else(|| TopologyError::Dead(format!("edge {}", e.0)))
+    }
+
+    /// The twin of vertex `v`.
+    pub fn twin_vertex(&self, v: VertexId) -> Result<VertexId> {
+        self.vertex_twins
+            .get(v.index())
+            .copied()
+            .flatten()
+            .ok_or_else(|| TopologyError::Dead(format!("vertex {}", v.0)))
+    }
+
+    /// Checks the topology ([`Brep::check`]) and the sheet's twins: every live face,
+    /// edge and vertex has a role; twins are mutual and distinct; a zero-length edge
+    /// joins a vertex to its twin; twin edges join twin vertices; a side face's twin is
+    /// a side face; a thickness face's outer loop holds zero-length edges and side
+    /// edges only, at least one of each, and no rings.
+    pub fn check(&self) -> Result<Counts> {
+        let counts = self.brep.check()?;
+        let bad = |why: String| Err(TopologyError::Invalid(why));
+        let b = &self.brep;
+        let ends = |e: EdgeId| -> Result<(VertexId, VertexId)> {
+            let (p, m) = b.halves_of(e)?;
+            Ok((b.vertex(p)?, b.vertex(m)?))
+        };
+        for v in b.vertices() {
+            let w = self.twin_vertex(v)?;
+            if w == v || self.twin_vertex(w)? != v {
+                return bad(format!("vertex {}: twins not mutual", v.0));
+            }
+        }
+        for e in b.edges() {
+            let (x, y) = ends(e)?;
+            match self.edge_role(e)? {
+                EdgeRole::ZeroLength => {
+                    if self.twin_vertex(x)? != y {
+                        return bad(format!("edge {}: zero-length but not between twins", e.0));
+                    }
+                }
+                EdgeRole::Side { twin } => {
+                    if twin == e || self.edge_role(twin)? != (EdgeRole::Side { twin: e }) {
+                        return bad(format!("edge {}: twins not mutual", e.0));
+                    }
+                    let (tx, ty) = ends(twin)?;
+                    let (wx, wy) = (self.twin_vertex(x)?, self.twin_vertex(y)?);
+                    if !((tx == wx && ty == wy) || (tx == wy && ty == wx)) {
+                        return bad(format!("edge {}: its twin joins other vertices", e.0));
+                    }
+                }
+            }
+        }
+        for f in b.faces() {
+            match self.face_role(f)? {
+                FaceRole::Side { twin } => {
+                    if twin == f || self.face_role(twin)? != (FaceRole::Side { twin: f }) {
+                        return bad(format!("face {}: twins not mutual", f.0));
+                    }
+                }
+                FaceRole::Thickness => {
+                    let loops = b.loops_of(f)?;
+                    if loops.len() != 1 {
+                        return bad(format!("face {}: a thickness face with rings", f.0));
+                    }
+                    let (mut zero, mut side) = (0, 0);
+                    for h in b.loop_halves(loops[0])? {
+                        let e = b.edge(h)?.ok_or_else(|| {
+                            TopologyError::Invalid(format!("face {}: a lone vertex", f.0))
+                        })?;
+                        match self.edge_role(e)? {
+                            EdgeRole::ZeroLength => zero += 1,
+                            EdgeRole::Side { .. } => side += 1,
+                        }
+                    }
+                    if zero == 0 || side == 0 {
+                        return bad(format!(
+                            "face {}: a zero-area loop needs side and zero-length edges",
+                            f.0
+                        ));
+                    }
+                }
+            }
+        }
+        Ok(counts)
+    }
+}

@@ -1,0 +1,220 @@
+//! The sheet model's topology (paper 003, sections 2-3): the initial sheet has the
+//! solid's topology with twins, and random sequences of Euler operators keep every
+//! link and the Euler-Poincare formula.
+
+use dieface::sheet::topology::{Brep, EdgeRole, FaceRole, HalfEdgeId, Sheet};
+use proptest::prelude::*;
+
+#[test]
+fn the_initial_sheet_is_a_slab_of_twins_with_zero_area_loops() {
+    for n in 3..=9 {
+        let (sheet, bottom, top) = Sheet::initial(n).expect("a valid outline");
+        let counts = sheet.check().expect("valid");
+        // A prism over an n-gon: V = 2n, E = 3n, F = n + 2, one shell, no hole.
+        assert_eq!(
+            (counts.vertices, counts.edges, counts.faces),
+            (2 * n, 3 * n, n + 2),
+            "n = {n}"
+        );
+        assert_eq!((counts.rings, counts.shells, counts.genus), (0, 1, 0));
+        assert_eq!(
+            sheet.face_role(bottom).unwrap(),
+            FaceRole::Side { twin: top }
+        );
+        assert_eq!(
+            sheet.face_role(top).unwrap(),
+            FaceRole::Side { twin: bottom }
+        );
+        let b = &sheet.brep;
+        let thickness: Vec<_> = b
+            .faces()
+            .filter(|&f| sheet.face_role(f).unwrap() == FaceRole::Thickness)
+            .collect();
+        assert_eq!(thickness.len(), n);
+        for f in thickness {
+            // Two zero-length edges and two twin side edges each.
+            let halves = b.loop_halves(b.loops_of(f).unwrap()[0]).unwrap();
+            assert_eq!(halves.len(), 4);
+            let zero = halves
+                .iter()
+                .filter(|&&h| {
+                    sheet.edge_role(b.edge(h).unwrap().unwrap()).unwrap() == EdgeRole::ZeroLength
+                })
+                .count();
+            assert_eq!(zero, 2, "face {f:?}");
+        }
+        // Each side has the n outline edges, each with its twin on the other side.
+        for side in [bottom, top] {
+            let halves = b.loop_halves(b.loops_of(side).unwrap()[0]).unwrap();
+            assert_eq!(halves.len(), n);
+            for h in halves {
+                let e = b.edge(h).unwrap().unwrap();
+                assert!(matches!(sheet.edge_role(e).unwrap(), EdgeRole::Side { .. }));
+            }
+        }
+    }
+}
+
+#[test]
+fn an_outline_of_two_vertices_is_refused() {
+    assert!(Sheet::initial(2).is_err());
+}
+
+/// One step of a random sequence: which operator, and two numbers that pick its
+/// arguments among the live elements.
+#[derive(Debug, Clone, Copy)]
+struct Step {
+    op: u8,
+    a: u32,
+    b: u32,
+}
+
+fn step() -> impl Strategy<Value = Step> {
+    (0u8..6, any::<u32>(), any::<u32>()).prop_map(|(op, a, b)| Step { op, a, b })
+}
+
+/// The live half-edges, in id order.
+fn halves(b: &Brep) -> Vec<HalfEdgeId> {
+    b.loops()
+        .flat_map(|l| b.loop_halves(l).unwrap())
+        .collect::<std::collections::BTreeSet<_>>()
+        .into_iter()
+        .collect()
+}
+
+/// Applies `s` when its operator applies to the elements it picks; true if it did.
+fn apply(b: &mut Brep, s: Step) -> bool {
+    let hs = halves(b);
+    let edges: Vec<_> = b.edges().collect();
+    let faces: Vec<_> = b.faces().collect();
+    let pick = |n: usize, k: u32| (k as usize) % n.max(1);
+    match s.op {
+        // Make edge, vertex: a dangling edge, or a vertex split between two half-edges
+        // leaving one vertex.
+        0 => {
+            let h1 = hs[pick(hs.len(), s.a)];
+            let v = b.vertex(h1).unwrap();
+            let round: Vec<_> = hs
+                .iter()
+                .copied()
+                .filter(|&h| b.vertex(h).unwrap() == v)
+                .collect();
+            let h2 = round[pick(round.len(), s.b)];
+            b.lmev(h1, h2).is_ok()
+        }
+        // Make edge, face: two half-edges of one loop.
+        1 => {
+            let h1 = hs[pick(hs.len(), s.a)];
+            let l = b.loop_with(h1).unwrap();
+            let cycle = b.loop_halves(l).unwrap();
+            let h2 = cycle[pick(cycle.len(), s.b)];
+            h1 != h2 && b.edge(h1).unwrap().is_some() && b.lmef(h1, h2).is_ok()
+        }
+        // Kill edge, make ring.
+        2 if !edges.is_empty() => {
+            let e = edges[pick(edges.len(), s.a)];
+            let (p, m) = b.halves_of(e).unwrap();
+            b.loop_with(p).unwrap() == b.loop_with(m).unwrap() && b.lkemr(e).is_ok()
+        }
+        // Kill face, make ring (and hole).
+        3 if faces.len() > 1 => {
+            let f1 = faces[pick(faces.len(), s.a)];
+            let f2 = faces[pick(faces.len(), s.b)];
+            f1 != f2 && b.loops_of(f2).unwrap().len() == 1 && b.lkfmrh(f1, f2).is_ok()
+        }
+        // Kill edge, vertex.
+        4 if !edges.is_empty() => {
+            let e = edges[pick(edges.len(), s.a)];
+            let (p, m) = b.halves_of(e).unwrap();
+            b.vertex(p).unwrap() != b.vertex(m).unwrap() && b.lkev(e).is_ok()
+        }
+        // Kill edge, face.
+        5 if !edges.is_empty() => {
+            let e = edges[pick(edges.len(), s.a)];
+            let (p, m) = b.halves_of(e).unwrap();
+            let (lp, lm) = (b.loop_with(p).unwrap(), b.loop_with(m).unwrap());
+            let (fp, fm) = (b.face_with(lp).unwrap(), b.face_with(lm).unwrap());
+            fp != fm
+                && b.loops_of(fp).unwrap()[0] == lp
+                && b.loops_of(fm).unwrap()[0] == lm
+                && b.lkef(e).is_ok()
+        }
+        _ => false,
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
+
+    /// Up to 30 random Euler operators from a new shell or from an initial sheet: every
+    /// link holds and V - E + F - R = 2 (S - G) after each one.
+    #[test]
+    fn euler_operators_keep_the_topology_valid(
+        start in 0usize..8,
+        steps in prop::collection::vec(step(), 1..30),
+    ) {
+        let mut b = if start < 3 {
+            let mut b = Brep::new();
+            b.mvfs();
+            b
+        } else {
+            Sheet::initial(start).unwrap().0.brep
+        };
+        let mut applied = 0;
+        for s in steps {
+            let before = b.clone();
+            if apply(&mut b, s) {
+                applied += 1;
+                if let Err(e) = b.check() {
+                    prop_assert!(false, "after {:?} (step {}): {}\nbefore: {:?}", s, applied, e, before.counts());
+                }
+            } else {
+                // An operator that does not apply changes nothing.
+                prop_assert_eq!(&b, &before);
+            }
+        }
+    }
+}
+
+/// The random sequences exercise every operator, through holes included: 500 seeded
+/// sequences of 30 steps, each operator applied many times, each result valid.
+#[test]
+fn random_sequences_reach_every_operator() {
+    let mut state: u64 = 0x9e37_79b9_7f4a_7c15;
+    let mut next = || {
+        // xorshift64*: a fixed, seeded stream.
+        state ^= state >> 12;
+        state ^= state << 25;
+        state ^= state >> 27;
+        (state.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 32) as u32
+    };
+    let mut applied = [0usize; 6];
+    let mut holes = 0;
+    for seq in 0..500 {
+        let mut b = match seq % 4 {
+            0 => {
+                let mut b = Brep::new();
+                b.mvfs();
+                b
+            }
+            k => Sheet::initial(2 + k).unwrap().0.brep,
+        };
+        for _ in 0..30 {
+            let s = Step {
+                op: (next() % 6) as u8,
+                a: next(),
+                b: next(),
+            };
+            if apply(&mut b, s) {
+                applied[s.op as usize] += 1;
+                let counts = b.check().unwrap_or_else(|e| panic!("sequence {seq}: {e}"));
+                holes = holes.max(counts.genus);
+            }
+        }
+    }
+    eprintln!("applied per operator (lmev, lmef, lkemr, lkfmrh, lkev, lkef): {applied:?}; largest genus {holes}");
+    for (op, n) in applied.iter().enumerate() {
+        assert!(*n >= 50, "operator {op} applied {n} times: {applied:?}");
+    }
+    assert!(holes > 0, "no through hole was made");
+}
