@@ -70,7 +70,7 @@ struct Step {
 }
 
 fn step() -> impl Strategy<Value = Step> {
-    (0u8..6, any::<u32>(), any::<u32>()).prop_map(|(op, a, b)| Step { op, a, b })
+    (0u8..7, any::<u32>(), any::<u32>()).prop_map(|(op, a, b)| Step { op, a, b })
 }
 
 /// The live half-edges, in id order.
@@ -114,7 +114,8 @@ fn apply(b: &mut Brep, s: Step) -> bool {
         2 if !edges.is_empty() => {
             let e = edges[pick(edges.len(), s.a)];
             let (p, m) = b.halves_of(e).unwrap();
-            b.loop_with(p).unwrap() == b.loop_with(m).unwrap() && b.lkemr(e).is_ok()
+            b.loop_with(p).unwrap() == b.loop_with(m).unwrap()
+                && b.lkemr(if s.b % 2 == 0 { p } else { m }).is_ok()
         }
         // Kill face, make ring (and hole).
         3 if faces.len() > 1 => {
@@ -138,6 +139,29 @@ fn apply(b: &mut Brep, s: Step) -> bool {
                 && b.loops_of(fp).unwrap()[0] == lp
                 && b.loops_of(fm).unwrap()[0] == lm
                 && b.lkef(e).is_ok()
+        }
+        // Make edge, kill ring: two loops of one face.
+        6 => {
+            let with_rings: Vec<_> = faces
+                .iter()
+                .copied()
+                .filter(|&f| b.loops_of(f).unwrap().len() > 1)
+                .collect();
+            if with_rings.is_empty() {
+                return false;
+            }
+            let f = with_rings[pick(with_rings.len(), s.a)];
+            let loops = b.loops_of(f).unwrap().to_vec();
+            let l1 = loops[pick(loops.len(), s.a / 7)];
+            let l2 = loops[pick(loops.len(), s.b)];
+            if l1 == l2 {
+                return false;
+            }
+            let c1 = b.loop_halves(l1).unwrap();
+            let c2 = b.loop_halves(l2).unwrap();
+            let h1 = c1[pick(c1.len(), s.b / 7)];
+            let h2 = c2[pick(c2.len(), s.a / 13)];
+            b.lmekr(h1, h2).is_ok()
         }
         _ => false,
     }
@@ -188,7 +212,7 @@ fn random_sequences_reach_every_operator() {
         state ^= state >> 27;
         (state.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 32) as u32
     };
-    let mut applied = [0usize; 6];
+    let mut applied = [0usize; 7];
     let mut holes = 0;
     for seq in 0..500 {
         let mut b = match seq % 4 {
@@ -201,7 +225,7 @@ fn random_sequences_reach_every_operator() {
         };
         for _ in 0..30 {
             let s = Step {
-                op: (next() % 6) as u8,
+                op: (next() % 7) as u8,
                 a: next(),
                 b: next(),
             };
@@ -212,7 +236,7 @@ fn random_sequences_reach_every_operator() {
             }
         }
     }
-    eprintln!("applied per operator (lmev, lmef, lkemr, lkfmrh, lkev, lkef): {applied:?}; largest genus {holes}");
+    eprintln!("applied per operator (lmev, lmef, lkemr, lkfmrh, lkev, lkef, lmekr): {applied:?}; largest genus {holes}");
     for (op, n) in applied.iter().enumerate() {
         assert!(*n >= 50, "operator {op} applied {n} times: {applied:?}");
     }

@@ -471,14 +471,14 @@ impl Brep {
         Ok((e, face))
     }
 
-    /// Kill edge, make ring: removes edge `e`, whose two half-edges run in one loop,
-    /// splitting that loop into two; the part on the `minus` half's side becomes a new
-    /// ring of the same face.
-    pub fn lkemr(&mut self, e: EdgeId) -> Result<LoopId> {
-        let Edge {
-            plus: h1,
-            minus: h2,
-        } = *self.edge_of(e)?;
+    /// Kill edge, make ring: removes the edge of `h`, whose two half-edges run in one
+    /// loop, splitting that loop into two; the part that follows `h` becomes a new ring
+    /// of the same face, the part that follows its mate stays the loop it was.
+    pub fn lkemr(&mut self, h: HalfEdgeId) -> Result<LoopId> {
+        let e = self.half(h)?.edge.ok_or_else(|| {
+            TopologyError::NotApplicable("lkemr: a lone vertex has no edge".into())
+        })?;
+        let (h1, h2) = (h, self.mate(h)?);
         let old = self.half(h1)?.lp;
         if self.half(h2)?.lp != old {
             return Err(TopologyError::NotApplicable(
@@ -517,6 +517,58 @@ impl Brep {
         self.vertices[q.index()] = Some(Vertex { half: Some(qb) });
         self.edges[e.index()] = None;
         Ok(ring)
+    }
+
+    /// Make edge, kill ring: the inverse of [`Brep::lkemr`]: a new edge from the vertex
+    /// of `h1` to the vertex of `h2`, which run in two loops of one face, joins the two
+    /// loops into the loop of `h1`; the loop of `h2` is gone.
+    pub fn lmekr(&mut self, h1: HalfEdgeId, h2: HalfEdgeId) -> Result<EdgeId> {
+        let (l1, l2) = (self.half(h1)?.lp, self.half(h2)?.lp);
+        if l1 == l2 {
+            return Err(TopologyError::NotApplicable(
+                "lmekr: the two half-edges must run in two loops".into(),
+            ));
+        }
+        let face = self.loop_of(l1)?.face;
+        if self.loop_of(l2)?.face != face {
+            return Err(TopologyError::NotApplicable(
+                "lmekr: the two loops must bound one face".into(),
+            ));
+        }
+        let cycle = self.loop_halves(l2)?;
+        for &h in &cycle {
+            self.half_mut(h).lp = l1;
+        }
+        let (v1, v2) = (self.half(h1)?.vertex, self.half(h2)?.vertex);
+        let e = self.new_edge();
+        // Each new half goes in before `h1` and `h2` (taking over a lone vertex's
+        // half-edge), then the cycles are crossed over: n1 (v1 -> v2) runs on into the
+        // loop of `h2`, n2 (v2 -> v1) back into the loop of `h1`.
+        let n1 = self.add_half(e, v1, h1, true);
+        let n2 = self.add_half(e, v2, h2, false);
+        self.cross(n1, n2)?;
+        let outer_was_l2 = self.face_of(face)?.loops[0] == l2;
+        let lp = self.faces[face.index()].as_mut().expect("checked above");
+        lp.loops.retain(|&l| l != l2);
+        if outer_was_l2 {
+            // The joined loop takes the outer loop's place.
+            lp.loops.retain(|&l| l != l1);
+            lp.loops.insert(0, l1);
+        }
+        self.loops[l2.index()] = None;
+        self.loops[l1.index()] = Some(Loop { half: n1, face });
+        Ok(e)
+    }
+
+    /// Crosses two half-edges' successors over: `a` continues with what followed `b`
+    /// and `b` with what followed `a` (joins two cycles into one, or splits one in two).
+    fn cross(&mut self, a: HalfEdgeId, b: HalfEdgeId) -> Result<()> {
+        let (na, nb) = (self.half(a)?.next, self.half(b)?.next);
+        self.half_mut(a).next = nb;
+        self.half_mut(nb).prev = a;
+        self.half_mut(b).next = na;
+        self.half_mut(na).prev = b;
+        Ok(())
     }
 
     /// Kill face, make ring (and hole): face `f2`, which has only an outer loop, is
