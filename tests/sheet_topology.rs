@@ -242,3 +242,56 @@ fn random_sequences_reach_every_operator() {
     }
     assert!(holes > 0, "no through hole was made");
 }
+
+/// Punching an n-gon hole through a square sheet: the counts of a slab with a through
+/// hole (genus 1), the hole lined with n thickness quads, rings on both sides; a second
+/// hole makes genus 2; a wrong argument changes nothing.
+#[test]
+fn a_punched_hole_is_lined_with_zero_area_loops() {
+    use dieface::sheet::topology::FaceRole;
+    for n in 3..=7 {
+        let (mut sheet, bottom, top) = Sheet::initial(4).unwrap();
+        let at = sheet
+            .brep
+            .vertex(
+                sheet
+                    .brep
+                    .loop_halves(sheet.brep.loops_of(bottom).unwrap()[0])
+                    .unwrap()[0],
+            )
+            .unwrap();
+        let hole = sheet.punch(bottom, at, n).expect("a hole");
+        let c = sheet.check().expect("valid after the punch");
+        assert_eq!(
+            (c.vertices, c.edges, c.faces, c.rings, c.shells, c.genus),
+            (8 + 2 * n, 12 + 3 * n, 6 + n, 2, 1, 1),
+            "n = {n}"
+        );
+        assert_eq!(hole.lining.len(), n);
+        let b = &sheet.brep;
+        for &f in &hole.lining {
+            assert_eq!(sheet.face_role(f).unwrap(), FaceRole::Thickness);
+            let halves = b.loop_halves(b.loops_of(f).unwrap()[0]).unwrap();
+            assert_eq!(halves.len(), 4, "a hole's lining face is a quad");
+        }
+        for side in [bottom, top] {
+            assert_eq!(b.loops_of(side).unwrap().len(), 2, "a ring on each side");
+        }
+        // A second hole, bridged from the same corner.
+        let second = sheet.punch(bottom, at, 3).expect("a second hole");
+        let c = sheet.check().expect("valid after the second punch");
+        assert_eq!(c.genus, 2);
+        assert_eq!(second.lining.len(), 3);
+    }
+    let (mut sheet, bottom, _) = Sheet::initial(4).unwrap();
+    let before = sheet.clone();
+    let thickness = sheet
+        .brep
+        .faces()
+        .find(|&f| sheet.face_role(f).unwrap() == FaceRole::Thickness)
+        .unwrap();
+    let at = sheet.brep.vertices().next().unwrap();
+    assert!(sheet.punch(thickness, at, 4).is_err());
+    assert!(sheet.punch(bottom, at, 2).is_err());
+    assert_eq!(sheet, before);
+}

@@ -1045,6 +1045,127 @@ impl Sheet {
         }
     }
 
+    /// Punches an `n`-sided hole through the sheet at side face `side` (and its twin),
+    /// its first corner bridged from `at`, a vertex of the side's outer loop (paper 003,
+    /// section 4.3, Fig. 10: a hole loop). The side and its twin each get a ring of `n`
+    /// new vertices (twins of each other), the ring edges are twins, and between the
+    /// two rings `n` zero-length edges and `n` thickness faces line the hole; the genus
+    /// grows by one. Nothing changes when an argument is wrong.
+    pub fn punch(&mut self, side: FaceId, at: VertexId, n: usize) -> Result<Hole> {
+        if n < 3 {
+            return Err(TopologyError::NotApplicable(format!(
+                "a hole needs 3 corners or more, not {n}"
+            )));
+        }
+        let FaceRole::Side { twin } = self.face_role(side)? else {
+            return Err(TopologyError::NotApplicable(
+                "a hole is punched through a side, not a thickness face".into(),
+            ));
+        };
+        let at_twin = self.twin_vertex(at)?;
+        let on_outer = |b: &Brep, f: FaceId, v: VertexId| -> Result<HalfEdgeId> {
+            b.loop_halves(b.loops_of(f)?[0])?
+                .into_iter()
+                .find(|&h| b.vertex(h).ok() == Some(v))
+                .ok_or_else(|| {
+                    TopologyError::NotApplicable(format!(
+                        "vertex {} is not on the outer boundary of face {}",
+                        v.0, f.0
+                    ))
+                })
+        };
+        let start = on_outer(&self.brep, side, at)?;
+        let start_twin = on_outer(&self.brep, twin, at_twin)?;
+        let mut b = self.brep.clone();
+        let (top, top_edges, cap) = Self::ring_in(&mut b, start, n)?;
+        let (ring, ring_edges, cap_twin) = Self::ring_in(&mut b, start_twin, n)?;
+        // The twin side faces the other way, so its ring runs the other way round:
+        // corner k's twin is its corner n - k, and edge k's twin its edge n - 1 - k.
+        let bottom: Vec<VertexId> = (0..n).map(|k| ring[(n - k) % n]).collect();
+        let bottom_edges: Vec<EdgeId> = (0..n).map(|k| ring_edges[n - 1 - k]).collect();
+        // The twin's cap becomes a ring of the cap (the through hole), the two rings
+        // are joined by a zero-length edge, and each further pair of twins by another,
+        // each cutting a thickness face off the cap.
+        b.lkfmrh(cap, cap_twin)?;
+        let leaving = |b: &Brep, l: LoopId, v: VertexId| -> Option<HalfEdgeId> {
+            b.loop_halves(l)
+                .ok()?
+                .into_iter()
+                .find(|&h| b.vertex(h).ok() == Some(v))
+        };
+        let loops = b.loops_of(cap)?.to_vec();
+        let (h1, h2) = (
+            leaving(&b, loops[0], top[0]).ok_or_else(|| lost("the hole's first corner"))?,
+            leaving(&b, loops[1], bottom[0]).ok_or_else(|| lost("its twin"))?,
+        );
+        let mut zero = vec![b.lmekr(h1, h2)?];
+
+        let mut lining = vec![cap];
+        for k in 1..n {
+            // The loop (of the lining made so far) that both corners k leave.
+            let (h1, h2) = lining
+                .iter()
+                .map(|&f| b.loops_of(f).map(|ls| ls[0]))
+                .collect::<Result<Vec<_>>>()?
+                .into_iter()
+                .find_map(|l| Some((leaving(&b, l, bottom[k])?, leaving(&b, l, top[k])?)))
+                .ok_or_else(|| lost("a corner of the hole"))?;
+            // From the twin round to the corner: the quad between corners k - 1 and k.
+            let (e, f) = b.lmef(h1, h2)?;
+            zero.push(e);
+            lining.push(f);
+        }
+        self.brep = b;
+        self.sync_tables();
+        for &f in &lining {
+            self.faces[f.index()] = Some(FaceRole::Thickness);
+        }
+        for &e in &zero {
+            self.edges[e.index()] = Some(EdgeRole::ZeroLength);
+        }
+        for (&v, &w) in top.iter().zip(&bottom) {
+            self.vertex_twins[v.index()] = Some(w);
+            self.vertex_twins[w.index()] = Some(v);
+        }
+        for (&e, &f) in top_edges.iter().zip(&bottom_edges) {
+            self.edges[e.index()] = Some(EdgeRole::Side { twin: f });
+            self.edges[f.index()] = Some(EdgeRole::Side { twin: e });
+        }
+        Ok(Hole {
+            corners: top,
+            twin_corners: bottom,
+            lining,
+        })
+    }
+
+    /// In the face of `start` (a half-edge of its outer loop, leaving vertex v): a
+    /// bridge edge from v to a new vertex, a chain of `n - 1` more edges from there,
+    /// closed into an `n`-gon face (the cap), and the bridge killed so the `n`-gon's
+    /// boundary is a ring of the face. Returns the ring's vertices in order, its edges
+    /// (edge k from corner k to corner k + 1) and the cap.
+    fn ring_in(
+        b: &mut Brep,
+        start: HalfEdgeId,
+        n: usize,
+    ) -> Result<(Vec<VertexId>, Vec<EdgeId>, FaceId)> {
+        let v = b.vertex(start)?;
+        let (bridge, w1) = b.lmev(start, start)?;
+        let mut corners = vec![w1];
+        let mut edges = Vec::with_capacity(n);
+        let mut tip = b.prev(start)?;
+        for _ in 1..n {
+            let (e, w) = b.lmev(tip, tip)?;
+            corners.push(w);
+            edges.push(e);
+            tip = b.prev(tip)?;
+        }
+        let first = Self::half_leaving(b, edges[0], w1)?;
+        let (closing, cap) = b.lmef(first, tip)?;
+        edges.push(closing);
+        b.lkemr(Self::half_leaving(b, bridge, v)?)?;
+        Ok((corners, edges, cap))
+    }
+
     /// Grows the role tables to the topology's tables.
     fn sync_tables(&mut self) {
         self.faces.resize(self.brep.faces.len(), None);
@@ -1151,4 +1272,20 @@ impl Sheet {
         }
         Ok(counts)
     }
+}
+
+/// What [`Sheet::punch`] made.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Hole {
+    /// The hole's corners on the punched side, in order round it.
+    pub corners: Vec<VertexId>,
+    /// Their twins on the other side.
+    pub twin_corners: Vec<VertexId>,
+    /// The thickness faces lining the hole, one per hole edge.
+    pub lining: Vec<FaceId>,
+}
+
+/// An element an operator made and then could not find: a bug in the operator.
+fn lost(what: &str) -> TopologyError {
+    TopologyError::Invalid(format!("{what} went missing"))
 }
