@@ -295,3 +295,143 @@ fn a_punched_hole_is_lined_with_zero_area_loops() {
     assert!(sheet.punch(bottom, at, 2).is_err());
     assert_eq!(sheet, before);
 }
+
+/// Flanges on free edges (paper 003, Fig. 6(d)): each adds a twin pair of sides and
+/// moves the thickness face to its far edge; flanges on a flange's far edge and on
+/// neighbouring edges (three zero-area loops at a vertex) keep the sheet valid; an
+/// edge where sheets already meet is refused and nothing changes.
+#[test]
+fn flanges_sweep_the_thickness_face_of_a_free_edge() {
+    use dieface::sheet::topology::FaceRole;
+    let (mut sheet, bottom, _) = Sheet::initial(4).unwrap();
+    let b = &sheet.brep;
+    let outline: Vec<_> = b
+        .loop_halves(b.loops_of(bottom).unwrap()[0])
+        .unwrap()
+        .into_iter()
+        .map(|h| b.edge(h).unwrap().unwrap())
+        .collect();
+    let first = sheet.flange(outline[0]).expect("a flange on a free edge");
+    let c = sheet.check().expect("valid after a flange");
+    assert_eq!((c.vertices, c.edges, c.faces, c.genus), (12, 20, 10, 0));
+    assert_eq!(first.sides.len(), 2);
+    assert_eq!(
+        sheet.face_role(first.sides[0]).unwrap(),
+        FaceRole::Side {
+            twin: first.sides[1]
+        }
+    );
+    // The flanged edge now joins two sheets: no second flange there.
+    let before = sheet.clone();
+    assert!(sheet.flange(outline[0]).is_err());
+    assert_eq!(sheet, before);
+    // A flange on the flange, and one on the next outline edge, beside the first.
+    sheet
+        .flange(first.far_edge)
+        .expect("a flange on the flange");
+    sheet.flange(outline[1]).expect("a flange beside the first");
+    let c = sheet.check().expect("valid after three flanges");
+    assert_eq!((c.vertices, c.edges, c.faces), (20, 36, 18));
+    // A hole through the first flange.
+    let at = sheet
+        .brep
+        .vertex(
+            sheet
+                .brep
+                .loop_halves(sheet.brep.loops_of(first.sides[0]).unwrap()[0])
+                .unwrap()[0],
+        )
+        .unwrap();
+    sheet
+        .punch(first.sides[0], at, 5)
+        .expect("a hole in the flange");
+    assert_eq!(sheet.check().expect("valid").genus, 1);
+}
+
+/// One sheet operation of a random sequence.
+#[derive(Debug, Clone, Copy)]
+enum SheetOp {
+    /// A flange on the free edge picked by the number.
+    Flange(u32),
+    /// A hole of 3 + the second number corners through the side picked by the first,
+    /// bridged from the outer vertex picked by the third.
+    Punch(u32, u8, u32),
+}
+
+fn sheet_op() -> impl Strategy<Value = SheetOp> {
+    prop_oneof![
+        any::<u32>().prop_map(SheetOp::Flange),
+        (any::<u32>(), 0u8..4, any::<u32>()).prop_map(|(f, n, v)| SheetOp::Punch(f, n, v)),
+    ]
+}
+
+/// Applies `op` to the element it picks, when it applies; true if it did.
+fn apply_sheet(sheet: &mut Sheet, op: SheetOp) -> bool {
+    use dieface::sheet::topology::FaceRole;
+    let b = &sheet.brep;
+    match op {
+        SheetOp::Flange(k) => {
+            let free: Vec<_> = b
+                .edges()
+                .filter(|&e| {
+                    let (p, m) = b.halves_of(e).unwrap();
+                    matches!(sheet.edge_role(e).unwrap(), EdgeRole::Side { .. })
+                        && [p, m].iter().any(|&h| {
+                            let f = b.face_with(b.loop_with(h).unwrap()).unwrap();
+                            sheet.face_role(f).unwrap() == FaceRole::Thickness
+                        })
+                })
+                .collect();
+            if free.is_empty() {
+                return false;
+            }
+            let e = free[k as usize % free.len()];
+            sheet.flange(e).is_ok()
+        }
+        SheetOp::Punch(f, n, v) => {
+            let sides: Vec<_> = b
+                .faces()
+                .filter(|&f| matches!(sheet.face_role(f).unwrap(), FaceRole::Side { .. }))
+                .collect();
+            let side = sides[f as usize % sides.len()];
+            let outer = b.loop_halves(b.loops_of(side).unwrap()[0]).unwrap();
+            let at = b.vertex(outer[v as usize % outer.len()]).unwrap();
+            sheet.punch(side, at, 3 + n as usize).is_ok()
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 200, ..ProptestConfig::default() })]
+
+    /// 200 random sequences of up to 30 sheet operations (flanges on free edges,
+    /// holes through sides) from an initial sheet, shrinking on failure: after each,
+    /// the topology and every twin, zero-area loop and zero-length edge is valid, the
+    /// genus counts the holes punched, and the model stays one shell; an operation
+    /// that does not apply changes nothing.
+    #[test]
+    fn sheet_operations_keep_the_sheet_valid(
+        n in 3usize..7,
+        ops in prop::collection::vec(sheet_op(), 1..30),
+    ) {
+        let (mut sheet, _, _) = Sheet::initial(n).unwrap();
+        let mut holes = 0;
+        for op in ops {
+            let before = sheet.clone();
+            if apply_sheet(&mut sheet, op) {
+                match sheet.check() {
+                    Ok(c) => {
+                        if matches!(op, SheetOp::Punch(..)) {
+                            holes += 1;
+                        }
+                        prop_assert_eq!(c.genus, holes);
+                        prop_assert_eq!(c.shells, 1);
+                    }
+                    Err(e) => prop_assert!(false, "after {:?}: {}", op, e),
+                }
+            } else {
+                prop_assert_eq!(&sheet, &before);
+            }
+        }
+    }
+}

@@ -904,6 +904,77 @@ fn ids<T>(table: &[Option<T>]) -> impl Iterator<Item = usize> + '_ {
         .filter_map(|(i, x)| x.as_ref().map(|_| i))
 }
 
+/// What [`sweep`] made of a loop.
+struct Sweep {
+    /// The loop's half-edges before the sweep, in order.
+    ring: Vec<HalfEdgeId>,
+    /// The vertex each of them starts at.
+    base: Vec<VertexId>,
+    /// Per base vertex: the edge up from it, and the vertex at its top.
+    up: Vec<EdgeId>,
+    tops: Vec<VertexId>,
+    /// Per loop half-edge k: the face swept from it, and its edge at the top (from top
+    /// k to top k + 1).
+    sides: Vec<FaceId>,
+    cap_edges: Vec<EdgeId>,
+}
+
+impl Sweep {
+    /// The edges of the loop before the sweep, in order.
+    fn base_edges(&self, b: &Brep) -> Result<Vec<EdgeId>> {
+        self.ring
+            .iter()
+            .map(|&h| b.edge(h)?.ok_or_else(|| lost("an edge of the swept loop")))
+            .collect()
+    }
+}
+
+/// Sweeps loop `l` of its face (the face stays, as the cap): an edge up from each of
+/// its vertices (lmev into the loop), then the tops joined in order (lmef), each join
+/// cutting off the face swept from one edge of the loop. The topology of extruding a
+/// face; a sheet's first lift and a flange are both this.
+fn sweep(b: &mut Brep, l: LoopId) -> Result<Sweep> {
+    let ring = b.loop_halves(l)?;
+    let n = ring.len();
+    if n < 2 || b.edge(ring[0])?.is_none() {
+        return Err(TopologyError::NotApplicable(
+            "a loop of fewer than two edges has nothing to sweep".into(),
+        ));
+    }
+    let mut base = Vec::with_capacity(n);
+    let mut up = Vec::with_capacity(n);
+    let mut tops = Vec::with_capacity(n);
+    for &h in &ring {
+        base.push(b.vertex(h)?);
+        let (e, w) = b.lmev(h, h)?;
+        up.push(e);
+        tops.push(w);
+    }
+    let mut sides = Vec::with_capacity(n);
+    let mut cap_edges = Vec::with_capacity(n);
+    for k in 0..n {
+        let a = Sheet::half_leaving(b, up[k], tops[k])?;
+        // The half-edge of the cap's loop that leaves the next top (after the first
+        // join, that top's own up half runs in a swept face).
+        let c = b
+            .loop_halves(b.loop_with(a)?)?
+            .into_iter()
+            .find(|&h| b.vertex(h).ok() == Some(tops[(k + 1) % n]))
+            .ok_or_else(|| lost("a top of the swept loop"))?;
+        let (e, f) = b.lmef(a, c)?;
+        cap_edges.push(e);
+        sides.push(f);
+    }
+    Ok(Sweep {
+        ring,
+        base,
+        up,
+        tops,
+        sides,
+        cap_edges,
+    })
+}
+
 /// What a face of a sheet model is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum FaceRole {
@@ -964,42 +1035,13 @@ impl Sheet {
         let first_edge = first_edge.expect("n >= 3 makes at least two edges");
         let leaving_v0 = Self::half_leaving(&b, first_edge, v0)?;
         let (_, top) = b.lmef(tip, leaving_v0)?;
-        // Lift the top's loop: every vertex gets its twin by a zero-length edge, then
-        // consecutive twins are joined, each join cutting a thickness face off the top.
+        // Lift the top's loop: every vertex gets its twin by a zero-length edge, and
+        // each outline edge a thickness face.
         let top_loop = b.loops_of(top)?[0];
-        let ring: Vec<HalfEdgeId> = b.loop_halves(top_loop)?;
-        let outline: Vec<EdgeId> = ring
-            .iter()
-            .map(|&h| {
-                b.edge(h)?.ok_or_else(|| {
-                    TopologyError::Invalid("an outline half-edge has no edge".into())
-                })
-            })
-            .collect::<Result<_>>()?;
-        let mut up = Vec::with_capacity(n);
-        let mut twins = Vec::with_capacity(n);
-        for &h in &ring {
-            let v = b.vertex(h)?;
-            let (e, w) = b.lmev(h, h)?;
-            up.push(e);
-            twins.push((v, w));
-        }
-        let mut lifted = Vec::with_capacity(n);
-        let mut thickness = Vec::with_capacity(n);
-        for k in 0..n {
-            let next = (k + 1) % n;
-            let a = Self::half_leaving(&b, up[k], twins[k].1)?;
-            // The half-edge of the top's loop that leaves the next twin (after the
-            // first join, the twin's own zero-length half runs in a thickness face).
-            let c = b
-                .loop_halves(b.loop_with(a)?)?
-                .into_iter()
-                .find(|&h| b.vertex(h).ok() == Some(twins[next].1))
-                .ok_or_else(|| TopologyError::Invalid("a twin left the top's loop".into()))?;
-            let (e, f) = b.lmef(a, c)?;
-            lifted.push(e);
-            thickness.push(f);
-        }
+        let lift = sweep(&mut b, top_loop)?;
+        let outline = lift.base_edges(&b)?;
+        let (up, thickness, lifted) = (lift.up, lift.sides, lift.cap_edges);
+        let twins: Vec<(VertexId, VertexId)> = lift.base.into_iter().zip(lift.tops).collect();
         let mut sheet = Sheet {
             faces: Vec::new(),
             edges: Vec::new(),
@@ -1021,8 +1063,7 @@ impl Sheet {
         }
         // The edge joining twins k and k + 1 is the twin of outline edge k (from vertex
         // k to vertex k + 1, as `ring` runs).
-        for (k, (&l, &o)) in lifted.iter().zip(&outline).enumerate() {
-            debug_assert_eq!(sheet.brep.vertex(ring[k])?, twins[k].0);
+        for (&l, &o) in lifted.iter().zip(&outline) {
             sheet.edges[l.index()] = Some(EdgeRole::Side { twin: o });
             sheet.edges[o.index()] = Some(EdgeRole::Side { twin: l });
         }
@@ -1135,6 +1176,95 @@ impl Sheet {
             corners: top,
             twin_corners: bottom,
             lining,
+        })
+    }
+
+    /// Adds a flange along a free edge of the sheet (paper 003, section 4.2, Fig. 6(d):
+    /// a new sheet through one edge at an angle to the sheet, bounded by that edge and
+    /// three new ones). Topologically the thickness face along `edge` is swept out: the
+    /// faces swept from the edge and its twin are the flange's two sides (twins), those
+    /// swept from the zero-length edges at its ends are thickness faces, and the
+    /// thickness face itself moves to the flange's far edge. Nothing changes when
+    /// `edge` is not a free edge of the sheet.
+    pub fn flange(&mut self, edge: EdgeId) -> Result<Flange> {
+        let EdgeRole::Side { .. } = self.edge_role(edge)? else {
+            return Err(TopologyError::NotApplicable(
+                "a flange goes on a side edge, not a zero-length one".into(),
+            ));
+        };
+        let (p, m) = self.brep.halves_of(edge)?;
+        let mut thickness = None;
+        for h in [p, m] {
+            let f = self.brep.face_with(self.brep.loop_with(h)?)?;
+            if self.face_role(f)? == FaceRole::Thickness {
+                thickness = Some(f);
+            }
+        }
+        let t = thickness.ok_or_else(|| {
+            TopologyError::NotApplicable(format!(
+                "edge {} is not on the sheet's free boundary: sheets meet there",
+                edge.0
+            ))
+        })?;
+        let mut b = self.brep.clone();
+        let t_loop = b.loops_of(t)?[0];
+        let sw = sweep(&mut b, t_loop)?;
+        let base_edges = sw.base_edges(&b)?;
+        let roles: Vec<EdgeRole> = base_edges
+            .iter()
+            .map(|&e| self.edge_role(e))
+            .collect::<Result<_>>()?;
+        let index_of_edge = |e: EdgeId| base_edges.iter().position(|&x| x == e);
+        let index_of_vertex = |v: VertexId| sw.base.iter().position(|&x| x == v);
+        let twin_index = |k: usize| -> Result<usize> {
+            index_of_vertex(self.twin_vertex(sw.base[k])?)
+                .ok_or_else(|| lost("a twin on the thickness face"))
+        };
+        let mut faces = Vec::new();
+        let mut edges = Vec::new();
+        let mut twins = Vec::new();
+        let mut sides = Vec::new();
+        for k in 0..sw.ring.len() {
+            let j = twin_index(k)?;
+            twins.push((sw.tops[k], sw.tops[j]));
+            edges.push((sw.up[k], EdgeRole::Side { twin: sw.up[j] }));
+            match roles[k] {
+                EdgeRole::Side { twin } => {
+                    let i = index_of_edge(twin).ok_or_else(|| lost("a twin edge"))?;
+                    faces.push((sw.sides[k], FaceRole::Side { twin: sw.sides[i] }));
+                    edges.push((
+                        sw.cap_edges[k],
+                        EdgeRole::Side {
+                            twin: sw.cap_edges[i],
+                        },
+                    ));
+                    sides.push(sw.sides[k]);
+                }
+                EdgeRole::ZeroLength => {
+                    faces.push((sw.sides[k], FaceRole::Thickness));
+                    edges.push((sw.cap_edges[k], EdgeRole::ZeroLength));
+                }
+            }
+        }
+        let far = base_edges
+            .iter()
+            .position(|&e| e == edge)
+            .map(|k| sw.cap_edges[k])
+            .ok_or_else(|| lost("the flanged edge"))?;
+        self.brep = b;
+        self.sync_tables();
+        for (f, r) in faces {
+            self.faces[f.index()] = Some(r);
+        }
+        for (e, r) in edges {
+            self.edges[e.index()] = Some(r);
+        }
+        for (v, w) in twins {
+            self.vertex_twins[v.index()] = Some(w);
+        }
+        Ok(Flange {
+            sides,
+            far_edge: far,
         })
     }
 
@@ -1288,4 +1418,13 @@ pub struct Hole {
 /// An element an operator made and then could not find: a bug in the operator.
 fn lost(what: &str) -> TopologyError {
     TopologyError::Invalid(format!("{what} went missing"))
+}
+
+/// What [`Sheet::flange`] made.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Flange {
+    /// The flange's sides (twins of each other).
+    pub sides: Vec<FaceId>,
+    /// Its far edge, opposite the flanged one (on the side of the flanged edge).
+    pub far_edge: EdgeId,
 }
