@@ -1224,11 +1224,11 @@ impl Sheet {
         let mut edges = Vec::new();
         let mut twins = Vec::new();
         let mut sides = Vec::new();
-        for k in 0..sw.ring.len() {
+        for (k, role) in roles.iter().enumerate() {
             let j = twin_index(k)?;
             twins.push((sw.tops[k], sw.tops[j]));
             edges.push((sw.up[k], EdgeRole::Side { twin: sw.up[j] }));
-            match roles[k] {
+            match *role {
                 EdgeRole::Side { twin } => {
                     let i = index_of_edge(twin).ok_or_else(|| lost("a twin edge"))?;
                     faces.push((sw.sides[k], FaceRole::Side { twin: sw.sides[i] }));
