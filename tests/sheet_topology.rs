@@ -356,12 +356,16 @@ enum SheetOp {
     /// A hole of 3 + the second number corners through the side picked by the first,
     /// bridged from the outer vertex picked by the third.
     Punch(u32, u8, u32),
+    /// A split of the side picked by the first number between the outer vertices
+    /// picked by the other two.
+    Split(u32, u32, u32),
 }
 
 fn sheet_op() -> impl Strategy<Value = SheetOp> {
     prop_oneof![
         any::<u32>().prop_map(SheetOp::Flange),
         (any::<u32>(), 0u8..4, any::<u32>()).prop_map(|(f, n, v)| SheetOp::Punch(f, n, v)),
+        (any::<u32>(), any::<u32>(), any::<u32>()).prop_map(|(f, a, c)| SheetOp::Split(f, a, c)),
     ]
 }
 
@@ -398,6 +402,17 @@ fn apply_sheet(sheet: &mut Sheet, op: SheetOp) -> bool {
             let at = b.vertex(outer[v as usize % outer.len()]).unwrap();
             sheet.punch(side, at, 3 + n as usize).is_ok()
         }
+        SheetOp::Split(f, a, c) => {
+            let sides: Vec<_> = b
+                .faces()
+                .filter(|&f| matches!(sheet.face_role(f).unwrap(), FaceRole::Side { .. }))
+                .collect();
+            let side = sides[f as usize % sides.len()];
+            let outer = b.loop_halves(b.loops_of(side).unwrap()[0]).unwrap();
+            let v1 = b.vertex(outer[a as usize % outer.len()]).unwrap();
+            let v2 = b.vertex(outer[c as usize % outer.len()]).unwrap();
+            sheet.split(side, v1, v2).is_ok()
+        }
     }
 }
 
@@ -405,7 +420,7 @@ proptest! {
     #![proptest_config(ProptestConfig { cases: 200, ..ProptestConfig::default() })]
 
     /// 200 random sequences of up to 30 sheet operations (flanges on free edges,
-    /// holes through sides) from an initial sheet, shrinking on failure: after each,
+    /// holes through sides, splits of sides) from an initial sheet, shrinking on failure: after each,
     /// the topology and every twin, zero-area loop and zero-length edge is valid, the
     /// genus counts the holes punched, and the model stays one shell; an operation
     /// that does not apply changes nothing.
@@ -434,4 +449,61 @@ proptest! {
             }
         }
     }
+}
+
+/// Splitting a side by a new edge splits its twin too (paper 003, Fig. 10): the new
+/// faces are twins, the new edges are twins; neighbours, a thickness face and a side
+/// with a hole are refused with nothing changed.
+#[test]
+fn a_split_side_splits_its_twin() {
+    use dieface::sheet::topology::FaceRole;
+    let (mut sheet, bottom, _) = Sheet::initial(6).unwrap();
+    let corners: Vec<_> = sheet
+        .brep
+        .loop_halves(sheet.brep.loops_of(bottom).unwrap()[0])
+        .unwrap()
+        .into_iter()
+        .map(|h| sheet.brep.vertex(h).unwrap())
+        .collect();
+    let (e, f) = sheet
+        .split(bottom, corners[0], corners[3])
+        .expect("a split");
+    let c = sheet.check().expect("valid after a split");
+    assert_eq!((c.vertices, c.edges, c.faces), (12, 20, 10));
+    let FaceRole::Side { twin } = sheet.face_role(f).unwrap() else {
+        panic!("the new face is a side");
+    };
+    assert_ne!(twin, f);
+    assert!(matches!(sheet.edge_role(e).unwrap(), EdgeRole::Side { .. }));
+    // And again, across the new face (which took corners 0 to 3).
+    sheet
+        .split(f, corners[1], corners[3])
+        .expect("a second split");
+    sheet.check().expect("valid after two splits");
+
+    let before = sheet.clone();
+    assert!(
+        sheet.split(bottom, corners[4], corners[5]).is_err(),
+        "neighbours"
+    );
+    let thickness = sheet
+        .brep
+        .faces()
+        .find(|&f| sheet.face_role(f).unwrap() == FaceRole::Thickness)
+        .unwrap();
+    assert!(sheet.split(thickness, corners[0], corners[2]).is_err());
+    assert_eq!(sheet, before);
+    let (mut holed, bottom, _) = Sheet::initial(4).unwrap();
+    let v = holed.brep.vertices().next().unwrap();
+    holed.punch(bottom, v, 3).unwrap();
+    let before = holed.clone();
+    let outer: Vec<_> = holed
+        .brep
+        .loop_halves(holed.brep.loops_of(bottom).unwrap()[0])
+        .unwrap()
+        .into_iter()
+        .map(|h| holed.brep.vertex(h).unwrap())
+        .collect();
+    assert!(holed.split(bottom, outer[0], outer[2]).is_err());
+    assert_eq!(holed, before);
 }

@@ -1268,6 +1268,92 @@ impl Sheet {
         })
     }
 
+    /// Separates a side by a new edge between two vertices of its outer loop (paper
+    /// 003, section 4.3, Fig. 10: new edges on a sheet), and its twin by the twin edge
+    /// between their twins: each side splits in two, the new faces twins of each other.
+    /// Returns the new edge and the new face on `side`'s sheet side. Nothing changes
+    /// when the vertices are not two of the side's outer loop, or are neighbours
+    /// along it.
+    pub fn split(&mut self, side: FaceId, v1: VertexId, v2: VertexId) -> Result<(EdgeId, FaceId)> {
+        let FaceRole::Side { twin } = self.face_role(side)? else {
+            return Err(TopologyError::NotApplicable(
+                "only a side is split, not a thickness face".into(),
+            ));
+        };
+        if self.brep.loops_of(side)?.len() > 1 {
+            // Which part keeps each hole is a question of where it lies: it waits for the
+            // sheet's geometry.
+            return Err(TopologyError::NotApplicable(
+                "a side with holes is not split yet".into(),
+            ));
+        }
+        let mut b = self.brep.clone();
+        let cut = |b: &mut Brep, f: FaceId, a: VertexId, c: VertexId| -> Result<(EdgeId, FaceId)> {
+            let outer = b.loop_halves(b.loops_of(f)?[0])?;
+            let find = |v: VertexId| -> Result<HalfEdgeId> {
+                outer
+                    .iter()
+                    .copied()
+                    .find(|&h| b.vertex(h).ok() == Some(v))
+                    .ok_or_else(|| {
+                        TopologyError::NotApplicable(format!(
+                            "vertex {} is not on the outer boundary of face {}",
+                            v.0, f.0
+                        ))
+                    })
+            };
+            let (ha, hc) = (find(a)?, find(c)?);
+            if a == c || b.next(ha)? == hc || b.next(hc)? == ha {
+                return Err(TopologyError::NotApplicable(
+                    "a split joins two vertices that are not neighbours".into(),
+                ));
+            }
+            b.lmef(ha, hc)
+        };
+        let (e, f) = cut(&mut b, side, v1, v2)?;
+        let (w1, w2) = (self.twin_vertex(v1)?, self.twin_vertex(v2)?);
+        let (e2, f2) = cut(&mut b, twin, w2, w1)?;
+        self.brep = b;
+        self.sync_tables();
+        // Whichever part each cut made new, the two new faces hold the twin edge pair
+        // and lie on the same side of it: pair each new face with the twin face that
+        // holds the twins of its vertices.
+        let twin_of = |s: &Sheet, f: FaceId, candidates: [FaceId; 2]| -> Result<FaceId> {
+            let vs: Vec<VertexId> = s
+                .brep
+                .loop_halves(s.brep.loops_of(f)?[0])?
+                .into_iter()
+                .map(|h| s.brep.vertex(h))
+                .collect::<Result<_>>()?;
+            for c in candidates {
+                let cs: Vec<VertexId> = s
+                    .brep
+                    .loop_halves(s.brep.loops_of(c)?[0])?
+                    .into_iter()
+                    .map(|h| s.brep.vertex(h))
+                    .collect::<Result<_>>()?;
+                let all = vs
+                    .iter()
+                    .all(|&v| s.vertex_twins[v.index()].is_some_and(|w| cs.contains(&w)));
+                if all {
+                    return Ok(c);
+                }
+            }
+            Err(lost("the twin of a split side"))
+        };
+        let (pf, pside) = (
+            twin_of(self, f, [f2, twin])?,
+            twin_of(self, side, [f2, twin])?,
+        );
+        self.faces[f.index()] = Some(FaceRole::Side { twin: pf });
+        self.faces[pf.index()] = Some(FaceRole::Side { twin: f });
+        self.faces[side.index()] = Some(FaceRole::Side { twin: pside });
+        self.faces[pside.index()] = Some(FaceRole::Side { twin: side });
+        self.edges[e.index()] = Some(EdgeRole::Side { twin: e2 });
+        self.edges[e2.index()] = Some(EdgeRole::Side { twin: e });
+        Ok((e, f))
+    }
+
     /// In the face of `start` (a half-edge of its outer loop, leaving vertex v): a
     /// bridge edge from v to a new vertex, a chain of `n - 1` more edges from there,
     /// closed into an `n`-gon face (the cap), and the bridge killed so the `n`-gon's
@@ -1333,8 +1419,9 @@ impl Sheet {
     /// Checks the topology ([`Brep::check`]) and the sheet's twins: every live face,
     /// edge and vertex has a role; twins are mutual and distinct; a zero-length edge
     /// joins a vertex to its twin; twin edges join twin vertices; a side face's twin is
-    /// a side face; a thickness face's outer loop holds zero-length edges and side
-    /// edges only, at least one of each, and no rings.
+    /// a side face whose outer loop runs through the twins of its vertices, with as many
+    /// rings; a thickness face's outer loop holds zero-length edges and side edges only,
+    /// at least one of each, and no rings.
     pub fn check(&self) -> Result<Counts> {
         let counts = self.brep.check()?;
         let bad = |why: String| Err(TopologyError::Invalid(why));
@@ -1374,6 +1461,19 @@ impl Sheet {
                 FaceRole::Side { twin } => {
                     if twin == f || self.face_role(twin)? != (FaceRole::Side { twin: f }) {
                         return bad(format!("face {}: twins not mutual", f.0));
+                    }
+                    // The two sides of one region: their outer loops run through twin
+                    // vertices, and they have as many holes.
+                    let vertices_of = |l: LoopId| -> Result<BTreeSet<VertexId>> {
+                        b.loop_halves(l)?.into_iter().map(|h| b.vertex(h)).collect()
+                    };
+                    let (mine, theirs) = (b.loops_of(f)?, b.loops_of(twin)?);
+                    let twins: BTreeSet<VertexId> = vertices_of(mine[0])?
+                        .into_iter()
+                        .map(|v| self.twin_vertex(v))
+                        .collect::<Result<_>>()?;
+                    if twins != vertices_of(theirs[0])? || mine.len() != theirs.len() {
+                        return bad(format!("face {}: its twin bounds another region", f.0));
                     }
                 }
                 FaceRole::Thickness => {
