@@ -359,6 +359,9 @@ enum SheetOp {
     /// A split of the side picked by the first number between the outer vertices
     /// picked by the other two.
     Split(u32, u32, u32),
+    /// A region of 3 + the second number corners on the side picked by the first,
+    /// bridged from the outer vertex picked by the third, lifted.
+    Lift(u32, u8, u32),
 }
 
 fn sheet_op() -> impl Strategy<Value = SheetOp> {
@@ -366,6 +369,7 @@ fn sheet_op() -> impl Strategy<Value = SheetOp> {
         any::<u32>().prop_map(SheetOp::Flange),
         (any::<u32>(), 0u8..4, any::<u32>()).prop_map(|(f, n, v)| SheetOp::Punch(f, n, v)),
         (any::<u32>(), any::<u32>(), any::<u32>()).prop_map(|(f, a, c)| SheetOp::Split(f, a, c)),
+        (any::<u32>(), 0u8..4, any::<u32>()).prop_map(|(f, n, v)| SheetOp::Lift(f, n, v)),
     ]
 }
 
@@ -413,6 +417,23 @@ fn apply_sheet(sheet: &mut Sheet, op: SheetOp) -> bool {
             let v2 = b.vertex(outer[c as usize % outer.len()]).unwrap();
             sheet.split(side, v1, v2).is_ok()
         }
+        SheetOp::Lift(f, n, v) => {
+            let sides: Vec<_> = b
+                .faces()
+                .filter(|&f| matches!(sheet.face_role(f).unwrap(), FaceRole::Side { .. }))
+                .collect();
+            let side = sides[f as usize % sides.len()];
+            let outer = b.loop_halves(b.loops_of(side).unwrap()[0]).unwrap();
+            let at = b.vertex(outer[v as usize % outer.len()]).unwrap();
+            let before = sheet.clone();
+            let lifted = sheet
+                .region(side, at, 3 + n as usize)
+                .and_then(|r| sheet.lift(r.face));
+            if lifted.is_err() {
+                *sheet = before;
+            }
+            lifted.is_ok()
+        }
     }
 }
 
@@ -420,7 +441,7 @@ proptest! {
     #![proptest_config(ProptestConfig { cases: 200, ..ProptestConfig::default() })]
 
     /// 200 random sequences of up to 30 sheet operations (flanges on free edges,
-    /// holes through sides, splits of sides) from an initial sheet, shrinking on failure: after each,
+    /// holes through sides, splits of sides, lifted regions) from an initial sheet, shrinking on failure: after each,
     /// the topology and every twin, zero-area loop and zero-length edge is valid, the
     /// genus counts the holes punched, and the model stays one shell; an operation
     /// that does not apply changes nothing.
@@ -506,4 +527,60 @@ fn a_split_side_splits_its_twin() {
         .collect();
     assert!(holed.split(bottom, outer[0], outer[2]).is_err());
     assert_eq!(holed, before);
+}
+
+/// A region drawn on a side (paper 003, Fig. 10) is a new twin pair of sides inside a
+/// ring; lifting it (an embossment) sweeps a band of twin walls round it on both
+/// sides; a region with a hole, or a thickness face, is not lifted.
+#[test]
+fn a_lifted_region_is_walled_on_both_sides() {
+    use dieface::sheet::topology::FaceRole;
+    for n in 3..=6 {
+        let (mut sheet, _, top) = Sheet::initial(4).unwrap();
+        let at = sheet
+            .brep
+            .vertex(
+                sheet
+                    .brep
+                    .loop_halves(sheet.brep.loops_of(top).unwrap()[0])
+                    .unwrap()[0],
+            )
+            .unwrap();
+        let region = sheet.region(top, at, n).expect("a region");
+        let c = sheet.check().expect("valid after a region");
+        // 2n new vertices and edges, two new faces and two rings.
+        assert_eq!(
+            (c.vertices, c.edges, c.faces, c.rings, c.genus),
+            (8 + 2 * n, 12 + 2 * n, 8, 2, 0),
+            "n = {n}"
+        );
+        assert_eq!(
+            sheet.face_role(region.face).unwrap(),
+            FaceRole::Side { twin: region.twin }
+        );
+        let walls = sheet.lift(region.face).expect("a lift");
+        let c = sheet.check().expect("valid after the lift");
+        assert_eq!(walls.len(), n);
+        // Each side's sweep adds n vertices, 2n edges and n faces.
+        assert_eq!(
+            (c.vertices, c.edges, c.faces),
+            (8 + 4 * n, 12 + 6 * n, 8 + 2 * n)
+        );
+        for w in walls {
+            assert!(matches!(sheet.face_role(w).unwrap(), FaceRole::Side { .. }));
+        }
+    }
+    let (mut sheet, bottom, _) = Sheet::initial(4).unwrap();
+    let at = sheet.brep.vertices().next().unwrap();
+    sheet.punch(bottom, at, 3).unwrap();
+    let before = sheet.clone();
+    assert!(sheet.lift(bottom).is_err(), "a side with a hole");
+    let thickness = sheet
+        .brep
+        .faces()
+        .find(|&f| sheet.face_role(f).unwrap() == FaceRole::Thickness)
+        .unwrap();
+    assert!(sheet.lift(thickness).is_err());
+    assert!(sheet.region(thickness, at, 3).is_err());
+    assert_eq!(sheet, before);
 }

@@ -1104,19 +1104,8 @@ impl Sheet {
             ));
         };
         let at_twin = self.twin_vertex(at)?;
-        let on_outer = |b: &Brep, f: FaceId, v: VertexId| -> Result<HalfEdgeId> {
-            b.loop_halves(b.loops_of(f)?[0])?
-                .into_iter()
-                .find(|&h| b.vertex(h).ok() == Some(v))
-                .ok_or_else(|| {
-                    TopologyError::NotApplicable(format!(
-                        "vertex {} is not on the outer boundary of face {}",
-                        v.0, f.0
-                    ))
-                })
-        };
-        let start = on_outer(&self.brep, side, at)?;
-        let start_twin = on_outer(&self.brep, twin, at_twin)?;
+        let start = Self::on_outer(&self.brep, side, at)?;
+        let start_twin = Self::on_outer(&self.brep, twin, at_twin)?;
         let mut b = self.brep.clone();
         let (top, top_edges, cap) = Self::ring_in(&mut b, start, n)?;
         let (ring, ring_edges, cap_twin) = Self::ring_in(&mut b, start_twin, n)?;
@@ -1354,6 +1343,121 @@ impl Sheet {
         Ok((e, f))
     }
 
+    /// Separates an `n`-sided region inside a side, its first corner bridged from `at`
+    /// (a vertex of the side's outer loop), and the twin region inside the twin side
+    /// (paper 003, section 4.3, Fig. 10: a loop on a sheet): the side gets a ring and
+    /// the region is a new side, twin of the region on the other side. The region is
+    /// what [`Sheet::lift`] raises. Nothing changes when an argument is wrong.
+    pub fn region(&mut self, side: FaceId, at: VertexId, n: usize) -> Result<Region> {
+        if n < 3 {
+            return Err(TopologyError::NotApplicable(format!(
+                "a region needs 3 corners or more, not {n}"
+            )));
+        }
+        let FaceRole::Side { twin } = self.face_role(side)? else {
+            return Err(TopologyError::NotApplicable(
+                "a region is drawn on a side, not a thickness face".into(),
+            ));
+        };
+        let start = Self::on_outer(&self.brep, side, at)?;
+        let start_twin = Self::on_outer(&self.brep, twin, self.twin_vertex(at)?)?;
+        let mut b = self.brep.clone();
+        let (corners, edges, cap) = Self::ring_in(&mut b, start, n)?;
+        let (ring, ring_edges, cap_twin) = Self::ring_in(&mut b, start_twin, n)?;
+        self.brep = b;
+        self.sync_tables();
+        // As for a hole, the twin side's ring runs the other way round.
+        for k in 0..n {
+            let (v, w) = (corners[k], ring[(n - k) % n]);
+            self.vertex_twins[v.index()] = Some(w);
+            self.vertex_twins[w.index()] = Some(v);
+            let (e, f) = (edges[k], ring_edges[n - 1 - k]);
+            self.edges[e.index()] = Some(EdgeRole::Side { twin: f });
+            self.edges[f.index()] = Some(EdgeRole::Side { twin: e });
+        }
+        self.faces[cap.index()] = Some(FaceRole::Side { twin: cap_twin });
+        self.faces[cap_twin.index()] = Some(FaceRole::Side { twin: cap });
+        Ok(Region {
+            face: cap,
+            twin: cap_twin,
+        })
+    }
+
+    /// Lifts (or pushes down: the topology is the same) a region of the sheet, a side
+    /// bounded by its outer loop only (paper 003, section 4.5): on both sides the
+    /// region's loop is swept, so a band of wall faces joins the region to the sheet
+    /// round it; the walls are sides, twins across the sheet like the edges they rise
+    /// from. Returns the walls on `region`'s side. Nothing changes when `region` is
+    /// not a side without holes.
+    pub fn lift(&mut self, region: FaceId) -> Result<Vec<FaceId>> {
+        let FaceRole::Side { twin } = self.face_role(region)? else {
+            return Err(TopologyError::NotApplicable(
+                "a region to lift is a side, not a thickness face".into(),
+            ));
+        };
+        if self.brep.loops_of(region)?.len() > 1 {
+            return Err(TopologyError::NotApplicable(
+                "a region with holes is not lifted yet".into(),
+            ));
+        }
+        let mut b = self.brep.clone();
+        let (l, lt) = (b.loops_of(region)?[0], b.loops_of(twin)?[0]);
+        let up = sweep(&mut b, l)?;
+        let down = sweep(&mut b, lt)?;
+        let (up_edges, down_edges) = (up.base_edges(&b)?, down.base_edges(&b)?);
+        let mut faces = Vec::new();
+        let mut edges = Vec::new();
+        let mut twins = Vec::new();
+        for (k, &edge) in up_edges.iter().enumerate() {
+            // The twin of base vertex k, and of loop edge k, on the other side.
+            let tv = self.twin_vertex(up.base[k])?;
+            let j = down
+                .base
+                .iter()
+                .position(|&v| v == tv)
+                .ok_or_else(|| lost("a twin corner of the region"))?;
+            let EdgeRole::Side { twin: te } = self.edge_role(edge)? else {
+                return Err(lost("a side edge of the region"));
+            };
+            let i = down_edges
+                .iter()
+                .position(|&e| e == te)
+                .ok_or_else(|| lost("a twin edge of the region"))?;
+            twins.push((up.tops[k], down.tops[j]));
+            edges.push((up.up[k], down.up[j]));
+            edges.push((up.cap_edges[k], down.cap_edges[i]));
+            faces.push((up.sides[k], down.sides[i]));
+        }
+        self.brep = b;
+        self.sync_tables();
+        for (v, w) in twins {
+            self.vertex_twins[v.index()] = Some(w);
+            self.vertex_twins[w.index()] = Some(v);
+        }
+        for (e, f) in edges {
+            self.edges[e.index()] = Some(EdgeRole::Side { twin: f });
+            self.edges[f.index()] = Some(EdgeRole::Side { twin: e });
+        }
+        for &(f, g) in &faces {
+            self.faces[f.index()] = Some(FaceRole::Side { twin: g });
+            self.faces[g.index()] = Some(FaceRole::Side { twin: f });
+        }
+        Ok(faces.into_iter().map(|(f, _)| f).collect())
+    }
+
+    /// The half-edge of face `f`'s outer loop that leaves vertex `v`.
+    fn on_outer(b: &Brep, f: FaceId, v: VertexId) -> Result<HalfEdgeId> {
+        b.loop_halves(b.loops_of(f)?[0])?
+            .into_iter()
+            .find(|&h| b.vertex(h).ok() == Some(v))
+            .ok_or_else(|| {
+                TopologyError::NotApplicable(format!(
+                    "vertex {} is not on the outer boundary of face {}",
+                    v.0, f.0
+                ))
+            })
+    }
+
     /// In the face of `start` (a half-edge of its outer loop, leaving vertex v): a
     /// bridge edge from v to a new vertex, a chain of `n - 1` more edges from there,
     /// closed into an `n`-gon face (the cap), and the bridge killed so the `n`-gon's
@@ -1527,4 +1631,13 @@ pub struct Flange {
     pub sides: Vec<FaceId>,
     /// Its far edge, opposite the flanged one (on the side of the flanged edge).
     pub far_edge: EdgeId,
+}
+
+/// What [`Sheet::region`] made: the region on the side it was drawn on, and its twin.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Region {
+    /// The region on the side it was drawn on.
+    pub face: FaceId,
+    /// The region on the other side.
+    pub twin: FaceId,
 }
