@@ -548,12 +548,15 @@ impl Brep {
         let n2 = self.add_half(e, v2, h2, false);
         self.cross(n1, n2)?;
         let outer_was_l2 = self.face_of(face)?.loops[0] == l2;
-        let lp = self.faces[face.index()].as_mut().expect("checked above");
-        lp.loops.retain(|&l| l != l2);
+        let loops = &mut self.faces[face.index()]
+            .as_mut()
+            .expect("checked above")
+            .loops;
+        loops.retain(|&l| l != l2);
         if outer_was_l2 {
             // The joined loop takes the outer loop's place.
-            lp.loops.retain(|&l| l != l1);
-            lp.loops.insert(0, l1);
+            loops.retain(|&l| l != l1);
+            loops.insert(0, l1);
         }
         self.loops[l2.index()] = None;
         self.loops[l1.index()] = Some(Loop { half: n1, face });
