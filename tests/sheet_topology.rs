@@ -584,3 +584,41 @@ fn a_lifted_region_is_walled_on_both_sides() {
     assert!(sheet.region(thickness, at, 3).is_err());
     assert_eq!(sheet, before);
 }
+
+/// Removing a region drawn inside a side makes a passage (paper 003, Fig. 11-12): the
+/// genus grows and the region's rim is lined with thickness quads; removing a side on
+/// the free boundary (no passage made) is refused with nothing changed.
+#[test]
+fn removing_an_inner_region_makes_a_passage() {
+    use dieface::sheet::topology::FaceRole;
+    let (mut sheet, bottom, top) = Sheet::initial(5).unwrap();
+    let at = sheet
+        .brep
+        .vertex(
+            sheet
+                .brep
+                .loop_halves(sheet.brep.loops_of(top).unwrap()[0])
+                .unwrap()[0],
+        )
+        .unwrap();
+    let region = sheet.region(top, at, 4).unwrap();
+    let hole = sheet.remove(region.face).expect("a passage");
+    let c = sheet.check().expect("valid after the removal");
+    assert_eq!(c.genus, 1);
+    assert_eq!(hole.lining.len(), 4);
+    for &f in &hole.lining {
+        assert_eq!(sheet.face_role(f).unwrap(), FaceRole::Thickness);
+        let b = &sheet.brep;
+        assert_eq!(b.loop_halves(b.loops_of(f).unwrap()[0]).unwrap().len(), 4);
+    }
+    let before = sheet.clone();
+    assert!(sheet.remove(bottom).is_err(), "a side with a hole");
+    let (mut plain, bottom, _) = Sheet::initial(4).unwrap();
+    let untouched = plain.clone();
+    assert!(
+        plain.remove(bottom).is_err(),
+        "the sheet's own side: no passage"
+    );
+    assert_eq!(plain, untouched);
+    assert_eq!(sheet, before);
+}

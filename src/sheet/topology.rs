@@ -1091,58 +1091,81 @@ impl Sheet {
 
     /// Punches an `n`-sided hole through the sheet at side face `side` (and its twin),
     /// its first corner bridged from `at`, a vertex of the side's outer loop (paper 003,
-    /// section 4.3, Fig. 10: a hole loop). The side and its twin each get a ring of `n`
-    /// new vertices (twins of each other), the ring edges are twins, and between the
-    /// two rings `n` zero-length edges and `n` thickness faces line the hole; the genus
-    /// grows by one. Nothing changes when an argument is wrong.
+    /// section 4.3, Fig. 10: a hole loop): a [`Sheet::region`] there, [`Sheet::remove`]d.
+    /// The side and its twin each get a ring of `n` new vertices (twins of each other),
+    /// the ring edges are twins, and between the two rings `n` zero-length edges and `n`
+    /// thickness faces line the hole; the genus grows by one. Nothing changes when an
+    /// argument is wrong.
     pub fn punch(&mut self, side: FaceId, at: VertexId, n: usize) -> Result<Hole> {
-        if n < 3 {
-            return Err(TopologyError::NotApplicable(format!(
-                "a hole needs 3 corners or more, not {n}"
-            )));
+        let before = self.clone();
+        let punched = self
+            .region(side, at, n)
+            .and_then(|region| self.remove(region.face));
+        if punched.is_err() {
+            *self = before;
         }
-        let FaceRole::Side { twin } = self.face_role(side)? else {
+        punched
+    }
+
+    /// Removes a region of the sheet, a side and its twin bounded by their outer loops
+    /// only, where every edge round it joins two sides (paper 003, section 4.4, Fig.
+    /// 11-12: the case where a passage is made): the twin's loop becomes a ring of the
+    /// region (a through hole, genus + 1), the two loops are joined by a zero-length
+    /// edge, and each further pair of twin corners by another, each cutting a thickness
+    /// quad off; the region itself becomes the first. The cases where passages are
+    /// lost, or none change, are not made yet. Nothing changes when they are asked.
+    pub fn remove(&mut self, region: FaceId) -> Result<Hole> {
+        let FaceRole::Side { twin } = self.face_role(region)? else {
             return Err(TopologyError::NotApplicable(
-                "a hole is punched through a side, not a thickness face".into(),
+                "only a side is removed, not a thickness face".into(),
             ));
         };
-        let at_twin = self.twin_vertex(at)?;
-        let start = Self::on_outer(&self.brep, side, at)?;
-        let start_twin = Self::on_outer(&self.brep, twin, at_twin)?;
+        let b = &self.brep;
+        if b.loops_of(region)?.len() > 1 || b.loops_of(twin)?.len() > 1 {
+            return Err(TopologyError::NotApplicable(
+                "a region with holes is not removed yet".into(),
+            ));
+        }
+        let outer = b.loop_halves(b.loops_of(region)?[0])?;
+        for &h in &outer {
+            let across = b.face_with(b.loop_with(b.mate(h)?)?)?;
+            if !matches!(self.face_role(across)?, FaceRole::Side { .. }) {
+                return Err(TopologyError::NotApplicable(
+                    "a region on the sheet's free boundary is not removed yet (no passage \
+                     is made there)"
+                        .into(),
+                ));
+            }
+        }
+        let corners: Vec<VertexId> = outer.iter().map(|&h| b.vertex(h)).collect::<Result<_>>()?;
+        let twins: Vec<VertexId> = corners
+            .iter()
+            .map(|&v| self.twin_vertex(v))
+            .collect::<Result<_>>()?;
         let mut b = self.brep.clone();
-        let (top, top_edges, cap) = Self::ring_in(&mut b, start, n)?;
-        let (ring, ring_edges, cap_twin) = Self::ring_in(&mut b, start_twin, n)?;
-        // The twin side faces the other way, so its ring runs the other way round:
-        // corner k's twin is its corner n - k, and edge k's twin its edge n - 1 - k.
-        let bottom: Vec<VertexId> = (0..n).map(|k| ring[(n - k) % n]).collect();
-        let bottom_edges: Vec<EdgeId> = (0..n).map(|k| ring_edges[n - 1 - k]).collect();
-        // The twin's cap becomes a ring of the cap (the through hole), the two rings
-        // are joined by a zero-length edge, and each further pair of twins by another,
-        // each cutting a thickness face off the cap.
-        b.lkfmrh(cap, cap_twin)?;
+        b.lkfmrh(region, twin)?;
         let leaving = |b: &Brep, l: LoopId, v: VertexId| -> Option<HalfEdgeId> {
             b.loop_halves(l)
                 .ok()?
                 .into_iter()
                 .find(|&h| b.vertex(h).ok() == Some(v))
         };
-        let loops = b.loops_of(cap)?.to_vec();
+        let loops = b.loops_of(region)?.to_vec();
         let (h1, h2) = (
-            leaving(&b, loops[0], top[0]).ok_or_else(|| lost("the hole's first corner"))?,
-            leaving(&b, loops[1], bottom[0]).ok_or_else(|| lost("its twin"))?,
+            leaving(&b, loops[0], corners[0]).ok_or_else(|| lost("the region's first corner"))?,
+            leaving(&b, loops[1], twins[0]).ok_or_else(|| lost("its twin"))?,
         );
         let mut zero = vec![b.lmekr(h1, h2)?];
-
-        let mut lining = vec![cap];
-        for k in 1..n {
+        let mut lining = vec![region];
+        for k in 1..corners.len() {
             // The loop (of the lining made so far) that both corners k leave.
             let (h1, h2) = lining
                 .iter()
                 .map(|&f| b.loops_of(f).map(|ls| ls[0]))
                 .collect::<Result<Vec<_>>>()?
                 .into_iter()
-                .find_map(|l| Some((leaving(&b, l, bottom[k])?, leaving(&b, l, top[k])?)))
-                .ok_or_else(|| lost("a corner of the hole"))?;
+                .find_map(|l| Some((leaving(&b, l, twins[k])?, leaving(&b, l, corners[k])?)))
+                .ok_or_else(|| lost("a corner of the region"))?;
             // From the twin round to the corner: the quad between corners k - 1 and k.
             let (e, f) = b.lmef(h1, h2)?;
             zero.push(e);
@@ -1150,23 +1173,16 @@ impl Sheet {
         }
         self.brep = b;
         self.sync_tables();
+        self.faces[twin.index()] = None;
         for &f in &lining {
             self.faces[f.index()] = Some(FaceRole::Thickness);
         }
         for &e in &zero {
             self.edges[e.index()] = Some(EdgeRole::ZeroLength);
         }
-        for (&v, &w) in top.iter().zip(&bottom) {
-            self.vertex_twins[v.index()] = Some(w);
-            self.vertex_twins[w.index()] = Some(v);
-        }
-        for (&e, &f) in top_edges.iter().zip(&bottom_edges) {
-            self.edges[e.index()] = Some(EdgeRole::Side { twin: f });
-            self.edges[f.index()] = Some(EdgeRole::Side { twin: e });
-        }
         Ok(Hole {
-            corners: top,
-            twin_corners: bottom,
+            corners,
+            twin_corners: twins,
             lining,
         })
     }
