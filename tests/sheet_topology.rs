@@ -2,7 +2,7 @@
 //! solid's topology with twins, and random sequences of Euler operators keep every
 //! link and the Euler-Poincare formula.
 
-use dieface::sheet::topology::{Brep, EdgeRole, FaceRole, HalfEdgeId, Sheet};
+use dieface::sheet::topology::{Brep, EdgeRole, FaceId, FaceRole, HalfEdgeId, Sheet, VertexId};
 use proptest::prelude::*;
 
 #[test]
@@ -248,18 +248,9 @@ fn random_sequences_reach_every_operator() {
 /// hole makes genus 2; a wrong argument changes nothing.
 #[test]
 fn a_punched_hole_is_lined_with_zero_area_loops() {
-    use dieface::sheet::topology::FaceRole;
     for n in 3..=7 {
         let (mut sheet, bottom, top) = Sheet::initial(4).unwrap();
-        let at = sheet
-            .brep
-            .vertex(
-                sheet
-                    .brep
-                    .loop_halves(sheet.brep.loops_of(bottom).unwrap()[0])
-                    .unwrap()[0],
-            )
-            .unwrap();
+        let at = outer_vertices(&sheet, bottom)[0];
         let hole = sheet.punch(bottom, at, n).expect("a hole");
         let c = sheet.check().expect("valid after the punch");
         assert_eq!(
@@ -302,7 +293,6 @@ fn a_punched_hole_is_lined_with_zero_area_loops() {
 /// edge where sheets already meet is refused and nothing changes.
 #[test]
 fn flanges_sweep_the_thickness_face_of_a_free_edge() {
-    use dieface::sheet::topology::FaceRole;
     let (mut sheet, bottom, _) = Sheet::initial(4).unwrap();
     let b = &sheet.brep;
     let outline: Vec<_> = b
@@ -333,19 +323,34 @@ fn flanges_sweep_the_thickness_face_of_a_free_edge() {
     let c = sheet.check().expect("valid after three flanges");
     assert_eq!((c.vertices, c.edges, c.faces), (20, 36, 18));
     // A hole through the first flange.
-    let at = sheet
-        .brep
-        .vertex(
-            sheet
-                .brep
-                .loop_halves(sheet.brep.loops_of(first.sides[0]).unwrap()[0])
-                .unwrap()[0],
-        )
-        .unwrap();
+    let at = outer_vertices(&sheet, first.sides[0])[0];
     sheet
         .punch(first.sides[0], at, 5)
         .expect("a hole in the flange");
     assert_eq!(sheet.check().expect("valid").genus, 1);
+}
+
+/// The vertices of face `f`'s outer loop, in order.
+fn outer_vertices(
+    sheet: &Sheet,
+    f: dieface::sheet::topology::FaceId,
+) -> Vec<dieface::sheet::topology::VertexId> {
+    let b = &sheet.brep;
+    b.loop_halves(b.loops_of(f).unwrap()[0])
+        .unwrap()
+        .into_iter()
+        .map(|h| b.vertex(h).unwrap())
+        .collect()
+}
+
+/// The side face picked by `f` among the live sides, in id order.
+fn pick_side(sheet: &Sheet, f: u32) -> FaceId {
+    let sides: Vec<_> = sheet
+        .brep
+        .faces()
+        .filter(|&f| matches!(sheet.face_role(f).unwrap(), FaceRole::Side { .. }))
+        .collect();
+    sides[f as usize % sides.len()]
 }
 
 /// One sheet operation of a random sequence.
@@ -375,7 +380,6 @@ fn sheet_op() -> impl Strategy<Value = SheetOp> {
 
 /// Applies `op` to the element it picks, when it applies; true if it did.
 fn apply_sheet(sheet: &mut Sheet, op: SheetOp) -> bool {
-    use dieface::sheet::topology::FaceRole;
     let b = &sheet.brep;
     match op {
         SheetOp::Flange(k) => {
@@ -397,34 +401,24 @@ fn apply_sheet(sheet: &mut Sheet, op: SheetOp) -> bool {
             sheet.flange(e).is_ok()
         }
         SheetOp::Punch(f, n, v) => {
-            let sides: Vec<_> = b
-                .faces()
-                .filter(|&f| matches!(sheet.face_role(f).unwrap(), FaceRole::Side { .. }))
-                .collect();
-            let side = sides[f as usize % sides.len()];
-            let outer = b.loop_halves(b.loops_of(side).unwrap()[0]).unwrap();
-            let at = b.vertex(outer[v as usize % outer.len()]).unwrap();
+            let side = pick_side(sheet, f);
+            let outer = outer_vertices(sheet, side);
+            let at = outer[v as usize % outer.len()];
             sheet.punch(side, at, 3 + n as usize).is_ok()
         }
         SheetOp::Split(f, a, c) => {
-            let sides: Vec<_> = b
-                .faces()
-                .filter(|&f| matches!(sheet.face_role(f).unwrap(), FaceRole::Side { .. }))
-                .collect();
-            let side = sides[f as usize % sides.len()];
-            let outer = b.loop_halves(b.loops_of(side).unwrap()[0]).unwrap();
-            let v1 = b.vertex(outer[a as usize % outer.len()]).unwrap();
-            let v2 = b.vertex(outer[c as usize % outer.len()]).unwrap();
+            let side = pick_side(sheet, f);
+            let outer = outer_vertices(sheet, side);
+            let (v1, v2) = (
+                outer[a as usize % outer.len()],
+                outer[c as usize % outer.len()],
+            );
             sheet.split(side, v1, v2).is_ok()
         }
         SheetOp::Lift(f, n, v) => {
-            let sides: Vec<_> = b
-                .faces()
-                .filter(|&f| matches!(sheet.face_role(f).unwrap(), FaceRole::Side { .. }))
-                .collect();
-            let side = sides[f as usize % sides.len()];
-            let outer = b.loop_halves(b.loops_of(side).unwrap()[0]).unwrap();
-            let at = b.vertex(outer[v as usize % outer.len()]).unwrap();
+            let side = pick_side(sheet, f);
+            let outer = outer_vertices(sheet, side);
+            let at = outer[v as usize % outer.len()];
             let before = sheet.clone();
             let lifted = sheet
                 .region(side, at, 3 + n as usize)
@@ -477,7 +471,6 @@ proptest! {
 /// with a hole are refused with nothing changed.
 #[test]
 fn a_split_side_splits_its_twin() {
-    use dieface::sheet::topology::FaceRole;
     let (mut sheet, bottom, _) = Sheet::initial(6).unwrap();
     let corners: Vec<_> = sheet
         .brep
@@ -534,18 +527,9 @@ fn a_split_side_splits_its_twin() {
 /// sides; a region with a hole, or a thickness face, is not lifted.
 #[test]
 fn a_lifted_region_is_walled_on_both_sides() {
-    use dieface::sheet::topology::FaceRole;
     for n in 3..=6 {
         let (mut sheet, _, top) = Sheet::initial(4).unwrap();
-        let at = sheet
-            .brep
-            .vertex(
-                sheet
-                    .brep
-                    .loop_halves(sheet.brep.loops_of(top).unwrap()[0])
-                    .unwrap()[0],
-            )
-            .unwrap();
+        let at = outer_vertices(&sheet, top)[0];
         let region = sheet.region(top, at, n).expect("a region");
         let c = sheet.check().expect("valid after a region");
         // 2n new vertices and edges, two new faces and two rings.
@@ -590,17 +574,8 @@ fn a_lifted_region_is_walled_on_both_sides() {
 /// the free boundary (no passage made) is refused with nothing changed.
 #[test]
 fn removing_an_inner_region_makes_a_passage() {
-    use dieface::sheet::topology::FaceRole;
     let (mut sheet, bottom, top) = Sheet::initial(5).unwrap();
-    let at = sheet
-        .brep
-        .vertex(
-            sheet
-                .brep
-                .loop_halves(sheet.brep.loops_of(top).unwrap()[0])
-                .unwrap()[0],
-        )
-        .unwrap();
+    let at = outer_vertices(&sheet, top)[0];
     let region = sheet.region(top, at, 4).unwrap();
     let hole = sheet.remove(region.face).expect("a passage");
     let c = sheet.check().expect("valid after the removal");
