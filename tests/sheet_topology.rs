@@ -331,10 +331,7 @@ fn flanges_sweep_the_thickness_face_of_a_free_edge() {
 }
 
 /// The vertices of face `f`'s outer loop, in order.
-fn outer_vertices(
-    sheet: &Sheet,
-    f: dieface::sheet::topology::FaceId,
-) -> Vec<dieface::sheet::topology::VertexId> {
+fn outer_vertices(sheet: &Sheet, f: FaceId) -> Vec<VertexId> {
     let b = &sheet.brep;
     b.loop_halves(b.loops_of(f).unwrap()[0])
         .unwrap()
