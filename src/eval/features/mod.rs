@@ -436,6 +436,7 @@ fn join_figures<'j>(
 /// the patch, with the same figures. Each patch is given with its surface, its
 /// sections (from the opening end to the product end; none for a binder) and the
 /// smallest radius drawn for it, when one is (`drawn_radius`, beside `min_radius`).
+/// Returns each patch's name with its figures, for checks a kind makes on them.
 fn surface_figures<'p>(
     quality: &mut Fields,
     patches: impl IntoIterator<
@@ -447,17 +448,23 @@ fn surface_figures<'p>(
         ),
     >,
     span: Span,
-) {
+) -> Vec<(&'p str, crate::die::figures::SurfaceFigures)> {
     use crate::die::figures::surface_figures as measure;
     use rayon::prelude::*;
     // The surfaces measured on their own, in parallel; the worst taken in patch order.
     let patches: Vec<_> = patches.into_iter().collect();
     let measured: Vec<_> = patches.par_iter().map(|p| measure(p.1)).collect();
+    let named = patches
+        .iter()
+        .map(|p| p.0)
+        .zip(measured.iter().copied())
+        .collect();
     let measured = patches
         .into_iter()
         .zip(measured)
         .map(|((name, _, sections, drawn), f)| (name, f, sections, drawn));
     measured_figures(quality, measured, span);
+    named
 }
 
 /// [`surface_figures`] of patches already measured (a bead measures its skin within

@@ -234,7 +234,7 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
         }
         .diagnose(e.section, &e.problem)
     })?;
-    Ok(output(block, result))
+    output(block, result)
 }
 
 /// The binder's patches from the `binder` field: the step draw meets them tangentially
@@ -968,8 +968,16 @@ fn along(ts: &[f64], closed: bool) -> Vec<usize> {
     order
 }
 
-/// The feature record: one surface per patch, one curve per key section, `quality`.
-fn output(block: &Block, sd_result: sd::StepDraw) -> Value {
+/// How far (deg) a step-draw wall may overhang before it counts as folded over: a
+/// vertical wall drawn in a profile may be fitted a hair past vertical, but every
+/// profile runs outwards (an undercut profile is refused), so a wall that overhangs by
+/// more than this has folded between the key sections.
+const FOLDED_DRAFT: f64 = 1.0;
+
+/// The feature record: one surface per patch, one curve per key section, `quality`;
+/// an error when a patch has folded over (its wall overhangs by more than
+/// [`FOLDED_DRAFT`]), before anything downstream meshes the fold.
+fn output(block: &Block, sd_result: sd::StepDraw) -> Result<Value, Diagnostic> {
     let span = block.span;
     let mut fields: Vec<(String, Value)> = sd_result
         .patches
@@ -1030,7 +1038,7 @@ fn output(block: &Block, sd_result: sd::StepDraw) -> Value {
     }
     quality.extend(joins);
     let patches = sd_result.patches.iter();
-    super::surface_figures(
+    let figures = super::surface_figures(
         &mut quality,
         patches.map(|p| {
             (
@@ -1042,7 +1050,24 @@ fn output(block: &Block, sd_result: sd::StepDraw) -> Value {
         }),
         span,
     );
-    feature_value(KIND, span, fields, quality, sd_result)
+    let folded = figures
+        .iter()
+        .filter(|(_, f)| f.draft < -FOLDED_DRAFT)
+        .min_by(|a, b| a.1.draft.total_cmp(&b.1.draft));
+    if let Some((name, f)) = folded {
+        let p = f.draft_at;
+        return Err(feature_error(
+            KIND,
+            format!(
+                "the step draw folds over in patch `{name}`: its wall overhangs by {:.1} deg at ({:.2}, {:.2}, {:.2})",
+                -f.draft, p.x, p.y, p.z
+            ),
+            span,
+            "folds over",
+            "between two key sections the sections turn back on themselves, which no die can be drawn with: a die or punch radius of almost nothing, or key sections far apart round a tight corner of the outline. Open the radii, or add a key section where it folds",
+        ));
+    }
+    Ok(feature_value(KIND, span, fields, quality, sd_result))
 }
 
 /// The `step_draw` feature kind.
