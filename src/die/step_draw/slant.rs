@@ -99,10 +99,13 @@ mod tests {
     use crate::geom::arc::arc_through_points;
     use crate::geom::join::join_curves;
 
+    /// The rounded square's corner radius (mm).
+    const CORNER: f64 = 10.0;
+
     /// A closed rounded square (side 100, corner radius 10) of exact lines and arcs,
     /// starting at the corner `start_corner` (counter-clockwise from +x +y).
     fn rounded_square(start_corner: usize) -> Curve3 {
-        let r = 10.0;
+        let r = CORNER;
         let mut pieces = Vec::new();
         for i in 0..4 {
             let k = (i + start_corner) % 4;
@@ -160,11 +163,6 @@ mod tests {
         assert!(dir.distance(tangent) < 1e-3, "{dir} against {tangent}");
     }
 
-    /// The square's corner radius.
-    fn r_corner() -> f64 {
-        10.0
-    }
-
     #[test]
     fn the_direction_turns_smoothly_through_a_curvature_jump() {
         // Where a straight side meets a corner arc the tangent's turning rate jumps
@@ -185,7 +183,7 @@ mod tests {
         let rate = |s: f64| (angle_at(s + h) - angle_at(s - h)) / (2.0 * h);
         let (before, after) = (rate(joint - 0.5), rate(joint + 0.5));
         assert!(
-            (after - before).abs() < 0.2 / r_corner(),
+            (after - before).abs() < 0.2 / CORNER,
             "turning rate {before} before the joint, {after} after"
         );
     }
