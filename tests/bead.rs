@@ -583,11 +583,12 @@ fn bead_radius_figures_are_reported() {
     }
 }
 
-/// The requirement: no radius on the full-height part below 90 % of the drawn one, and
-/// the tapered ends none below 90 % of the drawn shoulder. Fails on the current method
-/// (full height 2.4 to 2.6 mm against 3 mm drawn; ends 0.37 to 1.26 mm).
+/// The requirement (issue 12, item 8): no radius on the full-height part below 90 % of
+/// the drawn one, and the tapered ends none below 90 % of the drawn shoulder. Failed on
+/// the method before the run-out was stretched for its descent and its bends spread
+/// (full height 2.4 to 2.6 mm against 3 mm drawn; ends 0.37 to 1.26 mm, later 2.62 mm
+/// on the door's `belt_front`).
 #[test]
-#[ignore = "issue 12 item 8: the figures are 2.77 / 2.77 (wheel_arch), 2.77 / 2.77 (rear_corner), 2.78 / 2.77 (sill), 2.83 / 2.62 mm (belt_front) against 2.7 required; belt_front's tapered ends miss in two places: half-way down the taper the quadratic section overshoots where the top corner's arc meets the short flank (2.80 mm in the section) and the corner runs down the taper at up to 0.31 mm per mm, which tightens it to 2.62 mm across its slope; 6 mm from the tip, where the bead is 0.3 mm high, the section itself is 2.63 mm. Stretching the run-out sections by the descent fixes the first (2.72) but not the second"]
 fn bead_radii_are_kept_as_drawn() {
     let mut failures = Vec::new();
     for path in ["fender/fender.die", "door_outer/door_outer.die"] {
@@ -612,6 +613,92 @@ fn bead_radii_are_kept_as_drawn() {
         ));
     }
     assert!(failures.is_empty(), "{}", failures.join("; "));
+}
+
+/// A straight bead of `profile` with `taper` (mm) on [`flat_with`]'s binder, with
+/// `binder_extra` in the binder's block; its figures.
+fn straight_bead(profile: &str, taper: f64, binder_extra: &str) -> dieface::die::bead::BeadQuality {
+    let (engine, out) = flat_with(
+        &format!(
+            "bead b {{
+    binder = binder
+    line = sketch(top) {{ from (-100, -260); line to (100, -260) }}
+    profile = {profile}
+    taper = {taper} mm
+}}"
+        ),
+        binder_extra,
+    );
+    let values = values_of(&engine, &out);
+    bead_of(find(&values, "b")).quality
+}
+
+/// Every profile of `std/beads` keeps 90 % of its drawn radius at full height and
+/// through its run-out, over tapers of 20 and 45 mm (three to nine bead heights) on a
+/// flat and a sloping binder. Before: the default square bead's run-out came to 2.27
+/// mm of 3 mm drawn, the lock step's to 1.66 mm of 2, the double bead's to 0.03 mm
+/// (its lowering cut only one crest and left the valley below the binder, 2.6 mm off
+/// its profile), and the double bead's full height to 1.74 mm (48 points across its
+/// 50 mm: too few for its 2 mm shoulders).
+#[test]
+fn every_library_bead_runs_out_with_its_drawn_radii() {
+    let mut failures = Vec::new();
+    for profile in [
+        "beads.round()",
+        "beads.square()",
+        "beads.square(height: 5 mm, width: 12 mm)",
+        "beads.lock_step()",
+        "beads.double()",
+    ] {
+        for taper in [20.0, 45.0] {
+            for binder in ["", "angle = 10 deg"] {
+                let q = straight_bead(profile, taper, binder);
+                eprintln!(
+                    "{profile}, taper {taper} mm, binder '{binder}': full height {:.3} mm, \
+                     ends {:.3} mm, drawn {:.3} mm, section error {:.4} mm",
+                    q.min_radius, q.end_min_radius, q.drawn_radius, q.section_error
+                );
+                let least = q.min_radius.min(q.end_min_radius);
+                if !(least >= 0.9 * q.drawn_radius && q.section_error <= 0.025) {
+                    failures.push(format!(
+                        "{profile} taper {taper} '{binder}': {least:.3} of {:.3} mm, \
+                         section error {:.4}",
+                        q.drawn_radius, q.section_error
+                    ));
+                }
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("; "));
+}
+
+/// A taper shorter than the bead's height can follow (8 mm for a 6 mm bead: the run-out
+/// falls at up to 55 deg) cannot keep the drawn radii, but the bead stays what it is:
+/// the feet are not rounded past the profile's own feet (they ran back on themselves,
+/// 0.0001 mm radii, and a raised foot radius reached 60 mm out from the centre line),
+/// the sections follow the run-out within 0.025 mm, and the end radius figure tells.
+#[test]
+fn a_too_short_taper_is_sharper_but_not_folded() {
+    for profile in ["beads.round()", "beads.square()", "beads.double()"] {
+        let full = straight_bead(profile, 30.0, "");
+        let q = straight_bead(profile, 8.0, "");
+        eprintln!(
+            "{profile}, taper 8 mm: ends {:.3} mm, section error {:.4} mm, width {:.3} mm",
+            q.end_min_radius, q.section_error, q.width.1
+        );
+        assert!(q.section_error <= 0.025, "{profile}: {}", q.section_error);
+        assert!(
+            (q.width.1 - full.width.1).abs() <= 1e-6,
+            "{profile}: {} mm wide against {}",
+            q.width.1,
+            full.width.1
+        );
+        assert!(
+            q.end_min_radius > 0.05 * q.drawn_radius && q.end_min_radius < 0.9 * q.drawn_radius,
+            "{profile}: ends {} mm",
+            q.end_min_radius
+        );
+    }
 }
 
 /// A straight round bead (3 mm shoulders, 20 mm taper) 60 mm out from the bottom side
@@ -657,26 +744,4 @@ fn a_bead_across_a_sloping_binder_keeps_its_radii() {
     );
     assert!(q.section_error <= 0.01, "section error {}", q.section_error);
     assert!((q.height - 6.0).abs() <= 1e-3, "height {}", q.height);
-}
-
-/// The run-out sinks the profile into the binder instead of squashing it, so the tapered
-/// ends keep the drawn shoulder (a squashed profile sharpened it to 0.36 to 1.2 mm of
-/// 3 mm drawn). Until the section fit stops overshooting at the profile's joins
-/// (`bead_radii_are_kept_as_drawn`), the ends are held to 85 % of the drawn radius.
-#[test]
-fn bead_run_out_keeps_the_shoulder_radius() {
-    for path in ["fender/fender.die", "door_outer/door_outer.die"] {
-        for (name, q) in example_beads(path) {
-            eprintln!(
-                "{path} {name}: full height {:.3} mm, ends {:.3} mm, drawn {:.3} mm",
-                q.min_radius, q.end_min_radius, q.drawn_radius
-            );
-            assert!(
-                q.end_min_radius >= 0.85 * q.drawn_radius,
-                "{path} {name}: ends {} mm against {} drawn",
-                q.end_min_radius,
-                q.drawn_radius
-            );
-        }
-    }
 }

@@ -8,7 +8,7 @@ Usage (from the crate root):
     python3 tests/reference/step_reference.py            # rewrites tests/data/step_reference.json
     python3 tests/reference/step_reference.py --stdout   # prints it instead
 
-The script builds each example with `cargo run --release -- build EXAMPLE -o X.step`
+The script builds each example with `cargo run --release --bin dieface -- build EXAMPLE -o X.step`
 (or with the binary given by `--dieface PATH`) into a temporary folder, reads the file
 with `STEPControl_Reader`, and per shell (in file order: `die_face`, then `beads`)
 records:
@@ -103,7 +103,7 @@ def read(path):
 
 def build(dieface, example, out):
     cmd = (dieface + ["build", example, "-o", out]) if dieface else (
-        ["cargo", "run", "--quiet", "--release", "--", "build", example, "-o", out]
+        ["cargo", "run", "--quiet", "--release", "--bin", "dieface", "--", "build", example, "-o", out]
     )
     subprocess.run(cmd, cwd=ROOT, check=True, stdout=subprocess.DEVNULL)
 

@@ -9,7 +9,7 @@ use glam::DVec2;
 use rayon::prelude::*;
 
 use super::runout::{resampled, run_out, smoothed};
-use super::{ease, BeadSpec, Problem, SECTION_INTERVALS};
+use super::{drawn_radius, ease, BeadSpec, Problem, SECTION_INTERVALS};
 use crate::geom::curve::ArcLengths;
 use crate::geom::Curve2;
 
@@ -26,6 +26,46 @@ const RUN_OUT_DENSITY: usize = 16;
 /// far less than across a jump, and short enough to keep the skin within 0.005 mm of
 /// the profile.
 const BEND_WIDTH: f64 = 0.5;
+
+/// The length over which [`smoothed`] spreads a run-out section's bends at `factor`
+/// of the bead's height: [`BEND_WIDTH`] at full height, growing to twice that at the
+/// tip. The lower a run-out section, the shorter the pieces between its bends (near
+/// the tip a new foot meets the top corner after less than a millimetre, two bends
+/// within about two spaces between the section's points), and a curve through points
+/// that turn that quickly overshoots the drawn radius (2.63 mm of 3 mm drawn where a
+/// 5 mm bead is 0.3 mm high). Twice the width keeps it to 2.77 mm; the section moves
+/// from the lowered profile by at most 0.015 mm.
+fn bend_width(factor: f64) -> f64 {
+    BEND_WIDTH * (2.0 - factor.clamp(0.0, 1.0))
+}
+
+/// Interpolated points per drawn radius of a profile's length: a section's points are
+/// at most a sixth of its smallest drawn radius apart, or the curve through them cuts
+/// the radius where it meets a straight piece (a double bead's 2 mm shoulders at
+/// 1.74 mm with 48 points across its 50 mm).
+const POINTS_PER_RADIUS: f64 = 6.0;
+
+/// The most intervals across a section (points per section minus one).
+const MAX_SECTION_INTERVALS: usize = 192;
+
+/// Intervals across a section: [`SECTION_INTERVALS`], or more where a key profile is
+/// long for its smallest drawn radius ([`POINTS_PER_RADIUS`]), up to
+/// [`MAX_SECTION_INTERVALS`]; a multiple of 8.
+fn section_intervals(spec: &BeadSpec, tables: &[ArcLengths<DVec2>]) -> usize {
+    let mut intervals = SECTION_INTERVALS;
+    for (key, table) in spec.sections.iter().zip(tables) {
+        let radius = drawn_radius(&key.profile);
+        if radius.is_finite() && radius > 0.0 {
+            let wanted = (POINTS_PER_RADIUS * table.total() / radius).ceil();
+            if wanted.is_finite() {
+                let wanted =
+                    (wanted.min(MAX_SECTION_INTERVALS as f64) as usize).next_multiple_of(8);
+                intervals = intervals.max(wanted.min(MAX_SECTION_INTERVALS));
+            }
+        }
+    }
+    intervals
+}
 
 /// The key sections' profiles resampled at corresponding points: the same number of
 /// points in every piece between rule points, spaced by arc length within a piece.
@@ -101,7 +141,7 @@ impl MatchedProfiles {
             rules.push(shape[index].x);
         }
         resampled(
-            &smoothed(&run_out(&dense, factor, feet, rate), BEND_WIDTH),
+            &smoothed(&run_out(&dense, factor, feet, rate), bend_width(factor)),
             &rules,
             &self.counts,
         )
@@ -233,9 +273,10 @@ pub(super) fn matched_profiles(spec: &BeadSpec, ats: &[f64]) -> Result<MatchedPr
         piece_lengths.push(lengths);
     }
     let total_share: f64 = share.iter().sum();
+    let intervals = section_intervals(spec, &tables);
     let counts: Vec<usize> = share
         .iter()
-        .map(|s| ((s / total_share * SECTION_INTERVALS as f64).round() as usize).max(2))
+        .map(|s| ((s / total_share * intervals as f64).round() as usize).max(2))
         .collect();
 
     let mut points: Vec<Vec<DVec2>> = Vec::with_capacity(spec.sections.len());

@@ -25,46 +25,105 @@ const BISECTIONS: usize = 60;
 
 /// The profile `dense` (s, height), a fine polyline from foot to foot at height 0,
 /// lowered to `factor` (0 to 1) of its height: moved down by `(1 - factor) H` (H its
-/// tallest point), cut at height 0, and rounded at the new feet with the radii
-/// `feet` (left, right; 0 for a sharp foot). The result runs over the same s from foot
-/// to foot, flat at height 0 outside the new feet, as a fine polyline; with it, the s
-/// where each new foot meets the binder line.
-pub(super) fn lowered(dense: &[DVec2], factor: f64, feet: (f64, f64)) -> (Vec<DVec2>, (f64, f64)) {
+/// tallest point), cut at height 0, and rounded at every new foot, foot `i` (counted
+/// from the left) with the radius `radius(i)` (0 for a sharp foot). A profile with
+/// several crests (a double bead) may be cut into several bumps, each rounded at both
+/// its feet. The result runs over the same s from foot to foot, flat at height 0
+/// outside and between the bumps, as a fine polyline; with it, the s where each new
+/// foot meets the binder line, left to right (a rising foot, then a falling one, per
+/// bump).
+pub(super) fn lowered(
+    dense: &[DVec2],
+    factor: f64,
+    radius: impl Fn(usize) -> f64,
+) -> (Vec<DVec2>, Vec<f64>) {
     let tallest = dense.iter().map(|p| p.y).fold(0.0, f64::max);
     let (Some(head), Some(tail)) = (dense.first(), dense.last()) else {
-        return (Vec::new(), (0.0, 0.0));
+        return (Vec::new(), Vec::new());
     };
     let (first, last) = (head.x, tail.x);
     if factor >= 1.0 || dense.len() < 3 {
-        return (dense.to_vec(), (first, last));
+        return (dense.to_vec(), vec![first, last]);
     }
     if factor <= 0.0 || tallest <= 0.0 {
         let middle = 0.5 * (first + last);
         return (
             vec![DVec2::new(first, 0.0), DVec2::new(last, 0.0)],
-            (middle, middle),
+            vec![middle, middle],
         );
     }
     let drop = (1.0 - factor) * tallest;
     let moved: Vec<DVec2> = dense.iter().map(|p| *p - DVec2::Y * drop).collect();
-    let top = moved
-        .iter()
-        .enumerate()
-        .max_by(|a, b| a.1.y.total_cmp(&b.1.y))
-        .map(|(i, _)| i)
-        .expect("`dense` has at least three points: shorter ones returned above");
-    // The left half, and the right half mirrored (s -> -s, run from its foot), each
-    // rounded at its foot; then the right half mirrored back.
-    let (left, c0) = rounded_foot(&moved[..=top], first, feet.0);
-    let mirrored: Vec<DVec2> = moved[top..]
-        .iter()
-        .rev()
-        .map(|p| DVec2::new(-p.x, p.y))
-        .collect();
-    let (right, c1) = rounded_foot(&mirrored, -last, feet.1);
-    let mut out = left;
-    out.extend(right.iter().rev().skip(1).map(|p| DVec2::new(-p.x, p.y)));
-    (out, (c0, -c1))
+    let crests = crests(&moved, BUMP_HEIGHT * tallest);
+    if crests.is_empty() {
+        let middle = 0.5 * (first + last);
+        return (
+            vec![DVec2::new(first, 0.0), DVec2::new(last, 0.0)],
+            vec![middle, middle],
+        );
+    }
+    // Each bump runs from the lowest point before its crest (the profile's start for
+    // the first) to the lowest point after it: its left half rounded at its foot, its
+    // right half mirrored (s -> -s, run from its foot), rounded and mirrored back.
+    let lowest = |from: usize, to: usize| -> usize {
+        (from..=to)
+            .min_by(|&a, &b| moved[a].y.total_cmp(&moved[b].y))
+            .expect("a crest lies after the one before it: the range is not empty")
+    };
+    let mut bounds = vec![0];
+    for pair in crests.windows(2) {
+        bounds.push(lowest(pair[0], pair[1]));
+    }
+    bounds.push(moved.len() - 1);
+    let mut out: Vec<DVec2> = Vec::with_capacity(moved.len() + 2 * FOOT_ARC_POINTS);
+    let mut feet = Vec::with_capacity(2 * crests.len());
+    for (j, &top) in crests.iter().enumerate() {
+        let (from, to) = (bounds[j], bounds[j + 1]);
+        let (left, c0) = rounded_foot(&moved[from..=top], moved[from].x, radius(2 * j));
+        let mirrored: Vec<DVec2> = moved[top..=to]
+            .iter()
+            .rev()
+            .map(|p| DVec2::new(-p.x, p.y))
+            .collect();
+        let (right, c1) = rounded_foot(&mirrored, -moved[to].x, radius(2 * j + 1));
+        // Neighbouring bumps meet at the same flat point: it is kept once.
+        let skip = usize::from(!out.is_empty());
+        out.extend(left.into_iter().skip(skip));
+        out.extend(right.iter().rev().skip(1).map(|p| DVec2::new(-p.x, p.y)));
+        feet.push(c0);
+        feet.push(-c1);
+    }
+    (out, feet)
+}
+
+/// How tall (as a fraction of the profile's height) a run above the binder line must
+/// stand to count as a bump of its own: a run lower than this is noise where a flat of
+/// the profile lies at the cut.
+const BUMP_HEIGHT: f64 = 1e-9;
+
+/// The crest (tallest point) of each run of `moved` that stands above height 0 by
+/// more than `least`, left to right.
+fn crests(moved: &[DVec2], least: f64) -> Vec<usize> {
+    let mut crests = Vec::new();
+    let mut run: Option<usize> = None;
+    for (i, p) in moved.iter().enumerate() {
+        if p.y > 0.0 {
+            run = match run {
+                Some(best) if moved[best].y >= p.y => Some(best),
+                _ => Some(i),
+            };
+        } else if let Some(best) = run.take() {
+            if moved[best].y > least {
+                crests.push(best);
+            }
+        }
+    }
+    if let Some(best) = run {
+        if moved[best].y > least {
+            crests.push(best);
+        }
+    }
+    crests
 }
 
 /// One half of a lowered profile, `half` running from its (sunk) foot up to the crest,
@@ -91,31 +150,25 @@ fn rounded_foot(half: &[DVec2], foot: f64, radius: f64) -> (Vec<DVec2>, f64) {
         out.extend_from_slice(&half[up..]);
         return (out, crossing.x.max(foot));
     }
-    // The circle's centre (c, radius): every point of the profile lies at least
-    // `radius` from it while c is left of the crossing by `radius` (nothing of the
-    // profile is left of its foot, nothing below height 0 comes nearer than `radius`),
-    // and within `radius` at the crossing itself.
     let segments = Segments::new(half);
-    let mut last_touch = up.saturating_sub(1);
-    let (mut lo, mut hi) = (crossing.x - radius, crossing.x);
-    for _ in 0..BISECTIONS {
-        let mid = 0.5 * (lo + hi);
-        let before = (lo, hi);
-        match segments.within(DVec2::new(mid, radius), radius, last_touch) {
-            Some(i) => {
-                last_touch = i;
+    let (mut c, mut last_touch) = foot_centre(&segments, crossing.x, up, radius);
+    let mut radius = radius;
+    if c < foot {
+        // The circle would start before the profile's own foot (the run-out moves the
+        // feet across faster than its raised radius fits): the largest radius that
+        // starts at the foot, so the section never runs back on itself.
+        let (mut lo, mut hi) = (0.0, radius);
+        for _ in 0..BISECTIONS {
+            let mid = 0.5 * (lo + hi);
+            if foot_centre(&segments, crossing.x, up, mid).0 >= foot {
+                lo = mid;
+            } else {
                 hi = mid;
             }
-            None => lo = mid,
         }
-        // Whether a segment lies within reach does not depend on the hint, so a step
-        // that leaves the bracket as it was (it is down to neighbouring numbers) would
-        // leave it so at every step after: the rest of the steps are skipped.
-        if (lo, hi) == before {
-            break;
-        }
+        radius = lo;
+        (c, last_touch) = foot_centre(&segments, crossing.x, up, radius);
     }
-    let c = 0.5 * (lo + hi);
     let (segment, touch) = segments.nearest(DVec2::new(c, radius), last_touch);
     let centre = DVec2::new(c, radius);
     if c > foot {
@@ -133,6 +186,35 @@ fn rounded_foot(half: &[DVec2], foot: f64, radius: f64) -> (Vec<DVec2>, f64) {
     (out, c.max(foot))
 }
 
+/// The centre's s of the foot circle of `radius` on the half profile `segments`,
+/// which first rises through height 0 at `crossing` (after point `up - 1`), and the
+/// segment it touches: every point of the profile lies at least `radius` from the
+/// centre `(c, radius)` while c is left of the crossing by `radius` (nothing of the
+/// profile is left of its foot, nothing below height 0 comes nearer than `radius`),
+/// and within `radius` at the crossing itself; c is found by bisection between the two.
+fn foot_centre(segments: &Segments, crossing: f64, up: usize, radius: f64) -> (f64, usize) {
+    let mut last_touch = up.saturating_sub(1);
+    let (mut lo, mut hi) = (crossing - radius, crossing);
+    for _ in 0..BISECTIONS {
+        let mid = 0.5 * (lo + hi);
+        let before = (lo, hi);
+        match segments.within(DVec2::new(mid, radius), radius, last_touch) {
+            Some(i) => {
+                last_touch = i;
+                hi = mid;
+            }
+            None => lo = mid,
+        }
+        // Whether a segment lies within reach does not depend on the hint, so a step
+        // that leaves the bracket as it was (it is down to neighbouring numbers) would
+        // leave it so at every step after: the rest of the steps are skipped.
+        if (lo, hi) == before {
+            break;
+        }
+    }
+    (0.5 * (lo + hi), last_touch)
+}
+
 /// Steps in the height factor for how fast the new feet move across.
 const FACTOR_STEP: f64 = 1e-4;
 
@@ -141,28 +223,76 @@ const FACTOR_STEP: f64 = 1e-4;
 /// bead at a slope `m` (mm across per mm along), and a skin whose sections are rounded
 /// with a radius `r` is rounded, across its foot line, with about `r / (1 + m^2)`;
 /// each foot's radius is raised by `1 + m^2` (from the slope found with the drawn
-/// radius, then once more with the raised one) so the skin keeps the drawn one.
+/// radius, then once more with the raised one) so the skin keeps the drawn one. Rising
+/// feet are drawn with the profile's left foot radius `feet.0`, falling ones with its
+/// right `feet.1`. Before it is lowered, the profile is stretched for the descent of
+/// its upper part ([`stretched_for_descent`]).
 pub(super) fn run_out(dense: &[DVec2], factor: f64, feet: (f64, f64), rate: f64) -> Vec<DVec2> {
+    let drawn = |i: usize| if i % 2 == 0 { feet.0 } else { feet.1 };
     if factor >= 1.0 || factor <= 0.0 || rate == 0.0 {
-        return lowered(dense, factor, feet).0;
+        return lowered(dense, factor, drawn).0;
     }
-    let mut radii = feet;
+    let stretched = stretched_for_descent(dense, rate);
+    let dense = &stretched[..];
+    let mut radii: Vec<f64> = Vec::new();
+    let radius_of = |radii: &[f64], i: usize| radii.get(i).copied().unwrap_or(drawn(i));
     for _ in 0..2 {
         let (a, b) = (
             (factor - FACTOR_STEP).max(0.0),
             (factor + FACTOR_STEP).min(1.0),
         );
-        let (_, low) = lowered(dense, a, radii);
-        let (_, high) = lowered(dense, b, radii);
-        let slope = |x0: f64, x1: f64| (x1 - x0) / (b - a) * rate;
-        let (m0, m1) = (slope(low.0, high.0), slope(low.1, high.1));
-        radii = (
-            feet.0 * (1.0 + m0 * m0).powi(2),
-            feet.1 * (1.0 + m1 * m1).powi(2),
-        );
+        let (_, low) = lowered(dense, a, |i| radius_of(&radii, i));
+        let (_, high) = lowered(dense, b, |i| radius_of(&radii, i));
+        // Feet matched by their order; where a bump appears or goes between the two
+        // factors, only the outermost two are matched.
+        let slopes: Vec<f64> = if low.len() == high.len() {
+            low.iter()
+                .zip(&high)
+                .map(|(x0, x1)| (x1 - x0) / (b - a) * rate)
+                .collect()
+        } else {
+            let n = high.len();
+            (0..n)
+                .map(|i| match i {
+                    0 => (high[0] - low[0]) / (b - a) * rate,
+                    _ if i + 1 == n => (high[n - 1] - low[low.len() - 1]) / (b - a) * rate,
+                    _ => 0.0,
+                })
+                .collect()
+        };
+        radii = slopes
+            .iter()
+            .enumerate()
+            .map(|(i, m)| drawn(i) * (1.0 + m.min(MAX_FOOT_SLOPE).powi(2)).powi(2))
+            .collect();
     }
-    lowered(dense, factor, radii).0
+    lowered(dense, factor, |i| radius_of(&radii, i)).0
 }
+
+/// The profile `dense` stretched in height about its crest so the run-out keeps its
+/// shape square to the way it runs. Lowering moves every point of the profile down by
+/// the same amount, at `rate * H` per mm along the bead (H the crest's height): the
+/// skin there is a cylinder whose rulings descend at that slope `m`, and its cross
+/// section square to them is the section squashed in height by `1 / sqrt(1 + m^2)`
+/// (a 3 mm shoulder on a flank came out at 2.62 mm where a 5 mm bead runs out over
+/// 30 mm). Stretched by `sqrt(1 + m^2)` beforehand, the squashed section is the drawn
+/// profile again.
+fn stretched_for_descent(dense: &[DVec2], rate: f64) -> Vec<DVec2> {
+    let tallest = dense.iter().map(|p| p.y).fold(0.0, f64::max);
+    let m = tallest * rate;
+    let k = (1.0 + m * m).sqrt();
+    dense
+        .iter()
+        .map(|p| DVec2::new(p.x, tallest - (tallest - p.y) * k))
+        .collect()
+}
+
+/// The steepest foot slope (mm across per mm along) a foot radius is raised for: a
+/// taper too short for its bead's height moves the feet across faster than they can be
+/// rounded (at 5 mm across per mm the raised radius was 75 times the drawn one and the
+/// foot reached 60 mm from the centre line). Beyond it the skin comes out sharper than
+/// drawn, which the end radius figure shows.
+const MAX_FOOT_SLOPE: f64 = 1.0;
 
 /// Segments of a half profile per block: a block's bounding box.
 const BLOCK: usize = 8;
@@ -447,6 +577,51 @@ mod tests {
             }
         }
         best
+    }
+
+    /// Two round bumps of height 5 on a flat at height 0 (a double bead): feet at -20 and
+    /// 20, crests at -10 and 10, flat between -2 and 2.
+    fn double_profile() -> Vec<DVec2> {
+        (0..=4000)
+            .map(|i| {
+                let x = -20.0 + 0.01 * i as f64;
+                let bump = |c: f64| (5.0 * (1.0 - ((x - c) / 8.0).powi(2))).max(0.0);
+                DVec2::new(x, bump(-10.0) + bump(10.0))
+            })
+            .collect()
+    }
+
+    /// Whether `line` never runs back across (s never decreases) and never dips below
+    /// the binder line.
+    fn runs_forward_above_the_binder(line: &[DVec2]) -> bool {
+        line.windows(2).all(|w| w[1].x >= w[0].x - 1e-12) && line.iter().all(|p| p.y >= -1e-12)
+    }
+
+    #[test]
+    fn a_double_profile_is_lowered_bump_by_bump() {
+        let dense = double_profile();
+        let (line, feet) = lowered(&dense, 0.5, |_| 2.0);
+        // Both bumps cut, each with a rising and a falling foot, the flat between them
+        // at the binder line, the crests at half height.
+        assert_eq!(feet.len(), 4, "{feet:?}");
+        assert!(feet.windows(2).all(|w| w[1] > w[0]), "{feet:?}");
+        assert!(feet[1] < 0.0 && feet[2] > 0.0, "{feet:?}");
+        assert!(runs_forward_above_the_binder(&line));
+        let tallest = line.iter().map(|p| p.y).fold(0.0, f64::max);
+        assert!((tallest - 2.5).abs() < 1e-9, "{tallest}");
+        let middle = line.iter().filter(|p| p.x.abs() < feet[2].min(-feet[1]));
+        assert!(middle.clone().count() > 0 && middle.into_iter().all(|p| p.y == 0.0));
+    }
+
+    #[test]
+    fn a_foot_radius_too_large_for_the_room_starts_at_the_profiles_foot() {
+        let dense = double_profile();
+        // A radius far larger than the room between the old and the new foot: the
+        // circle is made smaller, so the section still runs forward from -20.
+        let (line, feet) = lowered(&dense, 0.9, |_| 500.0);
+        assert!(runs_forward_above_the_binder(&line));
+        assert!(feet[0] >= -20.0, "{feet:?}");
+        assert_eq!(line[0], DVec2::new(-20.0, 0.0));
     }
 
     #[test]
