@@ -84,11 +84,12 @@ pub(super) struct MatchedProfiles {
     counts: Vec<usize>,
     /// Each key section's radii at its left and right foot (0 for a sharp foot).
     feet: Vec<(f64, f64)>,
-    /// The shapes made so far, by the bits of (along, factor, rate): the refinement
-    /// asks again for the same sections (the exact section half-way between two
-    /// skinned ones, each round, and then the one it inserts there). Behind a lock, so
-    /// the sections of a round are shaped in parallel.
-    shapes: Mutex<HashMap<[u64; 3], Vec<DVec2>>>,
+    /// The shapes made so far, by what they depend on ([`MatchedProfiles::shape_key`]):
+    /// the full-height sections share their blend, and the refinement asks again for
+    /// the same run-out sections (the exact section half-way between two skinned ones,
+    /// each round, and then the one it inserts there). Behind a lock, so the sections
+    /// of a round are shaped in parallel.
+    shapes: Mutex<HashMap<ShapeKey, Vec<DVec2>>>,
 }
 
 impl MatchedProfiles {
@@ -109,7 +110,7 @@ impl MatchedProfiles {
     /// blended foot radii ([`lowered`]), resampled at corresponding points; the blend
     /// itself at full height.
     pub(super) fn shape(&self, along: f64, factor: f64, rate: f64) -> Vec<DVec2> {
-        let key = [along.to_bits(), factor.to_bits(), rate.to_bits()];
+        let key = self.shape_key(along, factor, rate);
         if let Some(shape) = self.cached_shapes().get(&key) {
             return shape.clone();
         }
@@ -118,9 +119,26 @@ impl MatchedProfiles {
         shape
     }
 
+    /// What a shape depends on, as the cache's key. At full height it is the blend
+    /// alone (`rate` changes nothing there), and between two key sections with the same
+    /// points the blend is either's points whatever its weight: every full-height
+    /// section of a bead with one profile shares one shape, not one per position.
+    fn shape_key(&self, along: f64, factor: f64, rate: f64) -> ShapeKey {
+        if factor < 1.0 {
+            return ShapeKey::RunOut([along.to_bits(), factor.to_bits(), rate.to_bits()]);
+        }
+        let (k, w) = weights(&self.at, along);
+        let inside = k > 0 && k < self.at.len();
+        if inside && self.dense[k - 1] != self.dense[k] {
+            ShapeKey::Blend(k, w.to_bits())
+        } else {
+            ShapeKey::Blend(k, 0)
+        }
+    }
+
     /// The shape cache, locked. A shape depends only on its key, so a cache left by a
     /// panicking thread is still right.
-    fn cached_shapes(&self) -> std::sync::MutexGuard<'_, HashMap<[u64; 3], Vec<DVec2>>> {
+    fn cached_shapes(&self) -> std::sync::MutexGuard<'_, HashMap<ShapeKey, Vec<DVec2>>> {
         self.shapes.lock().unwrap_or_else(|e| e.into_inner())
     }
 
@@ -146,6 +164,16 @@ impl MatchedProfiles {
             &self.counts,
         )
     }
+}
+
+/// The key of a cached shape ([`MatchedProfiles::shape_key`]).
+#[derive(Clone, Copy, PartialEq, Eq, Hash)]
+enum ShapeKey {
+    /// A run-out section: the bits of its position, height factor and rate.
+    RunOut([u64; 3]),
+    /// A full-height section: the key section after it and the bits of its blend
+    /// weight (0 where the blend does not depend on it).
+    Blend(usize, u64),
 }
 
 /// The key section index after `along` (0 before the first, the count after the last)
