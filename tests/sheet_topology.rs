@@ -2,7 +2,9 @@
 //! solid's topology with twins, and random sequences of Euler operators keep every
 //! link and the Euler-Poincare formula.
 
-use dieface::sheet::topology::{Brep, EdgeRole, FaceId, FaceRole, HalfEdgeId, Sheet, VertexId};
+use dieface::sheet::topology::{
+    Brep, EdgeRole, FaceId, FaceRole, HalfEdgeId, Removal, Sheet, VertexId,
+};
 use proptest::prelude::*;
 
 #[test]
@@ -364,6 +366,8 @@ enum SheetOp {
     /// A region of 3 + the second number corners on the side picked by the first,
     /// bridged from the outer vertex picked by the third, lifted.
     Lift(u32, u8, u32),
+    /// The removal of the side picked by the number.
+    Remove(u32),
 }
 
 fn sheet_op() -> impl Strategy<Value = SheetOp> {
@@ -372,6 +376,7 @@ fn sheet_op() -> impl Strategy<Value = SheetOp> {
         (any::<u32>(), 0u8..4, any::<u32>()).prop_map(|(f, n, v)| SheetOp::Punch(f, n, v)),
         (any::<u32>(), any::<u32>(), any::<u32>()).prop_map(|(f, a, c)| SheetOp::Split(f, a, c)),
         (any::<u32>(), 0u8..4, any::<u32>()).prop_map(|(f, n, v)| SheetOp::Lift(f, n, v)),
+        any::<u32>().prop_map(SheetOp::Remove),
     ]
 }
 
@@ -425,6 +430,10 @@ fn apply_sheet(sheet: &mut Sheet, op: SheetOp) -> bool {
             }
             lifted.is_ok()
         }
+        SheetOp::Remove(f) => {
+            let side = pick_side(sheet, f);
+            sheet.remove(side).is_ok()
+        }
     }
 }
 
@@ -432,27 +441,38 @@ proptest! {
     #![proptest_config(ProptestConfig { cases: 200, ..ProptestConfig::default() })]
 
     /// 200 random sequences of up to 30 sheet operations (flanges on free edges,
-    /// holes through sides, splits of sides, lifted regions) from an initial sheet, shrinking on failure: after each,
-    /// the topology and every twin, zero-area loop and zero-length edge is valid, the
-    /// genus counts the holes punched, and the model stays one shell; an operation
-    /// that does not apply changes nothing.
+    /// holes through sides, splits of sides, lifted regions, removed sides) from an
+    /// initial sheet, shrinking on failure: after each, the topology and every twin,
+    /// zero-area loop and zero-length edge is valid, the genus counts the holes punched
+    /// (a removal may add one or close some), and the model stays one shell unless a
+    /// removal cuts it; an operation that does not apply changes nothing.
     #[test]
     fn sheet_operations_keep_the_sheet_valid(
         n in 3usize..7,
         ops in prop::collection::vec(sheet_op(), 1..30),
     ) {
         let (mut sheet, _, _) = Sheet::initial(n).unwrap();
-        let mut holes = 0;
+        let (mut holes, mut shells) = (0, 1);
         for op in ops {
             let before = sheet.clone();
+            let genus_before = before.check().map(|c| c.genus).unwrap_or(0);
             if apply_sheet(&mut sheet, op) {
                 match sheet.check() {
                     Ok(c) => {
-                        if matches!(op, SheetOp::Punch(..)) {
-                            holes += 1;
+                        match op {
+                            SheetOp::Punch(..) => holes += 1,
+                            // A removal makes a passage, closes some, or cuts the sheet;
+                            // which one the counts tell, and only those.
+                            SheetOp::Remove(_) => {
+                                prop_assert!(c.genus + 1 >= genus_before);
+                                holes = c.genus;
+                                prop_assert!(c.shells >= shells);
+                                shells = c.shells;
+                            }
+                            _ => {}
                         }
                         prop_assert_eq!(c.genus, holes);
-                        prop_assert_eq!(c.shells, 1);
+                        prop_assert_eq!(c.shells, shells);
                     }
                     Err(e) => prop_assert!(false, "after {:?}: {}", op, e),
                 }
@@ -567,14 +587,17 @@ fn a_lifted_region_is_walled_on_both_sides() {
 }
 
 /// Removing a region drawn inside a side makes a passage (paper 003, Fig. 11-12): the
-/// genus grows and the region's rim is lined with thickness quads; removing a side on
-/// the free boundary (no passage made) is refused with nothing changed.
+/// genus grows and the region's rim is lined with thickness quads; a side with a hole,
+/// and a sheet's only side (free all round: nothing would be left), are refused with
+/// nothing changed.
 #[test]
 fn removing_an_inner_region_makes_a_passage() {
     let (mut sheet, bottom, top) = Sheet::initial(5).unwrap();
     let at = outer_vertices(&sheet, top)[0];
     let region = sheet.region(top, at, 4).unwrap();
-    let hole = sheet.remove(region.face).expect("a passage");
+    let Removal::Passage(hole) = sheet.remove(region.face).expect("a passage") else {
+        panic!("an inner region's removal makes a passage");
+    };
     let c = sheet.check().expect("valid after the removal");
     assert_eq!(c.genus, 1);
     assert_eq!(hole.lining.len(), 4);
@@ -593,4 +616,186 @@ fn removing_an_inner_region_makes_a_passage() {
     );
     assert_eq!(plain, untouched);
     assert_eq!(sheet, before);
+}
+
+/// Removing a flange (a region on the free boundary, joined along one edge) is the
+/// flange undone (paper 003, Fig. 11-12: no passage made or lost): the counts are the
+/// sheet's before the flange, and the flanged edge is lined by one thickness face again.
+#[test]
+fn removing_a_flange_undoes_it() {
+    let (mut sheet, bottom, _) = Sheet::initial(5).unwrap();
+    let before = sheet.check().unwrap();
+    let b = &sheet.brep;
+    let edge = b
+        .edge(b.loop_halves(b.loops_of(bottom).unwrap()[0]).unwrap()[0])
+        .unwrap()
+        .unwrap();
+    let flange = sheet.flange(edge).unwrap();
+    let removed = sheet.remove(flange.sides[0]).expect("a flange is removed");
+    let Removal::Trimmed {
+        lining,
+        passages_closed,
+        pieces_made,
+    } = removed
+    else {
+        panic!("a flange lies on the free boundary: {removed:?}");
+    };
+    assert_eq!((passages_closed, pieces_made), (0, 0));
+    assert_eq!(lining.len(), 1);
+    assert_eq!(sheet.face_role(lining[0]).unwrap(), FaceRole::Thickness);
+    let after = sheet.check().expect("valid after the removal");
+    assert_eq!(after, before);
+    // The edge is free again: it takes a flange.
+    sheet.flange(edge).expect("a flange on the freed edge");
+    sheet.check().unwrap();
+}
+
+/// Removing one half of a split side trims the sheet to the other half: a slab over a
+/// square split corner to corner, one triangle removed, leaves a triangular slab
+/// (6 vertices, 9 edges, 5 faces), the cut edge lined by a thickness face.
+#[test]
+fn removing_half_a_split_side_trims_the_sheet() {
+    let (mut sheet, _, top) = Sheet::initial(4).unwrap();
+    let v = outer_vertices(&sheet, top);
+    let (_, half) = sheet.split(top, v[0], v[2]).unwrap();
+    let removed = sheet.remove(half).expect("half a side is removed");
+    assert!(matches!(
+        removed,
+        Removal::Trimmed {
+            passages_closed: 0,
+            pieces_made: 0,
+            ..
+        }
+    ));
+    let c = sheet.check().expect("valid after the removal");
+    assert_eq!(
+        (c.vertices, c.edges, c.faces, c.genus, c.shells),
+        (6, 9, 5, 0, 1)
+    );
+    let sides = sheet
+        .brep
+        .faces()
+        .filter(|&f| matches!(sheet.face_role(f).unwrap(), FaceRole::Side { .. }))
+        .count();
+    assert_eq!(sides, 2);
+}
+
+/// Removing a strip across a sheet, free at both its ends, cuts the sheet in two (the
+/// second free run of its rim closes no passage: none ran round it): an octagon split
+/// by two chords, the strip between them removed, leaves two slabs.
+#[test]
+fn removing_a_strip_across_cuts_the_sheet_in_two() {
+    let (mut sheet, _, top) = Sheet::initial(8).unwrap();
+    let v = outer_vertices(&sheet, top);
+    let (_, q) = sheet.split(top, v[1], v[6]).unwrap();
+    // The part holding v[2] .. v[5], split again by the chord v[2] v[5].
+    let p = if outer_vertices(&sheet, q).contains(&v[3]) {
+        q
+    } else {
+        top
+    };
+    let (_, r) = sheet.split(p, v[2], v[5]).unwrap();
+    let strip = if outer_vertices(&sheet, r).contains(&v[3]) {
+        p
+    } else {
+        r
+    };
+    assert!(!outer_vertices(&sheet, strip).contains(&v[3]));
+    let removed = sheet.remove(strip).expect("the strip is removed");
+    assert!(
+        matches!(
+            removed,
+            Removal::Trimmed {
+                passages_closed: 0,
+                pieces_made: 1,
+                ..
+            }
+        ),
+        "{removed:?}"
+    );
+    let c = sheet.check().expect("valid after the removal");
+    assert_eq!((c.shells, c.genus), (2, 0));
+    // Two slabs: a triangle-less quad (v6, v7, v0, v1) and a quad (v2 .. v5), each a
+    // prism of 8 vertices, 12 edges, 6 faces.
+    assert_eq!((c.vertices, c.edges, c.faces), (16, 24, 12));
+}
+
+/// Make face, kill ring undoes kill face, make ring: the counts and the genus come back.
+#[test]
+fn a_ring_made_into_a_face_again_undoes_the_hole() {
+    let (mut sheet, bottom, top) = Sheet::initial(4).unwrap();
+    let before = sheet.brep.check().unwrap();
+    let mut b = sheet.brep.clone();
+    // Any face other than the two sides becomes a ring of the bottom, and back.
+    let other = b.faces().find(|&f| f != bottom && f != top).unwrap();
+    let ring = b.lkfmrh(bottom, other).unwrap();
+    assert_eq!(b.check().unwrap().genus, 1);
+    b.lmfkrh(bottom, ring).unwrap();
+    let after = b.check().unwrap();
+    assert_eq!(
+        (after.vertices, after.edges, after.faces, after.genus),
+        (before.vertices, before.edges, before.faces, before.genus)
+    );
+    assert!(b.lmfkrh(bottom, b.loops_of(bottom).unwrap()[0]).is_err());
+    sheet.brep = b;
+}
+
+/// Seeded random sequences of sheet operations reach all of removal's cases (paper 003,
+/// Fig. 11-12): a passage made, the sheet trimmed with no change, a passage closed, and
+/// the sheet cut in two; every result is valid.
+#[test]
+fn random_sheet_sequences_reach_every_removal_case() {
+    let mut seed = 12345u64;
+    let mut next = || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (seed >> 33) as u32
+    };
+    // Passage made, trimmed, cut in two, passage closed.
+    let mut cases = [0usize; 4];
+    for _ in 0..300 {
+        let (mut sheet, _, _) = Sheet::initial(3 + (next() % 4) as usize).unwrap();
+        for _ in 0..20 {
+            let op = match next() % 5 {
+                0 => SheetOp::Flange(next()),
+                1 => SheetOp::Punch(next(), (next() % 4) as u8, next()),
+                2 => SheetOp::Split(next(), next(), next()),
+                3 => SheetOp::Lift(next(), (next() % 4) as u8, next()),
+                _ => SheetOp::Remove(next()),
+            };
+            let SheetOp::Remove(f) = op else {
+                apply_sheet(&mut sheet, op);
+                continue;
+            };
+            let before = sheet.clone();
+            match sheet.remove(pick_side(&sheet, f)) {
+                Ok(Removal::Passage(_)) => cases[0] += 1,
+                Ok(Removal::Trimmed {
+                    pieces_made,
+                    passages_closed,
+                    ..
+                }) => match (pieces_made, passages_closed) {
+                    (0, 0) => cases[1] += 1,
+                    (_, 0) => cases[2] += 1,
+                    _ => cases[3] += 1,
+                },
+                Err(_) => assert_eq!(sheet, before),
+            }
+            sheet.check().expect("valid after a removal");
+            let sides = sheet
+                .brep
+                .faces()
+                .filter(|&f| matches!(sheet.face_role(f).unwrap(), FaceRole::Side { .. }))
+                .count();
+            if sides == 0 {
+                break;
+            }
+        }
+    }
+    eprintln!(
+        "removals: {} passages made, {} trimmed, {} cut in two, {} passages closed",
+        cases[0], cases[1], cases[2], cases[3]
+    );
+    assert!(cases.iter().all(|&n| n > 0), "{cases:?}");
 }

@@ -608,6 +608,88 @@ impl Brep {
         Ok(l)
     }
 
+    /// Make face, kill ring (and hole): the inverse of [`Brep::lkfmrh`]: ring `ring` of
+    /// face `f` becomes the outer loop of a new face. Where the two faces stay in one
+    /// shell a through hole closes (the genus falls); where they do not, the shell
+    /// falls apart in two (a strip cut across a sheet).
+    pub fn lmfkrh(&mut self, f: FaceId, ring: LoopId) -> Result<FaceId> {
+        let loops = self.face_of(f)?.loops.clone();
+        if loops[0] == ring || !loops.contains(&ring) {
+            return Err(TopologyError::NotApplicable(
+                "lmfkrh: the loop must be a ring of the face".into(),
+            ));
+        }
+        let g = self.new_face();
+        self.faces[g.index()]
+            .as_mut()
+            .expect("just made")
+            .loops
+            .push(ring);
+        self.faces[f.index()]
+            .as_mut()
+            .expect("checked above")
+            .loops
+            .retain(|&l| l != ring);
+        self.loops[ring.index()]
+            .as_mut()
+            .expect("a face's loop is live")
+            .face = g;
+        if self.shell_of_face(f)? == self.shell_of_face(g)? {
+            self.genus = self.genus.checked_sub(1).ok_or_else(|| {
+                TopologyError::Invalid("lmfkrh: a ring closed on a shell of genus 0".into())
+            })?;
+        }
+        Ok(g)
+    }
+
+    /// [`Brep::lkev`] killing vertex `gone`, one of the ends of edge `e`: the edge's two
+    /// halves are named the other way round first when `gone` is where its minus half
+    /// starts (which half is `plus` is only a name).
+    pub fn lkev_at(&mut self, e: EdgeId, gone: VertexId) -> Result<VertexId> {
+        let Edge { plus, minus } = *self.edge_of(e)?;
+        if self.half(plus)?.vertex != gone {
+            if self.half(minus)?.vertex != gone {
+                return Err(TopologyError::NotApplicable(format!(
+                    "lkev: vertex {} is not an end of edge {}",
+                    gone.0, e.0
+                )));
+            }
+            self.edges[e.index()] = Some(Edge {
+                plus: minus,
+                minus: plus,
+            });
+        }
+        self.lkev(e)
+    }
+
+    /// The edges at vertex `v`, round it (by mate, next).
+    pub fn edges_at(&self, v: VertexId) -> Result<Vec<EdgeId>> {
+        let vertex = self
+            .vertices
+            .get(v.index())
+            .and_then(Option::as_ref)
+            .ok_or_else(|| TopologyError::Dead(format!("vertex {}", v.0)))?;
+        let Some(first) = vertex.half else {
+            return Ok(Vec::new());
+        };
+        let mut out = Vec::new();
+        let mut h = first;
+        while let Some(e) = self.half(h)?.edge {
+            out.push(e);
+            h = self.half(self.mate(h)?)?.next;
+            if h == first {
+                break;
+            }
+            if out.len() > self.halves.len() {
+                return Err(TopologyError::Invalid(format!(
+                    "the star of vertex {} never closes",
+                    v.0
+                )));
+            }
+        }
+        Ok(out)
+    }
+
     /// Kill edge, vertex: the inverse of [`Brep::lmev`]: removes edge `e` and the
     /// vertex its `plus` half starts at; the half-edges leaving that vertex move to the
     /// vertex its `minus` half starts at.
@@ -1100,21 +1182,215 @@ impl Sheet {
         let before = self.clone();
         let punched = self
             .region(side, at, n)
-            .and_then(|region| self.remove(region.face));
+            .and_then(|region| self.make_passage(region.face));
         if punched.is_err() {
             *self = before;
         }
         punched
     }
 
-    /// Removes a region of the sheet, a side and its twin bounded by their outer loops
-    /// only, where every edge round it joins two sides (paper 003, section 4.4, Fig.
-    /// 11-12: the case where a passage is made): the twin's loop becomes a ring of the
-    /// region (a through hole, genus + 1), the two loops are joined by a zero-length
-    /// edge, and each further pair of twin corners by another, each cutting a thickness
-    /// quad off; the region itself becomes the first. The cases where passages are
-    /// lost, or none change, are not made yet. Nothing changes when they are asked.
-    pub fn remove(&mut self, region: FaceId) -> Result<Hole> {
+    /// Removes a region of the sheet: a side and its twin, bounded by their outer loops
+    /// only (paper 003, section 4.4, Fig. 11-12). Which of the paper's three cases it
+    /// is follows from the region's rim:
+    /// - every edge joins another side: a passage is made ([`Removal::Passage`]);
+    /// - one run of its edges is free (on the sheet's boundary): the sheet is trimmed
+    ///   and the number of passages does not change;
+    /// - two runs or more are free: each further run closes a passage, or, where none
+    ///   ran round the region, cuts the sheet in two ([`Removal::Trimmed`]).
+    ///
+    /// Where the region joined other sides, their rim is lined with thickness faces.
+    /// Nothing changes when the region is not a side, has holes, lies free all round
+    /// (a sheet of its own), or another sheet meets its free rim inside a run.
+    pub fn remove(&mut self, region: FaceId) -> Result<Removal> {
+        let FaceRole::Side { twin } = self.face_role(region)? else {
+            return Err(TopologyError::NotApplicable(
+                "only a side is removed, not a thickness face".into(),
+            ));
+        };
+        let b = &self.brep;
+        if b.loops_of(region)?.len() > 1 || b.loops_of(twin)?.len() > 1 {
+            return Err(TopologyError::NotApplicable(
+                "a region with holes is not removed yet".into(),
+            ));
+        }
+        let rim = b.loop_halves(b.loops_of(region)?[0])?;
+        let mut free = Vec::with_capacity(rim.len());
+        for &h in &rim {
+            let across = b.face_with(b.loop_with(b.mate(h)?)?)?;
+            free.push(self.face_role(across)? == FaceRole::Thickness);
+        }
+        if free.iter().all(|&f| !f) {
+            return self.make_passage(region).map(Removal::Passage);
+        }
+        if free.iter().all(|&f| f) {
+            return Err(TopologyError::NotApplicable(
+                "the region is a sheet of its own, free all round: nothing would be left".into(),
+            ));
+        }
+        self.trim(region, twin, &rim, &free)
+    }
+
+    /// [`Sheet::remove`] of a region whose rim is free in `free` runs: the runs of free
+    /// edges (each with its thickness faces, joined along the run into one), the region
+    /// and its twin merge into thickness faces along the rim that joined other sides.
+    /// Per run, in order: the zero-length edges inside it killed (`lkef`, the thickness
+    /// quads merged), its first edge killed on the region's side (`lkef`), the rest of
+    /// the run killed as struts (`lkev`), then the same on the twin's side, where the
+    /// first run's `lkef` takes the twin in and each later run's edge runs twice round
+    /// one face (`lkemr`, then `lmfkrh`: a passage closed, or the sheet cut in two).
+    fn trim(
+        &mut self,
+        region: FaceId,
+        twin: FaceId,
+        rim: &[HalfEdgeId],
+        free: &[bool],
+    ) -> Result<Removal> {
+        let b = &self.brep;
+        let n = rim.len();
+        // The runs of free edges, from the first free edge after a joined one.
+        let start = (0..n)
+            .find(|&i| free[i] && !free[(i + n - 1) % n])
+            .ok_or_else(|| lost("the start of a free run"))?;
+        let mut runs: Vec<Vec<HalfEdgeId>> = Vec::new();
+        for k in 0..n {
+            let i = (start + k) % n;
+            if !free[i] {
+                continue;
+            }
+            if k == 0 || !free[(i + n - 1) % n] {
+                runs.push(Vec::new());
+            }
+            runs.last_mut().expect("pushed above").push(rim[i]);
+        }
+        // Everything each run needs, found before anything changes.
+        struct Run {
+            edges: Vec<EdgeId>,
+            twins: Vec<EdgeId>,
+            inner: Vec<VertexId>,
+            inner_twins: Vec<VertexId>,
+            zero: Vec<EdgeId>,
+        }
+        let mut plans = Vec::with_capacity(runs.len());
+        for run in &runs {
+            let mut plan = Run {
+                edges: Vec::new(),
+                twins: Vec::new(),
+                inner: Vec::new(),
+                inner_twins: Vec::new(),
+                zero: Vec::new(),
+            };
+            for (k, &h) in run.iter().enumerate() {
+                let e = b.edge(h)?.ok_or_else(|| lost("a rim edge"))?;
+                let EdgeRole::Side { twin: e2 } = self.edge_role(e)? else {
+                    return Err(lost("a side edge's twin"));
+                };
+                plan.edges.push(e);
+                plan.twins.push(e2);
+                if k > 0 {
+                    let v = b.vertex(h)?;
+                    let star = b.edges_at(v)?;
+                    if star.len() != 3 {
+                        return Err(TopologyError::NotApplicable(format!(
+                            "another sheet meets the free rim at vertex {}: remove it first",
+                            v.0
+                        )));
+                    }
+                    let z = star
+                        .into_iter()
+                        .find(|&e| self.edge_role(e).ok() == Some(EdgeRole::ZeroLength))
+                        .ok_or_else(|| lost("a zero-length edge on the free rim"))?;
+                    plan.inner.push(v);
+                    plan.inner_twins.push(self.twin_vertex(v)?);
+                    plan.zero.push(z);
+                }
+            }
+            plans.push(plan);
+        }
+        let genus = b.genus;
+        let shells = b.shells()?.len();
+        // The faces that merge: the region, its twin and the runs' thickness faces.
+        let mut involved = vec![region, twin];
+        for run in &runs {
+            for &h in run {
+                involved.push(b.face_with(b.loop_with(b.mate(h)?)?)?);
+            }
+        }
+        involved.sort();
+        involved.dedup();
+        let mut b = self.brep.clone();
+        let mut killed_faces = Vec::new();
+        let mut killed_edges = Vec::new();
+        let mut killed_vertices = Vec::new();
+        let mut made = Vec::new();
+        let face_across = |b: &Brep, e: EdgeId| -> Result<(FaceId, FaceId, HalfEdgeId)> {
+            let (p, m) = b.halves_of(e)?;
+            Ok((
+                b.face_with(b.loop_with(p)?)?,
+                b.face_with(b.loop_with(m)?)?,
+                p,
+            ))
+        };
+        for (j, plan) in plans.iter().enumerate() {
+            for &z in &plan.zero {
+                killed_faces.push(b.lkef(z)?);
+                killed_edges.push(z);
+            }
+            // The region's side: its first edge between two faces, the rest struts.
+            killed_faces.push(b.lkef(plan.edges[0])?);
+            for (k, &e) in plan.edges.iter().enumerate().skip(1) {
+                killed_vertices.push(b.lkev_at(e, plan.inner[k - 1])?);
+            }
+            // The twin's side.
+            let (f1, f2, half) = face_across(&b, plan.twins[0])?;
+            if f1 != f2 {
+                killed_faces.push(b.lkef(plan.twins[0])?);
+            } else if j == 0 {
+                return Err(lost("the twin side, which the first run takes in"));
+            } else {
+                let ring = b.lkemr(half)?;
+                made.push(b.lmfkrh(f1, ring)?);
+            }
+            for (k, &e) in plan.twins.iter().enumerate().skip(1) {
+                killed_vertices.push(b.lkev_at(e, plan.inner_twins[k - 1])?);
+            }
+            killed_edges.extend(plan.edges.iter().chain(&plan.twins).copied());
+        }
+        // What is left of the merged faces, and the faces split off them, line the rim.
+        let mut lining: Vec<FaceId> = involved
+            .iter()
+            .copied()
+            .filter(|f| !killed_faces.contains(f))
+            .chain(made.iter().copied())
+            .collect();
+        lining.sort();
+        let after_genus = b.genus;
+        let after_shells = b.shells()?.len();
+        self.brep = b;
+        self.sync_tables();
+        for &f in &involved {
+            self.faces[f.index()] = None;
+        }
+        for &f in &lining {
+            self.faces[f.index()] = Some(FaceRole::Thickness);
+        }
+        for &e in &killed_edges {
+            self.edges[e.index()] = None;
+        }
+        for &v in &killed_vertices {
+            self.vertex_twins[v.index()] = None;
+        }
+        Ok(Removal::Trimmed {
+            lining,
+            passages_closed: genus.saturating_sub(after_genus),
+            pieces_made: after_shells.saturating_sub(shells),
+        })
+    }
+
+    /// [`Sheet::remove`] of a region every edge of whose rim joins another side: the
+    /// twin's loop becomes a ring of the region (a through hole, genus + 1), the two
+    /// loops are joined by a zero-length edge, and each further pair of twin corners by
+    /// another, each cutting a thickness quad off; the region itself becomes the first.
+    fn make_passage(&mut self, region: FaceId) -> Result<Hole> {
         let FaceRole::Side { twin } = self.face_role(region)? else {
             return Err(TopologyError::NotApplicable(
                 "only a side is removed, not a thickness face".into(),
@@ -1625,6 +1901,22 @@ impl Sheet {
         }
         Ok(counts)
     }
+}
+
+/// What [`Sheet::remove`] did.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Removal {
+    /// The region lay inside the sheet: a passage was made where it was.
+    Passage(Hole),
+    /// The region lay on the sheet's free boundary.
+    Trimmed {
+        /// The thickness faces now lining the rim where the region joined other sides.
+        lining: Vec<FaceId>,
+        /// Passages (through holes) closed: the genus fell by this much.
+        passages_closed: usize,
+        /// Pieces the sheet fell apart into beyond the one it was.
+        pieces_made: usize,
+    },
 }
 
 /// What [`Sheet::punch`] made.
