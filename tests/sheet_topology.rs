@@ -3,7 +3,7 @@
 //! link and the Euler-Poincare formula.
 
 use dieface::sheet::topology::{
-    Brep, EdgeRole, FaceId, FaceRole, HalfEdgeId, Removal, Sheet, VertexId,
+    Brep, EdgeRole, FaceId, FaceRole, HalfEdgeId, Piece, Removal, Sheet, VertexId,
 };
 use proptest::prelude::*;
 
@@ -368,6 +368,9 @@ enum SheetOp {
     Lift(u32, u8, u32),
     /// The removal of the side picked by the number.
     Remove(u32),
+    /// A sheet added on the free edge picked by the first number (run one way or the
+    /// other by the third), with 1 + the second number boundary curves.
+    Add(u32, u8, bool),
 }
 
 fn sheet_op() -> impl Strategy<Value = SheetOp> {
@@ -377,30 +380,48 @@ fn sheet_op() -> impl Strategy<Value = SheetOp> {
         (any::<u32>(), any::<u32>(), any::<u32>()).prop_map(|(f, a, c)| SheetOp::Split(f, a, c)),
         (any::<u32>(), 0u8..4, any::<u32>()).prop_map(|(f, n, v)| SheetOp::Lift(f, n, v)),
         any::<u32>().prop_map(SheetOp::Remove),
+        (any::<u32>(), 0u8..5, any::<bool>()).prop_map(|(e, k, r)| SheetOp::Add(e, k, r)),
     ]
 }
 
 /// Applies `op` to the element it picks, when it applies; true if it did.
 fn apply_sheet(sheet: &mut Sheet, op: SheetOp) -> bool {
     let b = &sheet.brep;
+    let free: Vec<_> = b
+        .edges()
+        .filter(|&e| {
+            let (p, m) = b.halves_of(e).unwrap();
+            matches!(sheet.edge_role(e).unwrap(), EdgeRole::Side { .. })
+                && [p, m].iter().any(|&h| {
+                    let f = b.face_with(b.loop_with(h).unwrap()).unwrap();
+                    sheet.face_role(f).unwrap() == FaceRole::Thickness
+                })
+        })
+        .collect();
     match op {
         SheetOp::Flange(k) => {
-            let free: Vec<_> = b
-                .edges()
-                .filter(|&e| {
-                    let (p, m) = b.halves_of(e).unwrap();
-                    matches!(sheet.edge_role(e).unwrap(), EdgeRole::Side { .. })
-                        && [p, m].iter().any(|&h| {
-                            let f = b.face_with(b.loop_with(h).unwrap()).unwrap();
-                            sheet.face_role(f).unwrap() == FaceRole::Thickness
-                        })
-                })
-                .collect();
             if free.is_empty() {
                 return false;
             }
             let e = free[k as usize % free.len()];
             sheet.flange(e).is_ok()
+        }
+        SheetOp::Add(k, curves, reversed) => {
+            if free.is_empty() {
+                return false;
+            }
+            let e = free[k as usize % free.len()];
+            let (p, m) = b.halves_of(e).unwrap();
+            let (mut x, mut y) = (b.vertex(p).unwrap(), b.vertex(m).unwrap());
+            if reversed {
+                std::mem::swap(&mut x, &mut y);
+            }
+            sheet
+                .add_sheet(&[
+                    Piece::Picked(vec![x, y]),
+                    Piece::Curves(1 + curves as usize),
+                ])
+                .is_ok()
         }
         SheetOp::Punch(f, n, v) => {
             let side = pick_side(sheet, f);
@@ -441,7 +462,8 @@ proptest! {
     #![proptest_config(ProptestConfig { cases: 200, ..ProptestConfig::default() })]
 
     /// 200 random sequences of up to 30 sheet operations (flanges on free edges,
-    /// holes through sides, splits of sides, lifted regions, removed sides) from an
+    /// holes through sides, splits of sides, lifted regions, removed sides, sheets
+    /// added on a free edge) from an
     /// initial sheet, shrinking on failure: after each, the topology and every twin,
     /// zero-area loop and zero-length edge is valid, the genus counts the holes punched
     /// (a removal may add one or close some), and the model stays one shell unless a
@@ -757,7 +779,8 @@ fn random_sheet_sequences_reach_every_removal_case() {
     for _ in 0..300 {
         let (mut sheet, _, _) = Sheet::initial(3 + (next() % 4) as usize).unwrap();
         for _ in 0..20 {
-            let op = match next() % 5 {
+            let op = match next() % 6 {
+                5 => SheetOp::Add(next(), (next() % 4) as u8, next() % 2 == 0),
                 0 => SheetOp::Flange(next()),
                 1 => SheetOp::Punch(next(), (next() % 4) as u8, next()),
                 2 => SheetOp::Split(next(), next(), next()),
@@ -798,4 +821,110 @@ fn random_sheet_sequences_reach_every_removal_case() {
         cases[0], cases[1], cases[2], cases[3]
     );
     assert!(cases.iter().all(|&n| n > 0), "{cases:?}");
+}
+
+/// The counts of a sheet: vertices, edges, faces, genus, shells.
+fn counts(sheet: &Sheet) -> (usize, usize, usize, usize, usize) {
+    let c = sheet.check().expect("valid");
+    (c.vertices, c.edges, c.faces, c.genus, c.shells)
+}
+
+/// A sheet added on one picked edge with k boundary curves (paper 003, Fig. 6-9): k - 1
+/// Smev (2 vertices, 3 edges, 1 face each) and one Smel (2 edges, 2 faces); with three
+/// curves it is a flange. The new sides are twins, the curves side edges with twins.
+#[test]
+fn a_sheet_added_on_one_edge_takes_smev_then_smel() {
+    for k in 1..=5usize {
+        let (mut sheet, _, top) = Sheet::initial(4).unwrap();
+        let v = outer_vertices(&sheet, top);
+        let added = sheet
+            .add_sheet(&[Piece::Picked(vec![v[0], v[1]]), Piece::Curves(k)])
+            .unwrap_or_else(|e| panic!("{k} curves: {e}"));
+        assert_eq!(
+            counts(&sheet),
+            (8 + 2 * (k - 1), 12 + 3 * (k - 1) + 2, 6 + (k - 1) + 2, 0, 1),
+            "{k} curves"
+        );
+        assert_eq!(added.curves.len(), k);
+        let (side, twin) = added.sides;
+        assert_eq!(sheet.face_role(side).unwrap(), FaceRole::Side { twin });
+        for &c in &added.curves {
+            assert!(matches!(sheet.edge_role(c).unwrap(), EdgeRole::Side { .. }));
+        }
+        // The side's loop: the picked edge and the k curves.
+        assert_eq!(outer_vertices(&sheet, side).len(), k + 1);
+    }
+}
+
+/// Two picked edges in a row share a vertex: Skze kills the zero-length edge there
+/// first, so both edges open into one loop (one edge and one face fewer).
+#[test]
+fn picked_edges_in_a_row_are_opened_by_skze() {
+    let (mut sheet, _, top) = Sheet::initial(4).unwrap();
+    let v = outer_vertices(&sheet, top);
+    let added = sheet
+        .add_sheet(&[Piece::Picked(vec![v[0], v[1], v[2]]), Piece::Curves(2)])
+        .unwrap();
+    assert_eq!(counts(&sheet), (10, 16, 8, 0, 1));
+    assert_eq!(outer_vertices(&sheet, added.sides.0).len(), 4);
+}
+
+/// A sheet between two edges of one sheet is a handle: the curve that reaches the
+/// second picked edge's loop is Smep, which makes a passage (genus 1); the last is Smel.
+#[test]
+fn a_sheet_between_two_edges_of_one_sheet_is_a_passage_by_smep() {
+    let (mut sheet, _, top) = Sheet::initial(4).unwrap();
+    let v = outer_vertices(&sheet, top);
+    let added = sheet
+        .add_sheet(&[
+            Piece::Picked(vec![v[0], v[1]]),
+            Piece::Curves(1),
+            Piece::Picked(vec![v[2], v[3]]),
+            Piece::Curves(1),
+        ])
+        .unwrap();
+    assert_eq!(counts(&sheet), (8, 16, 8, 1, 1));
+    assert_eq!(outer_vertices(&sheet, added.sides.0).len(), 4);
+    // With more curves between them the handle has more vertices, the same genus.
+    let (mut sheet, _, top) = Sheet::initial(5).unwrap();
+    let v = outer_vertices(&sheet, top);
+    sheet
+        .add_sheet(&[
+            Piece::Picked(vec![v[0], v[1]]),
+            Piece::Curves(3),
+            Piece::Picked(vec![v[3], v[4]]),
+            Piece::Curves(2),
+        ])
+        .unwrap();
+    assert_eq!(counts(&sheet).3, 1);
+}
+
+/// Picks the new sheet cannot be added on change nothing: an edge where sheets already
+/// meet, vertices not joined by an edge, picked edges not side by side on one rim, the
+/// same edge twice, and pieces that do not alternate.
+#[test]
+fn a_sheet_on_a_wrong_pick_changes_nothing() {
+    let (mut sheet, _, top) = Sheet::initial(5).unwrap();
+    let v = outer_vertices(&sheet, top);
+    sheet
+        .add_sheet(&[Piece::Picked(vec![v[0], v[1]]), Piece::Curves(3)])
+        .unwrap();
+    let before = sheet.clone();
+    for pieces in [
+        vec![Piece::Picked(vec![v[0], v[1]]), Piece::Curves(3)],
+        vec![Piece::Picked(vec![v[1], v[3]]), Piece::Curves(3)],
+        vec![Piece::Picked(vec![v[2]]), Piece::Curves(3)],
+        vec![Piece::Picked(vec![v[2], v[3]]), Piece::Curves(0)],
+        vec![Piece::Picked(vec![v[2], v[3]])],
+        vec![Piece::Curves(2)],
+        vec![
+            Piece::Picked(vec![v[2], v[3]]),
+            Piece::Curves(1),
+            Piece::Picked(vec![v[3], v[2]]),
+            Piece::Curves(1),
+        ],
+    ] {
+        assert!(sheet.add_sheet(&pieces).is_err(), "{pieces:?}");
+        assert_eq!(sheet, before, "{pieces:?}");
+    }
 }

@@ -8,7 +8,8 @@
 //! after every operation.
 //!
 //! What is here so far: the boundary representation with its Euler operators and its
-//! validity check, and the initial sheet. The sheet operations of the language, the
-//! geometry and the thickening come next (issue 15).
+//! validity check, the initial sheet, and the topology of the sheet operations (add a
+//! sheet on picked edges, flange, split, punch, lift, remove). The geometry, the
+//! thickening and the language block come next (issue 15).
 
 pub mod topology;

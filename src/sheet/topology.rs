@@ -1060,6 +1060,146 @@ fn sweep(b: &mut Brep, l: LoopId) -> Result<Sweep> {
     })
 }
 
+/// A piece of a new sheet's boundary ([`Sheet::add_sheet`]).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Piece {
+    /// A run of picked edges: the path of vertices along them, in the boundary's order.
+    Picked(Vec<VertexId>),
+    /// This many new boundary curves, from the end of the run before to the start of
+    /// the run after.
+    Curves(usize),
+}
+
+/// What [`Sheet::add_sheet`] made.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct AddedSheet {
+    /// The new sheet's sides: the one across the picked edges, and its twin.
+    pub sides: (FaceId, FaceId),
+    /// The new boundary curves' edges on the first side, in order.
+    pub curves: Vec<EdgeId>,
+}
+
+/// A checked run of picked edges.
+struct PickedRun {
+    /// Its first vertex and that vertex's twin.
+    first: (VertexId, VertexId),
+    /// Its last vertex and that vertex's twin.
+    last: (VertexId, VertexId),
+    /// Each picked edge and its twin.
+    edges: Vec<(EdgeId, EdgeId)>,
+    /// Each picked edge's thickness face.
+    open: Vec<FaceId>,
+    /// The zero-length edges between neighbouring picked edges (Skze's).
+    inner_zero: Vec<EdgeId>,
+    /// The boundary curves after the run.
+    curves_after: usize,
+}
+
+/// What the S-Euler operators of [`Sheet::add_sheet`] made and killed, for the roles.
+#[derive(Default)]
+struct Made {
+    killed_edges: Vec<EdgeId>,
+    thickness_gone: Vec<FaceId>,
+    /// Each boundary curve and its twin.
+    curves: Vec<(EdgeId, EdgeId)>,
+    /// The zero-length edges between new twin vertices.
+    zero: Vec<EdgeId>,
+    /// Each new vertex and its twin.
+    vertices: Vec<(VertexId, VertexId)>,
+}
+
+/// The half-edge of face `f`'s outer loop that leaves vertex `v`.
+fn leaving_in(b: &Brep, f: FaceId, v: VertexId) -> Result<HalfEdgeId> {
+    b.loop_halves(b.loops_of(f)?[0])?
+        .into_iter()
+        .find(|&h| b.vertex(h).ok() == Some(v))
+        .ok_or_else(|| lost("a vertex on an open loop"))
+}
+
+/// The face across edge `e` from the sheets that were there before (`sides`, the faces
+/// that were sides): the open loop's face on that edge's side of the new sheet.
+fn across_from(b: &Brep, sides: &[bool], e: EdgeId) -> Result<FaceId> {
+    let (p, m) = b.halves_of(e)?;
+    for h in [p, m] {
+        let f = b.face_with(b.loop_with(h)?)?;
+        if !sides.get(f.index()).copied().unwrap_or(false) {
+            return Ok(f);
+        }
+    }
+    Err(lost("the new sheet across a picked edge"))
+}
+
+/// Smev: a boundary curve from `at` (and its twin from `at_twin`) to a new vertex (and
+/// its twin), grown into the open loop of face `open`; the new twins joined by a
+/// zero-length edge, which cuts the curve's thickness face off the open loop. Returns
+/// the new vertex and its twin.
+fn smev(
+    b: &mut Brep,
+    open: FaceId,
+    (at, at_twin): (VertexId, VertexId),
+    made: &mut Made,
+) -> Result<(VertexId, VertexId)> {
+    let h = leaving_in(b, open, at)?;
+    let (c, w) = b.lmev(h, h)?;
+    let h2 = leaving_in(b, open, at_twin)?;
+    let (c2, w2) = b.lmev(h2, h2)?;
+    let a = Sheet::half_leaving(b, c, w)?;
+    let d = Sheet::half_leaving(b, c2, w2)?;
+    let (z, _) = b.lmef(a, d)?;
+    made.curves.push((c, c2));
+    made.zero.push(z);
+    made.vertices.push((w, w2));
+    Ok((w, w2))
+}
+
+/// Smel: the last boundary curve of a run, from `from` to `to`, both on the open loop
+/// of the face across picked edge `edge` (twin `edge_twin`): one curve closes the new
+/// sheet's side off the loop, its twin (between the twins) the other side, and the
+/// curve's thickness face is what is left between them.
+fn smel(
+    b: &mut Brep,
+    sides: &[bool],
+    (edge, edge_twin): (EdgeId, EdgeId),
+    from: (VertexId, VertexId),
+    to: (VertexId, VertexId),
+    made: &mut Made,
+) -> Result<()> {
+    let open = across_from(b, sides, edge)?;
+    let (c, _) = b.lmef(leaving_in(b, open, from.0)?, leaving_in(b, open, to.0)?)?;
+    let open = across_from(b, sides, edge_twin)?;
+    let (c2, _) = b.lmef(leaving_in(b, open, from.1)?, leaving_in(b, open, to.1)?)?;
+    made.curves.push((c, c2));
+    Ok(())
+}
+
+/// Smep: the last boundary curve of a run, from `from` on the open loop of face
+/// `face_from` to `to` on another open loop, of `face_to`: the second loop becomes a
+/// ring of the first's face (a passage within one sheet; two sheets joined), the curve
+/// joins the two loops into one, and its twin cuts the curve's thickness face off.
+fn smep(
+    b: &mut Brep,
+    (face_from, face_to): (FaceId, FaceId),
+    from: (VertexId, VertexId),
+    to: (VertexId, VertexId),
+    made: &mut Made,
+) -> Result<()> {
+    let ring = b.lkfmrh(face_from, face_to)?;
+    made.thickness_gone.push(face_to);
+    let h1 = leaving_in(b, face_from, from.0)?;
+    let h2 = b
+        .loop_halves(ring)?
+        .into_iter()
+        .find(|&h| b.vertex(h).ok() == Some(to.0))
+        .ok_or_else(|| lost("a vertex on the second open loop"))?;
+    let c = b.lmekr(h1, h2)?;
+    let (c2, _) = b.lmef(
+        leaving_in(b, face_from, from.1)?,
+        leaving_in(b, face_from, to.1)?,
+    )?;
+    made.curves.push((c, c2));
+    Ok(())
+}
+
 /// What a face of a sheet model is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum FaceRole {
@@ -1550,6 +1690,208 @@ impl Sheet {
             sides,
             far_edge: far,
         })
+    }
+
+    /// Adds a sheet on picked edges (paper 003, section 4.2, Fig. 6-9): its boundary
+    /// runs through `pieces` in order and back to the start: runs of picked edges (each
+    /// a path of vertices along free edges of the sheets there) and, between them, runs
+    /// of new boundary curves. The S-Euler operators are chosen as the paper does:
+    /// - `Skze` at each vertex inside a picked run kills the zero-length edge between
+    ///   two picked edges' thickness faces, so each run has one thickness face, the
+    ///   loop the new sheet grows from (an open loop);
+    /// - each boundary curve but a run's last is `Smev` (a new vertex and its twin, the
+    ///   curve and its twin, a zero-length edge between the new twins cutting the
+    ///   curve's thickness face off the open loop);
+    /// - a run's last curve is `Smel` when its end lies on the open loop it started from
+    ///   (the loop closes into the new sheet's two sides), or `Smep` when it lies on
+    ///   another open loop (the two loops become one: a passage when they were on one
+    ///   sheet, the sheets joined when not).
+    ///
+    /// Nothing changes when a picked edge is not free, a run is not a path, or the
+    /// pieces do not alternate between picked runs and curves.
+    pub fn add_sheet(&mut self, pieces: &[Piece]) -> Result<AddedSheet> {
+        let runs = self.picked_runs(pieces)?;
+        let mut b = self.brep.clone();
+        let mut made = Made::default();
+        // Skze: one open loop per picked run.
+        for run in &runs {
+            for &z in &run.inner_zero {
+                b.lkef(z)?;
+                made.killed_edges.push(z);
+            }
+        }
+        // The curves of each run of them, from the end of one picked run to the start
+        // of the next.
+        let sides: Vec<bool> = self
+            .faces
+            .iter()
+            .map(|r| matches!(r, Some(FaceRole::Side { .. })))
+            .collect();
+        let n = runs.len();
+        for j in 0..n {
+            let next = &runs[(j + 1) % n];
+            let mut at = runs[j].last;
+            for _ in 1..runs[j].curves_after {
+                let open = across_from(&b, &sides, runs[j].edges[0].0)?;
+                at = smev(&mut b, open, at, &mut made)?;
+            }
+            let face_at = across_from(&b, &sides, runs[j].edges[0].0)?;
+            let face_to = across_from(&b, &sides, next.edges[0].0)?;
+            if face_at == face_to {
+                smel(&mut b, &sides, runs[j].edges[0], at, next.first, &mut made)?;
+            } else {
+                smep(&mut b, (face_at, face_to), at, next.first, &mut made)?;
+            }
+        }
+        // The new sheet's sides lie across the picked edges from the sheets picked;
+        // every other face made is a thickness face.
+        let picked: Vec<(EdgeId, EdgeId)> = runs.iter().flat_map(|r| r.edges.clone()).collect();
+        let (edge, edge_twin) = picked[0];
+        let (side, twin) = (
+            across_from(&b, &sides, edge)?,
+            across_from(&b, &sides, edge_twin)?,
+        );
+        self.brep = b;
+        self.sync_tables();
+        for &e in &made.killed_edges {
+            self.edges[e.index()] = None;
+        }
+        for f in self.brep.faces().collect::<Vec<_>>() {
+            if self.faces[f.index()].is_none() || runs.iter().any(|r| r.open.contains(&f)) {
+                self.faces[f.index()] = Some(FaceRole::Thickness);
+            }
+        }
+        for &f in &made.thickness_gone {
+            self.faces[f.index()] = None;
+        }
+        self.faces[side.index()] = Some(FaceRole::Side { twin });
+        self.faces[twin.index()] = Some(FaceRole::Side { twin: side });
+        for &(c, c2) in &made.curves {
+            self.edges[c.index()] = Some(EdgeRole::Side { twin: c2 });
+            self.edges[c2.index()] = Some(EdgeRole::Side { twin: c });
+        }
+        for &z in &made.zero {
+            self.edges[z.index()] = Some(EdgeRole::ZeroLength);
+        }
+        for &(v, w) in &made.vertices {
+            self.vertex_twins[v.index()] = Some(w);
+            self.vertex_twins[w.index()] = Some(v);
+        }
+        // Faces the merges killed (open loops taken into others) have no role.
+        for f in 0..self.faces.len() {
+            if self.brep.faces.get(f).and_then(Option::as_ref).is_none() {
+                self.faces[f] = None;
+            }
+        }
+        Ok(AddedSheet {
+            sides: (side, twin),
+            curves: made.curves.iter().map(|&(c, _)| c).collect(),
+        })
+    }
+
+    /// The picked runs of `pieces`, checked: each a path along free side edges, the
+    /// runs separated by one or more curves, every edge's thickness face its own.
+    fn picked_runs(&self, pieces: &[Piece]) -> Result<Vec<PickedRun>> {
+        let bad = |why: String| Err(TopologyError::NotApplicable(why));
+        let b = &self.brep;
+        let mut runs: Vec<PickedRun> = Vec::new();
+        for (i, piece) in pieces.iter().enumerate() {
+            let Piece::Picked(path) = piece else {
+                continue;
+            };
+            let Some(Piece::Curves(curves)) = pieces.get((i + 1) % pieces.len()) else {
+                return bad("each run of picked edges must be followed by boundary curves".into());
+            };
+            if *curves == 0 || path.len() < 2 {
+                return bad("a picked run needs two vertices or more, and curves after it".into());
+            }
+            let mut edges = Vec::new();
+            let mut open = Vec::new();
+            let mut inner_zero = Vec::new();
+            for (k, w) in path.windows(2).enumerate() {
+                let e = b
+                    .edges_at(w[0])?
+                    .into_iter()
+                    .find(|&e| {
+                        let ends = b.halves_of(e).and_then(|(p, m)| Ok((b.vertex(p)?, b.vertex(m)?)));
+                        matches!(ends, Ok((x, y)) if (x, y) == (w[0], w[1]) || (y, x) == (w[0], w[1]))
+                    })
+                    .ok_or_else(|| {
+                        TopologyError::NotApplicable(format!(
+                            "vertices {} and {} are not joined by an edge",
+                            w[0].0, w[1].0
+                        ))
+                    })?;
+                let EdgeRole::Side { twin } = self.edge_role(e)? else {
+                    return bad(format!("edge {} is a zero-length edge", e.0));
+                };
+                let (p, m) = b.halves_of(e)?;
+                let thickness = [p, m]
+                    .into_iter()
+                    .map(|h| b.face_with(b.loop_with(h)?))
+                    .collect::<Result<Vec<_>>>()?
+                    .into_iter()
+                    .find(|&f| self.face_role(f).ok() == Some(FaceRole::Thickness))
+                    .ok_or_else(|| {
+                        TopologyError::NotApplicable(format!(
+                            "edge {} is not free: sheets meet there",
+                            e.0
+                        ))
+                    })?;
+                if runs.iter().any(|r| r.open.contains(&thickness)) || open.contains(&thickness) {
+                    return bad(format!("edge {} is picked twice", e.0));
+                }
+                if k > 0 {
+                    // Skze's edge: the zero-length edge at the vertex between this picked
+                    // edge and the last, on both their thickness faces.
+                    let last: FaceId = open[open.len() - 1];
+                    let z = b
+                        .edges_at(w[0])?
+                        .into_iter()
+                        .find(|&z| {
+                            self.edge_role(z).ok() == Some(EdgeRole::ZeroLength)
+                                && b.halves_of(z).is_ok_and(|(p, m)| {
+                                    let faces: Vec<FaceId> = [p, m]
+                                        .into_iter()
+                                        .filter_map(|h| b.face_with(b.loop_with(h).ok()?).ok())
+                                        .collect();
+                                    faces.contains(&last) && faces.contains(&thickness)
+                                })
+                        })
+                        .ok_or_else(|| {
+                            TopologyError::NotApplicable(format!(
+                                "the picked edges at vertex {} are not neighbours on one free rim",
+                                w[0].0
+                            ))
+                        })?;
+                    inner_zero.push(z);
+                }
+                edges.push((e, twin));
+                open.push(thickness);
+            }
+            let ends =
+                |v: VertexId| -> Result<(VertexId, VertexId)> { Ok((v, self.twin_vertex(v)?)) };
+            runs.push(PickedRun {
+                first: ends(path[0])?,
+                last: ends(path[path.len() - 1])?,
+                edges,
+                open,
+                inner_zero,
+                curves_after: *curves,
+            });
+        }
+        if runs.is_empty() {
+            return bad("a new sheet needs a picked edge".into());
+        }
+        if pieces
+            .iter()
+            .filter(|p| matches!(p, Piece::Curves(_)))
+            .count()
+            != runs.len()
+        {
+            return bad("picked runs and runs of curves must alternate".into());
+        }
+        Ok(runs)
     }
 
     /// Separates a side by a new edge between two vertices of its outer loop (paper
