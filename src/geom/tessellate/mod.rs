@@ -21,10 +21,12 @@
 //! tolerances and runaway refinement come back as [`GeomError`].
 
 mod curve;
+mod polygon;
 mod surface;
 mod trimmed;
 
 pub use curve::{tessellate_curve, tessellate_curve_within, CURVE_POINT_LIMIT};
+pub use polygon::triangulate_loops;
 pub use surface::{tessellate_surface, tessellate_surface_within, SURFACE_VERTEX_LIMIT};
 pub use trimmed::{tessellate_trimmed, tessellate_trimmed_within};
 

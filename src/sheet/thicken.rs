@@ -1,0 +1,266 @@
+//! A sheet model made solid: its mid-surface points offset by half the thickness to
+//! each side, the solid's vertices where the offset faces meet (paper 003, section 5;
+//! primer section 9: junction type 1, where the solid's mid-surfaces are the sheets).
+//!
+//! Every side face of the sheet model is offset along its outward normal by half the
+//! thickness: the two sides of a sheet, whose loops run opposite ways, move apart. A
+//! thickness face (a zero-area loop) becomes the real face across the sheet's edge: for
+//! each of its side edges, the plane through the edge square to the side it bounds. A
+//! solid vertex lies where the planes of the faces round it meet, found by least
+//! squares (nalgebra's SVD), moved from the mid-surface point by the smallest step (a
+//! vertex inside a flat region meets only its side's plane). Where a flange meets its
+//! sheet the two sides' offset planes cross on the mitre, and the solid's mid-surfaces
+//! are the sheets.
+//!
+//! Planar faces only so far: each face of the solid is triangulated in its own plane.
+
+use glam::{DVec2, DVec3};
+use nalgebra::{DMatrix, DVector};
+
+use super::topology::{Brep, EdgeRole, FaceId, FaceRole, Sheet, TopologyError, VertexId};
+use crate::geom::mesh::{Face, Mesh};
+use crate::geom::tessellate::triangulate_loops;
+use crate::geom::GeomError;
+
+/// Where each vertex of a sheet model lies on the mid-surface. A vertex and its twin lie
+/// at the same point: they part only when the sheet is thickened.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct MidSurface {
+    points: Vec<Option<DVec3>>,
+}
+
+impl MidSurface {
+    /// No vertex placed yet.
+    pub fn new() -> MidSurface {
+        MidSurface::default()
+    }
+
+    /// Places vertex `v` of `sheet`, and its twin, at `p`.
+    pub fn place(&mut self, sheet: &Sheet, v: VertexId, p: DVec3) -> Result<(), TopologyError> {
+        let w = sheet.twin_vertex(v)?;
+        for u in [v, w] {
+            if self.points.len() <= u.index() {
+                self.points.resize(u.index() + 1, None);
+            }
+            self.points[u.index()] = Some(p);
+        }
+        Ok(())
+    }
+
+    /// Where vertex `v` lies, once placed.
+    pub fn point(&self, v: VertexId) -> Option<DVec3> {
+        self.points.get(v.index()).copied().flatten()
+    }
+}
+
+/// Why a sheet could not be made solid.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ThickenError {
+    /// The thickness is not a length above zero.
+    Thickness(f64),
+    /// A vertex has no mid-surface point.
+    Unplaced(VertexId),
+    /// A side face spans no area (its points on one line), so it has no normal.
+    Degenerate(FaceId),
+    /// A face of the solid could not be triangulated (its outline crosses itself).
+    Triangulation(FaceId, GeomError),
+    /// The sheet model's topology is broken.
+    Topology(TopologyError),
+}
+
+impl std::fmt::Display for ThickenError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ThickenError::Thickness(t) => write!(f, "a thickness must be above 0, not {t}"),
+            ThickenError::Unplaced(v) => write!(f, "vertex {} has no point", v.0),
+            ThickenError::Degenerate(face) => {
+                write!(f, "face {} spans no area: its points lie on a line", face.0)
+            }
+            ThickenError::Triangulation(face, e) => {
+                write!(f, "face {} of the solid cannot be meshed: {e}", face.0)
+            }
+            ThickenError::Topology(e) => write!(f, "{e}"),
+        }
+    }
+}
+
+impl std::error::Error for ThickenError {}
+
+impl From<TopologyError> for ThickenError {
+    fn from(e: TopologyError) -> Self {
+        ThickenError::Topology(e)
+    }
+}
+
+/// Singular values of the planes' normals below this count as none: the planes then
+/// fix no direction there (the normals are unit vectors).
+const RANK_TOLERANCE: f64 = 1e-9;
+
+/// The solid of `sheet` (placed by `mid`) at `thickness`, as a closed triangle mesh
+/// whose triangles face out of the solid.
+pub fn thicken(sheet: &Sheet, mid: &MidSurface, thickness: f64) -> Result<Mesh, ThickenError> {
+    if !(thickness.is_finite() && thickness > 0.0) {
+        return Err(ThickenError::Thickness(thickness));
+    }
+    let b = &sheet.brep;
+    let at = |v: VertexId| mid.point(v).ok_or(ThickenError::Unplaced(v));
+    // Each side face's outward normal on the mid-surface (Newell's, along its loop).
+    let mut normals: Vec<Option<DVec3>> = vec![None; face_slots(b)];
+    for f in b.faces() {
+        if let FaceRole::Side { .. } = sheet.face_role(f)? {
+            let points: Vec<DVec3> = loop_vertices(b, f)?
+                .into_iter()
+                .map(at)
+                .collect::<Result<_, _>>()?;
+            let n = newell(&points);
+            if n.length() <= 1e-12 * scale(&points) {
+                return Err(ThickenError::Degenerate(f));
+            }
+            normals[f.index()] = Some(n.normalize());
+        }
+    }
+    let normal = |f: FaceId| normals[f.index()].ok_or(ThickenError::Degenerate(f));
+    // The planes (normal, offset) round each vertex.
+    let mut planes: Vec<Vec<(DVec3, f64)>> = vec![Vec::new(); vertex_slots(b)];
+    for f in b.faces() {
+        let role = sheet.face_role(f)?;
+        for &l in b.loops_of(f)? {
+            for h in b.loop_halves(l)? {
+                let v = b.vertex(h)?;
+                match role {
+                    FaceRole::Side { .. } => {
+                        let n = normal(f)?;
+                        planes[v.index()].push((n, n.dot(at(v)?) + 0.5 * thickness));
+                    }
+                    FaceRole::Thickness => {
+                        // The side edges of the thickness face at v: the one leaving v
+                        // and the one arriving.
+                        let prev = b.prev(h)?;
+                        for (edge_half, from, to) in
+                            [(h, v, b.vertex(b.next(h)?)?), (prev, b.vertex(prev)?, v)]
+                        {
+                            let Some(e) = b.edge(edge_half)? else {
+                                continue;
+                            };
+                            if sheet.edge_role(e)? == EdgeRole::ZeroLength {
+                                continue;
+                            }
+                            // The side across the edge runs it the other way: to -> from.
+                            let side = b.face_with(b.loop_with(b.mate(edge_half)?)?)?;
+                            let d = at(from)? - at(to)?;
+                            let m = d.cross(normal(side)?);
+                            if m.length() > 0.0 {
+                                let m = m.normalize();
+                                planes[v.index()].push((m, m.dot(at(v)?)));
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+    // Each vertex where its planes meet: the mid-surface point moved by the smallest
+    // step that puts it on every plane (least squares where they disagree), so along a
+    // direction no plane fixes it stays where it was.
+    let mut index = vec![u32::MAX; vertex_slots(b)];
+    let mut positions = Vec::new();
+    for v in b.vertices() {
+        let p = at(v)?;
+        let round = &planes[v.index()];
+        let mut a = DMatrix::<f64>::zeros(round.len(), 3);
+        let mut r = DVector::<f64>::zeros(round.len());
+        for (i, &(n, d)) in round.iter().enumerate() {
+            a[(i, 0)] = n.x;
+            a[(i, 1)] = n.y;
+            a[(i, 2)] = n.z;
+            r[i] = d - n.dot(p);
+        }
+        let step = if round.is_empty() {
+            DVec3::ZERO
+        } else {
+            let x = a
+                .svd(true, true)
+                .solve(&r, RANK_TOLERANCE)
+                .map_err(|e| TopologyError::Invalid(format!("vertex {}: {e}", v.0)))?;
+            DVec3::new(x[0], x[1], x[2])
+        };
+        index[v.index()] = positions.len() as u32;
+        positions.push(p + step);
+    }
+    // Every face of the solid triangulated in its own plane.
+    let mut faces = Vec::new();
+    for f in b.faces() {
+        let loops: Vec<Vec<u32>> = b
+            .loops_of(f)?
+            .iter()
+            .map(|&l| {
+                b.loop_halves(l)?
+                    .into_iter()
+                    .map(|h| Ok(index[b.vertex(h)?.index()]))
+                    .collect::<Result<Vec<u32>, TopologyError>>()
+            })
+            .collect::<Result<_, _>>()?;
+        let outer: Vec<DVec3> = loops[0].iter().map(|&i| positions[i as usize]).collect();
+        let n = newell(&outer);
+        if n.length() <= 1e-12 * scale(&outer) {
+            return Err(ThickenError::Degenerate(f));
+        }
+        let n = n.normalize();
+        let u = n.any_orthonormal_vector();
+        let w = n.cross(u);
+        let flat: Vec<Vec<DVec2>> = loops
+            .iter()
+            .map(|ring| {
+                ring.iter()
+                    .map(|&i| {
+                        let p = positions[i as usize];
+                        DVec2::new(p.dot(u), p.dot(w))
+                    })
+                    .collect()
+            })
+            .collect();
+        let all: Vec<u32> = loops.iter().flatten().copied().collect();
+        for [a, c, d] in triangulate_loops(&flat).map_err(|e| ThickenError::Triangulation(f, e))? {
+            faces.push(Face::triangle(all[a], all[c], all[d]));
+        }
+    }
+    Mesh::new(positions, faces)
+        .map_err(|e| ThickenError::Topology(TopologyError::Invalid(e.to_string())))
+}
+
+/// The vertices of face `f`'s outer loop, in order.
+fn loop_vertices(b: &Brep, f: FaceId) -> Result<Vec<VertexId>, TopologyError> {
+    b.loop_halves(b.loops_of(f)?[0])?
+        .into_iter()
+        .map(|h| b.vertex(h))
+        .collect()
+}
+
+/// Newell's normal of a closed polygon: twice its vector area, along the normal its
+/// points run counter-clockwise round.
+fn newell(points: &[DVec3]) -> DVec3 {
+    let n = points.len();
+    (0..n)
+        .map(|i| points[i].cross(points[(i + 1) % n]))
+        .sum::<DVec3>()
+}
+
+/// A length the size of `points`, for relative tests.
+fn scale(points: &[DVec3]) -> f64 {
+    let (lo, hi) = points
+        .iter()
+        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &p| {
+            (lo.min(p), hi.max(p))
+        });
+    (hi - lo).length().powi(2).max(f64::MIN_POSITIVE)
+}
+
+/// Slots for face ids (live or not).
+fn face_slots(b: &Brep) -> usize {
+    b.faces().map(|f| f.index() + 1).max().unwrap_or(0)
+}
+
+/// Slots for vertex ids (live or not).
+fn vertex_slots(b: &Brep) -> usize {
+    b.vertices().map(|v| v.index() + 1).max().unwrap_or(0)
+}

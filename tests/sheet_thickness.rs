@@ -1,0 +1,170 @@
+//! A sheet model made solid (paper 003, section 5; primer section 9): the solid is
+//! closed, its triangles face out, and its volume is the sheets' area times the
+//! thickness, exactly where the sheets meet at a mitre (junction type 1).
+
+use dieface::geom::mesh::{Mesh, Topology};
+use dieface::sheet::thicken::{thicken, MidSurface, ThickenError};
+use dieface::sheet::topology::{EdgeRole, FaceId, Sheet, VertexId};
+use glam::DVec3;
+
+/// The vertices of face `f`'s outer loop, in order.
+fn outer_vertices(sheet: &Sheet, f: FaceId) -> Vec<VertexId> {
+    let b = &sheet.brep;
+    b.loop_halves(b.loops_of(f).unwrap()[0])
+        .unwrap()
+        .into_iter()
+        .map(|h| b.vertex(h).unwrap())
+        .collect()
+}
+
+/// The volume a closed, outward-facing triangle mesh encloses (divergence theorem).
+fn volume(mesh: &Mesh) -> f64 {
+    let p = mesh.positions();
+    mesh.faces()
+        .iter()
+        .map(|f| {
+            let i = f.indices();
+            let (a, b, c) = (p[i[0] as usize], p[i[1] as usize], p[i[2] as usize]);
+            a.dot(b.cross(c)) / 6.0
+        })
+        .sum()
+}
+
+/// The mesh is closed and every edge's two triangles agree on orientation.
+fn assert_closed_and_oriented(mesh: &Mesh) {
+    let topology = Topology::build(mesh);
+    assert!(
+        topology.is_closed(),
+        "free edges: {:?}",
+        topology.free_edges()
+    );
+    assert!(topology.non_manifold_edges().is_empty());
+    assert!(topology.inconsistent_edges().is_empty());
+}
+
+/// A slab over the rectangle 100 x 60 in the XY plane, its outline placed on the side
+/// whose loop runs counter-clockwise seen from +Z.
+fn plate() -> (Sheet, MidSurface, FaceId, FaceId) {
+    let (sheet, bottom, top) = Sheet::initial(4).unwrap();
+    let corners = [
+        DVec3::new(0.0, 0.0, 0.0),
+        DVec3::new(100.0, 0.0, 0.0),
+        DVec3::new(100.0, 60.0, 0.0),
+        DVec3::new(0.0, 60.0, 0.0),
+    ];
+    let mut mid = MidSurface::new();
+    for (v, p) in outer_vertices(&sheet, top).into_iter().zip(corners) {
+        mid.place(&sheet, v, p).unwrap();
+    }
+    (sheet, mid, bottom, top)
+}
+
+#[test]
+fn a_plate_becomes_a_closed_slab_of_its_area_times_the_thickness() {
+    let (sheet, mid, _, _) = plate();
+    let solid = thicken(&sheet, &mid, 2.0).unwrap();
+    assert_closed_and_oriented(&solid);
+    assert!((volume(&solid) - 100.0 * 60.0 * 2.0).abs() < 1e-9);
+    // Half the thickness to each side of the mid-surface.
+    let z: Vec<f64> = solid.positions().iter().map(|p| p.z).collect();
+    assert!(z.iter().all(|&z| (z.abs() - 1.0).abs() < 1e-9), "{z:?}");
+    assert_eq!(solid.vertex_count(), 8);
+}
+
+#[test]
+fn a_punched_plate_loses_the_hole_times_the_thickness() {
+    let (mut sheet, mut mid, _, top) = plate();
+    let at = outer_vertices(&sheet, top)[0];
+    sheet.punch(top, at, 4).unwrap();
+    // The hole as the top side's ring runs: clockwise seen from +Z, against its outline.
+    let b = &sheet.brep;
+    let ring: Vec<VertexId> = b
+        .loop_halves(b.loops_of(top).unwrap()[1])
+        .unwrap()
+        .into_iter()
+        .map(|h| b.vertex(h).unwrap())
+        .collect();
+    let clockwise = [(40.0, 20.0), (40.0, 40.0), (60.0, 40.0), (60.0, 20.0)];
+    for (&v, (x, y)) in ring.iter().zip(clockwise) {
+        mid.place(&sheet, v, DVec3::new(x, y, 0.0)).unwrap();
+    }
+    let solid = thicken(&sheet, &mid, 1.5).unwrap();
+    assert_closed_and_oriented(&solid);
+    assert!(
+        (volume(&solid) - (6000.0 - 400.0) * 1.5).abs() < 1e-9,
+        "{}",
+        volume(&solid)
+    );
+}
+
+/// A flange 40 mm up along the plate's edge at x = 100: the two sheets meet at a mitre
+/// (type 1), and the solid holds the flange's area and the plate's, each times the
+/// thickness, exactly (the mitre takes from the inside corner what it adds outside).
+#[test]
+fn a_flange_meets_its_plate_at_a_mitre() {
+    let (mut sheet, mut mid, _, top) = plate();
+    let outline = outer_vertices(&sheet, top);
+    let b = &sheet.brep;
+    // The free edge from (100, 0) to (100, 60).
+    let edge = b
+        .edges_at(outline[1])
+        .unwrap()
+        .into_iter()
+        .find(|&e| {
+            let (p, m) = b.halves_of(e).unwrap();
+            let ends = [b.vertex(p).unwrap(), b.vertex(m).unwrap()];
+            ends.contains(&outline[2])
+        })
+        .unwrap();
+    let flange = sheet.flange(edge).unwrap();
+    // The far edge's ends stand 40 above the base vertices they are swept from.
+    let b = &sheet.brep;
+    let (p, m) = b.halves_of(flange.far_edge).unwrap();
+    for t in [b.vertex(p).unwrap(), b.vertex(m).unwrap()] {
+        let base = b
+            .edges_at(t)
+            .unwrap()
+            .into_iter()
+            .filter(|&e| e != flange.far_edge)
+            .filter(|&e| matches!(sheet.edge_role(e).unwrap(), EdgeRole::Side { .. }))
+            .find_map(|e| {
+                let (p, m) = b.halves_of(e).unwrap();
+                [b.vertex(p).unwrap(), b.vertex(m).unwrap()]
+                    .into_iter()
+                    .find_map(|v| mid.point(v))
+            })
+            .unwrap();
+        mid.place(&sheet, t, base + DVec3::new(0.0, 0.0, 40.0))
+            .unwrap();
+    }
+    let t = 2.0;
+    let solid = thicken(&sheet, &mid, t).unwrap();
+    assert_closed_and_oriented(&solid);
+    let expected = 60.0 * t * (100.0 + 40.0);
+    assert!(
+        (volume(&solid) - expected).abs() < 1e-9,
+        "{} against {expected}",
+        volume(&solid)
+    );
+    // The mitre's outer corner at (101, ., -1), its inner one at (99, ., 1).
+    let has = |q: DVec3| solid.positions().iter().any(|p| p.distance(q) < 1e-9);
+    assert!(has(DVec3::new(101.0, 0.0, -1.0)) && has(DVec3::new(99.0, 60.0, 1.0)));
+}
+
+#[test]
+fn a_thickness_or_a_point_missing_is_refused() {
+    let (sheet, mid, _, _) = plate();
+    assert!(matches!(
+        thicken(&sheet, &mid, 0.0),
+        Err(ThickenError::Thickness(_))
+    ));
+    assert!(matches!(
+        thicken(&sheet, &mid, f64::NAN),
+        Err(ThickenError::Thickness(_))
+    ));
+    let (sheet, _, _, _) = plate();
+    assert!(matches!(
+        thicken(&sheet, &MidSurface::new(), 1.0),
+        Err(ThickenError::Unplaced(_))
+    ));
+}
