@@ -3,7 +3,8 @@
 //! thickness, exactly where the sheets meet at a mitre (junction type 1).
 
 use dieface::geom::mesh::{Mesh, Topology};
-use dieface::sheet::thicken::{thicken, MidSurface, ThickenError};
+use dieface::sheet::geometry::{bend, edge_near, face_near, move_face, MidSurface};
+use dieface::sheet::thicken::{thicken, ThickenError};
 use dieface::sheet::topology::{EdgeRole, FaceId, Sheet, VertexId};
 use glam::DVec3;
 
@@ -167,4 +168,94 @@ fn a_thickness_or_a_point_missing_is_refused() {
         thicken(&sheet, &MidSurface::new(), 1.0),
         Err(ThickenError::Unplaced(_))
     ));
+}
+
+/// A 100 x 60 plate with vertices at x = 50 on both long edges, split there: the left
+/// half (x <= 50) and the right half, both on the top side (CCW seen from +Z).
+fn split_plate() -> (Sheet, MidSurface, FaceId, FaceId) {
+    let (mut sheet, _, top) = Sheet::initial(6).unwrap();
+    let corners = [
+        (0.0, 0.0),
+        (50.0, 0.0),
+        (100.0, 0.0),
+        (100.0, 60.0),
+        (50.0, 60.0),
+        (0.0, 60.0),
+    ];
+    let mut mid = MidSurface::new();
+    let outline = outer_vertices(&sheet, top);
+    for (&v, (x, y)) in outline.iter().zip(corners) {
+        mid.place(&sheet, v, DVec3::new(x, y, 0.0)).unwrap();
+    }
+    let (_, other) = sheet.split(top, outline[1], outline[4]).unwrap();
+    let left = face_near(&sheet, &mid, DVec3::new(25.0, 30.0, 1.0)).unwrap();
+    let right = face_near(&sheet, &mid, DVec3::new(75.0, 30.0, 1.0)).unwrap();
+    assert!([top, other].contains(&left) && [top, other].contains(&right) && left != right);
+    (sheet, mid, left, right)
+}
+
+/// A plate bent up 90 deg about a line across it (paper 003, Fig. 14: geometry only):
+/// the far half stands square to the near one, the edges picked by points near them,
+/// and the solid meets itself on the mitre with the plate's area times the thickness.
+#[test]
+fn a_plate_bent_about_an_edge_turns_its_far_part_and_keeps_its_volume() {
+    let (sheet, mut mid, left, right) = split_plate();
+    let before = sheet.clone();
+    let crease = edge_near(&sheet, &mid, DVec3::new(50.0, 30.0, 1.0)).unwrap();
+    bend(&sheet, &mut mid, left, crease, std::f64::consts::FRAC_PI_2).unwrap();
+    assert_eq!(sheet, before, "a bend changes no topology");
+    // The right half now stands up from x = 50 (towards the left side's normal, +Z).
+    let b = &sheet.brep;
+    let points: Vec<DVec3> = b
+        .loop_halves(b.loops_of(right).unwrap()[0])
+        .unwrap()
+        .into_iter()
+        .map(|h| mid.point(b.vertex(h).unwrap()).unwrap())
+        .collect();
+    for p in &points {
+        assert!((p.x - 50.0).abs() < 1e-9, "{p}");
+    }
+    assert!(points.iter().any(|p| (p.z - 50.0).abs() < 1e-9));
+    let t = 2.0;
+    let solid = thicken(&sheet, &mid, t).unwrap();
+    assert_closed_and_oriented(&solid);
+    assert!(
+        (volume(&solid) - 6000.0 * t).abs() < 1e-9,
+        "{}",
+        volume(&solid)
+    );
+    // Bent back by the same angle the other way, the plate is flat again.
+    bend(&sheet, &mut mid, left, crease, -std::f64::consts::FRAC_PI_2).unwrap();
+    let flat = thicken(&sheet, &mid, t).unwrap();
+    assert!(flat
+        .positions()
+        .iter()
+        .all(|p| (p.z.abs() - 1.0).abs() < 1e-9));
+}
+
+#[test]
+fn a_bend_on_a_free_edge_or_past_half_a_turn_is_refused() {
+    let (sheet, mut mid, left, _) = split_plate();
+    let before = mid.clone();
+    let free = edge_near(&sheet, &mid, DVec3::new(0.0, 30.0, 1.0)).unwrap();
+    assert!(bend(&sheet, &mut mid, left, free, 0.5).is_err());
+    let crease = edge_near(&sheet, &mid, DVec3::new(50.0, 30.0, 1.0)).unwrap();
+    assert!(bend(&sheet, &mut mid, left, crease, 4.0).is_err());
+    assert_eq!(mid, before);
+}
+
+/// A face moved carries its twin and its neighbours' shared vertices: lifting the right
+/// half of the split plate by 10 mm leaves a step whose solid is still closed.
+#[test]
+fn a_moved_face_takes_its_twin_along() {
+    let (sheet, mut mid, _, right) = split_plate();
+    move_face(&sheet, &mut mid, right, DVec3::new(30.0, 0.0, 0.0)).unwrap();
+    let solid = thicken(&sheet, &mid, 1.0).unwrap();
+    assert_closed_and_oriented(&solid);
+    // The right half runs from x = 80 to 130 now, the left from 0 to 80: 130 x 60.
+    assert!(
+        (volume(&solid) - 130.0 * 60.0).abs() < 1e-9,
+        "{}",
+        volume(&solid)
+    );
 }

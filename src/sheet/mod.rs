@@ -9,9 +9,11 @@
 //!
 //! What is here so far: the boundary representation with its Euler operators and its
 //! validity check, the initial sheet, and the topology of the sheet operations (add a
-//! sheet on picked edges, flange, split, punch, lift, remove), and the solid of a
-//! placed planar sheet model at a thickness ([`thicken`]). Curved geometry, bending,
-//! rounding and the language block come next (issue 15).
+//! sheet on picked edges, flange, split, punch, lift, remove), the placed model with
+//! picking by points, moves and bends ([`geometry`]), and its solid at a thickness
+//! ([`thicken`]). Curved geometry, rounding and the language block come next (issue
+//! 15).
 
+pub mod geometry;
 pub mod thicken;
 pub mod topology;

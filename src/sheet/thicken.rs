@@ -17,41 +17,11 @@
 use glam::{DVec2, DVec3};
 use nalgebra::{DMatrix, DVector};
 
+use super::geometry::{newell, MidSurface};
 use super::topology::{Brep, EdgeRole, FaceId, FaceRole, Sheet, TopologyError, VertexId};
 use crate::geom::mesh::{Face, Mesh};
 use crate::geom::tessellate::triangulate_loops;
 use crate::geom::GeomError;
-
-/// Where each vertex of a sheet model lies on the mid-surface. A vertex and its twin lie
-/// at the same point: they part only when the sheet is thickened.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct MidSurface {
-    points: Vec<Option<DVec3>>,
-}
-
-impl MidSurface {
-    /// No vertex placed yet.
-    pub fn new() -> MidSurface {
-        MidSurface::default()
-    }
-
-    /// Places vertex `v` of `sheet`, and its twin, at `p`.
-    pub fn place(&mut self, sheet: &Sheet, v: VertexId, p: DVec3) -> Result<(), TopologyError> {
-        let w = sheet.twin_vertex(v)?;
-        for u in [v, w] {
-            if self.points.len() <= u.index() {
-                self.points.resize(u.index() + 1, None);
-            }
-            self.points[u.index()] = Some(p);
-        }
-        Ok(())
-    }
-
-    /// Where vertex `v` lies, once placed.
-    pub fn point(&self, v: VertexId) -> Option<DVec3> {
-        self.points.get(v.index()).copied().flatten()
-    }
-}
 
 /// Why a sheet could not be made solid.
 #[derive(Debug, Clone, PartialEq)]
@@ -234,15 +204,6 @@ fn loop_vertices(b: &Brep, f: FaceId) -> Result<Vec<VertexId>, TopologyError> {
         .into_iter()
         .map(|h| b.vertex(h))
         .collect()
-}
-
-/// Newell's normal of a closed polygon: twice its vector area, along the normal its
-/// points run counter-clockwise round.
-fn newell(points: &[DVec3]) -> DVec3 {
-    let n = points.len();
-    (0..n)
-        .map(|i| points[i].cross(points[(i + 1) % n]))
-        .sum::<DVec3>()
 }
 
 /// A length the size of `points`, for relative tests.
