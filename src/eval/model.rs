@@ -197,7 +197,10 @@ impl Ctx<'_> {
                 continue;
             }
             let piece = field.split_whitespace().collect::<Vec<_>>().join("-");
-            if let Some(child) = self.part(format!("{}/{piece}", part.name), v) {
+            if let Some(mut child) = self.part(format!("{}/{piece}", part.name), v) {
+                if let Some(kind) = r.feature.as_ref().and_then(|f| f.kind.piece_kind(field)) {
+                    child.kind = kind.to_string();
+                }
                 part.children.push(child);
             }
         }

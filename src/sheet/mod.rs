@@ -15,5 +15,6 @@
 //! 15).
 
 pub mod geometry;
+pub mod part;
 pub mod thicken;
 pub mod topology;

@@ -57,6 +57,12 @@ pub trait FeatureKind: Send + Sync {
         None
     }
 
+    /// The kind of the exported piece in record field `field`, when it is not the
+    /// feature's own (a sheet's `solid` is a `solid`).
+    fn piece_kind(&self, _field: &str) -> Option<&'static str> {
+        None
+    }
+
     /// Adds its faces to the die face (`name` is the declaration's name).
     fn die_face(&self, _name: &str, _record: &Record, _out: &mut DieFace) {}
 }
@@ -113,7 +119,7 @@ pub struct Registry {
 }
 
 impl Registry {
-    /// The standard kinds: the die-face features and `die_checks`.
+    /// The standard kinds: the die-face features, sheet parts and `die_checks`.
     pub fn standard() -> Registry {
         Registry {
             kinds: vec![
@@ -121,6 +127,7 @@ impl Registry {
                 super::blankholder::KIND,
                 super::step_draw::KIND,
                 super::bead::KIND,
+                super::sheet::KIND,
                 super::die_checks::KIND,
             ],
         }

@@ -1,0 +1,321 @@
+//! `sheet name { ... }`: a thin part declared as a zero-thickness sheet and made solid
+//! at its thickness, read into [`crate::sheet::part`].
+//!
+//! ```text
+//! sheet bracket {
+//!     outline = sketch(top) { ... close }   // the plate, on its view's plane
+//!     thickness = 1.2 mm
+//!     punch vent = sketch(top) { ... close }             // a hole, inside the outline
+//!     flange lip = { at: (100, 30), height: 25 mm }     // on the edge nearest `at`,
+//!                                                        // `angle` up (default 90 deg)
+//! }
+//! ```
+//!
+//! The value: `mid` (the mid-surface, one side of each sheet, as a mesh), `solid` (the
+//! closed solid at the thickness) and `quality` (`area`, `volume`, `thickness`, `holes`,
+//! `flanges`).
+
+use crate::diag::Diagnostic;
+use crate::geom::tessellate::{tessellate_curve, Tolerance};
+use crate::sheet::part::{self, FlangeSpec, PartProblem, PlateSpec, SheetPart};
+use crate::syntax::Span;
+
+use super::super::builtins::{as_angle, as_point2, type_error};
+use super::super::sketch::{Sketch, View};
+use super::super::summary::round;
+use super::super::value::{Data, Dim, Quantity, Record, Value};
+use super::kind::{FeatureKind, FieldNames};
+use super::{check_record, count, feature_error, feature_value, length, mm, record, Block, Field};
+
+use glam::DVec3;
+use std::sync::Arc;
+
+/// How closely a curved outline is followed by the plate's straight edges (mm).
+const OUTLINE_TOLERANCE: f64 = 0.05;
+
+/// Builds the sheet part of `block`.
+fn build(block: &Block) -> Result<Value, Diagnostic> {
+    let outline_field = block.get("outline").ok_or_else(|| {
+        block.missing(
+            "outline",
+            "give the plate's outline as a closed sketch: `outline = sketch(top) { ... close }`",
+        )
+    })?;
+    let thickness_field = block.get("thickness").ok_or_else(|| {
+        block.missing(
+            "thickness",
+            "give the sheet's thickness: `thickness = 1.2 mm`",
+        )
+    })?;
+    let thickness = length(&thickness_field.value, block.units, "`thickness`")?;
+    if !(thickness.is_finite() && thickness > 0.0) {
+        return Err(feature_error(
+            KIND,
+            format!(
+                "the thickness must be above 0 mm, not {} mm",
+                round(thickness)
+            ),
+            thickness_field.value.span,
+            "not a thickness",
+            "give a sheet thickness such as `thickness = 1.2 mm`",
+        ));
+    }
+    let sketch = closed_sketch(&outline_field.value, "`outline`")?;
+    let view = sketch.view;
+    let normal = view_normal(view);
+    let outline = polygon(&sketch, outline_field.value.span)?;
+    let punches = block.named("punch");
+    let mut holes = Vec::with_capacity(punches.len());
+    for (_, field) in &punches {
+        let s = closed_sketch(&field.value, "a `punch`")?;
+        if s.view != view {
+            return Err(feature_error(
+                KIND,
+                format!(
+                    "a hole must be drawn in the outline's view ({}), but this one is in the {} view",
+                    view.name(),
+                    s.view.name()
+                ),
+                field.value.span,
+                "another view",
+                format!("draw it with `sketch({}) {{ ... }}`", view.name()),
+            ));
+        }
+        holes.push(polygon(&s, field.value.span)?);
+    }
+    let flange_fields = block.named("flange");
+    let mut flanges = Vec::with_capacity(flange_fields.len());
+    for (name, field) in &flange_fields {
+        let what = format!("`flange {name}`");
+        let r = record(
+            &field.value,
+            &what,
+            "a record `{ at: (x, y), height: 25 mm }`",
+        )?;
+        check_record(r, field.value.span, &what, &["at", "height", "angle"])?;
+        let at = r.get("at").ok_or_else(|| {
+            feature_error(
+                KIND,
+                format!("{what} needs `at`, a point near the edge it goes on"),
+                field.value.span,
+                "no `at`",
+                "add `at: (x, y)`, a point in the outline's view near the edge",
+            )
+        })?;
+        let height = r.get("height").ok_or_else(|| {
+            feature_error(
+                KIND,
+                format!("{what} needs `height`"),
+                field.value.span,
+                "no `height`",
+                "add `height: 25 mm`, how far the flange reaches from the edge",
+            )
+        })?;
+        let near = view.place(as_point2(at, block.units, &format!("`at` of {what}"))?);
+        let height = length(height, block.units, &format!("`height` of {what}"))?;
+        let angle = match r.get("angle") {
+            Some(a) => as_angle(a, block.units, &format!("`angle` of {what}"))?,
+            None => std::f64::consts::FRAC_PI_2,
+        };
+        flanges.push(FlangeSpec {
+            near,
+            height,
+            angle,
+        });
+    }
+    let spec = PlateSpec {
+        outline,
+        normal,
+        holes,
+        flanges,
+        thickness,
+    };
+    let built = part::build(&spec)
+        .map_err(|p| problem(block, p, outline_field.value.span, &punches, &flange_fields))?;
+    Ok(output(
+        block,
+        built,
+        spec.holes.len(),
+        spec.flanges.len(),
+        thickness,
+    ))
+}
+
+/// The diagnostic of a part that could not be built, at the field at fault.
+fn problem(
+    block: &Block,
+    p: PartProblem,
+    outline: Span,
+    punches: &[(&str, &Field)],
+    flanges: &[(&str, &Field)],
+) -> Diagnostic {
+    let _ = block;
+    match &p {
+        PartProblem::Outline(_) => feature_error(
+            KIND,
+            p.to_string(),
+            outline,
+            "this outline",
+            "draw the outline as one loop that does not cross itself",
+        ),
+        PartProblem::Hole { index, .. } => feature_error(
+            KIND,
+            format!("`punch {}`: {p}", punches[*index].0),
+            punches[*index].1.value.span,
+            "this hole",
+            "draw each hole inside the outline, clear of its edges and of the other holes",
+        ),
+        PartProblem::Flange { index, .. } => feature_error(
+            KIND,
+            format!("`flange {}`: {p}", flanges[*index].0),
+            flanges[*index].1.value.span,
+            "this flange",
+            "put `at` near a free edge of the outline (one edge takes one flange), with a height above 0 and an angle below 180 deg",
+        ),
+        PartProblem::Thicken(_) => feature_error(
+            KIND,
+            format!("the sheet cannot be made solid: {p}"),
+            outline,
+            "this sheet",
+            "check that the flanges do not fold onto the plate",
+        ),
+    }
+}
+
+/// A closed sketch value, or a diagnostic.
+fn closed_sketch(v: &Value, what: &str) -> Result<Arc<Sketch>, Diagnostic> {
+    let Data::Sketch(s) = &v.data else {
+        return Err(type_error(v, what, "a closed sketch"));
+    };
+    if !s.closed {
+        return Err(feature_error(
+            KIND,
+            format!("{what} must be a closed sketch"),
+            v.span,
+            "this sketch does not end where it starts",
+            "end the sketch with `close`",
+        ));
+    }
+    Ok(s.clone())
+}
+
+/// The view's normal: the plate's first side faces it.
+fn view_normal(view: View) -> DVec3 {
+    let o = view.place(glam::DVec2::ZERO);
+    (view.place(glam::DVec2::X) - o)
+        .cross(view.place(glam::DVec2::Y) - o)
+        .normalize_or_zero()
+}
+
+/// The closed sketch as the points of a polygon (its corners, and its curves followed
+/// within [`OUTLINE_TOLERANCE`]), in press coordinates.
+fn polygon(s: &Sketch, span: Span) -> Result<Vec<DVec3>, Diagnostic> {
+    let tol = Tolerance {
+        chordal: OUTLINE_TOLERANCE,
+        angle: 0.2,
+        max_edge: None,
+    };
+    let line = tessellate_curve(&s.to_3d(), &tol).map_err(|e| {
+        feature_error(
+            KIND,
+            format!("the sketch cannot be followed by straight edges: {e}"),
+            span,
+            "this sketch",
+            "simplify the sketch",
+        )
+    })?;
+    let mut points = line.points;
+    if points.len() > 1 && points[0].distance(points[points.len() - 1]) < 1e-9 {
+        points.pop();
+    }
+    Ok(points)
+}
+
+/// The value of a built sheet part.
+fn output(block: &Block, built: SheetPart, holes: usize, flanges: usize, thickness: f64) -> Value {
+    let span = block.span;
+    let mid = Value::new(Data::Mesh(Arc::new(built.mid_mesh.clone())), span);
+    let solid = Value::new(Data::Mesh(Arc::new(built.solid.clone())), span);
+    let quantity = |value: f64, dim: Dim| {
+        Value::new(
+            Data::Number(Quantity {
+                value,
+                dim,
+                bare: false,
+            }),
+            span,
+        )
+    };
+    let quality = vec![
+        (
+            "area".to_string(),
+            quantity(
+                built.area,
+                Dim {
+                    length: 2,
+                    angle: 0,
+                },
+            ),
+        ),
+        (
+            "volume".to_string(),
+            quantity(
+                built.volume,
+                Dim {
+                    length: 3,
+                    angle: 0,
+                },
+            ),
+        ),
+        ("thickness".to_string(), mm(thickness, span)),
+        ("holes".to_string(), count(holes, span)),
+        ("flanges".to_string(), count(flanges, span)),
+    ];
+    feature_value(
+        KIND,
+        span,
+        vec![("mid".into(), mid), ("solid".into(), solid)],
+        quality,
+        built,
+    )
+}
+
+/// The `sheet` kind.
+pub(super) static KIND: &dyn FeatureKind = &SheetKind;
+
+struct SheetKind;
+
+impl FeatureKind for SheetKind {
+    fn name(&self) -> &'static str {
+        "sheet"
+    }
+    fn code(&self) -> &'static str {
+        "die::sheet"
+    }
+    fn fields(&self) -> FieldNames {
+        FieldNames {
+            single: vec!["outline", "thickness"],
+            named: vec!["punch", "flange"],
+        }
+    }
+    fn build(&self, block: &Block) -> Result<Value, Diagnostic> {
+        build(block)
+    }
+    /// The solid is a piece of its own kind.
+    fn piece_kind(&self, field: &str) -> Option<&'static str> {
+        (field == "solid").then_some("solid")
+    }
+    fn summary(&self, record: &Record) -> String {
+        let Some(p) = record.model::<SheetPart>() else {
+            return String::new();
+        };
+        let c = p.sheet.check().ok();
+        format!(
+            "sheet, mid-surface {} mm², solid {} mm³ ({} triangles), genus {}",
+            round(p.area),
+            round(p.volume),
+            p.solid.face_count(),
+            c.map_or(0, |c| c.genus)
+        )
+    }
+}

@@ -1,0 +1,355 @@
+//! A sheet part as a designer declares it: a plate over an outline on a working plane,
+//! holes punched through it, flanges on its edges, and a thickness; built by the sheet
+//! operations ([`super::topology`]), placed ([`super::geometry`]) and made solid
+//! ([`super::thicken`]).
+
+use glam::{DVec2, DVec3};
+
+use super::geometry::{newell, MidSurface};
+use super::thicken::{thicken, ThickenError};
+use super::topology::{FaceId, FaceRole, Piece, Sheet, TopologyError, VertexId};
+use crate::geom::mesh::{Face, Mesh};
+use crate::geom::tessellate::triangulate_loops;
+use crate::geom::trimmed::polygon_winding;
+
+/// What a plate part is made of.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlateSpec {
+    /// The outline's points on the working plane, either way round (3 or more).
+    pub outline: Vec<DVec3>,
+    /// The working plane's normal: the plate's first side faces this way.
+    pub normal: DVec3,
+    /// Each hole's points, inside the outline.
+    pub holes: Vec<Vec<DVec3>>,
+    /// The flanges, in order.
+    pub flanges: Vec<FlangeSpec>,
+    /// The thickness (mm).
+    pub thickness: f64,
+}
+
+/// A flange on the outline's edge nearest a point.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FlangeSpec {
+    /// A point near the edge.
+    pub near: DVec3,
+    /// How far the flange reaches from the edge (mm).
+    pub height: f64,
+    /// Its angle up from the plate's plane (radians; 90 deg stands square to it, towards
+    /// the normal).
+    pub angle: f64,
+}
+
+/// Why a plate could not be built.
+#[derive(Debug, Clone, PartialEq)]
+pub enum PartProblem {
+    /// The outline is not a polygon that bounds an area.
+    Outline(String),
+    /// Hole `index` is not inside the outline, or crosses another.
+    Hole { index: usize, why: String },
+    /// Flange `index` cannot be added.
+    Flange { index: usize, why: String },
+    /// The solid could not be made.
+    Thicken(ThickenError),
+}
+
+impl std::fmt::Display for PartProblem {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            PartProblem::Outline(why) => write!(f, "the outline {why}"),
+            PartProblem::Hole { why, .. } => write!(f, "the hole {why}"),
+            PartProblem::Flange { why, .. } => write!(f, "the flange {why}"),
+            PartProblem::Thicken(e) => write!(f, "{e}"),
+        }
+    }
+}
+
+/// A built plate.
+#[derive(Debug, Clone)]
+pub struct SheetPart {
+    /// The sheet model.
+    pub sheet: Sheet,
+    /// Where it lies.
+    pub mid: MidSurface,
+    /// The mid-surface: one side of each sheet, triangulated.
+    pub mid_mesh: Mesh,
+    /// The solid at the thickness, closed and facing out.
+    pub solid: Mesh,
+    /// The mid-surface's area (mm^2).
+    pub area: f64,
+    /// The solid's volume (mm^3).
+    pub volume: f64,
+}
+
+/// Builds the plate of `spec`: the initial sheet over the outline, each hole punched,
+/// each flange added on the free edge nearest its point (three boundary curves), then
+/// the solid.
+pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
+    let n = spec.normal.normalize_or_zero();
+    if n == DVec3::ZERO || spec.outline.len() < 3 {
+        return Err(PartProblem::Outline(
+            "needs 3 points or more on a plane".into(),
+        ));
+    }
+    let frame = Frame::new(spec.outline[0], n);
+    let outline = counter_clockwise(&spec.outline, n);
+    let flat_outline: Vec<DVec2> = outline.iter().map(|&p| frame.flat(p)).collect();
+    if triangulate_loops(std::slice::from_ref(&flat_outline)).is_err() {
+        return Err(PartProblem::Outline("crosses or touches itself".into()));
+    }
+    let topo = |e: TopologyError| PartProblem::Outline(e.to_string());
+    let (mut sheet, _, top) = Sheet::initial(outline.len()).map_err(topo)?;
+    let mut mid = MidSurface::new();
+    let corners = outer(&sheet, top).map_err(topo)?;
+    for (&v, &p) in corners.iter().zip(&outline) {
+        mid.place(&sheet, v, p).map_err(topo)?;
+    }
+    // Holes: each inside the outline, clear of the others.
+    let mut flat_loops = vec![flat_outline.clone()];
+    for (index, hole) in spec.holes.iter().enumerate() {
+        let bad = |why: String| PartProblem::Hole { index, why };
+        if hole.len() < 3 {
+            return Err(bad("needs 3 points or more".into()));
+        }
+        let ring = counter_clockwise(hole, n);
+        let flat: Vec<DVec2> = ring.iter().map(|&p| frame.flat(p)).collect();
+        if flat.iter().any(|&q| polygon_winding(&flat_outline, q) == 0) {
+            return Err(bad("is not inside the outline".into()));
+        }
+        let mut trial = flat_loops.clone();
+        trial.push(flat.clone());
+        if triangulate_loops(&trial).is_err() {
+            return Err(bad("crosses the outline or another hole".into()));
+        }
+        flat_loops = trial;
+        sheet
+            .punch(top, corners[0], ring.len())
+            .map_err(|e| bad(e.to_string()))?;
+        // The new ring of the top side runs against the outline: clockwise.
+        let b = &sheet.brep;
+        let loops = b.loops_of(top).map_err(|e| bad(e.to_string()))?;
+        let last = *loops.last().expect("a punched side has its new ring");
+        let ring_vertices: Vec<VertexId> = b
+            .loop_halves(last)
+            .and_then(|hs| hs.into_iter().map(|h| b.vertex(h)).collect())
+            .map_err(|e| bad(e.to_string()))?;
+        for (&v, &p) in ring_vertices.iter().zip(ring.iter().rev()) {
+            mid.place(&sheet, v, p).map_err(|e| bad(e.to_string()))?;
+        }
+    }
+    // Flanges: on the outline edge nearest each point, if it is still free.
+    for (index, flange) in spec.flanges.iter().enumerate() {
+        let bad = |why: String| PartProblem::Flange { index, why };
+        if !(flange.height.is_finite() && flange.height > 0.0) {
+            return Err(bad(format!(
+                "height must be above 0, not {}",
+                flange.height
+            )));
+        }
+        if !(flange.angle.is_finite() && (0.0..std::f64::consts::PI).contains(&flange.angle)) {
+            return Err(bad(
+                "angle must lie from 0 up to (not including) 180 deg".into()
+            ));
+        }
+        let ring = outer(&sheet, top).map_err(|e| bad(e.to_string()))?;
+        let k = ring.len();
+        let nearest = (0..k)
+            .map(|i| {
+                let (a, c) = (mid.point(ring[i]), mid.point(ring[(i + 1) % k]));
+                let d = match (a, c) {
+                    (Some(a), Some(c)) => segment_distance(a, c, flange.near),
+                    _ => f64::INFINITY,
+                };
+                (d, i)
+            })
+            .min_by(|x, y| x.0.total_cmp(&y.0))
+            .map(|(_, i)| i)
+            .ok_or_else(|| bad("finds no edge".into()))?;
+        let (a, c) = (ring[nearest], ring[(nearest + 1) % k]);
+        let (pa, pc) = (
+            mid.point(a)
+                .ok_or_else(|| bad("edge has no point".into()))?,
+            mid.point(c)
+                .ok_or_else(|| bad("edge has no point".into()))?,
+        );
+        let show = |p: DVec3| format!("({}, {}, {})", tidy(p.x), tidy(p.y), tidy(p.z));
+        let added = sheet
+            .add_sheet(&[Piece::Picked(vec![a, c]), Piece::Curves(3)])
+            .map_err(|_| {
+                bad(format!(
+                    "cannot go on the edge nearest its point, from {} to {}: another flange \
+                     is there already",
+                    show(pa),
+                    show(pc)
+                ))
+            })?;
+        let out = (pc - pa).cross(n).normalize_or_zero();
+        let reach = flange.height * (flange.angle.cos() * out + flange.angle.sin() * n);
+        // The first curve runs from c to the new vertex beside it, the third from the
+        // new vertex beside a back to a.
+        let b = &sheet.brep;
+        let far_end = |curve: usize, from: VertexId| -> Result<VertexId, PartProblem> {
+            let (p, m) = b
+                .halves_of(added.curves[curve])
+                .map_err(|e| bad(e.to_string()))?;
+            let ends = [b.vertex(p), b.vertex(m)].map(|r| r.map_err(|e| bad(e.to_string())));
+            let [x, y] = ends;
+            let (x, y) = (x?, y?);
+            Ok(if x == from { y } else { x })
+        };
+        let (wc, wa) = (far_end(0, c)?, far_end(2, a)?);
+        mid.place(&sheet, wc, pc + reach)
+            .map_err(|e| bad(e.to_string()))?;
+        mid.place(&sheet, wa, pa + reach)
+            .map_err(|e| bad(e.to_string()))?;
+    }
+    let solid = thicken(&sheet, &mid, spec.thickness).map_err(PartProblem::Thicken)?;
+    let mid_mesh = mid_surface(&sheet, &mid).map_err(PartProblem::Thicken)?;
+    let area = mesh_area(&mid_mesh);
+    let volume = mesh_volume(&solid);
+    Ok(SheetPart {
+        sheet,
+        mid,
+        mid_mesh,
+        solid,
+        area,
+        volume,
+    })
+}
+
+/// One side of each sheet (the one of lower id of a pair of twins), each face
+/// triangulated in its plane.
+fn mid_surface(sheet: &Sheet, mid: &MidSurface) -> Result<Mesh, ThickenError> {
+    let b = &sheet.brep;
+    let mut positions = Vec::new();
+    let mut faces = Vec::new();
+    for f in b.faces() {
+        let FaceRole::Side { twin } = sheet.face_role(f)? else {
+            continue;
+        };
+        if twin < f {
+            continue;
+        }
+        let loops: Vec<Vec<DVec3>> = b
+            .loops_of(f)?
+            .iter()
+            .map(|&l| {
+                b.loop_halves(l)?
+                    .into_iter()
+                    .map(|h| {
+                        let v = b.vertex(h)?;
+                        mid.point(v)
+                            .ok_or_else(|| TopologyError::Dead(format!("point of vertex {}", v.0)))
+                    })
+                    .collect::<Result<Vec<DVec3>, TopologyError>>()
+            })
+            .collect::<Result<_, _>>()?;
+        let normal = newell(&loops[0]).normalize_or_zero();
+        if normal == DVec3::ZERO {
+            return Err(ThickenError::Degenerate(f));
+        }
+        let frame = Frame::new(loops[0][0], normal);
+        let flat: Vec<Vec<DVec2>> = loops
+            .iter()
+            .map(|ring| ring.iter().map(|&p| frame.flat(p)).collect())
+            .collect();
+        let first = positions.len() as u32;
+        positions.extend(loops.iter().flatten().copied());
+        for [a, c, d] in triangulate_loops(&flat).map_err(|e| ThickenError::Triangulation(f, e))? {
+            faces.push(Face::triangle(
+                first + a as u32,
+                first + c as u32,
+                first + d as u32,
+            ));
+        }
+    }
+    Mesh::new(positions, faces)
+        .map_err(|e| ThickenError::Topology(TopologyError::Invalid(e.to_string())))
+}
+
+/// The vertices of face `f`'s outer loop, in order.
+fn outer(sheet: &Sheet, f: FaceId) -> Result<Vec<VertexId>, TopologyError> {
+    let b = &sheet.brep;
+    b.loop_halves(b.loops_of(f)?[0])?
+        .into_iter()
+        .map(|h| b.vertex(h))
+        .collect()
+}
+
+/// `points` running counter-clockwise seen from along `n`.
+fn counter_clockwise(points: &[DVec3], n: DVec3) -> Vec<DVec3> {
+    let mut out = points.to_vec();
+    if newell(&out).dot(n) < 0.0 {
+        out.reverse();
+    }
+    out
+}
+
+/// A plane's 2-D coordinates.
+struct Frame {
+    origin: DVec3,
+    u: DVec3,
+    w: DVec3,
+}
+
+impl Frame {
+    fn new(origin: DVec3, n: DVec3) -> Frame {
+        let u = n.any_orthonormal_vector();
+        Frame {
+            origin,
+            u,
+            w: n.cross(u),
+        }
+    }
+
+    fn flat(&self, p: DVec3) -> DVec2 {
+        DVec2::new((p - self.origin).dot(self.u), (p - self.origin).dot(self.w))
+    }
+}
+
+/// The distance from `q` to the segment from `a` to `c`.
+fn segment_distance(a: DVec3, c: DVec3, q: DVec3) -> f64 {
+    let d = c - a;
+    let t = if d.length_squared() > 0.0 {
+        ((q - a).dot(d) / d.length_squared()).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (a + d * t).distance(q)
+}
+
+/// The area of a triangle mesh.
+fn mesh_area(mesh: &Mesh) -> f64 {
+    let p = mesh.positions();
+    mesh.faces()
+        .iter()
+        .map(|f| {
+            let i = f.indices();
+            let (a, b, c) = (p[i[0] as usize], p[i[1] as usize], p[i[2] as usize]);
+            0.5 * (b - a).cross(c - a).length()
+        })
+        .sum()
+}
+
+/// The volume a closed, outward-facing triangle mesh encloses (divergence theorem).
+fn mesh_volume(mesh: &Mesh) -> f64 {
+    let p = mesh.positions();
+    mesh.faces()
+        .iter()
+        .map(|f| {
+            let i = f.indices();
+            let (a, b, c) = (p[i[0] as usize], p[i[1] as usize], p[i[2] as usize]);
+            a.dot(b.cross(c)) / 6.0
+        })
+        .sum()
+}
+
+/// A coordinate for a message: to 0.001 mm, without trailing zeros.
+fn tidy(x: f64) -> String {
+    let s = format!("{:.3}", x);
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s == "-0" {
+        "0".into()
+    } else {
+        s.into()
+    }
+}
