@@ -146,3 +146,32 @@ sheet plate {{
         assert!(top >= expected - 1.0 - 1e-9, "{angle}: top {top}");
     }
 }
+
+/// Sheets the solid cannot be made of yet are refused, never built broken: two flanges
+/// meeting at a corner (three sheets at a vertex: the solid there came out 398 mm³
+/// short), and flanges that lean over the plate into each other (their solids cross).
+#[test]
+fn flanges_meeting_at_a_corner_or_crossing_are_refused() {
+    let outline = "outline = sketch(top) { from (0, 0); line to (100, 0); line to (100, 60); line to (0, 60); close }";
+    for (flanges, expected) in [
+        (
+            "flange right = { at: (100, 30), height: 20 mm }\n    flange back = { at: (50, 60), height: 20 mm }",
+            "three sheets would meet at one vertex",
+        ),
+        (
+            "flange front = { at: (50, 0), height: 40 mm, angle: 150 deg }\n    flange back = { at: (50, 60), height: 40 mm, angle: 150 deg }",
+            "the solid passes through itself",
+        ),
+    ] {
+        let text = format!(
+            "units mm deg\nsheet part {{\n    {outline}\n    thickness = 1 mm\n    {flanges}\n}}"
+        );
+        let mut engine = Engine::new(None);
+        let out = engine.evaluate("part.die", &text, None);
+        let messages: Vec<String> = out.diagnostics.iter().map(|d| d.message.clone()).collect();
+        assert!(
+            messages.iter().any(|m| m.contains(expected)),
+            "{expected}: {messages:?}"
+        );
+    }
+}

@@ -172,6 +172,31 @@ fn problem(
             "this flange",
             "put `at` near a free edge of the outline (one edge takes one flange), with a height above 0 and an angle below 180 deg",
         ),
+        PartProblem::FlangesMeet { index, other, .. } => feature_error(
+            KIND,
+            format!("`flange {}` and `flange {}`: {p}", flanges[*other].0, flanges[*index].0),
+            flanges[*index].1.value.span,
+            "this flange",
+            "end one of the flanges short of the corner: put them on edges that do not meet, or leave a relief edge between them in the outline",
+        )
+        .with_label(flanges[*other].1.value.span, "meets this one"),
+        PartProblem::SelfIntersection {
+            flange: Some(index),
+            ..
+        } => feature_error(
+            KIND,
+            format!("`flange {}`: {p}", flanges[*index].0),
+            flanges[*index].1.value.span,
+            "this flange, the nearest",
+            "keep the flanges and the plate apart by more than the thickness: a shorter flange, or a lower angle",
+        ),
+        PartProblem::SelfIntersection { flange: None, .. } => feature_error(
+            KIND,
+            p.to_string(),
+            outline,
+            "this sheet",
+            "make the sheet thinner than the gaps between its parts",
+        ),
         PartProblem::Thicken(_) => feature_error(
             KIND,
             format!("the sheet cannot be made solid: {p}"),

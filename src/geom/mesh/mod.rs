@@ -20,11 +20,13 @@
 //! [`GeomError`].
 
 mod boundary;
+mod crossing;
 mod ids;
 mod ops;
 mod topology;
 
 pub use boundary::{BoundaryChain, BoundaryLoops};
+pub use crossing::{crossings, Crossing};
 pub use ids::{EdgeId, FaceId, HalfEdgeId, VertexId};
 pub use topology::{HalfEdge, Topology};
 
