@@ -153,7 +153,8 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
         // The new ring of the top side runs against the outline: clockwise.
         let b = &sheet.brep;
         let loops = b.loops_of(top).map_err(|e| bad(e.to_string()))?;
-        let last = *loops.last().expect("a punched side has its new ring");
+        // `punch` leaves the new ring last (`lkfmrh` appends it); a face has one loop at least.
+        let last = *loops.last().expect("a face has its outer loop");
         let ring_vertices: Vec<VertexId> = b
             .loop_halves(last)
             .and_then(|hs| hs.into_iter().map(|h| b.vertex(h)).collect())
