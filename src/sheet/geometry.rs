@@ -261,7 +261,7 @@ pub(super) fn newell(points: &[DVec3]) -> DVec3 {
 }
 
 /// The distance from `q` to the segment from `a` to `b`.
-fn distance_to_segment(a: DVec3, b: DVec3, q: DVec3) -> f64 {
+pub(super) fn distance_to_segment(a: DVec3, b: DVec3, q: DVec3) -> f64 {
     let d = b - a;
     let t = if d.length_squared() > 0.0 {
         ((q - a).dot(d) / d.length_squared()).clamp(0.0, 1.0)

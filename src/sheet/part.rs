@@ -5,7 +5,7 @@
 
 use glam::{DVec2, DVec3};
 
-use super::geometry::{newell, MidSurface};
+use super::geometry::{distance_to_segment, newell, MidSurface};
 use super::thicken::{thicken, ThickenError};
 use super::topology::{FaceId, FaceRole, Piece, Sheet, TopologyError, VertexId};
 use crate::geom::mesh::{crossings, Face, Mesh};
@@ -184,7 +184,7 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
             .map(|i| {
                 let (a, c) = (mid.point(ring[i]), mid.point(ring[(i + 1) % k]));
                 let d = match (a, c) {
-                    (Some(a), Some(c)) => segment_distance(a, c, flange.near),
+                    (Some(a), Some(c)) => distance_to_segment(a, c, flange.near),
                     _ => f64::INFINITY,
                 };
                 (d, i)
@@ -259,7 +259,7 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
         let flange = flange_edges
             .iter()
             .enumerate()
-            .map(|(i, &(a, b))| (segment_distance(a, b, c.at), i))
+            .map(|(i, &(a, b))| (distance_to_segment(a, b, c.at), i))
             .min_by(|x, y| x.0.total_cmp(&y.0))
             .map(|(_, i)| i);
         return Err(PartProblem::SelfIntersection { at: c.at, flange });
@@ -365,17 +365,6 @@ impl Frame {
     fn flat(&self, p: DVec3) -> DVec2 {
         DVec2::new((p - self.origin).dot(self.u), (p - self.origin).dot(self.w))
     }
-}
-
-/// The distance from `q` to the segment from `a` to `c`.
-fn segment_distance(a: DVec3, c: DVec3, q: DVec3) -> f64 {
-    let d = c - a;
-    let t = if d.length_squared() > 0.0 {
-        ((q - a).dot(d) / d.length_squared()).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (a + d * t).distance(q)
 }
 
 /// The area of a triangle mesh.
