@@ -96,7 +96,23 @@ impl MatchedProfiles {
     /// The profile at fraction `along`: the neighbouring key sections' points blended
     /// by [`ease`], so the shape stops changing at each key section.
     pub(super) fn blend(&self, along: f64) -> Vec<DVec2> {
-        blend_of(&self.points, &self.at, along)
+        let (k, w) = self.weights(along);
+        blend_of(&self.points, k, w)
+    }
+
+    /// [`weights`] at `along`, the weight 0 between two key sections with the same
+    /// points: the blend is then the key section's points exactly, the same bits
+    /// wherever along the bead it is asked for (a weighted sum of equal points differs
+    /// in the last bits from place to place, and the shape cache, shared by sections
+    /// shaped in parallel in any order, must not depend on which asked first).
+    fn weights(&self, along: f64) -> (usize, f64) {
+        let (k, w) = weights(&self.at, along);
+        let inside = k > 0 && k < self.at.len();
+        if inside && self.dense[k - 1] == self.dense[k] {
+            (k, 0.0)
+        } else {
+            (k, w)
+        }
     }
 
     /// Key section `k`'s profile run out to `factor` of its height ([`lowered`]), a
@@ -127,13 +143,8 @@ impl MatchedProfiles {
         if factor < 1.0 {
             return ShapeKey::RunOut([along.to_bits(), factor.to_bits(), rate.to_bits()]);
         }
-        let (k, w) = weights(&self.at, along);
-        let inside = k > 0 && k < self.at.len();
-        if inside && self.dense[k - 1] != self.dense[k] {
-            ShapeKey::Blend(k, w.to_bits())
-        } else {
-            ShapeKey::Blend(k, 0)
-        }
+        let (k, w) = self.weights(along);
+        ShapeKey::Blend(k, w.to_bits())
     }
 
     /// The shape cache, locked. A shape depends only on its key, so a cache left by a
@@ -144,8 +155,8 @@ impl MatchedProfiles {
 
     /// [`MatchedProfiles::shape`], made.
     fn make_shape(&self, along: f64, factor: f64, rate: f64) -> Vec<DVec2> {
-        let dense = blend_of(&self.dense, &self.at, along);
-        let (k, w) = weights(&self.at, along);
+        let (k, w) = self.weights(along);
+        let dense = blend_of(&self.dense, k, w);
         let (a, b) = (
             self.feet[k.saturating_sub(1)],
             self.feet[k.min(self.feet.len() - 1)],
@@ -172,7 +183,7 @@ enum ShapeKey {
     /// A run-out section: the bits of its position, height factor and rate.
     RunOut([u64; 3]),
     /// A full-height section: the key section after it and the bits of its blend
-    /// weight (0 where the blend does not depend on it).
+    /// weight ([`MatchedProfiles::weights`]: 0 where the blend does not depend on it).
     Blend(usize, u64),
 }
 
@@ -187,13 +198,13 @@ fn weights(at: &[f64], along: f64) -> (usize, f64) {
     (k, ease(x))
 }
 
-/// Corresponding points of the key sections at `at` blended at fraction `along`.
-fn blend_of(points: &[Vec<DVec2>], at: &[f64], along: f64) -> Vec<DVec2> {
-    let (k, w) = weights(at, along);
+/// Corresponding points of the key sections blended with weight `w` of key section `k`
+/// against the one before it ([`weights`]).
+fn blend_of(points: &[Vec<DVec2>], k: usize, w: f64) -> Vec<DVec2> {
     if k == 0 {
         return points[0].clone();
     }
-    if k == at.len() {
+    if k == points.len() {
         return points[k - 1].clone();
     }
     points[k - 1]
