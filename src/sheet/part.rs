@@ -3,11 +3,13 @@
 //! operations ([`super::topology`]), placed ([`super::geometry`]) and made solid
 //! ([`super::thicken`]).
 
+use std::sync::Arc;
+
 use glam::{DVec2, DVec3};
 
 use super::geometry::{distance_to_segment, newell, MidSurface};
 use super::thicken::{thicken, ThickenError};
-use super::topology::{FaceId, FaceRole, Piece, Sheet, TopologyError, VertexId};
+use super::topology::{FaceRole, Piece, Sheet, TopologyError, VertexId};
 use crate::geom::mesh::{crossings, Face, Mesh};
 use crate::geom::tessellate::triangulate_loops;
 use crate::geom::trimmed::polygon_winding;
@@ -97,9 +99,9 @@ pub struct SheetPart {
     /// Where it lies.
     pub mid: MidSurface,
     /// The mid-surface: one side of each sheet, triangulated.
-    pub mid_mesh: Mesh,
+    pub mid_mesh: Arc<Mesh>,
     /// The solid at the thickness, closed and facing out.
-    pub solid: Mesh,
+    pub solid: Arc<Mesh>,
     /// The mid-surface's area (mm^2).
     pub area: f64,
     /// The solid's volume (mm^3).
@@ -125,7 +127,7 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
     let topo = |e: TopologyError| PartProblem::Outline(e.to_string());
     let (mut sheet, _, top) = Sheet::initial(outline.len()).map_err(topo)?;
     let mut mid = MidSurface::new();
-    let corners = outer(&sheet, top).map_err(topo)?;
+    let corners = sheet.brep.outer_vertices(top).map_err(topo)?;
     for (&v, &p) in corners.iter().zip(&outline) {
         mid.place(&sheet, v, p).map_err(topo)?;
     }
@@ -178,7 +180,10 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
                 "angle must lie from 0 up to (not including) 180 deg".into()
             ));
         }
-        let ring = outer(&sheet, top).map_err(|e| bad(e.to_string()))?;
+        let ring = sheet
+            .brep
+            .outer_vertices(top)
+            .map_err(|e| bad(e.to_string()))?;
         let k = ring.len();
         let nearest = (0..k)
             .map(|i| {
@@ -270,8 +275,8 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
     Ok(SheetPart {
         sheet,
         mid,
-        mid_mesh,
-        solid,
+        mid_mesh: Arc::new(mid_mesh),
+        solid: Arc::new(solid),
         area,
         volume,
     })
@@ -325,15 +330,6 @@ fn mid_surface(sheet: &Sheet, mid: &MidSurface) -> Result<Mesh, ThickenError> {
     }
     Mesh::new(positions, faces)
         .map_err(|e| ThickenError::Topology(TopologyError::Invalid(e.to_string())))
-}
-
-/// The vertices of face `f`'s outer loop, in order.
-fn outer(sheet: &Sheet, f: FaceId) -> Result<Vec<VertexId>, TopologyError> {
-    let b = &sheet.brep;
-    b.loop_halves(b.loops_of(f)?[0])?
-        .into_iter()
-        .map(|h| b.vertex(h))
-        .collect()
 }
 
 /// `points` running counter-clockwise seen from along `n`.

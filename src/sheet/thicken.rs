@@ -78,7 +78,8 @@ pub fn thicken(sheet: &Sheet, mid: &MidSurface, thickness: f64) -> Result<Mesh, 
     let mut normals: Vec<Option<DVec3>> = vec![None; face_slots(b)];
     for f in b.faces() {
         if let FaceRole::Side { .. } = sheet.face_role(f)? {
-            let points: Vec<DVec3> = loop_vertices(b, f)?
+            let points: Vec<DVec3> = b
+                .outer_vertices(f)?
                 .into_iter()
                 .map(at)
                 .collect::<Result<_, _>>()?;
@@ -196,14 +197,6 @@ pub fn thicken(sheet: &Sheet, mid: &MidSurface, thickness: f64) -> Result<Mesh, 
     }
     Mesh::new(positions, faces)
         .map_err(|e| ThickenError::Topology(TopologyError::Invalid(e.to_string())))
-}
-
-/// The vertices of face `f`'s outer loop, in order.
-fn loop_vertices(b: &Brep, f: FaceId) -> Result<Vec<VertexId>, TopologyError> {
-    b.loop_halves(b.loops_of(f)?[0])?
-        .into_iter()
-        .map(|h| b.vertex(h))
-        .collect()
 }
 
 /// A length the size of `points`, for relative tests.

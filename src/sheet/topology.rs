@@ -662,6 +662,14 @@ impl Brep {
         self.lkev(e)
     }
 
+    /// The vertices of face `f`'s outer loop, in order.
+    pub fn outer_vertices(&self, f: FaceId) -> Result<Vec<VertexId>> {
+        self.loop_halves(self.loops_of(f)?[0])?
+            .into_iter()
+            .map(|h| self.vertex(h))
+            .collect()
+    }
+
     /// The edges at vertex `v`, round it (by mate, next).
     pub fn edges_at(&self, v: VertexId) -> Result<Vec<EdgeId>> {
         let vertex = self

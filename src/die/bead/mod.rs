@@ -429,11 +429,7 @@ pub fn build(binder: &Binder, spec: &BeadSpec) -> Result<Bead, Problem> {
     let key_sections = key_sections(&ats, &skin.stations, &skin.sections);
     let (radii, figures) = shape;
     let radii = radii?;
-    let drawn_radius = spec
-        .sections
-        .iter()
-        .map(|k| drawn_radius(&k.profile))
-        .fold(f64::INFINITY, f64::min);
+    let drawn_radius = profiles.drawn;
     let rules = profiles
         .rule_params
         .iter()

@@ -48,13 +48,12 @@ const POINTS_PER_RADIUS: f64 = 6.0;
 /// The most intervals across a section (points per section minus one).
 const MAX_SECTION_INTERVALS: usize = 192;
 
-/// Intervals across a section: [`SECTION_INTERVALS`], or more where a key profile is
-/// long for its smallest drawn radius ([`POINTS_PER_RADIUS`]), up to
+/// Intervals across a section: [`SECTION_INTERVALS`], or more where a key profile (of
+/// smallest drawn radius `radii[k]`, its length in `tables[k]`) is long for that radius ([`POINTS_PER_RADIUS`]), up to
 /// [`MAX_SECTION_INTERVALS`]; a multiple of 8.
-fn section_intervals(spec: &BeadSpec, tables: &[ArcLengths<DVec2>]) -> usize {
+fn section_intervals(radii: &[f64], tables: &[ArcLengths<DVec2>]) -> usize {
     let mut intervals = SECTION_INTERVALS;
-    for (key, table) in spec.sections.iter().zip(tables) {
-        let radius = drawn_radius(&key.profile);
+    for (&radius, table) in radii.iter().zip(tables) {
         if radius.is_finite() && radius > 0.0 {
             let wanted = (POINTS_PER_RADIUS * table.total() / radius).ceil();
             if wanted.is_finite() {
@@ -74,6 +73,8 @@ pub(super) struct MatchedProfiles {
     at: Vec<f64>,
     /// Each key section's points, (s, height).
     pub(super) points: Vec<Vec<DVec2>>,
+    /// The smallest radius drawn in any key section's profile (mm).
+    pub(super) drawn: f64,
     /// The shared interpolation parameters across a section (0 to 1).
     pub(super) params: Vec<f64>,
     /// The parameters of the rule points.
@@ -312,7 +313,12 @@ pub(super) fn matched_profiles(spec: &BeadSpec, ats: &[f64]) -> Result<MatchedPr
         piece_lengths.push(lengths);
     }
     let total_share: f64 = share.iter().sum();
-    let intervals = section_intervals(spec, &tables);
+    let radii: Vec<f64> = spec
+        .sections
+        .iter()
+        .map(|k| drawn_radius(&k.profile))
+        .collect();
+    let intervals = section_intervals(&radii, &tables);
     let counts: Vec<usize> = share
         .iter()
         .map(|s| ((s / total_share * intervals as f64).round() as usize).max(2))
@@ -377,6 +383,7 @@ pub(super) fn matched_profiles(spec: &BeadSpec, ats: &[f64]) -> Result<MatchedPr
         rule_params.push(params[index]);
     }
     Ok(MatchedProfiles {
+        drawn: radii.iter().copied().fold(f64::INFINITY, f64::min),
         at: ats.to_vec(),
         points,
         params,

@@ -131,7 +131,7 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
         thickness,
     };
     let built = part::build(&spec)
-        .map_err(|p| problem(block, p, outline_field.value.span, &punches, &flange_fields))?;
+        .map_err(|p| problem(p, outline_field.value.span, &punches, &flange_fields))?;
     Ok(output(
         block,
         built,
@@ -143,13 +143,11 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
 
 /// The diagnostic of a part that could not be built, at the field at fault.
 fn problem(
-    block: &Block,
     p: PartProblem,
     outline: Span,
     punches: &[(&str, &Field)],
     flanges: &[(&str, &Field)],
 ) -> Diagnostic {
-    let _ = block;
     match &p {
         PartProblem::Outline(_) => feature_error(
             KIND,
@@ -259,8 +257,8 @@ fn polygon(s: &Sketch, span: Span) -> Result<Vec<DVec3>, Diagnostic> {
 /// The value of a built sheet part.
 fn output(block: &Block, built: SheetPart, holes: usize, flanges: usize, thickness: f64) -> Value {
     let span = block.span;
-    let mid = Value::new(Data::Mesh(Arc::new(built.mid_mesh.clone())), span);
-    let solid = Value::new(Data::Mesh(Arc::new(built.solid.clone())), span);
+    let mid = Value::new(Data::Mesh(built.mid_mesh.clone()), span);
+    let solid = Value::new(Data::Mesh(built.solid.clone()), span);
     let quantity = |value: f64, dim: Dim| {
         Value::new(
             Data::Number(Quantity {
