@@ -147,6 +147,44 @@ sheet plate {{
     }
 }
 
+/// A flange of its own gauge (1.2 mm on a 0.8 mm plate, one of the paper's open
+/// problems): the solid holds each sheet's area times its own thickness, exactly, and
+/// the flange's outer face stands 0.6 mm off its mid-surface.
+#[test]
+fn a_flange_of_its_own_thickness_keeps_both_mid_surfaces() {
+    for angle in [45.0f64, 90.0, 120.0] {
+        let text = format!(
+            "units mm deg
+sheet plate {{
+    outline = sketch(top) {{ from (0, 0); line to (100, 0); line to (100, 60); line to (0, 60); close }}
+    thickness = 0.8 mm
+    flange lip = {{ at: (100, 30), height: 40 mm, angle: {angle} deg, thickness: 1.2 mm }}
+}}"
+        );
+        let values = script::evaluate_clean("plate.die", &text);
+        let Data::Record(r) = &values[0].1 else {
+            panic!("a record")
+        };
+        let part = r.model::<SheetPart>().expect("a sheet part");
+        let expected = 6000.0 * 0.8 + 2400.0 * 1.2;
+        assert!(
+            (part.volume - expected).abs() < 1e-9 * expected,
+            "{angle}: {} against {expected}",
+            part.volume
+        );
+        // The flange's mid-plane: through the edge x = 100, tilted `angle` up from +X.
+        let a = angle.to_radians();
+        let normal = glam::DVec3::new(-a.sin(), 0.0, a.cos());
+        let off = part
+            .solid
+            .positions()
+            .iter()
+            .map(|p| normal.dot(*p - glam::DVec3::new(100.0, 0.0, 0.0)))
+            .filter(|d| d.abs() > 0.5 && d.abs() < 0.7);
+        assert!(off.count() >= 4, "{angle}: no vertex 0.6 mm off the flange");
+    }
+}
+
 /// Sheets the solid cannot be made of yet are refused, never built broken: two flanges
 /// meeting at a corner (three sheets at a vertex: the solid there came out 398 mm³
 /// short), and flanges that lean over the plate into each other (their solids cross).

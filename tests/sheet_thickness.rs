@@ -4,7 +4,7 @@
 
 use dieface::geom::mesh::{Mesh, Topology};
 use dieface::sheet::geometry::{bend, edge_near, face_near, move_face, MidSurface};
-use dieface::sheet::thicken::{thicken, ThickenError};
+use dieface::sheet::thicken::{thicken, Gauge, ThickenError};
 use dieface::sheet::topology::{EdgeRole, FaceId, Sheet, VertexId};
 use glam::DVec3;
 
@@ -63,7 +63,7 @@ fn plate() -> (Sheet, MidSurface, FaceId, FaceId) {
 #[test]
 fn a_plate_becomes_a_closed_slab_of_its_area_times_the_thickness() {
     let (sheet, mid, _, _) = plate();
-    let solid = thicken(&sheet, &mid, 2.0).unwrap();
+    let solid = thicken(&sheet, &mid, &Gauge::uniform(2.0)).unwrap();
     assert_closed_and_oriented(&solid);
     assert!((volume(&solid) - 100.0 * 60.0 * 2.0).abs() < 1e-9);
     // Half the thickness to each side of the mid-surface.
@@ -89,7 +89,7 @@ fn a_punched_plate_loses_the_hole_times_the_thickness() {
     for (&v, (x, y)) in ring.iter().zip(clockwise) {
         mid.place(&sheet, v, DVec3::new(x, y, 0.0)).unwrap();
     }
-    let solid = thicken(&sheet, &mid, 1.5).unwrap();
+    let solid = thicken(&sheet, &mid, &Gauge::uniform(1.5)).unwrap();
     assert_closed_and_oriented(&solid);
     assert!(
         (volume(&solid) - (6000.0 - 400.0) * 1.5).abs() < 1e-9,
@@ -139,7 +139,7 @@ fn a_flange_meets_its_plate_at_a_mitre() {
             .unwrap();
     }
     let t = 2.0;
-    let solid = thicken(&sheet, &mid, t).unwrap();
+    let solid = thicken(&sheet, &mid, &Gauge::uniform(t)).unwrap();
     assert_closed_and_oriented(&solid);
     let expected = 60.0 * t * (100.0 + 40.0);
     assert!(
@@ -156,16 +156,16 @@ fn a_flange_meets_its_plate_at_a_mitre() {
 fn a_thickness_or_a_point_missing_is_refused() {
     let (sheet, mid, _, _) = plate();
     assert!(matches!(
-        thicken(&sheet, &mid, 0.0),
+        thicken(&sheet, &mid, &Gauge::uniform(0.0)),
         Err(ThickenError::Thickness(_))
     ));
     assert!(matches!(
-        thicken(&sheet, &mid, f64::NAN),
+        thicken(&sheet, &mid, &Gauge::uniform(f64::NAN)),
         Err(ThickenError::Thickness(_))
     ));
     let (sheet, _, _, _) = plate();
     assert!(matches!(
-        thicken(&sheet, &MidSurface::new(), 1.0),
+        thicken(&sheet, &MidSurface::new(), &Gauge::uniform(1.0)),
         Err(ThickenError::Unplaced(_))
     ));
 }
@@ -217,7 +217,7 @@ fn a_plate_bent_about_an_edge_turns_its_far_part_and_keeps_its_volume() {
     }
     assert!(points.iter().any(|p| (p.z - 50.0).abs() < 1e-9));
     let t = 2.0;
-    let solid = thicken(&sheet, &mid, t).unwrap();
+    let solid = thicken(&sheet, &mid, &Gauge::uniform(t)).unwrap();
     assert_closed_and_oriented(&solid);
     assert!(
         (volume(&solid) - 6000.0 * t).abs() < 1e-9,
@@ -226,7 +226,7 @@ fn a_plate_bent_about_an_edge_turns_its_far_part_and_keeps_its_volume() {
     );
     // Bent back by the same angle the other way, the plate is flat again.
     bend(&sheet, &mut mid, left, crease, -std::f64::consts::FRAC_PI_2).unwrap();
-    let flat = thicken(&sheet, &mid, t).unwrap();
+    let flat = thicken(&sheet, &mid, &Gauge::uniform(t)).unwrap();
     assert!(flat
         .positions()
         .iter()
@@ -250,12 +250,73 @@ fn a_bend_on_a_free_edge_or_past_half_a_turn_is_refused() {
 fn a_moved_face_takes_its_twin_along() {
     let (sheet, mut mid, _, right) = split_plate();
     move_face(&sheet, &mut mid, right, DVec3::new(30.0, 0.0, 0.0)).unwrap();
-    let solid = thicken(&sheet, &mid, 1.0).unwrap();
+    let solid = thicken(&sheet, &mid, &Gauge::uniform(1.0)).unwrap();
     assert_closed_and_oriented(&solid);
     // The right half runs from x = 80 to 130 now, the left from 0 to 80: 130 x 60.
     assert!(
         (volume(&solid) - 130.0 * 60.0).abs() < 1e-9,
         "{}",
         volume(&solid)
+    );
+}
+
+/// Two sheets of different thickness (a 1.2 mm half on a 0.8 mm half, one of the
+/// paper's open problems), flat and bent to several angles: the offset sides still cross
+/// on a mitre, so the solid's mid-surfaces are the sheets and its volume is each half's
+/// area times its own thickness, exactly.
+#[test]
+fn sheets_of_two_thicknesses_keep_their_mid_surfaces_at_any_bend() {
+    for degrees in [30.0_f64, 60.0, 90.0, 135.0, -45.0, -90.0] {
+        let (sheet, mut mid, left, right) = split_plate();
+        let crease = edge_near(&sheet, &mid, DVec3::new(50.0, 30.0, 1.0)).unwrap();
+        bend(&sheet, &mut mid, left, crease, degrees.to_radians()).unwrap();
+        let gauge = Gauge {
+            base: 0.8,
+            sheets: vec![(right, 1.2)],
+        };
+        let solid = thicken(&sheet, &mid, &gauge).unwrap();
+        assert_closed_and_oriented(&solid);
+        let expected = 3000.0 * 0.8 + 3000.0 * 1.2;
+        assert!(
+            (volume(&solid) - expected).abs() < 1e-9 * expected,
+            "bent {degrees} deg: {} against {expected}",
+            volume(&solid)
+        );
+        // Every vertex of the solid lies half its sheet's thickness off that sheet's
+        // mid-plane: 0.4 off the left half's, 0.6 off the right half's.
+        let plane_of = |f: FaceId| {
+            let b = &sheet.brep;
+            let p: Vec<DVec3> = b
+                .loop_halves(b.loops_of(f).unwrap()[0])
+                .unwrap()
+                .into_iter()
+                .map(|h| mid.point(b.vertex(h).unwrap()).unwrap())
+                .collect();
+            let n = (p[1] - p[0]).cross(p[2] - p[0]).normalize();
+            (n, n.dot(p[0]))
+        };
+        let (nl, dl) = plane_of(left);
+        let (nr, dr) = plane_of(right);
+        for p in solid.positions() {
+            let off_left = (nl.dot(*p) - dl).abs();
+            let off_right = (nr.dot(*p) - dr).abs();
+            assert!(
+                (off_left - 0.4).abs() < 1e-9 || (off_right - 0.6).abs() < 1e-9,
+                "bent {degrees} deg: {p} is {off_left} off the left half, {off_right} off the right"
+            );
+        }
+    }
+}
+
+#[test]
+fn a_sheet_of_no_thickness_is_refused_even_when_the_rest_have_one() {
+    let (sheet, mid, left, _) = split_plate();
+    let gauge = Gauge {
+        base: 1.0,
+        sheets: vec![(left, -0.5)],
+    };
+    assert_eq!(
+        thicken(&sheet, &mid, &gauge),
+        Err(ThickenError::Thickness(-0.5))
     );
 }

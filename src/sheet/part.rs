@@ -8,7 +8,7 @@ use std::sync::Arc;
 use glam::{DVec2, DVec3};
 
 use super::geometry::{distance_to_segment, newell, MidSurface};
-use super::thicken::{thicken, ThickenError};
+use super::thicken::{thicken, Gauge, ThickenError};
 use super::topology::{FaceRole, Piece, Sheet, TopologyError, VertexId};
 use crate::geom::mesh::{crossings, Face, Mesh};
 use crate::geom::tessellate::triangulate_loops;
@@ -25,7 +25,7 @@ pub struct PlateSpec {
     pub holes: Vec<Vec<DVec3>>,
     /// The flanges, in order.
     pub flanges: Vec<FlangeSpec>,
-    /// The thickness (mm).
+    /// The thickness (mm) of the plate, and of each flange not given its own.
     pub thickness: f64,
 }
 
@@ -39,6 +39,8 @@ pub struct FlangeSpec {
     /// Its angle up from the plate's plane (radians; 90 deg stands square to it, towards
     /// the normal).
     pub angle: f64,
+    /// Its own thickness (mm), when not the plate's.
+    pub thickness: Option<f64>,
 }
 
 /// Why a plate could not be built.
@@ -167,6 +169,7 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
     }
     // Flanges: on the outline edge nearest each point, if it is still free.
     let mut flange_edges = Vec::with_capacity(spec.flanges.len());
+    let mut gauge = Gauge::uniform(spec.thickness);
     for (index, flange) in spec.flanges.iter().enumerate() {
         let bad = |why: String| PartProblem::Flange { index, why };
         if !(flange.height.is_finite() && flange.height > 0.0) {
@@ -174,6 +177,11 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
                 "height must be above 0, not {}",
                 flange.height
             )));
+        }
+        if let Some(t) = flange.thickness {
+            if !(t.is_finite() && t > 0.0) {
+                return Err(bad(format!("thickness must be above 0, not {t}")));
+            }
         }
         if !(flange.angle.is_finite() && (0.0..std::f64::consts::PI).contains(&flange.angle)) {
             return Err(bad(
@@ -238,6 +246,9 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
                 ))
             })?;
         flange_edges.push((pa, pc));
+        if let Some(t) = flange.thickness {
+            gauge.sheets.push((added.sides.0, t));
+        }
         let out = (pc - pa).cross(n).normalize_or_zero();
         let reach = flange.height * (flange.angle.cos() * out + flange.angle.sin() * n);
         // The first curve runs from c to the new vertex beside it, the third from the
@@ -258,7 +269,7 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
         mid.place(&sheet, wa, pa + reach)
             .map_err(|e| bad(e.to_string()))?;
     }
-    let solid = thicken(&sheet, &mid, spec.thickness).map_err(PartProblem::Thicken)?;
+    let solid = thicken(&sheet, &mid, &gauge).map_err(PartProblem::Thicken)?;
     // A solid that passes through itself is refused, blamed on the flange nearest.
     if let Some(c) = crossings(&solid).first() {
         let flange = flange_edges

@@ -12,6 +12,13 @@
 //! sheet the two sides' offset planes cross on the mitre, and the solid's mid-surfaces
 //! are the sheets.
 //!
+//! Each sheet may have its own thickness ([`Gauge`]: a 1.2 mm flange on a 0.8 mm
+//! panel, one of the paper's open problems): a side moves out by half its own sheet's
+//! thickness. The thickness faces' planes stand square to the sides, whatever their
+//! thickness, so where two sheets of different thickness meet the offset sides still
+//! cross on a mitre and the solid's mid-surfaces are still the sheets: its volume is
+//! each sheet's area times its own thickness.
+//!
 //! Planar faces only so far: each face of the solid is triangulated in its own plane.
 
 use glam::{DVec2, DVec3};
@@ -62,15 +69,51 @@ impl From<TopologyError> for ThickenError {
     }
 }
 
+/// The thickness of each sheet of a model: one for every sheet, save those given their
+/// own (a 1.2 mm flange on a 0.8 mm panel).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Gauge {
+    /// The thickness of a sheet not given its own (mm).
+    pub base: f64,
+    /// Sheets with their own thickness (mm), each named by one of its two sides; a side
+    /// split from a named one later is named again.
+    pub sheets: Vec<(FaceId, f64)>,
+}
+
+impl Gauge {
+    /// Every sheet at `thickness`.
+    pub fn uniform(thickness: f64) -> Gauge {
+        Gauge {
+            base: thickness,
+            sheets: Vec::new(),
+        }
+    }
+
+    /// The thickness of the sheet whose side (or its twin) is `side`.
+    pub fn of(&self, side: FaceId, twin: FaceId) -> f64 {
+        self.sheets
+            .iter()
+            .find(|&&(f, _)| f == side || f == twin)
+            .map_or(self.base, |&(_, t)| t)
+    }
+
+    /// The first thickness that is not a length above zero.
+    fn invalid(&self) -> Option<f64> {
+        std::iter::once(self.base)
+            .chain(self.sheets.iter().map(|&(_, t)| t))
+            .find(|t| !(t.is_finite() && *t > 0.0))
+    }
+}
+
 /// Singular values of the planes' normals below this count as none: the planes then
 /// fix no direction there (the normals are unit vectors).
 const RANK_TOLERANCE: f64 = 1e-9;
 
-/// The solid of `sheet` (placed by `mid`) at `thickness`, as a closed triangle mesh
-/// whose triangles face out of the solid.
-pub fn thicken(sheet: &Sheet, mid: &MidSurface, thickness: f64) -> Result<Mesh, ThickenError> {
-    if !(thickness.is_finite() && thickness > 0.0) {
-        return Err(ThickenError::Thickness(thickness));
+/// The solid of `sheet` (placed by `mid`) with each sheet at its thickness in `gauge`,
+/// as a closed triangle mesh whose triangles face out of the solid.
+pub fn thicken(sheet: &Sheet, mid: &MidSurface, gauge: &Gauge) -> Result<Mesh, ThickenError> {
+    if let Some(t) = gauge.invalid() {
+        return Err(ThickenError::Thickness(t));
     }
     let b = &sheet.brep;
     let at = |v: VertexId| mid.point(v).ok_or(ThickenError::Unplaced(v));
@@ -99,9 +142,10 @@ pub fn thicken(sheet: &Sheet, mid: &MidSurface, thickness: f64) -> Result<Mesh, 
             for h in b.loop_halves(l)? {
                 let v = b.vertex(h)?;
                 match role {
-                    FaceRole::Side { .. } => {
+                    FaceRole::Side { twin } => {
                         let n = normal(f)?;
-                        planes[v.index()].push((n, n.dot(at(v)?) + 0.5 * thickness));
+                        let half = 0.5 * gauge.of(f, twin);
+                        planes[v.index()].push((n, n.dot(at(v)?) + half));
                     }
                     FaceRole::Thickness => {
                         // The side edges of the thickness face at v: the one leaving v

@@ -92,7 +92,12 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
             &what,
             "a record `{ at: (x, y), height: 25 mm }`",
         )?;
-        check_record(r, field.value.span, &what, &["at", "height", "angle"])?;
+        check_record(
+            r,
+            field.value.span,
+            &what,
+            &["at", "height", "angle", "thickness"],
+        )?;
         let at = r.get("at").ok_or_else(|| {
             feature_error(
                 KIND,
@@ -117,10 +122,30 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
             Some(a) => as_angle(a, block.units, &format!("`angle` of {what}"))?,
             None => std::f64::consts::FRAC_PI_2,
         };
+        let own = match r.get("thickness") {
+            Some(t) => {
+                let t = length(t, block.units, &format!("`thickness` of {what}"))?;
+                if !(t.is_finite() && t > 0.0) {
+                    return Err(feature_error(
+                        KIND,
+                        format!(
+                            "{what}: the thickness must be above 0 mm, not {} mm",
+                            round(t)
+                        ),
+                        field.value.span,
+                        "not a thickness",
+                        "give the flange's own thickness such as `thickness: 1.2 mm`, or leave it out for the plate's",
+                    ));
+                }
+                Some(t)
+            }
+            None => None,
+        };
         flanges.push(FlangeSpec {
             near,
             height,
             angle,
+            thickness: own,
         });
     }
     let spec = PlateSpec {
