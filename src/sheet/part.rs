@@ -62,6 +62,10 @@ pub enum PartProblem {
     },
     /// The solid could not be made.
     Thicken(ThickenError),
+    /// The faces round a vertex of the solid do not meet at one point, near `at` (two
+    /// sheets of different thickness meeting almost flat, say): flange `flange` is the
+    /// nearest, when there are flanges.
+    Junction { at: DVec3, flange: Option<usize> },
     /// The solid passes through itself at `at` (two flanges closer than the thickness,
     /// say): flange `flange` is the nearest, when there are flanges.
     SelfIntersection { at: DVec3, flange: Option<usize> },
@@ -82,6 +86,15 @@ impl std::fmt::Display for PartProblem {
                 tidy(at.z)
             ),
             PartProblem::Thicken(e) => write!(f, "{e}"),
+            PartProblem::Junction { at, .. } => write!(
+                f,
+                "the solid's faces do not meet at one point near ({}, {}, {}): the sheets \
+                 meet there almost flat, or in a way only a junction of type 2 or 3 makes, \
+                 which is not made yet",
+                tidy(at.x),
+                tidy(at.y),
+                tidy(at.z)
+            ),
             PartProblem::SelfIntersection { at, .. } => write!(
                 f,
                 "the solid passes through itself near ({}, {}, {})",
@@ -269,16 +282,28 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
         mid.place(&sheet, wa, pa + reach)
             .map_err(|e| bad(e.to_string()))?;
     }
-    let solid = thicken(&sheet, &mid, &gauge).map_err(PartProblem::Thicken)?;
-    // A solid that passes through itself is refused, blamed on the flange nearest.
-    if let Some(c) = crossings(&solid).first() {
-        let flange = flange_edges
+    // A solid that cannot be made, or passes through itself, is blamed on the flange
+    // nearest the place at fault.
+    let nearest_flange = |at: DVec3| {
+        flange_edges
             .iter()
             .enumerate()
-            .map(|(i, &(a, b))| (distance_to_segment(a, b, c.at), i))
+            .map(|(i, &(a, b))| (distance_to_segment(a, b, at), i))
             .min_by(|x, y| x.0.total_cmp(&y.0))
-            .map(|(_, i)| i);
-        return Err(PartProblem::SelfIntersection { at: c.at, flange });
+            .map(|(_, i)| i)
+    };
+    let solid = thicken(&sheet, &mid, &gauge).map_err(|e| match e {
+        ThickenError::Junction { at, .. } => PartProblem::Junction {
+            at,
+            flange: nearest_flange(at),
+        },
+        e => PartProblem::Thicken(e),
+    })?;
+    if let Some(c) = crossings(&solid).first() {
+        return Err(PartProblem::SelfIntersection {
+            at: c.at,
+            flange: nearest_flange(c.at),
+        });
     }
     let mid_mesh = mid_surface(&sheet, &mid).map_err(PartProblem::Thicken)?;
     let area = mesh_area(&mid_mesh);

@@ -41,6 +41,11 @@ pub enum ThickenError {
     Degenerate(FaceId),
     /// A face of the solid could not be triangulated (its outline crosses itself).
     Triangulation(FaceId, GeomError),
+    /// The faces round a vertex of the solid do not meet at one point, so offsetting
+    /// alone would warp them (paper 003, Fig. 16(b)): the vertex needs a junction that
+    /// changes the topology (types 2 or 3), which is not made yet. `miss` is how far the
+    /// best point lies off the planes (mm).
+    Junction { at: DVec3, miss: f64 },
     /// The sheet model's topology is broken.
     Topology(TopologyError),
 }
@@ -56,6 +61,13 @@ impl std::fmt::Display for ThickenError {
             ThickenError::Triangulation(face, e) => {
                 write!(f, "face {} of the solid cannot be meshed: {e}", face.0)
             }
+            ThickenError::Junction { at, miss } => write!(
+                f,
+                "the solid's faces do not meet at one point near ({:.3}, {:.3}, {:.3}) \
+                 ({miss:.3} mm apart): the sheets meet there in a way only a junction of \
+                 type 2 or 3 makes, and those are not made yet",
+                at.x, at.y, at.z
+            ),
             ThickenError::Topology(e) => write!(f, "{e}"),
         }
     }
@@ -97,6 +109,14 @@ impl Gauge {
             .map_or(self.base, |&(_, t)| t)
     }
 
+    /// The largest thickness.
+    fn thickest(&self) -> f64 {
+        self.sheets
+            .iter()
+            .map(|&(_, t)| t)
+            .fold(self.base, f64::max)
+    }
+
     /// The first thickness that is not a length above zero.
     fn invalid(&self) -> Option<f64> {
         std::iter::once(self.base)
@@ -108,6 +128,10 @@ impl Gauge {
 /// Singular values of the planes' normals below this count as none: the planes then
 /// fix no direction there (the normals are unit vectors).
 const RANK_TOLERANCE: f64 = 1e-9;
+
+/// How far a solid vertex may lie off one of the planes round it, relative to the
+/// thickest sheet, before the planes count as not meeting at one point.
+const MEET_TOLERANCE: f64 = 1e-7;
 
 /// The solid of `sheet` (placed by `mid`) with each sheet at its thickness in `gauge`,
 /// as a closed triangle mesh whose triangles face out of the solid.
@@ -199,8 +223,16 @@ pub fn thicken(sheet: &Sheet, mid: &MidSurface, gauge: &Gauge) -> Result<Mesh, T
                 .map_err(|e| TopologyError::Invalid(format!("vertex {}: {e}", v.0)))?;
             DVec3::new(x[0], x[1], x[2])
         };
+        let q = p + step;
+        let miss = round
+            .iter()
+            .map(|&(n, d)| (n.dot(q) - d).abs())
+            .fold(0.0, f64::max);
+        if miss > MEET_TOLERANCE * gauge.thickest() {
+            return Err(ThickenError::Junction { at: p, miss });
+        }
         index[v.index()] = positions.len() as u32;
-        positions.push(p + step);
+        positions.push(q);
     }
     // Every face of the solid triangulated in its own plane.
     let mut faces = Vec::new();

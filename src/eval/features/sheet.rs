@@ -213,6 +213,23 @@ fn problem(
             "this flange, the nearest",
             "keep the flanges and the plate apart by more than the thickness: a shorter flange, or a lower angle",
         ),
+        PartProblem::Junction {
+            flange: Some(index),
+            ..
+        } => feature_error(
+            KIND,
+            format!("`flange {}`: {p}", flanges[*index].0),
+            flanges[*index].1.value.span,
+            "this flange, the nearest",
+            "a flange of its own thickness needs an angle well away from 0 deg, so its sides cross the plate's on a mitre; or give it the plate's thickness",
+        ),
+        PartProblem::Junction { flange: None, .. } => feature_error(
+            KIND,
+            p.to_string(),
+            outline,
+            "this sheet",
+            "check where the sheets meet",
+        ),
         PartProblem::SelfIntersection { flange: None, .. } => feature_error(
             KIND,
             p.to_string(),
