@@ -1,0 +1,329 @@
+#!/usr/bin/env python3
+"""Thickens the bracket example with OpenCascade and compares the solid with dieface's
+(issue 15: "the same part thickened by OpenCascade ... reference volumes and a sampled
+distance between the two solids committed as reference data").
+
+Usage (from the crate root):
+
+    pip install -r tests/reference/requirements.txt
+    python3 tests/reference/sheet_reference.py            # rewrites tests/data/sheet_reference.json
+    python3 tests/reference/sheet_reference.py --stdout   # prints it instead
+
+OpenCascade's part is built from the example's numbers, not from dieface's output: the
+plate (120 x 70 mm, 8 mm corner fillets on the left, a 12 mm bolt hole and a 30 x 8 mm
+slot) and the 30 mm flange square to it along the right edge, as exact lines and
+circular arcs, sewn into one shell. That mid-surface is offset by half the gauge to one
+side (`BRepOffsetAPI_MakeOffsetShape`, intersection joins) and thickened by the whole
+gauge back across it (`BRepOffset_MakeOffset` with thickening on: the algorithm under
+`BRepOffsetAPI_MakeThickSolid`), so the solid's mid-surfaces are the sheets, as
+dieface's junction type 1 makes them. (Offsetting half each way and adding the halves
+gives invalid shapes in OCCT 7.8; one-sided thickening from the shifted shell does not.)
+
+dieface's solid is read from `dieface build examples/bracket/bracket.die -o X.obj`
+(millimetres), the `bracket/solid` object. Recorded:
+
+* `occ`: the solid's volume (`BRepGProp.VolumeProperties`, relative accuracy 1e-9),
+  the mid-surface's area, the length of its curved edges (the arcs dieface follows by
+  chords), and `BRepCheck_Analyzer(solid).IsValid()`;
+* `dieface`: the volume of its closed triangle mesh (divergence theorem) and its
+  vertex and triangle counts;
+* `distance`: the largest distance from a dieface vertex to OpenCascade's solid
+  (`BRepExtrema_DistShapeShape`, exact geometry), and from points sampled on
+  OpenCascade's faces (the nodes of a 0.002 mm `BRepMesh` tessellation and its
+  triangles' centroids) to dieface's mesh (exact point-to-triangle distance);
+* `tolerance`: the outline tolerance dieface follows arcs with (0.05 mm).
+
+Floats are rounded to 12 significant digits, so reruns on the same geometry give the
+same file. `tests/sheet_reference.rs` checks the committed result against what dieface
+computes now.
+"""
+
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
+from importlib import metadata
+
+import numpy as np
+from OCP.BRep import BRep_Tool
+from OCP.BRepBuilderAPI import (
+    BRepBuilderAPI_MakeEdge,
+    BRepBuilderAPI_MakeFace,
+    BRepBuilderAPI_MakeVertex,
+    BRepBuilderAPI_MakeWire,
+    BRepBuilderAPI_Sewing,
+)
+from OCP.BRepCheck import BRepCheck_Analyzer
+from OCP.BRepExtrema import BRepExtrema_DistShapeShape
+from OCP.BRepGProp import BRepGProp
+from OCP.BRepMesh import BRepMesh_IncrementalMesh
+from OCP.BRepOffset import BRepOffset_MakeOffset, BRepOffset_Skin
+from OCP.BRepOffsetAPI import BRepOffsetAPI_MakeOffsetShape
+from OCP.GC import GC_MakeArcOfCircle
+from OCP.GeomAbs import GeomAbs_Intersection
+from OCP.GProp import GProp_GProps
+from OCP.Message import Message_ProgressRange
+from OCP.TopAbs import TopAbs_FACE
+from OCP.TopExp import TopExp_Explorer
+from OCP.TopLoc import TopLoc_Location
+from OCP.TopoDS import TopoDS
+from OCP.gp import gp_Pnt
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+EXAMPLE = "examples/bracket/bracket.die"
+OUT = os.path.join(ROOT, "tests", "data", "sheet_reference.json")
+
+# The bracket's numbers, as examples/bracket/bracket.die gives them.
+GAUGE = 1.5
+LENGTH, DEPTH, CORNER, FLANGE = 120.0, 70.0, 8.0, 30.0
+OUTLINE_TOLERANCE = 0.05
+
+
+def sig(x, digits=12):
+    return float(f"{x:.{digits}g}")
+
+
+def P(x, y, z=0.0):
+    return gp_Pnt(x, y, z)
+
+
+def seg(a, b):
+    return BRepBuilderAPI_MakeEdge(a, b).Edge()
+
+
+def arc(a, m, b):
+    return BRepBuilderAPI_MakeEdge(GC_MakeArcOfCircle(a, m, b).Value()).Edge()
+
+
+def wire(edges):
+    w = BRepBuilderAPI_MakeWire()
+    for e in edges:
+        w.Add(e)
+    return w.Wire()
+
+
+def mid_surface():
+    """The bracket's sheets, sewn into one shell."""
+    r = CORNER
+    c = r * (1 - math.sqrt(0.5))
+    outer = wire(
+        [
+            seg(P(r, 0), P(LENGTH, 0)),
+            seg(P(LENGTH, 0), P(LENGTH, DEPTH)),
+            seg(P(LENGTH, DEPTH), P(r, DEPTH)),
+            arc(P(r, DEPTH), P(c, DEPTH - c), P(0, DEPTH - r)),
+            seg(P(0, DEPTH - r), P(0, r)),
+            arc(P(0, r), P(c, c), P(r, 0)),
+        ]
+    )
+    bolt = wire([arc(P(24, 35), P(30, 41), P(36, 35)), arc(P(36, 35), P(30, 29), P(24, 35))])
+    slot = wire(
+        [
+            seg(P(60, 31), P(84, 31)),
+            arc(P(84, 31), P(88, 35), P(84, 39)),
+            seg(P(84, 39), P(60, 39)),
+            arc(P(60, 39), P(56, 35), P(60, 31)),
+        ]
+    )
+    plate = BRepBuilderAPI_MakeFace(outer, True)
+    plate.Add(bolt)  # drawn clockwise: a hole as it is
+    plate.Add(TopoDS.Wire(slot.Reversed()))  # drawn counter-clockwise: turned round
+    flange = BRepBuilderAPI_MakeFace(
+        wire(
+            [
+                seg(P(LENGTH, 0), P(LENGTH, DEPTH)),
+                seg(P(LENGTH, DEPTH), P(LENGTH, DEPTH, FLANGE)),
+                seg(P(LENGTH, DEPTH, FLANGE), P(LENGTH, 0, FLANGE)),
+                seg(P(LENGTH, 0, FLANGE), P(LENGTH, 0)),
+            ]
+        ),
+        True,
+    ).Face()
+    sew = BRepBuilderAPI_Sewing(1e-6)
+    sew.Add(plate.Face())
+    sew.Add(flange)
+    sew.Perform()
+    return sew.SewedShape()
+
+
+def curved_length(shape):
+    """The length of the shape's edges that are not straight lines (its arcs)."""
+    from OCP.BRepAdaptor import BRepAdaptor_Curve
+    from OCP.GeomAbs import GeomAbs_Line
+    from OCP.TopAbs import TopAbs_EDGE
+
+    # The explorer meets an edge once per face it bounds; every arc bounds the plate
+    # only (the one shared edge, the flange's, is straight), so each counts once.
+    total = 0.0
+    exp = TopExp_Explorer(shape, TopAbs_EDGE)
+    while exp.More():
+        edge = TopoDS.Edge(exp.Current())
+        exp.Next()
+        if BRepAdaptor_Curve(edge).GetType() != GeomAbs_Line:
+            g = GProp_GProps()
+            BRepGProp.LinearProperties_s(edge, g)
+            total += g.Mass()
+    return total
+
+
+def area(shape):
+    g = GProp_GProps()
+    BRepGProp.SurfaceProperties_s(shape, g, 1e-9)
+    return g.Mass()
+
+
+def volume(shape):
+    g = GProp_GProps()
+    BRepGProp.VolumeProperties_s(shape, g, 1e-9)
+    return g.Mass()
+
+
+def thicken(shell):
+    """The solid: the shell moved half the gauge to one side, thickened across."""
+    shifted = BRepOffsetAPI_MakeOffsetShape()
+    shifted.PerformByJoin(shell, -GAUGE / 2, 1e-7, BRepOffset_Skin, False, False, GeomAbs_Intersection, False)
+    thick = BRepOffset_MakeOffset()
+    thick.Initialize(shifted.Shape(), GAUGE, 1e-7, BRepOffset_Skin, False, False, GeomAbs_Intersection, True)
+    thick.MakeOffsetShape(Message_ProgressRange())
+    if not thick.IsDone():
+        raise SystemExit(f"OpenCascade could not thicken the bracket: error {thick.Error()}")
+    return thick.Shape()
+
+
+def occ_samples(solid, deflection=0.002):
+    """Points on the solid's faces: the tessellation's nodes and triangle centroids."""
+    BRepMesh_IncrementalMesh(solid, deflection, False, 0.1, True)
+    points = []
+    exp = TopExp_Explorer(solid, TopAbs_FACE)
+    while exp.More():
+        face = TopoDS.Face(exp.Current())
+        loc = TopLoc_Location()
+        tri = BRep_Tool.Triangulation_s(face, loc)
+        trsf = loc.Transformation()
+        nodes = [tri.Node(i).Transformed(trsf) for i in range(1, tri.NbNodes() + 1)]
+        xyz = np.array([[p.X(), p.Y(), p.Z()] for p in nodes])
+        points.append(xyz)
+        for i in range(1, tri.NbTriangles() + 1):
+            a, b, c = tri.Triangle(i).Get()
+            points.append(((xyz[a - 1] + xyz[b - 1] + xyz[c - 1]) / 3.0)[None, :])
+        exp.Next()
+    return np.vstack(points)
+
+
+def read_obj_object(path, name):
+    """The vertices and triangles of object `name` in an OBJ file (whose indices are
+    1-based and global to the file), renumbered to the object's own vertices."""
+    vertices, triangles, inside = [], [], False
+    with open(path) as f:
+        for line in f:
+            if line.startswith("v "):
+                vertices.append([float(x) for x in line.split()[1:4]])
+            elif line.startswith("o "):
+                inside = line.split()[1] == name
+            elif line.startswith("f ") and inside:
+                triangles.append([int(x.split("/")[0]) - 1 for x in line.split()[1:4]])
+    triangles = np.array(triangles)
+    used = np.unique(triangles)
+    renumber = np.full(len(vertices), -1)
+    renumber[used] = np.arange(len(used))
+    return np.array(vertices)[used], renumber[triangles]
+
+
+def point_triangle_distances(points, a, b, c):
+    """Each point's distance to the nearest of the triangles (a, b, c), exactly
+    (Ericson, Real-Time Collision Detection, 5.1.5), vectorised over triangles."""
+    ab, ac = b - a, c - a
+    best = np.full(len(points), np.inf)
+    for k, p in enumerate(points):
+        ap, bp, cp = p - a, p - b, p - c
+        d1, d2 = np.einsum("ij,ij->i", ab, ap), np.einsum("ij,ij->i", ac, ap)
+        d3, d4 = np.einsum("ij,ij->i", ab, bp), np.einsum("ij,ij->i", ac, bp)
+        d5, d6 = np.einsum("ij,ij->i", ab, cp), np.einsum("ij,ij->i", ac, cp)
+        va, vb, vc = d3 * d6 - d5 * d4, d5 * d2 - d1 * d6, d1 * d4 - d3 * d2
+        with np.errstate(divide="ignore", invalid="ignore"):
+            denom = 1.0 / (va + vb + vc)
+            v, w = vb * denom, vc * denom
+            q = a + ab * v[:, None] + ac * w[:, None]
+            # Vertex regions.
+            q = np.where(((d1 <= 0) & (d2 <= 0))[:, None], a, q)
+            q = np.where(((d3 >= 0) & (d4 <= d3))[:, None], b, q)
+            q = np.where(((d6 >= 0) & (d5 <= d6))[:, None], c, q)
+            # Edge regions.
+            t = d1 / (d1 - d3)
+            m = (vc <= 0) & (d1 >= 0) & (d3 <= 0)
+            q = np.where(m[:, None], a + ab * t[:, None], q)
+            t = d2 / (d2 - d6)
+            m = (vb <= 0) & (d2 >= 0) & (d6 <= 0)
+            q = np.where(m[:, None], a + ac * t[:, None], q)
+            t = (d4 - d3) / ((d4 - d3) + (d5 - d6))
+            m = (va <= 0) & ((d4 - d3) >= 0) & ((d5 - d6) >= 0)
+            q = np.where(m[:, None], b + (c - b) * t[:, None], q)
+        best[k] = np.min(np.linalg.norm(q - p, axis=1))
+    return best
+
+
+def mesh_volume(vertices, triangles):
+    a, b, c = (vertices[triangles[:, i]] for i in range(3))
+    return float(np.einsum("ij,ij->i", a, np.cross(b, c)).sum() / 6.0)
+
+
+def dieface_solid(dieface):
+    with tempfile.TemporaryDirectory() as tmp:
+        out = os.path.join(tmp, "bracket.obj")
+        command = dieface + ["build", EXAMPLE, "-o", out]
+        subprocess.run(command, cwd=ROOT, check=True, capture_output=True)
+        return read_obj_object(out, "bracket/solid")
+
+
+def main():
+    dieface = ["cargo", "run", "--quiet", "--release", "--bin", "dieface", "--"]
+    if "--dieface" in sys.argv:
+        dieface = [sys.argv[sys.argv.index("--dieface") + 1]]
+    shell = mid_surface()
+    solid = thicken(shell)
+    vertices, triangles = dieface_solid(dieface)
+    # dieface's vertices to OpenCascade's exact solid.
+    to_occ = 0.0
+    for x, y, z in vertices:
+        vertex = BRepBuilderAPI_MakeVertex(P(x, y, z)).Vertex()
+        dist = BRepExtrema_DistShapeShape(vertex, solid)
+        to_occ = max(to_occ, dist.Value())
+    # OpenCascade's faces to dieface's triangles.
+    samples = occ_samples(solid)
+    a, b, c = (vertices[triangles[:, i]] for i in range(3))
+    to_dieface = float(point_triangle_distances(samples, a, b, c).max())
+    result = {
+        "example": EXAMPLE,
+        "ocp": metadata.version("cadquery-ocp"),
+        "gauge": GAUGE,
+        "tolerance": OUTLINE_TOLERANCE,
+        "occ": {
+            "volume": sig(volume(solid)),
+            "mid_area": sig(area(shell)),
+            "curved_length": sig(curved_length(shell)),
+            "valid": BRepCheck_Analyzer(solid).IsValid(),
+        },
+        "dieface": {
+            "volume": sig(mesh_volume(vertices, triangles)),
+            "vertices": len(vertices),
+            "triangles": len(triangles),
+        },
+        "distance": {
+            "dieface_to_occ": sig(to_occ, 6),
+            "occ_to_dieface": sig(to_dieface, 6),
+            "occ_samples": len(samples),
+        },
+    }
+    text = json.dumps(result, indent=2) + "\n"
+    if "--stdout" in sys.argv:
+        sys.stdout.write(text)
+    else:
+        with open(OUT, "w") as f:
+            f.write(text)
+        print(f"wrote {OUT}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,75 @@
+//! The bracket example's solid against the same part thickened by OpenCascade (issue
+//! 15), from the committed reference data (`tests/data/sheet_reference.json`, written
+//! by `tests/reference/sheet_reference.py`, which builds the part from the example's
+//! numbers with exact arcs and thickens it with `BRepOffset_MakeOffset`).
+
+#[path = "common/example.rs"]
+mod example;
+
+use std::path::Path;
+
+use dieface::eval::Data;
+use dieface::sheet::part::SheetPart;
+use serde_json::Value as Json;
+
+fn reference() -> Json {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/sheet_reference.json");
+    serde_json::from_str(&std::fs::read_to_string(path).expect("the reference data")).expect("JSON")
+}
+
+fn number(j: &Json) -> f64 {
+    j.as_f64().expect("a number")
+}
+
+/// dieface's bracket differs from OpenCascade's only where dieface follows an arc by
+/// chords: in area by less than the tolerance times the arcs' length, in volume by that
+/// times the gauge, and no point of either solid lies further than the tolerance from
+/// the other. The data is current: it holds the volume dieface makes now.
+#[test]
+fn the_bracket_matches_opencascade_within_the_outline_tolerance() {
+    let r = reference();
+    let values = example::example_values("bracket/bracket.die");
+    let (_, bracket) = values
+        .iter()
+        .find(|(n, _)| n == "bracket")
+        .expect("the bracket");
+    let Data::Record(record) = &bracket.data else {
+        panic!("a record")
+    };
+    let part = record.model::<SheetPart>().expect("a sheet part");
+    let (gauge, tolerance) = (number(&r["gauge"]), number(&r["tolerance"]));
+    let occ = &r["occ"];
+    assert_eq!(
+        occ["valid"],
+        Json::Bool(true),
+        "OpenCascade's solid is invalid"
+    );
+    let chords = tolerance * number(&occ["curved_length"]);
+    let (occ_area, occ_volume) = (number(&occ["mid_area"]), number(&occ["volume"]));
+    assert!(
+        (part.area - occ_area).abs() < chords,
+        "area {} against OpenCascade's {occ_area}",
+        part.area
+    );
+    assert!(
+        (part.volume - occ_volume).abs() < chords * gauge,
+        "volume {} against OpenCascade's {occ_volume}",
+        part.volume
+    );
+    // The recorded distances were measured on this solid (its OBJ, to 1e-6 mm).
+    let recorded = number(&r["dieface"]["volume"]);
+    assert!(
+        (part.volume - recorded).abs() < 1e-6 * recorded,
+        "the reference data is stale: dieface now makes {} mm³, the data has {recorded}; \
+         rerun tests/reference/sheet_reference.py",
+        part.volume
+    );
+    assert_eq!(
+        r["dieface"]["triangles"].as_u64(),
+        Some(part.solid.face_count() as u64),
+        "the reference data is stale: rerun tests/reference/sheet_reference.py"
+    );
+    let d = &r["distance"];
+    assert!(number(&d["dieface_to_occ"]) < 1e-5, "{d}");
+    assert!(number(&d["occ_to_dieface"]) <= tolerance, "{d}");
+}
