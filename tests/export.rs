@@ -463,6 +463,7 @@ fn empty_geometry_writes_no_accessor() {
                     positions: Vec::new(),
                     normals: Vec::new(),
                     indices: Vec::new(),
+                    groups: Vec::new(),
                 }],
             ),
             node(
@@ -529,6 +530,7 @@ fn large_meshes_use_u32_indices_small_ones_u16() {
             normals: vec![DVec3::Z; n],
             positions,
             indices: vec![0, 1, last, last, 1, 2],
+            groups: Vec::new(),
         }
     };
     for (n, component, size) in [(100, 5123u64, 2usize), (70_000, 5125, 4)] {

@@ -213,3 +213,110 @@ fn flanges_meeting_at_a_corner_or_crossing_are_refused() {
         );
     }
 }
+
+/// The solid carries one named group per face of the solid (issue 15: "one group per
+/// face"), in the mesh, in OBJ (`g bracket/solid/NAME`) and in glTF (the primitive's
+/// `extras.groups`): the groups share out every triangle once, each lies in one plane,
+/// and the names say what the face is.
+#[test]
+fn the_solid_has_one_named_group_per_face() {
+    let values = example::example_values("bracket/bracket.die");
+    let (_, bracket) = values
+        .iter()
+        .find(|(n, _)| n == "bracket")
+        .expect("the bracket");
+    let solid = mesh(bracket, "solid");
+    let Data::Record(r) = &bracket.data else {
+        panic!("a record")
+    };
+    let part = r.model::<SheetPart>().expect("a sheet part");
+    let groups = solid.groups();
+    assert_eq!(groups.len(), part.sheet.brep.faces().count());
+    let mut owner = vec![0usize; solid.face_count()];
+    let p = solid.positions();
+    for g in groups {
+        let triangles = g.faces();
+        assert!(!triangles.is_empty(), "{} is empty", g.name());
+        let first = solid.faces()[triangles[0].0 as usize].indices();
+        let (a, b, c) = (
+            p[first[0] as usize],
+            p[first[1] as usize],
+            p[first[2] as usize],
+        );
+        let n = (b - a).cross(c - a).normalize();
+        for t in triangles {
+            owner[t.0 as usize] += 1;
+            for &i in solid.faces()[t.0 as usize].indices() {
+                let off = n.dot(p[i as usize] - a).abs();
+                assert!(off < 1e-9, "{}: a corner {off} mm off its plane", g.name());
+            }
+        }
+    }
+    assert!(owner.iter().all(|&n| n == 1), "every triangle in one group");
+    let names: Vec<&str> = groups.iter().map(|g| g.name()).collect();
+    for expected in [
+        "plate.top",
+        "plate.bottom",
+        "plate.edge_1",
+        "bolt_hole.wall_1",
+        "slot.wall_1",
+        "stiffener.inside",
+        "stiffener.outside",
+        "stiffener.edge_1",
+    ] {
+        assert!(names.contains(&expected), "no {expected} in {names:?}");
+    }
+    // The flange's inside faces the plate (-X), its outside away (+X).
+    let normal_of = |name: &str| {
+        let g = groups.iter().find(|g| g.name() == name).unwrap();
+        let f = solid.faces()[g.faces()[0].0 as usize].indices();
+        let (a, b, c) = (p[f[0] as usize], p[f[1] as usize], p[f[2] as usize]);
+        (b - a).cross(c - a).normalize()
+    };
+    assert!(normal_of("stiffener.inside").x < -0.99);
+    assert!(normal_of("stiffener.outside").x > 0.99);
+    assert!(normal_of("plate.top").z > 0.99);
+
+    // The same groups in the files a user gets.
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let dir = std::env::temp_dir().join(format!("dieface-sheet-groups-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let obj = dir.join("bracket.obj");
+    let glb = dir.join("bracket.glb");
+    for out in [&obj, &glb] {
+        let status = std::process::Command::new(env!("CARGO_BIN_EXE_dieface"))
+            .arg("build")
+            .arg(root.join("examples/bracket/bracket.die"))
+            .arg("-o")
+            .arg(out)
+            .output()
+            .unwrap();
+        assert!(status.status.success(), "{status:?}");
+    }
+    let text = std::fs::read_to_string(&obj).unwrap();
+    let obj_groups: Vec<&str> = text
+        .lines()
+        .filter_map(|l| l.strip_prefix("g bracket/solid/"))
+        .collect();
+    assert_eq!(obj_groups, names);
+    let bytes = std::fs::read(&glb).unwrap();
+    let json_len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+    let json: serde_json::Value = serde_json::from_slice(&bytes[20..20 + json_len]).unwrap();
+    let mesh = json["meshes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|m| m["name"] == "bracket/solid")
+        .expect("the solid's mesh");
+    let gltf_groups = mesh["primitives"][0]["extras"]["groups"]
+        .as_array()
+        .unwrap();
+    assert_eq!(gltf_groups.len(), names.len());
+    let covered: u64 = gltf_groups
+        .iter()
+        .flat_map(|g| g["triangles"].as_array().unwrap().iter())
+        .map(|run| run[1].as_u64().unwrap())
+        .sum();
+    assert_eq!(covered as usize, solid.face_count());
+    let _ = std::fs::remove_dir_all(&dir);
+}

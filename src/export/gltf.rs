@@ -18,6 +18,8 @@
 //! One material per declaration kind present, double-sided (die faces are open sheets).
 //! Every node has `extras` { name, kind, line, tolerance_mm, source }; a draw bead's node
 //! also has `line_bead` { points_mm (press coordinates, Z up), spacing_mm, force_n_per_mm }.
+//! A primitive whose triangles are grouped (a solid's faces) has `extras.groups`, each
+//! { name, triangles: [[first, count], ...] } in the primitive's triangle numbers.
 
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -227,6 +229,7 @@ impl Encoded {
                 positions,
                 normals,
                 indices,
+                ..
             } => {
                 let (bytes, lo, hi) = vec3_bytes(positions.iter().map(|&p| to_gltf_position(p)));
                 let dirs = (0..positions.len())
@@ -376,15 +379,23 @@ impl Document {
             let e = cache.encoded(g, used);
             let pos = self.vec3(&e.positions, e.vertex_count, Some((e.lo, e.hi)));
             match &**g {
-                Geometry::Triangles { .. } => {
+                Geometry::Triangles { groups, .. } => {
                     let nrm = self.vec3(&e.normals, e.vertex_count, None);
                     let idx = self.indices(&e);
-                    primitives.push(json!({
+                    let mut primitive = json!({
                         "attributes": { "POSITION": pos, "NORMAL": nrm },
                         "indices": idx,
                         "material": material,
                         "mode": MODE_TRIANGLES,
-                    }));
+                    });
+                    if !groups.is_empty() {
+                        let groups: Vec<Value> = groups
+                            .iter()
+                            .map(|g| json!({ "name": g.name, "triangles": g.runs() }))
+                            .collect();
+                        primitive["extras"] = json!({ "groups": groups });
+                    }
+                    primitives.push(primitive);
                 }
                 Geometry::LineStrip { .. } => {
                     primitives.push(json!({

@@ -4,7 +4,9 @@
 //! press coordinates (+Z up), as the header comment says. Every node with geometry
 //! starts an object and a group of the same name (`o pol/side-front`, `g pol/side-front`:
 //! importers differ in which of the two they split by); nested names keep the '/' path.
-//! Triangles are `f a//a b//b c//c` (positions and normals share indices), curves are
+//! A piece whose triangles are grouped (a solid's faces) writes each group after
+//! `g node/group` (`g bracket/solid/plate_top`). Triangles are `f a//a b//b c//c`
+//! (positions and normals share indices), curves are
 //! `l` polylines. Numbers are printed with six decimals (nanometres), a fixed format so
 //! the same scene always gives the same bytes.
 
@@ -42,6 +44,7 @@ pub fn encode_obj(scene: &Scene) -> Vec<u8> {
                     positions,
                     normals,
                     indices,
+                    groups,
                 } => {
                     for &p in positions {
                         vector(&mut out, "v", p);
@@ -50,9 +53,31 @@ pub fn encode_obj(scene: &Scene) -> Vec<u8> {
                         let n = normals.get(i).copied().unwrap_or(DVec3::Z);
                         vector(&mut out, "vn", n.try_normalize().unwrap_or(DVec3::Z));
                     }
-                    for t in indices.chunks_exact(3) {
-                        let [a, b, c] = [t[0], t[1], t[2]].map(|i| i as usize + next_vertex);
+                    let triangle = |out: &mut String, t: usize| {
+                        let [a, b, c] =
+                            [0, 1, 2].map(|k| indices[3 * t + k] as usize + next_vertex);
                         let _ = writeln!(out, "f {a}//{a} {b}//{b} {c}//{c}");
+                    };
+                    // Triangles in no group first, under the node's own group; then each
+                    // group's under `g node/group`.
+                    let mut grouped = vec![false; indices.len() / 3];
+                    for g in groups {
+                        for &t in &g.triangles {
+                            if let Some(slot) = grouped.get_mut(t as usize) {
+                                *slot = true;
+                            }
+                        }
+                    }
+                    for (t, _) in grouped.iter().enumerate().filter(|(_, &g)| !g) {
+                        triangle(&mut out, t);
+                    }
+                    for g in groups {
+                        let _ = writeln!(out, "g {name}/{}", obj_name(&g.name));
+                        for &t in &g.triangles {
+                            if (t as usize) < grouped.len() {
+                                triangle(&mut out, t as usize);
+                            }
+                        }
                     }
                     next_vertex += positions.len();
                 }

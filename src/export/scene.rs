@@ -75,12 +75,40 @@ pub enum Geometry {
         normals: Vec<DVec3>,
         /// Three indices per triangle.
         indices: Vec<u32>,
+        /// Named sets of the triangles (a solid's faces, one group each), in order;
+        /// empty when the piece has none.
+        groups: Vec<TriangleGroup>,
     },
     /// A polyline through the points in order.
     LineStrip {
         /// The vertices (two or more).
         points: Vec<DVec3>,
     },
+}
+
+/// A named set of a primitive's triangles: one face of a solid, so that tools and
+/// reviewers can pick it out (OBJ writes it as a group `g`, glTF as the primitive's
+/// `extras.groups`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TriangleGroup {
+    /// The name, as the kernel mesh's group has it.
+    pub name: String,
+    /// The triangles' numbers (index triple / 3), ascending.
+    pub triangles: Vec<u32>,
+}
+
+impl TriangleGroup {
+    /// The triangles as runs of consecutive numbers, each `[first, count]`.
+    pub fn runs(&self) -> Vec<[u32; 2]> {
+        let mut runs: Vec<[u32; 2]> = Vec::new();
+        for &t in &self.triangles {
+            match runs.last_mut() {
+                Some([first, count]) if *first + *count == t => *count += 1,
+                _ => runs.push([t, 1]),
+            }
+        }
+        runs
+    }
 }
 
 impl Geometry {
@@ -460,6 +488,7 @@ fn surface_triangles(mesh: SurfaceMesh) -> Geometry {
         positions: mesh.positions,
         normals,
         indices,
+        groups: Vec::new(),
     }
 }
 
@@ -487,9 +516,19 @@ fn mesh_triangles(m: &Mesh) -> Geometry {
         .iter()
         .flat_map(|f| f.indices().to_vec())
         .collect();
+    // `triangulated` keeps each group on the triangles its faces became.
+    let groups = tri
+        .groups()
+        .iter()
+        .map(|g| TriangleGroup {
+            name: g.name().to_string(),
+            triangles: g.faces().iter().map(|f| f.0).collect(),
+        })
+        .collect();
     Geometry::Triangles {
         positions: tri.positions().to_vec(),
         normals,
         indices,
+        groups,
     }
 }

@@ -8,8 +8,8 @@ use std::sync::Arc;
 use glam::{DVec2, DVec3};
 
 use super::geometry::{distance_to_segment, newell, MidSurface};
-use super::thicken::{thicken, Gauge, ThickenError};
-use super::topology::{FaceRole, Piece, Sheet, TopologyError, VertexId};
+use super::thicken::{thicken_named, Gauge, ThickenError};
+use super::topology::{EdgeRole, FaceId, FaceRole, Piece, Sheet, TopologyError, VertexId};
 use crate::geom::mesh::{crossings, Face, Mesh};
 use crate::geom::tessellate::triangulate_loops;
 use crate::geom::trimmed::polygon_winding;
@@ -21,17 +21,29 @@ pub struct PlateSpec {
     pub outline: Vec<DVec3>,
     /// The working plane's normal: the plate's first side faces this way.
     pub normal: DVec3,
-    /// Each hole's points, inside the outline.
-    pub holes: Vec<Vec<DVec3>>,
+    /// The holes, inside the outline.
+    pub holes: Vec<HoleSpec>,
     /// The flanges, in order.
     pub flanges: Vec<FlangeSpec>,
     /// The thickness (mm) of the plate, and of each flange not given its own.
     pub thickness: f64,
 }
 
+/// A hole punched through the plate.
+#[derive(Debug, Clone, PartialEq)]
+pub struct HoleSpec {
+    /// Its name: the solid's faces lining it are `NAME.wall_K`.
+    pub name: String,
+    /// Its points, either way round.
+    pub points: Vec<DVec3>,
+}
+
 /// A flange on the outline's edge nearest a point.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FlangeSpec {
+    /// Its name: the solid's faces of the flange are `NAME.inside`, `NAME.outside` and
+    /// `NAME.edge_K`.
+    pub name: String,
     /// A point near the edge.
     pub near: DVec3,
     /// How far the flange reaches from the edge (mm).
@@ -140,7 +152,7 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
         return Err(PartProblem::Outline("crosses or touches itself".into()));
     }
     let topo = |e: TopologyError| PartProblem::Outline(e.to_string());
-    let (mut sheet, _, top) = Sheet::initial(outline.len()).map_err(topo)?;
+    let (mut sheet, bottom, top) = Sheet::initial(outline.len()).map_err(topo)?;
     let mut mid = MidSurface::new();
     let corners = sheet.brep.outer_vertices(top).map_err(topo)?;
     for (&v, &p) in corners.iter().zip(&outline) {
@@ -148,7 +160,9 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
     }
     // Holes: each inside the outline, clear of the others.
     let mut flat_loops = vec![flat_outline.clone()];
+    let mut hole_rings = Vec::with_capacity(spec.holes.len());
     for (index, hole) in spec.holes.iter().enumerate() {
+        let hole = &hole.points;
         let bad = |why: String| PartProblem::Hole { index, why };
         if hole.len() < 3 {
             return Err(bad("needs 3 points or more".into()));
@@ -179,10 +193,12 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
         for (&v, &p) in ring_vertices.iter().zip(ring.iter().rev()) {
             mid.place(&sheet, v, p).map_err(|e| bad(e.to_string()))?;
         }
+        hole_rings.push(ring_vertices);
     }
     // Flanges: on the outline edge nearest each point, if it is still free.
     let mut flange_edges = Vec::with_capacity(spec.flanges.len());
     let mut gauge = Gauge::uniform(spec.thickness);
+    let mut flange_sides = Vec::with_capacity(spec.flanges.len());
     for (index, flange) in spec.flanges.iter().enumerate() {
         let bad = |why: String| PartProblem::Flange { index, why };
         if !(flange.height.is_finite() && flange.height > 0.0) {
@@ -262,6 +278,7 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
         if let Some(t) = flange.thickness {
             gauge.sheets.push((added.sides.0, t));
         }
+        flange_sides.push(added.sides);
         let out = (pc - pa).cross(n).normalize_or_zero();
         let reach = flange.height * (flange.angle.cos() * out + flange.angle.sin() * n);
         // The first curve runs from c to the new vertex beside it, the third from the
@@ -292,7 +309,9 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
             .min_by(|x, y| x.0.total_cmp(&y.0))
             .map(|(_, i)| i)
     };
-    let solid = thicken(&sheet, &mid, &gauge).map_err(|e| match e {
+    let names = FaceNames::new(&sheet, spec, (bottom, top), &hole_rings, &flange_sides)
+        .map_err(|e| PartProblem::Thicken(e.into()))?;
+    let solid = thicken_named(&sheet, &mid, &gauge, |f| names.of(f)).map_err(|e| match e {
         ThickenError::Junction { at, .. } => PartProblem::Junction {
             at,
             flange: nearest_flange(at),
@@ -316,6 +335,92 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
         area,
         volume,
     })
+}
+
+/// The name of each face of a plate's solid, as a designer would call it: `plate.top`
+/// and `plate.bottom` (the top faces the working plane's normal), `plate.edge_K` across
+/// the outline's edges, `HOLE.wall_K` lining a hole, and per flange `NAME.inside` (the
+/// side that continues the plate's top, inside the bend), `NAME.outside` and
+/// `NAME.edge_K`; K counts from 1 in the model's face order.
+struct FaceNames {
+    names: std::collections::BTreeMap<FaceId, String>,
+}
+
+impl FaceNames {
+    fn new(
+        sheet: &Sheet,
+        spec: &PlateSpec,
+        (bottom, top): (FaceId, FaceId),
+        hole_rings: &[Vec<VertexId>],
+        flanges: &[(FaceId, FaceId)],
+    ) -> Result<FaceNames, TopologyError> {
+        let b = &sheet.brep;
+        let mut names = std::collections::BTreeMap::new();
+        names.insert(top, "plate.top".to_string());
+        names.insert(bottom, "plate.bottom".to_string());
+        // The sides across the non-zero-length edges of face f.
+        let neighbours = |f: FaceId| -> Result<Vec<FaceId>, TopologyError> {
+            let mut out = Vec::new();
+            for &l in b.loops_of(f)? {
+                for h in b.loop_halves(l)? {
+                    let Some(e) = b.edge(h)? else { continue };
+                    if sheet.edge_role(e)? != EdgeRole::ZeroLength {
+                        out.push(b.face_with(b.loop_with(b.mate(h)?)?)?);
+                    }
+                }
+            }
+            Ok(out)
+        };
+        for (k, &(a, c)) in flanges.iter().enumerate() {
+            let name = &spec.flanges[k].name;
+            let inside = if neighbours(a)?.contains(&top) { a } else { c };
+            let outside = if inside == a { c } else { a };
+            names.insert(inside, format!("{name}.inside"));
+            names.insert(outside, format!("{name}.outside"));
+        }
+        // Thickness faces, named after the sheet they edge (or the hole they line).
+        let mut counts = std::collections::BTreeMap::<String, usize>::new();
+        for f in b.faces() {
+            if sheet.face_role(f)? != FaceRole::Thickness {
+                continue;
+            }
+            let vertices = b.outer_vertices(f)?;
+            let hole = hole_rings.iter().position(|ring| {
+                vertices.iter().any(|&v| {
+                    ring.contains(&v) || sheet.twin_vertex(v).is_ok_and(|w| ring.contains(&w))
+                })
+            });
+            let owner = neighbours(f)?
+                .into_iter()
+                .find_map(|side| flanges.iter().position(|&(a, c)| side == a || side == c));
+            let prefix = match (hole, owner) {
+                (Some(i), _) => format!("{}.wall", spec.holes[i].name),
+                (None, Some(k)) => format!("{}.edge", spec.flanges[k].name),
+                (None, None) => "plate.edge".to_string(),
+            };
+            let n = counts.entry(prefix.clone()).or_insert(0);
+            *n += 1;
+            names.insert(f, format!("{prefix}_{n}"));
+        }
+        // A hole or flange named `plate` could repeat a name: the later face gets its
+        // id added, so every group name stays unique.
+        let mut seen = std::collections::BTreeSet::new();
+        for (f, name) in names.iter_mut() {
+            if !seen.insert(name.clone()) {
+                name.push_str(&format!("_{}", f.0));
+                seen.insert(name.clone());
+            }
+        }
+        Ok(FaceNames { names })
+    }
+
+    /// The name of face `f` (`face N` for one not named above).
+    fn of(&self, f: FaceId) -> String {
+        self.names
+            .get(&f)
+            .cloned()
+            .unwrap_or_else(|| format!("face {}", f.0))
+    }
 }
 
 /// One side of each sheet (the one of lower id of a pair of twins), each face

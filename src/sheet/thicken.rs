@@ -26,7 +26,7 @@ use nalgebra::{DMatrix, DVector};
 
 use super::geometry::{newell, MidSurface};
 use super::topology::{Brep, EdgeRole, FaceId, FaceRole, Sheet, TopologyError, VertexId};
-use crate::geom::mesh::{Face, Mesh};
+use crate::geom::mesh::{Face, FaceId as MeshFaceId, Mesh};
 use crate::geom::tessellate::triangulate_loops;
 use crate::geom::GeomError;
 
@@ -134,8 +134,19 @@ const RANK_TOLERANCE: f64 = 1e-9;
 const MEET_TOLERANCE: f64 = 1e-7;
 
 /// The solid of `sheet` (placed by `mid`) with each sheet at its thickness in `gauge`,
-/// as a closed triangle mesh whose triangles face out of the solid.
+/// as a closed triangle mesh whose triangles face out of the solid, one group per face
+/// of the solid named `face N` (N the sheet model's face id).
 pub fn thicken(sheet: &Sheet, mid: &MidSurface, gauge: &Gauge) -> Result<Mesh, ThickenError> {
+    thicken_named(sheet, mid, gauge, |f| format!("face {}", f.0))
+}
+
+/// [`thicken`], with each face's group named by `name` (names must differ).
+pub fn thicken_named(
+    sheet: &Sheet,
+    mid: &MidSurface,
+    gauge: &Gauge,
+    name: impl Fn(FaceId) -> String,
+) -> Result<Mesh, ThickenError> {
     if let Some(t) = gauge.invalid() {
         return Err(ThickenError::Thickness(t));
     }
@@ -234,9 +245,11 @@ pub fn thicken(sheet: &Sheet, mid: &MidSurface, gauge: &Gauge) -> Result<Mesh, T
         index[v.index()] = positions.len() as u32;
         positions.push(q);
     }
-    // Every face of the solid triangulated in its own plane.
+    // Every face of the solid triangulated in its own plane, its triangles a group.
     let mut faces = Vec::new();
+    let mut groups = Vec::new();
     for f in b.faces() {
+        let first = faces.len();
         let loops: Vec<Vec<u32>> = b
             .loops_of(f)?
             .iter()
@@ -270,9 +283,15 @@ pub fn thicken(sheet: &Sheet, mid: &MidSurface, gauge: &Gauge) -> Result<Mesh, T
         for [a, c, d] in triangulate_loops(&flat).map_err(|e| ThickenError::Triangulation(f, e))? {
             faces.push(Face::triangle(all[a], all[c], all[d]));
         }
+        groups.push((name(f), first..faces.len()));
     }
-    Mesh::new(positions, faces)
-        .map_err(|e| ThickenError::Topology(TopologyError::Invalid(e.to_string())))
+    let invalid = |e: GeomError| ThickenError::Topology(TopologyError::Invalid(e.to_string()));
+    let mut mesh = Mesh::new(positions, faces).map_err(invalid)?;
+    for (group, range) in groups {
+        mesh.add_group(group, range.map(|t| MeshFaceId(t as u32)))
+            .map_err(invalid)?;
+    }
+    Ok(mesh)
 }
 
 /// A length the size of `points`, for relative tests.

@@ -17,7 +17,7 @@
 
 use crate::diag::Diagnostic;
 use crate::geom::tessellate::{tessellate_curve, Tolerance};
-use crate::sheet::part::{self, FlangeSpec, PartProblem, PlateSpec, SheetPart};
+use crate::sheet::part::{self, FlangeSpec, HoleSpec, PartProblem, PlateSpec, SheetPart};
 use crate::syntax::Span;
 
 use super::super::builtins::{as_angle, as_point2, type_error};
@@ -66,7 +66,7 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
     let outline = polygon(&sketch, outline_field.value.span)?;
     let punches = block.named("punch");
     let mut holes = Vec::with_capacity(punches.len());
-    for (_, field) in &punches {
+    for (name, field) in &punches {
         let s = closed_sketch(&field.value, "a `punch`")?;
         if s.view != view {
             return Err(feature_error(
@@ -81,7 +81,10 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
                 format!("draw it with `sketch({}) {{ ... }}`", view.name()),
             ));
         }
-        holes.push(polygon(&s, field.value.span)?);
+        holes.push(HoleSpec {
+            name: name.to_string(),
+            points: polygon(&s, field.value.span)?,
+        });
     }
     let flange_fields = block.named("flange");
     let mut flanges = Vec::with_capacity(flange_fields.len());
@@ -142,6 +145,7 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
             None => None,
         };
         flanges.push(FlangeSpec {
+            name: name.to_string(),
             near,
             height,
             angle,
