@@ -9,11 +9,15 @@ mod example;
 #[path = "common/script.rs"]
 mod script;
 
+#[path = "common/sheet.rs"]
+mod sheet;
+
 use std::path::Path;
 
 use dieface::eval::{Data, Engine, Value};
 use dieface::geom::mesh::{Mesh, Topology};
 use dieface::sheet::part::SheetPart;
+use sheet::volume;
 
 /// The mesh in field `field` of a sheet's record.
 fn mesh<'a>(v: &'a Value, field: &str) -> &'a Mesh {
@@ -24,18 +28,6 @@ fn mesh<'a>(v: &'a Value, field: &str) -> &'a Mesh {
         Data::Mesh(m) => m,
         _ => panic!("`{field}` is a mesh"),
     }
-}
-
-/// The volume a closed, outward-facing triangle mesh encloses (divergence theorem).
-fn volume(mesh: &Mesh) -> f64 {
-    let p = mesh.positions();
-    mesh.faces()
-        .iter()
-        .map(|f| {
-            let i = f.indices();
-            p[i[0] as usize].dot(p[i[1] as usize].cross(p[i[2] as usize])) / 6.0
-        })
-        .sum()
 }
 
 /// The example bracket: a 120 x 70 plate with two rounded corners, a bolt hole, a slot

@@ -2,10 +2,13 @@
 //! closed, its triangles face out, and its volume is the sheets' area times the
 //! thickness, exactly where the sheets meet at a mitre (junction type 1).
 
-use dieface::geom::mesh::{Mesh, Topology};
+#[path = "common/sheet.rs"]
+mod common;
+
+use common::{assert_closed_and_oriented, place_flange, volume};
 use dieface::sheet::geometry::{bend, edge_near, face_near, move_face, MidSurface};
 use dieface::sheet::thicken::{thicken, Gauge, ThickenError};
-use dieface::sheet::topology::{EdgeRole, FaceId, Sheet, VertexId};
+use dieface::sheet::topology::{FaceId, Sheet, VertexId};
 use glam::DVec3;
 
 /// The vertices of face `f`'s outer loop, in order.
@@ -16,31 +19,6 @@ fn outer_vertices(sheet: &Sheet, f: FaceId) -> Vec<VertexId> {
         .into_iter()
         .map(|h| b.vertex(h).unwrap())
         .collect()
-}
-
-/// The volume a closed, outward-facing triangle mesh encloses (divergence theorem).
-fn volume(mesh: &Mesh) -> f64 {
-    let p = mesh.positions();
-    mesh.faces()
-        .iter()
-        .map(|f| {
-            let i = f.indices();
-            let (a, b, c) = (p[i[0] as usize], p[i[1] as usize], p[i[2] as usize]);
-            a.dot(b.cross(c)) / 6.0
-        })
-        .sum()
-}
-
-/// The mesh is closed and every edge's two triangles agree on orientation.
-fn assert_closed_and_oriented(mesh: &Mesh) {
-    let topology = Topology::build(mesh);
-    assert!(
-        topology.is_closed(),
-        "free edges: {:?}",
-        topology.free_edges()
-    );
-    assert!(topology.non_manifold_edges().is_empty());
-    assert!(topology.inconsistent_edges().is_empty());
 }
 
 /// A slab over the rectangle 100 x 60 in the XY plane, its outline placed on the side
@@ -119,25 +97,9 @@ fn a_flange_meets_its_plate_at_a_mitre() {
         .unwrap();
     let flange = sheet.flange(edge).unwrap();
     // The far edge's ends stand 40 above the base vertices they are swept from.
-    let b = &sheet.brep;
-    let (p, m) = b.halves_of(flange.far_edge).unwrap();
-    for t in [b.vertex(p).unwrap(), b.vertex(m).unwrap()] {
-        let base = b
-            .edges_at(t)
-            .unwrap()
-            .into_iter()
-            .filter(|&e| e != flange.far_edge)
-            .filter(|&e| matches!(sheet.edge_role(e).unwrap(), EdgeRole::Side { .. }))
-            .find_map(|e| {
-                let (p, m) = b.halves_of(e).unwrap();
-                [b.vertex(p).unwrap(), b.vertex(m).unwrap()]
-                    .into_iter()
-                    .find_map(|v| mid.point(v))
-            })
-            .unwrap();
-        mid.place(&sheet, t, base + DVec3::new(0.0, 0.0, 40.0))
-            .unwrap();
-    }
+    place_flange(&sheet, &mut mid, &flange, |p| {
+        p + DVec3::new(0.0, 0.0, 40.0)
+    });
     let t = 2.0;
     let solid = thicken(&sheet, &mid, &Gauge::uniform(t)).unwrap();
     assert_closed_and_oriented(&solid);

@@ -10,11 +10,13 @@
 //! What is here so far: the boundary representation with its Euler operators and its
 //! validity check, the initial sheet, and the topology of the sheet operations (add a
 //! sheet on picked edges, flange, split, punch, lift, remove), the placed model with
-//! picking by points, moves and bends ([`geometry`]), and its solid at a thickness
-//! ([`thicken`]). Curved geometry, rounding and the language block come next (issue
-//! 15).
+//! picking by points, moves and bends ([`geometry`]), the junction type at each vertex
+//! where two sheets meet ([`junction`]), its solid at each sheet's thickness
+//! ([`thicken`]), and a plate part as the language declares it ([`part`]). Curved
+//! geometry and rounding come next (issue 15).
 
 pub mod geometry;
+pub mod junction;
 pub mod part;
 pub mod thicken;
 pub mod topology;

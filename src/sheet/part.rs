@@ -8,6 +8,7 @@ use std::sync::Arc;
 use glam::{DVec2, DVec3};
 
 use super::geometry::{distance_to_segment, newell, MidSurface};
+use super::junction::{meetings, Junction, Meeting};
 use super::thicken::{thicken_named, Gauge, ThickenError};
 use super::topology::{EdgeRole, FaceId, FaceRole, Piece, Sheet, TopologyError, VertexId};
 use crate::geom::mesh::{crossings, Face, Mesh};
@@ -100,9 +101,9 @@ impl std::fmt::Display for PartProblem {
             PartProblem::Thicken(e) => write!(f, "{e}"),
             PartProblem::Junction { at, .. } => write!(
                 f,
-                "the solid's faces do not meet at one point near ({}, {}, {}): the sheets \
-                 meet there almost flat, or in a way only a junction of type 2 or 3 makes, \
-                 which is not made yet",
+                "the solid's faces do not meet at one point near ({}, {}, {}), and no \
+                 junction joins them there: the sheets meet almost flat, or three meet at \
+                 one corner",
                 tidy(at.x),
                 tidy(at.y),
                 tidy(at.z)
@@ -133,6 +134,9 @@ pub struct SheetPart {
     pub area: f64,
     /// The solid's volume (mm^3).
     pub volume: f64,
+    /// The junction at each vertex where two sheets meet on the free boundary, with
+    /// the type the paper's rule chose there.
+    pub junctions: Vec<Junction>,
 }
 
 /// Builds the plate of `spec`: the initial sheet over the outline, each hole punched,
@@ -324,6 +328,14 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
             flange: nearest_flange(c.at),
         });
     }
+    let junctions = meetings(&sheet, &mid)
+        .map_err(|e| PartProblem::Thicken(e.into()))?
+        .into_iter()
+        .filter_map(|m| match m {
+            Meeting::Two(j) => Some(j),
+            Meeting::Many { .. } => None,
+        })
+        .collect();
     let mid_mesh = mid_surface(&sheet, &mid).map_err(PartProblem::Thicken)?;
     let area = mesh_area(&mid_mesh);
     let volume = mesh_volume(&solid);
@@ -334,6 +346,7 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
         solid: Arc::new(solid),
         area,
         volume,
+        junctions,
     })
 }
 

@@ -19,12 +19,19 @@
 //! cross on a mitre and the solid's mid-surfaces are still the sheets: its volume is
 //! each sheet's area times its own thickness.
 //!
-//! Planar faces only so far: each face of the solid is triangulated in its own plane.
+//! Where the planes round a vertex miss one point (two sheets meeting on the free
+//! boundary whose thickness faces are not one plane), the vertex is split by its
+//! junction's topology change ([`super::junction`]; `split` below); where no split
+//! joins them it is refused, never put at a compromise that warps the faces.
+//!
+//! Planar faces only so far: each face of the solid is triangulated in its own plane,
+//! its triangles a named group of the mesh.
 
-use glam::{DVec2, DVec3};
+use glam::{DMat3, DVec2, DVec3};
 use nalgebra::{DMatrix, DVector};
 
 use super::geometry::{newell, MidSurface};
+use super::junction::{meetings, Junction, JunctionType, Meeting};
 use super::topology::{Brep, EdgeRole, FaceId, FaceRole, Sheet, TopologyError, VertexId};
 use crate::geom::mesh::{Face, FaceId as MeshFaceId, Mesh};
 use crate::geom::tessellate::triangulate_loops;
@@ -42,10 +49,15 @@ pub enum ThickenError {
     /// A face of the solid could not be triangulated (its outline crosses itself).
     Triangulation(FaceId, GeomError),
     /// The faces round a vertex of the solid do not meet at one point, so offsetting
-    /// alone would warp them (paper 003, Fig. 16(b)): the vertex needs a junction that
-    /// changes the topology (types 2 or 3), which is not made yet. `miss` is how far the
-    /// best point lies off the planes (mm).
-    Junction { at: DVec3, miss: f64 },
+    /// alone would warp them (paper 003, Fig. 16(b)), and no junction's topology change
+    /// joins them: three sheets or more meet there, or the vertex splits into points far
+    /// off or on planes that never meet. `miss` is how far the best point lies off the
+    /// planes (mm); `kind` the junction type the paper's rule chose there, if any.
+    Junction {
+        at: DVec3,
+        miss: f64,
+        kind: Option<JunctionType>,
+    },
     /// The sheet model's topology is broken.
     Topology(TopologyError),
 }
@@ -61,11 +73,10 @@ impl std::fmt::Display for ThickenError {
             ThickenError::Triangulation(face, e) => {
                 write!(f, "face {} of the solid cannot be meshed: {e}", face.0)
             }
-            ThickenError::Junction { at, miss } => write!(
+            ThickenError::Junction { at, miss, .. } => write!(
                 f,
                 "the solid's faces do not meet at one point near ({:.3}, {:.3}, {:.3}) \
-                 ({miss:.3} mm apart): the sheets meet there in a way only a junction of \
-                 type 2 or 3 makes, and those are not made yet",
+                 ({miss:.3} mm apart), and no junction joins them there",
                 at.x, at.y, at.z
             ),
             ThickenError::Topology(e) => write!(f, "{e}"),
@@ -170,7 +181,7 @@ pub fn thicken_named(
     }
     let normal = |f: FaceId| normals[f.index()].ok_or(ThickenError::Degenerate(f));
     // The planes (normal, offset) round each vertex.
-    let mut planes: Vec<Vec<(DVec3, f64)>> = vec![Vec::new(); vertex_slots(b)];
+    let mut planes: Vec<Vec<(FaceId, DVec3, f64)>> = vec![Vec::new(); vertex_slots(b)];
     for f in b.faces() {
         let role = sheet.face_role(f)?;
         for &l in b.loops_of(f)? {
@@ -180,7 +191,7 @@ pub fn thicken_named(
                     FaceRole::Side { twin } => {
                         let n = normal(f)?;
                         let half = 0.5 * gauge.of(f, twin);
-                        planes[v.index()].push((n, n.dot(at(v)?) + half));
+                        planes[v.index()].push((f, n, n.dot(at(v)?) + half));
                     }
                     FaceRole::Thickness => {
                         // The side edges of the thickness face at v: the one leaving v
@@ -201,7 +212,7 @@ pub fn thicken_named(
                             let m = d.cross(normal(side)?);
                             if m.length() > 0.0 {
                                 let m = m.normalize();
-                                planes[v.index()].push((m, m.dot(at(v)?)));
+                                planes[v.index()].push((f, m, m.dot(at(v)?)));
                             }
                         }
                     }
@@ -211,15 +222,26 @@ pub fn thicken_named(
     }
     // Each vertex where its planes meet: the mid-surface point moved by the smallest
     // step that puts it on every plane (least squares where they disagree), so along a
-    // direction no plane fixes it stays where it was.
-    let mut index = vec![u32::MAX; vertex_slots(b)];
+    // direction no plane fixes it stays where it was. Where two sheets meet on the free
+    // boundary and the four planes round the vertex miss one point, the vertex is split
+    // in two by the junction's topology change (`split`).
+    let junctions: Vec<Junction> = meetings(sheet, mid)?
+        .into_iter()
+        .filter_map(|m| match m {
+            Meeting::Two(j) => Some(j),
+            Meeting::Many { .. } => None,
+        })
+        .collect();
+    let mut corners: Vec<Corner> = vec![Corner::One(u32::MAX); vertex_slots(b)];
+    // The split vertices: where, how far its planes missed, the junction's type.
+    let mut splits: Vec<(VertexId, DVec3, f64, Option<JunctionType>)> = Vec::new();
     let mut positions = Vec::new();
     for v in b.vertices() {
         let p = at(v)?;
         let round = &planes[v.index()];
         let mut a = DMatrix::<f64>::zeros(round.len(), 3);
         let mut r = DVector::<f64>::zeros(round.len());
-        for (i, &(n, d)) in round.iter().enumerate() {
+        for (i, &(_, n, d)) in round.iter().enumerate() {
             a[(i, 0)] = n.x;
             a[(i, 1)] = n.y;
             a[(i, 2)] = n.z;
@@ -237,13 +259,29 @@ pub fn thicken_named(
         let q = p + step;
         let miss = round
             .iter()
-            .map(|&(n, d)| (n.dot(q) - d).abs())
+            .map(|&(_, n, d)| (n.dot(q) - d).abs())
             .fold(0.0, f64::max);
-        if miss > MEET_TOLERANCE * gauge.thickest() {
-            return Err(ThickenError::Junction { at: p, miss });
+        if miss <= MEET_TOLERANCE * gauge.thickest() {
+            corners[v.index()] = Corner::One(positions.len() as u32);
+            positions.push(q);
+            continue;
         }
-        index[v.index()] = positions.len() as u32;
-        positions.push(q);
+        let twin = sheet.twin_vertex(v)?;
+        let junction = junctions.iter().find(|j| j.vertex == v || j.vertex == twin);
+        let Some(points) = junction.and_then(|j| split(sheet, j, v, round, p, gauge).transpose())
+        else {
+            return Err(ThickenError::Junction {
+                at: p,
+                miss,
+                kind: junction.map(|j| j.kind),
+            });
+        };
+        let points = points?;
+        let first = positions.len() as u32;
+        positions.push(points[0].0);
+        positions.push(points[1].0);
+        corners[v.index()] = Corner::Split([(first, points[0].1), (first + 1, points[1].1)]);
+        splits.push((v, p, miss, junction.map(|j| j.kind)));
     }
     // Every face of the solid triangulated in its own plane, its triangles a group.
     let mut faces = Vec::new();
@@ -254,12 +292,37 @@ pub fn thicken_named(
             .loops_of(f)?
             .iter()
             .map(|&l| {
-                b.loop_halves(l)?
-                    .into_iter()
-                    .map(|h| Ok(index[b.vertex(h)?.index()]))
-                    .collect::<Result<Vec<u32>, TopologyError>>()
+                let mut ring = Vec::new();
+                for h in b.loop_halves(l)? {
+                    match corners[b.vertex(h)?.index()] {
+                        Corner::One(i) => ring.push(i),
+                        Corner::Split(points) => {
+                            // The points on this face, the one on the face across the
+                            // edge arriving here first.
+                            let arriving = b.face_with(b.loop_with(b.mate(b.prev(h)?)?)?)?;
+                            let on: Vec<(u32, [FaceId; 3])> = points
+                                .into_iter()
+                                .filter(|(_, fs)| fs.contains(&f))
+                                .collect();
+                            match on.as_slice() {
+                                [(i, _)] => ring.push(*i),
+                                [(i, fi), (j, _)] if fi.contains(&arriving) => {
+                                    ring.extend([*i, *j])
+                                }
+                                [(i, _), (j, _)] => ring.extend([*j, *i]),
+                                _ => {
+                                    return Err(TopologyError::Invalid(format!(
+                                        "face {} has no corner at a split vertex",
+                                        f.0
+                                    )))
+                                }
+                            }
+                        }
+                    }
+                }
+                Ok(ring)
             })
-            .collect::<Result<_, _>>()?;
+            .collect::<Result<_, TopologyError>>()?;
         let outer: Vec<DVec3> = loops[0].iter().map(|&i| positions[i as usize]).collect();
         let n = newell(&outer);
         if n.length() <= 1e-12 * scale(&outer) {
@@ -280,7 +343,19 @@ pub fn thicken_named(
             })
             .collect();
         let all: Vec<u32> = loops.iter().flatten().copied().collect();
-        for [a, c, d] in triangulate_loops(&flat).map_err(|e| ThickenError::Triangulation(f, e))? {
+        // A face whose outline crosses itself at a split vertex: that split leaves a
+        // piece of the solid uncovered (a corner too narrow for the other sheet's
+        // thickness face to cross), so the junction is refused there.
+        let triangles = triangulate_loops(&flat).map_err(|e| {
+            let split_here = splits
+                .iter()
+                .find(|(v, ..)| b.outer_vertices(f).is_ok_and(|vs| vs.contains(v)));
+            match split_here {
+                Some(&(_, at, miss, kind)) => ThickenError::Junction { at, miss, kind },
+                None => ThickenError::Triangulation(f, e),
+            }
+        })?;
+        for [a, c, d] in triangles {
             faces.push(Face::triangle(all[a], all[c], all[d]));
         }
         groups.push((name(f), first..faces.len()));
@@ -293,6 +368,84 @@ pub fn thicken_named(
     }
     Ok(mesh)
 }
+
+/// A vertex of the sheet model in the solid: one point, or two joined by a new edge
+/// (a junction's topology change), each with the three faces it lies on.
+#[derive(Debug, Clone, Copy)]
+enum Corner {
+    One(u32),
+    Split([(u32, [FaceId; 3]); 2]),
+}
+
+/// A point a vertex splits into, with the three faces whose planes meet there.
+type SplitPoint = (DVec3, [FaceId; 3]);
+
+/// The two points a junction's vertex `v` splits into (its faces' planes `round`,
+/// mid-surface point `p`), or `None` when neither split exists. The four faces round v
+/// are f1's side S1 and thickness face E1, and f2's S2 and E2 (the sides on v's side
+/// of the sheets). A new edge joins two faces that did not touch at v: for types 1 and
+/// 2, S1 and E2 (f2's thickness face carries on across f1's thickness, A = S1 S2 E2,
+/// B = S1 E1 E2); for type 3, S2 and E1 (A = S1 S2 E1, B = S2 E1 E2). The other split
+/// is tried when the chosen one's planes do not meet at a point near v.
+fn split(
+    sheet: &Sheet,
+    j: &Junction,
+    v: VertexId,
+    round: &[(FaceId, DVec3, f64)],
+    p: DVec3,
+    gauge: &Gauge,
+) -> Result<Option<[SplitPoint; 2]>, ThickenError> {
+    let on_side = |f: FaceId| -> Result<FaceId, ThickenError> {
+        if j.vertex == v {
+            return Ok(f);
+        }
+        match sheet.face_role(f)? {
+            FaceRole::Side { twin } => Ok(twin),
+            FaceRole::Thickness => Ok(f),
+        }
+    };
+    let (s1, e1) = (on_side(j.f1.0)?, j.f1.1);
+    let (s2, e2) = (on_side(j.f2.0)?, j.f2.1);
+    let plane = |f: FaceId| {
+        round
+            .iter()
+            .find(|&&(g, _, _)| g == f)
+            .map(|&(_, n, d)| (n, d))
+    };
+    let reach = SPLIT_REACH * gauge.thickest();
+    let meet = |fs: [FaceId; 3]| -> Option<DVec3> {
+        let [a, c, d] = fs.map(plane);
+        let ((na, da), (nc, dc), (nd, dd)) = (a?, c?, d?);
+        let m = DMat3::from_cols(na, nc, nd).transpose();
+        if m.determinant().abs() < SPLIT_DETERMINANT {
+            return None;
+        }
+        let q = m.inverse() * DVec3::new(da, dc, dd);
+        (q.distance(p) <= reach).then_some(q)
+    };
+    let across_f1 = [[s1, s2, e2], [s1, e1, e2]];
+    let across_f2 = [[s1, s2, e1], [s2, e1, e2]];
+    let order = if j.kind == JunctionType::Three {
+        [across_f2, across_f1]
+    } else {
+        [across_f1, across_f2]
+    };
+    for [fa, fb] in order {
+        if let (Some(a), Some(c)) = (meet(fa), meet(fb)) {
+            if a.distance(c) > MEET_TOLERANCE * gauge.thickest() {
+                return Ok(Some([(a, fa), (c, fb)]));
+            }
+        }
+    }
+    Ok(None)
+}
+
+/// The determinant (of three unit normals) below which three planes count as not
+/// meeting at a point.
+const SPLIT_DETERMINANT: f64 = 1e-6;
+
+/// How far from the mid-surface point, in thicknesses, a split's point may lie.
+const SPLIT_REACH: f64 = 20.0;
 
 /// A length the size of `points`, for relative tests.
 fn scale(points: &[DVec3]) -> f64 {

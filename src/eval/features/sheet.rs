@@ -17,6 +17,7 @@
 
 use crate::diag::Diagnostic;
 use crate::geom::tessellate::{tessellate_curve, Tolerance};
+use crate::sheet::junction::{Junction, JunctionType};
 use crate::sheet::part::{self, FlangeSpec, HoleSpec, PartProblem, PlateSpec, SheetPart};
 use crate::syntax::Span;
 
@@ -25,7 +26,10 @@ use super::super::sketch::{Sketch, View};
 use super::super::summary::round;
 use super::super::value::{Data, Dim, Quantity, Record, Value};
 use super::kind::{FeatureKind, FieldNames};
-use super::{check_record, count, feature_error, feature_value, length, mm, record, Block, Field};
+use super::{
+    check_record, count, deg, feature_error, feature_value, length, mm, record, record_value,
+    Block, Field,
+};
 
 use glam::DVec3;
 use std::sync::Arc;
@@ -340,6 +344,15 @@ fn output(block: &Block, built: SheetPart, holes: usize, flanges: usize, thickne
         ("holes".to_string(), count(holes, span)),
         ("flanges".to_string(), count(flanges, span)),
     ];
+    let mut quality = quality;
+    for kind in [JunctionType::One, JunctionType::Two, JunctionType::Three] {
+        let n = built.junctions.iter().filter(|j| j.kind == kind).count();
+        quality.push((format!("junctions_type_{}", kind.number()), count(n, span)));
+    }
+    quality.push((
+        "junctions".to_string(),
+        junction_list(&built.junctions, span),
+    ));
     feature_value(
         KIND,
         span,
@@ -347,6 +360,33 @@ fn output(block: &Block, built: SheetPart, holes: usize, flanges: usize, thickne
         quality,
         built,
     )
+}
+
+/// Each junction as a record: where it lies, its type and the paper's four angles.
+fn junction_list(junctions: &[Junction], span: Span) -> Value {
+    let items = junctions
+        .iter()
+        .map(|j| {
+            let at = Value::new(
+                Data::Tuple(Arc::new(vec![
+                    mm(j.at.x, span),
+                    mm(j.at.y, span),
+                    mm(j.at.z, span),
+                ])),
+                span,
+            );
+            let fields = vec![
+                ("at".to_string(), at),
+                ("type".to_string(), count(j.kind.number() as usize, span)),
+                ("alpha".to_string(), deg(j.alpha.to_degrees(), span)),
+                ("beta".to_string(), deg(j.beta.to_degrees(), span)),
+                ("theta".to_string(), deg(j.theta.to_degrees(), span)),
+                ("phi".to_string(), deg(j.phi.to_degrees(), span)),
+            ];
+            record_value(fields, span)
+        })
+        .collect();
+    Value::new(Data::List(Arc::new(items)), span)
 }
 
 /// The `sheet` kind.
@@ -379,12 +419,16 @@ impl FeatureKind for SheetKind {
             return String::new();
         };
         let c = p.sheet.check().ok();
+        let of = |kind: JunctionType| p.junctions.iter().filter(|j| j.kind == kind).count();
         format!(
-            "sheet, mid-surface {} mm², solid {} mm³ ({} triangles), genus {}",
+            "sheet, mid-surface {} mm², solid {} mm³ ({} triangles), genus {}, junctions of type 1/2/3: {}/{}/{}",
             round(p.area),
             round(p.volume),
             p.solid.face_count(),
-            c.map_or(0, |c| c.genus)
+            c.map_or(0, |c| c.genus),
+            of(JunctionType::One),
+            of(JunctionType::Two),
+            of(JunctionType::Three)
         )
     }
 }
