@@ -312,3 +312,76 @@ fn the_solid_has_one_named_group_per_face() {
     assert_eq!(covered as usize, solid.face_count());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A flange bent up with an inside radius: the bend is cut into narrow strips, chords
+/// of the arc, so the solid's inside of the bend lies on the radius (within the chords'
+/// sag) and its outside on the radius plus the thickness; the straight flange starts
+/// where the bend ends, and the volume is still the mid-surface's area times the
+/// thickness, exactly.
+#[test]
+fn a_flange_with_an_inside_radius_bends_on_that_radius() {
+    for (radius, angle) in [(3.0f64, 90.0f64), (8.0, 90.0), (2.0, 45.0), (5.0, 135.0)] {
+        let text = format!(
+            "units mm deg
+sheet plate {{
+    outline = sketch(top) {{ from (0, 0); line to (100, 0); line to (100, 60); line to (0, 60); close }}
+    thickness = 2 mm
+    flange lip = {{ at: (100, 30), height: 40 mm, angle: {angle} deg, radius: {radius} mm }}
+}}"
+        );
+        let values = script::evaluate_clean("plate.die", &text);
+        let Data::Record(r) = &values[0].1 else {
+            panic!("a record")
+        };
+        let part = r.model::<SheetPart>().expect("a sheet part");
+        let t = 2.0;
+        assert!((part.volume - part.area * t).abs() < 1e-9 * part.volume);
+        // The mid-surface's arc has radius r + t / 2 about an axis along Y through
+        // (100, ., r + t / 2); it turns `angle`, and the straight flange runs on 40.
+        let rho = radius + 0.5 * t;
+        let a = angle.to_radians();
+        let exact = 6000.0 + 60.0 * (rho * a + 40.0);
+        assert!(
+            (part.area - exact).abs() < 0.01 * 60.0 * rho * a,
+            "r {radius}, {angle} deg: area {} against {exact}",
+            part.area
+        );
+        let axis = |p: glam::DVec3| glam::DVec2::new(p.x - 100.0, p.z - rho);
+        let facets = part
+            .solid
+            .groups()
+            .iter()
+            .filter(|g| g.name().starts_with("lip.bend_") && g.name().ends_with(".inside"))
+            .count();
+        assert!(facets >= 2, "r {radius}, {angle} deg: {facets} facets");
+        let half_step = 0.5 * a / facets as f64;
+        let mut joints = 0;
+        for p in part.solid.positions() {
+            let q = axis(*p);
+            // The joints between two strips of the bend (the bend's ends, where it
+            // meets the plate and the flange, turn half a step and lie off the radial).
+            let phi = q.x.atan2(-q.y);
+            if phi < half_step || phi > a - half_step {
+                continue;
+            }
+            // Each corner of the bend's inside and outside is a mitre of two strips
+            // turned by one step: half the thickness over cos(half a step) off the
+            // mid-surface's arc, within 0.01 mm of the radius drawn.
+            let d = q.length();
+            let off = 0.5 * t / half_step.cos();
+            assert!(
+                off - 0.5 * t < 0.01,
+                "r {radius}, {angle} deg: steps too coarse"
+            );
+            joints += 1;
+            let inside = (d - (rho - off)).abs() < 1e-9;
+            let outside = (d - (rho + off)).abs() < 1e-9;
+            assert!(
+                inside || outside,
+                "r {radius}, {angle} deg: {p} lies {d} from the bend's axis"
+            );
+        }
+        // Inside and outside, at both ends of the flange, at each joint of two strips.
+        assert_eq!(joints, 4 * (facets - 1), "r {radius}, {angle} deg");
+    }
+}

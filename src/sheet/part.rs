@@ -54,6 +54,10 @@ pub struct FlangeSpec {
     pub angle: f64,
     /// Its own thickness (mm), when not the plate's.
     pub thickness: Option<f64>,
+    /// The inside radius of its bend from the plate (mm; 0 for a sharp fold): the bend
+    /// is made of narrow strips, chords of the arc, and the straight flange runs
+    /// `height` on from the bend's end.
+    pub radius: f64,
 }
 
 /// Why a plate could not be built.
@@ -216,6 +220,20 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
                 return Err(bad(format!("thickness must be above 0, not {t}")));
             }
         }
+        if !(flange.radius.is_finite() && flange.radius >= 0.0) {
+            return Err(bad(format!(
+                "radius must be 0 or more, not {}",
+                flange.radius
+            )));
+        }
+        if flange.radius > 0.0 && flange.thickness.is_some() {
+            return Err(bad(
+                "cannot have both a bend radius and its own thickness: a flange of \
+                 another gauge is a separate piece joined at the edge, not bent from the \
+                 plate"
+                    .into(),
+            ));
+        }
         if !(flange.angle.is_finite() && (0.0..std::f64::consts::PI).contains(&flange.angle)) {
             return Err(bad(
                 "angle must lie from 0 up to (not including) 180 deg".into()
@@ -279,14 +297,12 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
                 ))
             })?;
         flange_edges.push((pa, pc));
-        if let Some(t) = flange.thickness {
-            gauge.sheets.push((added.sides.0, t));
-        }
-        flange_sides.push(added.sides);
+        // Where each strip's far edge lies, from the edge: the bend's facets, then the
+        // straight flange.
         let out = (pc - pa).cross(n).normalize_or_zero();
-        let reach = flange.height * (flange.angle.cos() * out + flange.angle.sin() * n);
-        // The first curve runs from c to the new vertex beside it, the third from the
-        // new vertex beside a back to a.
+        let reaches = flange_reaches(flange, spec.thickness, out, n);
+        // The first curve runs from c to the new vertex beside it, the second (the far
+        // edge) on to the new vertex beside a, the third back to a.
         let b = &sheet.brep;
         let far_end = |curve: usize, from: VertexId| -> Result<VertexId, PartProblem> {
             let (p, m) = b
@@ -298,10 +314,33 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
             Ok(if x == from { y } else { x })
         };
         let (wc, wa) = (far_end(0, c)?, far_end(2, a)?);
-        mid.place(&sheet, wc, pc + reach)
+        mid.place(&sheet, wc, pc + reaches[0])
             .map_err(|e| bad(e.to_string()))?;
-        mid.place(&sheet, wa, pa + reach)
+        mid.place(&sheet, wa, pa + reaches[0])
             .map_err(|e| bad(e.to_string()))?;
+        let mut strips = vec![added.sides];
+        let mut far = added.curves[1];
+        for step in reaches.windows(2) {
+            let strip = sheet.flange(far).map_err(|e| bad(e.to_string()))?;
+            for (base, end) in strip.far_ends {
+                let from = mid
+                    .point(base)
+                    .ok_or_else(|| bad("a bend's edge has no point".into()))?;
+                mid.place(&sheet, end, from + step[1] - step[0])
+                    .map_err(|e| bad(e.to_string()))?;
+            }
+            let [one, other] = strip.sides[..] else {
+                return Err(bad("a bend's strip has not two sides".into()));
+            };
+            strips.push((one, other));
+            far = strip.far_edge;
+        }
+        if let Some(t) = flange.thickness {
+            gauge
+                .sheets
+                .extend(strips.iter().map(|&(side, _)| (side, t)));
+        }
+        flange_sides.push(strips);
     }
     // A solid that cannot be made, or passes through itself, is blamed on the flange
     // nearest the place at fault.
@@ -354,7 +393,8 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
 /// and `plate.bottom` (the top faces the working plane's normal), `plate.edge_K` across
 /// the outline's edges, `HOLE.wall_K` lining a hole, and per flange `NAME.inside` (the
 /// side that continues the plate's top, inside the bend), `NAME.outside` and
-/// `NAME.edge_K`; K counts from 1 in the model's face order.
+/// `NAME.edge_K`, and a bend's facets `NAME.bend_K.inside` and `.outside`; K counts
+/// from 1 in the model's face order.
 struct FaceNames {
     names: std::collections::BTreeMap<FaceId, String>,
 }
@@ -365,7 +405,7 @@ impl FaceNames {
         spec: &PlateSpec,
         (bottom, top): (FaceId, FaceId),
         hole_rings: &[Vec<VertexId>],
-        flanges: &[(FaceId, FaceId)],
+        flanges: &[Vec<(FaceId, FaceId)>],
     ) -> Result<FaceNames, TopologyError> {
         let b = &sheet.brep;
         let mut names = std::collections::BTreeMap::new();
@@ -384,12 +424,26 @@ impl FaceNames {
             }
             Ok(out)
         };
-        for (k, &(a, c)) in flanges.iter().enumerate() {
+        for (k, strips) in flanges.iter().enumerate() {
             let name = &spec.flanges[k].name;
-            let inside = if neighbours(a)?.contains(&top) { a } else { c };
-            let outside = if inside == a { c } else { a };
-            names.insert(inside, format!("{name}.inside"));
-            names.insert(outside, format!("{name}.outside"));
+            // Each strip's inside continues the one before it (the plate's top first).
+            let mut before = top;
+            for (i, &(a, c)) in strips.iter().enumerate() {
+                let inside = if neighbours(a)?.contains(&before) {
+                    a
+                } else {
+                    c
+                };
+                let outside = if inside == a { c } else { a };
+                let part = if i + 1 == strips.len() {
+                    name.clone()
+                } else {
+                    format!("{name}.bend_{}", i + 1)
+                };
+                names.insert(inside, format!("{part}.inside"));
+                names.insert(outside, format!("{part}.outside"));
+                before = inside;
+            }
         }
         // Thickness faces, named after the sheet they edge (or the hole they line).
         let mut counts = std::collections::BTreeMap::<String, usize>::new();
@@ -403,9 +457,11 @@ impl FaceNames {
                     ring.contains(&v) || sheet.twin_vertex(v).is_ok_and(|w| ring.contains(&w))
                 })
             });
-            let owner = neighbours(f)?
-                .into_iter()
-                .find_map(|side| flanges.iter().position(|&(a, c)| side == a || side == c));
+            let owner = neighbours(f)?.into_iter().find_map(|side| {
+                flanges
+                    .iter()
+                    .position(|strips| strips.iter().any(|&(a, c)| side == a || side == c))
+            });
             let prefix = match (hole, owner) {
                 (Some(i), _) => format!("{}.wall", spec.holes[i].name),
                 (None, Some(k)) => format!("{}.edge", spec.flanges[k].name),
@@ -435,6 +491,40 @@ impl FaceNames {
             .unwrap_or_else(|| format!("face {}", f.0))
     }
 }
+
+/// The largest angle one facet of a bend turns through.
+const BEND_STEP: f64 = std::f64::consts::PI / 12.0;
+
+/// How far a bend's facets may lie inside its arc (mm).
+const BEND_TOLERANCE: f64 = 0.01;
+
+/// Where the far edge of each strip of a flange lies, from the edge it stands on
+/// (`out` in the plate's plane away from it, `n` the plate's normal): first the facets
+/// of its bend, as chords of the mid-surface's arc (inside radius plus half the
+/// thickness) within [`BEND_TOLERANCE`] and [`BEND_STEP`], then the straight flange,
+/// `height` long, at `angle` to the plate.
+fn flange_reaches(flange: &FlangeSpec, thickness: f64, out: DVec3, n: DVec3) -> Vec<DVec3> {
+    let dir = flange.angle.cos() * out + flange.angle.sin() * n;
+    let rho = flange.radius + 0.5 * flange.thickness.unwrap_or(thickness);
+    let steps = if flange.radius > 0.0 && flange.angle > 0.0 {
+        let by_angle = (flange.angle / BEND_STEP).ceil();
+        let chord = 2.0 * (1.0 - BEND_TOLERANCE / rho).clamp(-1.0, 1.0).acos();
+        let by_sag = (flange.angle / chord.max(1e-3)).ceil();
+        by_angle.max(by_sag).min(MAX_BEND_FACETS as f64) as usize
+    } else {
+        0
+    };
+    let arc = |phi: f64| rho * (phi.sin() * out + (1.0 - phi.cos()) * n);
+    let mut reaches: Vec<DVec3> = (1..=steps)
+        .map(|i| arc(flange.angle * i as f64 / steps as f64))
+        .collect();
+    let start = reaches.last().copied().unwrap_or(DVec3::ZERO);
+    reaches.push(start + flange.height * dir);
+    reaches
+}
+
+/// The most facets a bend is cut into.
+const MAX_BEND_FACETS: usize = 64;
 
 /// One side of each sheet (the one of lower id of a pair of twins), each face
 /// triangulated in its plane.

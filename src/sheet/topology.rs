@@ -1678,11 +1678,13 @@ impl Sheet {
                 }
             }
         }
-        let far = base_edges
+        let k = base_edges
             .iter()
             .position(|&e| e == edge)
-            .map(|k| sw.cap_edges[k])
             .ok_or_else(|| lost("the flanged edge"))?;
+        let far = sw.cap_edges[k];
+        let next = (k + 1) % sw.base.len();
+        let far_ends = [(sw.base[k], sw.tops[k]), (sw.base[next], sw.tops[next])];
         self.brep = b;
         self.sync_tables();
         for (f, r) in faces {
@@ -1697,6 +1699,7 @@ impl Sheet {
         Ok(Flange {
             sides,
             far_edge: far,
+            far_ends,
         })
     }
 
@@ -2292,6 +2295,9 @@ pub struct Flange {
     pub sides: Vec<FaceId>,
     /// Its far edge, opposite the flanged one (on the side of the flanged edge).
     pub far_edge: EdgeId,
+    /// The far edge's ends, each with the vertex of the flanged edge it was swept from:
+    /// `(base, far)`.
+    pub far_ends: [(VertexId, VertexId); 2],
 }
 
 /// What [`Sheet::region`] made: the region on the side it was drawn on, and its twin.

@@ -5,7 +5,7 @@
 
 use dieface::geom::mesh::{crossings, Mesh, Topology};
 use dieface::sheet::geometry::MidSurface;
-use dieface::sheet::topology::{EdgeId, EdgeRole, Flange, Sheet, VertexId};
+use dieface::sheet::topology::{EdgeId, Flange, Sheet, VertexId};
 use glam::DVec3;
 
 /// The volume a closed, outward-facing triangle mesh encloses (divergence theorem).
@@ -72,22 +72,8 @@ pub fn place_flange(
     flange: &Flange,
     far: impl Fn(DVec3) -> DVec3,
 ) {
-    let b = &sheet.brep;
-    let (p, m) = b.halves_of(flange.far_edge).unwrap();
-    for t in [b.vertex(p).unwrap(), b.vertex(m).unwrap()] {
-        let base = b
-            .edges_at(t)
-            .unwrap()
-            .into_iter()
-            .filter(|&e| e != flange.far_edge)
-            .filter(|&e| matches!(sheet.edge_role(e).unwrap(), EdgeRole::Side { .. }))
-            .find_map(|e| {
-                let (p, m) = b.halves_of(e).unwrap();
-                [b.vertex(p).unwrap(), b.vertex(m).unwrap()]
-                    .into_iter()
-                    .find_map(|v| mid.point(v))
-            })
-            .expect("the corner the far corner was swept from");
-        mid.place(sheet, t, far(base)).unwrap();
+    for (base, end) in flange.far_ends {
+        let from = mid.point(base).expect("the flanged edge is placed");
+        mid.place(sheet, end, far(from)).unwrap();
     }
 }

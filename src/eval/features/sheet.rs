@@ -103,7 +103,7 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
             r,
             field.value.span,
             &what,
-            &["at", "height", "angle", "thickness"],
+            &["at", "height", "angle", "thickness", "radius"],
         )?;
         let at = r.get("at").ok_or_else(|| {
             feature_error(
@@ -148,12 +148,32 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
             }
             None => None,
         };
+        let radius = match r.get("radius") {
+            Some(v) => {
+                let radius = length(v, block.units, &format!("`radius` of {what}"))?;
+                if !(radius.is_finite() && radius >= 0.0) {
+                    return Err(feature_error(
+                        KIND,
+                        format!(
+                            "{what}: the bend's inside radius must be 0 mm or more, not {} mm",
+                            round(radius)
+                        ),
+                        v.span,
+                        "not a radius",
+                        "give the inside radius of the bend, such as `radius: 2 mm` (0 for a sharp fold)",
+                    ));
+                }
+                radius
+            }
+            None => 0.0,
+        };
         flanges.push(FlangeSpec {
             name: name.to_string(),
             near,
             height,
             angle,
             thickness: own,
+            radius,
         });
     }
     let spec = PlateSpec {
@@ -201,7 +221,7 @@ fn problem(
             format!("`flange {}`: {p}", flanges[*index].0),
             flanges[*index].1.value.span,
             "this flange",
-            "put `at` near a free edge of the outline (one edge takes one flange), with a height above 0 and an angle below 180 deg",
+            "put `at` near a free edge of the outline (one edge takes one flange), with a height above 0, an angle below 180 deg, and either a bend `radius` or a `thickness` of its own, not both",
         ),
         PartProblem::FlangesMeet { index, other, .. } => feature_error(
             KIND,
