@@ -385,3 +385,49 @@ sheet plate {{
         assert_eq!(joints, 4 * (facets - 1), "r {radius}, {angle} deg");
     }
 }
+
+/// Flanges on part of an edge (`from`, `to`): the plate's edge runs on past their ends,
+/// where the junction is type 2 for a square tab (α = 90 = φ) and type 1 for a lip at
+/// 60 deg (α = 120 > φ = 90); either way the solid keeps the sheets as mid-surfaces and
+/// holds each sheet's area times the thickness, exactly.
+#[test]
+fn flanges_on_part_of_an_edge_meet_the_plate_by_the_paper_rule() {
+    let text = "units mm deg
+sheet plate {
+    outline = sketch(top) { from (0, 0); line to (100, 0); line to (100, 60); line to (0, 60); close }
+    thickness = 2 mm
+    flange tab = { from: (100, 20), to: (100, 40), height: 30 mm }
+    flange lip = { from: (70, 60), to: (30, 60), height: 15 mm, angle: 60 deg }
+}";
+    let values = script::evaluate_clean("plate.die", text);
+    let Data::Record(r) = &values[0].1 else {
+        panic!("a record")
+    };
+    let part = r.model::<SheetPart>().expect("a sheet part");
+    sheet::assert_sound(&part.solid);
+    let expected = (6000.0 + 20.0 * 30.0 + 40.0 * 15.0) * 2.0;
+    assert!(
+        (part.volume - expected).abs() < 1e-9 * expected,
+        "{}",
+        part.volume
+    );
+    let mut kinds: Vec<(i64, i64, u8)> = part
+        .junctions
+        .iter()
+        .map(|j| {
+            (
+                j.at.x.round() as i64,
+                j.at.y.round() as i64,
+                j.kind.number(),
+            )
+        })
+        .collect();
+    kinds.sort();
+    assert_eq!(
+        kinds,
+        vec![(30, 60, 1), (70, 60, 1), (100, 20, 2), (100, 40, 2)]
+    );
+    // The tab's outside stands 1 mm proud of the plate's edge, with a step at its ends.
+    let has = |q: glam::DVec3| part.solid.positions().iter().any(|p| p.distance(q) < 1e-9);
+    assert!(has(glam::DVec3::new(101.0, 20.0, -1.0)) && has(glam::DVec3::new(100.0, 20.0, -1.0)));
+}

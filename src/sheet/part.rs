@@ -54,6 +54,10 @@ pub struct FlangeSpec {
     pub angle: f64,
     /// Its own thickness (mm), when not the plate's.
     pub thickness: Option<f64>,
+    /// When the flange stands on part of an edge: the two points it runs between, on
+    /// (or within [`SPAN_TOLERANCE`] of) one edge of the outline; `near` is then their
+    /// midpoint.
+    pub span: Option<(DVec3, DVec3)>,
     /// The inside radius of its bend from the plate (mm; 0 for a sharp fold): the bend
     /// is made of narrow strips, chords of the arc, and the straight flange runs
     /// `height` on from the bend's end.
@@ -154,7 +158,14 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
         ));
     }
     let frame = Frame::new(spec.outline[0], n);
-    let outline = counter_clockwise(&spec.outline, n);
+    let mut outline = counter_clockwise(&spec.outline, n);
+    let mut nears: Vec<DVec3> = spec.flanges.iter().map(|f| f.near).collect();
+    for (index, flange) in spec.flanges.iter().enumerate() {
+        if let Some((from, to)) = flange.span {
+            nears[index] = split_outline(&mut outline, from, to)
+                .map_err(|why| PartProblem::Flange { index, why })?;
+        }
+    }
     let flat_outline: Vec<DVec2> = outline.iter().map(|&p| frame.flat(p)).collect();
     if triangulate_loops(std::slice::from_ref(&flat_outline)).is_err() {
         return Err(PartProblem::Outline("crosses or touches itself".into()));
@@ -248,7 +259,7 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
             .map(|i| {
                 let (a, c) = (mid.point(ring[i]), mid.point(ring[(i + 1) % k]));
                 let d = match (a, c) {
-                    (Some(a), Some(c)) => distance_to_segment(a, c, flange.near),
+                    (Some(a), Some(c)) => distance_to_segment(a, c, nears[index]),
                     _ => f64::INFINITY,
                 };
                 (d, i)
@@ -490,6 +501,58 @@ impl FaceNames {
             .cloned()
             .unwrap_or_else(|| format!("face {}", f.0))
     }
+}
+
+/// How far a flange's `from` and `to` may lie off the outline's edge (mm).
+pub const SPAN_TOLERANCE: f64 = 0.01;
+
+/// Puts the ends of a flange on part of an edge, `from` and `to`, into the outline as
+/// vertices of the edge nearest their midpoint (where they are not corners already),
+/// and returns a point on the part between them. Refused when they do not lie on one
+/// edge or are too close together.
+fn split_outline(outline: &mut Vec<DVec3>, from: DVec3, to: DVec3) -> Result<DVec3, String> {
+    let k = outline.len();
+    let middle = 0.5 * (from + to);
+    let nearest = (0..k)
+        .map(|i| {
+            (
+                distance_to_segment(outline[i], outline[(i + 1) % k], middle),
+                i,
+            )
+        })
+        .min_by(|x, y| x.0.total_cmp(&y.0))
+        .map(|(_, i)| i)
+        .ok_or_else(|| "finds no edge".to_string())?;
+    let (a, c) = (outline[nearest], outline[(nearest + 1) % k]);
+    let along = c - a;
+    let length = along.length();
+    let at = |p: DVec3| ((p - a).dot(along) / (length * length)).clamp(0.0, 1.0);
+    for p in [from, to] {
+        if distance_to_segment(a, c, p) > SPAN_TOLERANCE {
+            return Err(format!(
+                "`from` and `to` must lie on one edge of the outline, but ({}, {}, {}) is \
+                 {} mm off the edge nearest them",
+                tidy(p.x),
+                tidy(p.y),
+                tidy(p.z),
+                tidy(distance_to_segment(a, c, p))
+            ));
+        }
+    }
+    let (s, e) = (at(from).min(at(to)), at(from).max(at(to)));
+    if (e - s) * length < 10.0 * SPAN_TOLERANCE {
+        return Err("`from` and `to` lie too close together on the edge".into());
+    }
+    // The new corners, in the outline's order along the edge; ends at a corner are kept.
+    let inner: Vec<DVec3> = [s, e]
+        .into_iter()
+        .filter(|&u| u * length > SPAN_TOLERANCE && (1.0 - u) * length > SPAN_TOLERANCE)
+        .map(|u| a + u * along)
+        .collect();
+    let count = inner.len();
+    outline.splice(nearest + 1..nearest + 1, inner);
+    debug_assert!(outline.len() == k + count);
+    Ok(a + 0.5 * (s + e) * along)
 }
 
 /// The largest angle one facet of a bend turns through.

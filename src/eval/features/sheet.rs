@@ -103,17 +103,41 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
             r,
             field.value.span,
             &what,
-            &["at", "height", "angle", "thickness", "radius"],
+            &["at", "from", "to", "height", "angle", "thickness", "radius"],
         )?;
-        let at = r.get("at").ok_or_else(|| {
-            feature_error(
+        // Where it stands: on the edge nearest `at`, or on the part of an edge between
+        // `from` and `to`.
+        let point = |key: &str| -> Result<Option<DVec3>, Diagnostic> {
+            r.get(key)
+                .map(|v| {
+                    as_point2(v, block.units, &format!("`{key}` of {what}")).map(|p| view.place(p))
+                })
+                .transpose()
+        };
+        let span = match (point("from")?, point("to")?) {
+            (Some(from), Some(to)) => Some((from, to)),
+            (None, None) => None,
+            _ => return Err(feature_error(
                 KIND,
-                format!("{what} needs `at`, a point near the edge it goes on"),
+                format!("{what} needs both `from` and `to`, or neither"),
                 field.value.span,
-                "no `at`",
-                "add `at: (x, y)`, a point in the outline's view near the edge",
-            )
-        })?;
+                "one end given",
+                "give both ends of the part of the edge it stands on: `from: (x, y), to: (x, y)`",
+            )),
+        };
+        let near = match (point("at")?, span) {
+            (Some(at), _) => at,
+            (None, Some((from, to))) => 0.5 * (from + to),
+            (None, None) => {
+                return Err(feature_error(
+                    KIND,
+                    format!("{what} needs `at`, a point near the edge it goes on"),
+                    field.value.span,
+                    "no `at`",
+                    "add `at: (x, y)`, a point in the outline's view near the edge (or `from` and `to` for part of an edge)",
+                ))
+            }
+        };
         let height = r.get("height").ok_or_else(|| {
             feature_error(
                 KIND,
@@ -123,7 +147,6 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
                 "add `height: 25 mm`, how far the flange reaches from the edge",
             )
         })?;
-        let near = view.place(as_point2(at, block.units, &format!("`at` of {what}"))?);
         let height = length(height, block.units, &format!("`height` of {what}"))?;
         let angle = match r.get("angle") {
             Some(a) => as_angle(a, block.units, &format!("`angle` of {what}"))?,
@@ -173,6 +196,7 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
             height,
             angle,
             thickness: own,
+            span,
             radius,
         });
     }
@@ -221,7 +245,7 @@ fn problem(
             format!("`flange {}`: {p}", flanges[*index].0),
             flanges[*index].1.value.span,
             "this flange",
-            "put `at` near a free edge of the outline (one edge takes one flange), with a height above 0, an angle below 180 deg, and either a bend `radius` or a `thickness` of its own, not both",
+            "put `at` near a free edge of the outline, or `from` and `to` on one (one edge takes one flange); give a height above 0, an angle below 180 deg, and a bend `radius` or a `thickness` of its own, not both",
         ),
         PartProblem::FlangesMeet { index, other, .. } => feature_error(
             KIND,
