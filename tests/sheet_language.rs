@@ -431,3 +431,59 @@ sheet plate {
     let has = |q: glam::DVec3| part.solid.positions().iter().any(|p| p.distance(q) < 1e-9);
     assert!(has(glam::DVec3::new(101.0, 20.0, -1.0)) && has(glam::DVec3::new(100.0, 20.0, -1.0)));
 }
+
+/// Lifted regions (paper 003, section 4.5): a boss raised 5 mm on square walls and a
+/// dimple pushed 4 mm down on walls drafted 30 deg. The mid-surface gains the walls and
+/// keeps the regions (the dimple's floor inset by 4 tan 30); the solid is sound, and
+/// its volume is the area times the thickness (the corners' mitres cancel round each
+/// region).
+#[test]
+fn lifted_regions_rise_on_walls_and_keep_the_volume() {
+    let text = "units mm deg
+sheet plate {
+    outline = sketch(top) { from (0, 0); line to (100, 0); line to (100, 60); line to (0, 60); close }
+    thickness = 2 mm
+    lift boss = { region: sketch(top) { from (20, 20); line to (60, 20); line to (60, 40); line to (20, 40); close }, height: 5 mm }
+    lift dimple = { region: sketch(top) { from (70, 25); line to (90, 25); line to (90, 45); line to (70, 45); close }, height: -4 mm, draft: 30 deg }
+}";
+    let values = script::evaluate_clean("plate.die", text);
+    let Data::Record(r) = &values[0].1 else {
+        panic!("a record")
+    };
+    let part = r.model::<SheetPart>().expect("a sheet part");
+    sheet::assert_sound(&part.solid);
+    let inset = 4.0 * 30f64.to_radians().tan();
+    let slant = 4.0 / 30f64.to_radians().cos();
+    let floor = 20.0 - 2.0 * inset;
+    let expected =
+        6000.0 + 120.0 * 5.0 - 400.0 + floor * floor + 4.0 * (20.0 + floor) / 2.0 * slant;
+    assert!(
+        (part.area - expected).abs() < 1e-9 * expected,
+        "{} against {expected}",
+        part.area
+    );
+    assert!((part.volume - 2.0 * part.area).abs() < 1e-9 * part.volume);
+    // The boss's top at z = 5 (its solid from 4 to 6), the dimple's floor at -4.
+    let top = |name: &str| {
+        let g = part
+            .solid
+            .groups()
+            .iter()
+            .find(|g| g.name() == name)
+            .unwrap();
+        let f = part.solid.faces()[g.faces()[0].0 as usize].indices();
+        part.solid.positions()[f[0] as usize].z
+    };
+    assert!((top("boss.top") - 6.0).abs() < 1e-9, "{}", top("boss.top"));
+    assert!((top("boss.bottom") - 4.0).abs() < 1e-9);
+    assert!(
+        (top("dimple.top") + 3.0).abs() < 1e-9,
+        "{}",
+        top("dimple.top")
+    );
+    assert!(part
+        .solid
+        .groups()
+        .iter()
+        .any(|g| g.name() == "boss.wall_4.top"));
+}

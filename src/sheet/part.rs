@@ -5,6 +5,8 @@
 
 use std::sync::Arc;
 
+use std::f64::consts::FRAC_PI_2;
+
 use glam::{DVec2, DVec3};
 
 use super::geometry::{distance_to_segment, newell, MidSurface};
@@ -24,6 +26,8 @@ pub struct PlateSpec {
     pub normal: DVec3,
     /// The holes, inside the outline.
     pub holes: Vec<HoleSpec>,
+    /// The lifted regions (embossments), inside the outline and clear of the holes.
+    pub lifts: Vec<LiftSpec>,
     /// The flanges, in order.
     pub flanges: Vec<FlangeSpec>,
     /// The thickness (mm) of the plate, and of each flange not given its own.
@@ -37,6 +41,21 @@ pub struct HoleSpec {
     pub name: String,
     /// Its points, either way round.
     pub points: Vec<DVec3>,
+}
+
+/// A region of the plate lifted (or pushed down) on walls: an embossment.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LiftSpec {
+    /// Its name: the solid's faces are `NAME.top`, `NAME.bottom` and
+    /// `NAME.wall_K.top`, `.bottom`.
+    pub name: String,
+    /// The region's outline, either way round, inside the plate's.
+    pub points: Vec<DVec3>,
+    /// How far it is lifted along the plate's normal (mm; below 0 pushes it down).
+    pub height: f64,
+    /// The walls' draft from square to the plate (radians, 0 up to 90 deg): the top is
+    /// the region inset by the height times its tangent.
+    pub draft: f64,
 }
 
 /// A flange on the outline's edge nearest a point.
@@ -71,6 +90,8 @@ pub enum PartProblem {
     Outline(String),
     /// Hole `index` is not inside the outline, or crosses another.
     Hole { index: usize, why: String },
+    /// Lift `index` cannot be made.
+    Lift { index: usize, why: String },
     /// Flange `index` cannot be added.
     Flange { index: usize, why: String },
     /// Flange `index` meets flange `other` at the corner `at`: three sheets would meet at
@@ -98,6 +119,7 @@ impl std::fmt::Display for PartProblem {
             PartProblem::Outline(why) => write!(f, "the outline {why}"),
             PartProblem::Hole { why, .. } => write!(f, "the hole {why}"),
             PartProblem::Flange { why, .. } => write!(f, "the flange {why}"),
+            PartProblem::Lift { why, .. } => write!(f, "the lifted region {why}"),
             PartProblem::FlangesMeet { at, .. } => write!(
                 f,
                 "the flanges meet at the corner ({}, {}, {}): three sheets would meet at one \
@@ -188,31 +210,66 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
         }
         let ring = counter_clockwise(hole, n);
         let flat: Vec<DVec2> = ring.iter().map(|&p| frame.flat(p)).collect();
-        if flat.iter().any(|&q| polygon_winding(&flat_outline, q) == 0) {
-            return Err(bad("is not inside the outline".into()));
-        }
-        let mut trial = flat_loops.clone();
-        trial.push(flat.clone());
-        if triangulate_loops(&trial).is_err() {
-            return Err(bad("crosses the outline or another hole".into()));
-        }
-        flat_loops = trial;
+        add_loop(&flat_outline, &mut flat_loops, flat).map_err(bad)?;
         sheet
             .punch(top, corners[0], ring.len())
             .map_err(|e| bad(e.to_string()))?;
-        // The new ring of the top side runs against the outline: clockwise.
-        let b = &sheet.brep;
-        let loops = b.loops_of(top).map_err(|e| bad(e.to_string()))?;
-        // `punch` leaves the new ring last (`lkfmrh` appends it); a face has one loop at least.
-        let last = *loops.last().expect("a face has its outer loop");
-        let ring_vertices: Vec<VertexId> = b
-            .loop_halves(last)
-            .and_then(|hs| hs.into_iter().map(|h| b.vertex(h)).collect())
-            .map_err(|e| bad(e.to_string()))?;
-        for (&v, &p) in ring_vertices.iter().zip(ring.iter().rev()) {
-            mid.place(&sheet, v, p).map_err(|e| bad(e.to_string()))?;
-        }
+        let ring_vertices =
+            place_ring(&sheet, &mut mid, top, &ring).map_err(|e| bad(e.to_string()))?;
         hole_rings.push(ring_vertices);
+    }
+    // Lifts: a region inside the plate, raised (or pushed down) on walls.
+    let mut lifted = Vec::with_capacity(spec.lifts.len());
+    for (index, lift) in spec.lifts.iter().enumerate() {
+        let bad = |why: String| PartProblem::Lift { index, why };
+        if lift.points.len() < 3 {
+            return Err(bad("needs 3 points or more".into()));
+        }
+        if !(lift.height.is_finite() && lift.height != 0.0) {
+            return Err(bad(format!(
+                "height must be a length other than 0, not {}",
+                lift.height
+            )));
+        }
+        if !(lift.draft.is_finite() && (0.0..FRAC_PI_2).contains(&lift.draft)) {
+            return Err(bad(
+                "draft must lie from 0 up to (not including) 90 deg".into()
+            ));
+        }
+        let ring = counter_clockwise(&lift.points, n);
+        let flat: Vec<DVec2> = ring.iter().map(|&p| frame.flat(p)).collect();
+        add_loop(&flat_outline, &mut flat_loops, flat).map_err(bad)?;
+        let tops = inset(&ring, n, lift.height.abs() * lift.draft.tan()).ok_or_else(|| {
+            bad("is too small for its draft: its top would turn inside out".into())
+        })?;
+        let topo = |e: TopologyError| bad(e.to_string());
+        let region = sheet.region(top, corners[0], ring.len()).map_err(topo)?;
+        place_ring(&sheet, &mut mid, top, &ring).map_err(topo)?;
+        let walls = sheet.lift(region.face).map_err(topo)?;
+        // Each top corner stands over the base corner it was swept from: the one
+        // placed corner its edges reach.
+        let b = &sheet.brep;
+        for t in b.outer_vertices(region.face).map_err(topo)? {
+            let mut base = None;
+            for e in b.edges_at(t).map_err(topo)? {
+                let (p, m) = b.halves_of(e).map_err(topo)?;
+                for h in [p, m] {
+                    let u = b.vertex(h).map_err(topo)?;
+                    if u != t {
+                        base = base.or_else(|| mid.point(u));
+                    }
+                }
+            }
+            let base = base.ok_or_else(|| bad("a lifted corner has no base".into()))?;
+            // The top corner over this base, by its place in the ring.
+            let k = ring
+                .iter()
+                .position(|&p| p.distance(base) < 1e-12)
+                .ok_or_else(|| bad("a lifted corner is off its ring".into()))?;
+            mid.place(&sheet, t, tops[k] + lift.height * n)
+                .map_err(topo)?;
+        }
+        lifted.push((region.face, walls));
     }
     // Flanges: on the outline edge nearest each point, if it is still free.
     let mut flange_edges = Vec::with_capacity(spec.flanges.len());
@@ -363,8 +420,15 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
             .min_by(|x, y| x.0.total_cmp(&y.0))
             .map(|(_, i)| i)
     };
-    let names = FaceNames::new(&sheet, spec, (bottom, top), &hole_rings, &flange_sides)
-        .map_err(|e| PartProblem::Thicken(e.into()))?;
+    let names = FaceNames::new(
+        &sheet,
+        spec,
+        (bottom, top),
+        &hole_rings,
+        &lifted,
+        &flange_sides,
+    )
+    .map_err(|e| PartProblem::Thicken(e.into()))?;
     let solid = thicken_named(&sheet, &mid, &gauge, |f| names.of(f)).map_err(|e| match e {
         ThickenError::Junction { at, .. } => PartProblem::Junction {
             at,
@@ -416,6 +480,7 @@ impl FaceNames {
         spec: &PlateSpec,
         (bottom, top): (FaceId, FaceId),
         hole_rings: &[Vec<VertexId>],
+        lifts: &[(FaceId, Vec<FaceId>)],
         flanges: &[Vec<(FaceId, FaceId)>],
     ) -> Result<FaceNames, TopologyError> {
         let b = &sheet.brep;
@@ -454,6 +519,21 @@ impl FaceNames {
                 names.insert(inside, format!("{part}.inside"));
                 names.insert(outside, format!("{part}.outside"));
                 before = inside;
+            }
+        }
+        let twin = |f: FaceId| -> Result<FaceId, TopologyError> {
+            match sheet.face_role(f)? {
+                FaceRole::Side { twin } => Ok(twin),
+                FaceRole::Thickness => Ok(f),
+            }
+        };
+        for (k, (cap, walls)) in lifts.iter().enumerate() {
+            let name = &spec.lifts[k].name;
+            names.insert(*cap, format!("{name}.top"));
+            names.insert(twin(*cap)?, format!("{name}.bottom"));
+            for (i, &w) in walls.iter().enumerate() {
+                names.insert(w, format!("{name}.wall_{}.top", i + 1));
+                names.insert(twin(w)?, format!("{name}.wall_{}.bottom", i + 1));
             }
         }
         // Thickness faces, named after the sheet they edge (or the hole they line).
@@ -501,6 +581,86 @@ impl FaceNames {
             .cloned()
             .unwrap_or_else(|| format!("face {}", f.0))
     }
+}
+
+/// Adds `flat`, a new loop inside the plate (a hole or a lifted region), to the plate's
+/// loops: refused when a point of it lies outside the outline, when it crosses the
+/// outline or another loop, or when it lies inside another loop or holds one.
+fn add_loop(
+    outline: &[DVec2],
+    loops: &mut Vec<Vec<DVec2>>,
+    flat: Vec<DVec2>,
+) -> Result<(), String> {
+    if flat.iter().any(|&q| polygon_winding(outline, q) == 0) {
+        return Err("is not inside the outline".into());
+    }
+    for other in &loops[1..] {
+        if other.iter().any(|&q| polygon_winding(&flat, q) != 0)
+            || flat.iter().any(|&q| polygon_winding(other, q) != 0)
+        {
+            return Err("lies inside another hole or lifted region, or holds one".into());
+        }
+    }
+    let mut trial = loops.clone();
+    trial.push(flat);
+    if triangulate_loops(&trial).is_err() {
+        return Err("crosses the outline or another hole or lifted region".into());
+    }
+    *loops = trial;
+    Ok(())
+}
+
+/// Places the ring a punch or region just made on side `top` (its last loop, which
+/// runs against the outline: clockwise) at `ring` (counter-clockwise).
+fn place_ring(
+    sheet: &Sheet,
+    mid: &mut MidSurface,
+    top: FaceId,
+    ring: &[DVec3],
+) -> Result<Vec<VertexId>, TopologyError> {
+    let b = &sheet.brep;
+    let loops = b.loops_of(top)?;
+    // `punch` and `region` leave the new ring last (`lkemr` appends it); a face has one
+    // loop at least.
+    let last = *loops.last().expect("a face has its outer loop");
+    let vertices: Vec<VertexId> = b
+        .loop_halves(last)?
+        .into_iter()
+        .map(|h| b.vertex(h))
+        .collect::<Result<_, _>>()?;
+    for (&v, &p) in vertices.iter().zip(ring.iter().rev()) {
+        mid.place(sheet, v, p)?;
+    }
+    Ok(vertices)
+}
+
+/// The counter-clockwise polygon `ring` (seen along `n`) with every edge moved inward
+/// by `by`, its corners where the moved edges meet; `None` when an edge would turn
+/// round (the polygon too small for the inset).
+fn inset(ring: &[DVec3], n: DVec3, by: f64) -> Option<Vec<DVec3>> {
+    if by == 0.0 {
+        return Some(ring.to_vec());
+    }
+    let k = ring.len();
+    let inward = |i: usize| n.cross(ring[(i + 1) % k] - ring[i]).normalize_or_zero();
+    let out: Vec<DVec3> = (0..k)
+        .map(|i| {
+            let (a, c) = (inward((i + k - 1) % k), inward(i));
+            let denom = 1.0 + a.dot(c);
+            if denom < 1e-9 {
+                ring[i] + by * c
+            } else {
+                ring[i] + by * (a + c) / denom
+            }
+        })
+        .collect();
+    // Each edge keeps its direction.
+    let keeps = (0..k).all(|i| {
+        let before = ring[(i + 1) % k] - ring[i];
+        let after = out[(i + 1) % k] - out[i];
+        before.dot(after) > 0.0
+    });
+    keeps.then_some(out)
 }
 
 /// How far a flange's `from` and `to` may lie off the outline's edge (mm).

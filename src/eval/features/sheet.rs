@@ -6,19 +6,23 @@
 //!     outline = sketch(top) { ... close }   // the plate, on its view's plane
 //!     thickness = 1.2 mm
 //!     punch vent = sketch(top) { ... close }             // a hole, inside the outline
+//!     lift rib = { region: sketch(top) { ... close }, height: 2 mm }   // an embossment
 //!     flange lip = { at: (100, 30), height: 25 mm }     // on the edge nearest `at`,
-//!                                                        // `angle` up (default 90 deg)
+//!                                                        // `angle` up (default 90 deg),
+//!                                                        // `radius` of its bend,
+//!                                                        // or `from`/`to` on part of it,
+//!                                                        // `thickness` of its own
 //! }
 //! ```
 //!
 //! The value: `mid` (the mid-surface, one side of each sheet, as a mesh), `solid` (the
-//! closed solid at the thickness) and `quality` (`area`, `volume`, `thickness`, `holes`,
-//! `flanges`).
+//! closed solid at the thickness, one group per face) and `quality` (`area`, `volume`,
+//! `thickness`, `holes`, `flanges`, the junction counts by type and `junctions`).
 
 use crate::diag::Diagnostic;
 use crate::geom::tessellate::{tessellate_curve, Tolerance};
 use crate::sheet::junction::{Junction, JunctionType};
-use crate::sheet::part::{self, FlangeSpec, HoleSpec, PartProblem, PlateSpec, SheetPart};
+use crate::sheet::part::{self, FlangeSpec, HoleSpec, LiftSpec, PartProblem, PlateSpec, SheetPart};
 use crate::syntax::Span;
 
 use super::super::builtins::{as_angle, as_point2, type_error};
@@ -88,6 +92,59 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
         holes.push(HoleSpec {
             name: name.to_string(),
             points: polygon(&s, field.value.span)?,
+        });
+    }
+    let lift_fields = block.named("lift");
+    let mut lifts = Vec::with_capacity(lift_fields.len());
+    for (name, field) in &lift_fields {
+        let what = format!("`lift {name}`");
+        let r = record(
+            &field.value,
+            &what,
+            "a record `{ region: sketch(top) { ... close }, height: 3 mm }`",
+        )?;
+        check_record(r, field.value.span, &what, &["region", "height", "draft"])?;
+        let region = r.get("region").ok_or_else(|| {
+            feature_error(
+                KIND,
+                format!("{what} needs `region`, the closed sketch of the part to lift"),
+                field.value.span,
+                "no `region`",
+                "add `region: sketch(top) { ... close }`, drawn in the outline's view",
+            )
+        })?;
+        let height = r.get("height").ok_or_else(|| {
+            feature_error(
+                KIND,
+                format!("{what} needs `height`"),
+                field.value.span,
+                "no `height`",
+                "add `height: 3 mm`, how far the region rises (below 0 pushes it down)",
+            )
+        })?;
+        let sketch = closed_sketch(region, &format!("`region` of {what}"))?;
+        if sketch.view != view {
+            return Err(feature_error(
+                KIND,
+                format!(
+                    "a lifted region must be drawn in the outline's view ({}), but this one is in the {} view",
+                    view.name(),
+                    sketch.view.name()
+                ),
+                region.span,
+                "another view",
+                format!("draw it with `sketch({}) {{ ... }}`", view.name()),
+            ));
+        }
+        let draft = match r.get("draft") {
+            Some(a) => as_angle(a, block.units, &format!("`draft` of {what}"))?,
+            None => 0.0,
+        };
+        lifts.push(LiftSpec {
+            name: name.to_string(),
+            points: polygon(&sketch, region.span)?,
+            height: length(height, block.units, &format!("`height` of {what}"))?,
+            draft,
         });
     }
     let flange_fields = block.named("flange");
@@ -204,11 +261,19 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
         outline,
         normal,
         holes,
+        lifts,
         flanges,
         thickness,
     };
-    let built = part::build(&spec)
-        .map_err(|p| problem(p, outline_field.value.span, &punches, &flange_fields))?;
+    let built = part::build(&spec).map_err(|p| {
+        problem(
+            p,
+            outline_field.value.span,
+            &punches,
+            &lift_fields,
+            &flange_fields,
+        )
+    })?;
     Ok(output(
         block,
         built,
@@ -223,6 +288,7 @@ fn problem(
     p: PartProblem,
     outline: Span,
     punches: &[(&str, &Field)],
+    lifts: &[(&str, &Field)],
     flanges: &[(&str, &Field)],
 ) -> Diagnostic {
     match &p {
@@ -239,6 +305,13 @@ fn problem(
             punches[*index].1.value.span,
             "this hole",
             "draw each hole inside the outline, clear of its edges and of the other holes",
+        ),
+        PartProblem::Lift { index, .. } => feature_error(
+            KIND,
+            format!("`lift {}`: {p}", lifts[*index].0),
+            lifts[*index].1.value.span,
+            "this lift",
+            "draw the region inside the outline, clear of its edges, the holes and the other lifted regions, with a height other than 0 and a draft below 90 deg that its size allows",
         ),
         PartProblem::Flange { index, .. } => feature_error(
             KIND,
@@ -448,7 +521,7 @@ impl FeatureKind for SheetKind {
     fn fields(&self) -> FieldNames {
         FieldNames {
             single: vec!["outline", "thickness"],
-            named: vec!["punch", "flange"],
+            named: vec!["punch", "lift", "flange"],
         }
     }
     fn build(&self, block: &Block) -> Result<Value, Diagnostic> {
