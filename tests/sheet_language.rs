@@ -487,3 +487,40 @@ sheet plate {
         .iter()
         .any(|g| g.name() == "boss.wall_4.top"));
 }
+
+/// The reinforcement example: every sheet operation of the language in one part (two
+/// holes, a drafted rib, a flange bent on a radius, one at 60 deg, a tab of another
+/// gauge on part of an edge). Its solid is sound, of genus 2, holds each sheet's area
+/// times its own gauge exactly, and its tab's ends are the example's type 2 junctions.
+#[test]
+fn the_reinforcement_is_sound_with_two_gauges_and_type_2_junctions() {
+    let values = example::example_values("reinforcement/reinforcement.die");
+    let (_, part) = values
+        .iter()
+        .find(|(n, _)| n == "reinforcement")
+        .expect("the reinforcement");
+    let Data::Record(r) = &part.data else {
+        panic!("a record")
+    };
+    let part = r.model::<SheetPart>().expect("a sheet part");
+    sheet::assert_sound(&part.solid);
+    assert_eq!(part.sheet.check().unwrap().genus, 2);
+    let tab = 30.0 * 15.0;
+    let expected = (part.area - tab) * 1.2 + tab * 2.0;
+    assert!(
+        (part.volume - expected).abs() < 1e-9 * expected,
+        "{} against {expected}",
+        part.volume
+    );
+    let type_2: Vec<(f64, f64)> = part
+        .junctions
+        .iter()
+        .filter(|j| j.kind.number() == 2)
+        .map(|j| (j.at.x, j.at.y))
+        .collect();
+    assert_eq!(type_2.len(), 2, "{type_2:?}");
+    for (x, y) in type_2 {
+        assert!((x - 160.0).abs() < 1e-9 && ((y - 25.0).abs() < 1e-9 || (y - 55.0).abs() < 1e-9));
+    }
+    assert!(part.junctions.iter().all(|j| j.kind.number() != 3));
+}
