@@ -524,3 +524,46 @@ fn the_reinforcement_is_sound_with_two_gauges_and_type_2_junctions() {
     }
     assert!(part.junctions.iter().all(|j| j.kind.number() != 3));
 }
+
+/// A bend across the plate (paper 003, Fig. 14: geometry only): the part left of the
+/// line turns up about it, carrying its hole along; the junctions at the line's ends
+/// are plain mitres (type 1), and the volume stays the area times the thickness.
+#[test]
+fn a_bend_turns_the_part_left_of_its_line_with_what_is_on_it() {
+    for angle in [90.0f64, 45.0, -60.0] {
+        let text = format!(
+            "units mm deg
+sheet angle_plate {{
+    outline = sketch(top) {{ from (0, 0); line to (100, 0); line to (100, 60); line to (0, 60); close }}
+    thickness = 2 mm
+    punch hole = sketch(top) {{ from (20, 20); line to (30, 20); line to (30, 30); line to (20, 30); close }}
+    punch far_hole = sketch(top) {{ from (80, 20); line to (90, 20); line to (90, 30); line to (80, 30); close }}
+    bend leg = {{ from: (60, 0), to: (60, 60), angle: {angle} deg }}
+}}"
+        );
+        let values = script::evaluate_clean("plate.die", &text);
+        let Data::Record(r) = &values[0].1 else {
+            panic!("a record")
+        };
+        let part = r.model::<SheetPart>().expect("a sheet part");
+        sheet::assert_sound(&part.solid);
+        assert!((part.area - 5800.0).abs() < 1e-9, "{}", part.area);
+        assert!(
+            (part.volume - 11600.0).abs() < 1e-8,
+            "{angle}: {}",
+            part.volume
+        );
+        assert!(part.junctions.iter().all(|j| j.kind.number() == 1));
+        // The hole's corner (20, 20) lay 40 from the line: now 40 along the turned part.
+        let a = angle.to_radians();
+        let corner = glam::DVec3::new(60.0 - 40.0 * a.cos(), 20.0, 40.0 * a.sin());
+        let normal = glam::DVec3::new(a.sin(), 0.0, a.cos());
+        let has = |q: glam::DVec3| part.solid.positions().iter().any(|p| p.distance(q) < 1e-9);
+        assert!(
+            has(corner + normal) && has(corner - normal),
+            "{angle}: no hole corner at {corner}"
+        );
+        assert!(part.solid.groups().iter().any(|g| g.name() == "leg.top"));
+        assert!(part.solid.groups().iter().any(|g| g.name() == "plate.top"));
+    }
+}

@@ -9,10 +9,10 @@ use std::f64::consts::FRAC_PI_2;
 
 use glam::{DVec2, DVec3};
 
-use super::geometry::{distance_to_segment, newell, MidSurface};
+use super::geometry::{bend, distance_to_segment, newell, MidSurface};
 use super::junction::{meetings, Junction, Meeting};
 use super::thicken::{thicken_named, Gauge, ThickenError};
-use super::topology::{EdgeRole, FaceId, FaceRole, Piece, Sheet, TopologyError, VertexId};
+use super::topology::{EdgeId, EdgeRole, FaceId, FaceRole, Piece, Sheet, TopologyError, VertexId};
 use crate::geom::mesh::{crossings, Face, Mesh};
 use crate::geom::tessellate::triangulate_loops;
 use crate::geom::trimmed::polygon_winding;
@@ -28,6 +28,8 @@ pub struct PlateSpec {
     pub holes: Vec<HoleSpec>,
     /// The lifted regions (embossments), inside the outline and clear of the holes.
     pub lifts: Vec<LiftSpec>,
+    /// Bends across the plate, in order.
+    pub bends: Vec<BendSpec>,
     /// The flanges, in order.
     pub flanges: Vec<FlangeSpec>,
     /// The thickness (mm) of the plate, and of each flange not given its own.
@@ -41,6 +43,22 @@ pub struct HoleSpec {
     pub name: String,
     /// Its points, either way round.
     pub points: Vec<DVec3>,
+}
+
+/// A bend across the plate along a line (paper 003, section 4.5, Fig. 14: geometry
+/// only): the plate is split along the line and the part to its left (seen along the
+/// plate's normal, from `from` to `to`) turned about it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BendSpec {
+    /// Its name: the turned part's faces are `NAME.top` and `NAME.bottom`.
+    pub name: String,
+    /// Where the bend line starts and ends: on the outline's edges (within
+    /// [`SPAN_TOLERANCE`]), across the plate.
+    pub from: DVec3,
+    pub to: DVec3,
+    /// How far the part is turned (radians, between -180 and 180 deg; above 0 towards
+    /// the plate's normal).
+    pub angle: f64,
 }
 
 /// A region of the plate lifted (or pushed down) on walls: an embossment.
@@ -92,6 +110,8 @@ pub enum PartProblem {
     Hole { index: usize, why: String },
     /// Lift `index` cannot be made.
     Lift { index: usize, why: String },
+    /// Bend `index` cannot be made.
+    Bend { index: usize, why: String },
     /// Flange `index` cannot be added.
     Flange { index: usize, why: String },
     /// Flange `index` meets flange `other` at the corner `at`: three sheets would meet at
@@ -120,6 +140,7 @@ impl std::fmt::Display for PartProblem {
             PartProblem::Hole { why, .. } => write!(f, "the hole {why}"),
             PartProblem::Flange { why, .. } => write!(f, "the flange {why}"),
             PartProblem::Lift { why, .. } => write!(f, "the lifted region {why}"),
+            PartProblem::Bend { why, .. } => write!(f, "the bend {why}"),
             PartProblem::FlangesMeet { at, .. } => write!(
                 f,
                 "the flanges meet at the corner ({}, {}, {}): three sheets would meet at one \
@@ -188,6 +209,19 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
                 .map_err(|why| PartProblem::Flange { index, why })?;
         }
     }
+    let mut bend_ends = Vec::with_capacity(spec.bends.len());
+    for (index, bend) in spec.bends.iter().enumerate() {
+        let bad = |why: String| PartProblem::Bend { index, why };
+        if !(bend.angle.is_finite() && bend.angle.abs() < std::f64::consts::PI) {
+            return Err(bad("angle must lie between -180 and 180 deg".into()));
+        }
+        let from = add_corner(&mut outline, bend.from).map_err(bad)?;
+        let to = add_corner(&mut outline, bend.to).map_err(bad)?;
+        if from.distance(to) < 10.0 * SPAN_TOLERANCE {
+            return Err(bad("`from` and `to` lie too close together".into()));
+        }
+        bend_ends.push((from, to));
+    }
     let flat_outline: Vec<DVec2> = outline.iter().map(|&p| frame.flat(p)).collect();
     if triangulate_loops(std::slice::from_ref(&flat_outline)).is_err() {
         return Err(PartProblem::Outline("crosses or touches itself".into()));
@@ -198,6 +232,59 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
     let corners = sheet.brep.outer_vertices(top).map_err(topo)?;
     for (&v, &p) in corners.iter().zip(&outline) {
         mid.place(&sheet, v, p).map_err(topo)?;
+    }
+    // Bends: the plate split along each line now, while it is flat and has no holes;
+    // turned at the end, carrying what was built beyond the line.
+    let mut parts = vec![top];
+    let mut cuts = Vec::with_capacity(spec.bends.len());
+    for (index, &(from, to)) in bend_ends.iter().enumerate() {
+        let bad = |why: String| PartProblem::Bend { index, why };
+        let corner = |p: DVec3| {
+            corners
+                .iter()
+                .zip(&outline)
+                .find(|(_, &q)| q.distance(p) < 1e-9)
+                .map(|(&v, _)| v)
+        };
+        let (Some(vf), Some(vt)) = (corner(from), corner(to)) else {
+            return Err(bad("has an end that is not a corner of the outline".into()));
+        };
+        let (ff, ft) = (frame.flat(from), frame.flat(to));
+        if crosses_outline(&flat_outline, ff, ft) {
+            return Err(bad(
+                "line leaves the plate: it must run across it from edge to edge".into(),
+            ));
+        }
+        let part = parts
+            .iter()
+            .copied()
+            .find(|&f| {
+                sheet
+                    .brep
+                    .outer_vertices(f)
+                    .is_ok_and(|vs| vs.contains(&vf) && vs.contains(&vt))
+            })
+            .ok_or_else(|| bad("line crosses an earlier bend's line".into()))?;
+        let (crease, new) = sheet.split(part, vf, vt).map_err(|e| bad(e.to_string()))?;
+        parts.push(new);
+        // The part to the left of the line, seen along the normal, turns.
+        let points: Vec<DVec2> = sheet
+            .brep
+            .outer_vertices(new)
+            .map_err(|e| bad(e.to_string()))?
+            .into_iter()
+            .filter_map(|v| mid.point(v))
+            .map(|p| frame.flat(p))
+            .collect();
+        let centre = points.iter().sum::<DVec2>() / points.len().max(1) as f64;
+        let left = (ft - ff).perp_dot(centre - ff) > 0.0;
+        let (fixed, moved) = if left { (part, new) } else { (new, part) };
+        cuts.push(Cut {
+            part,
+            fixed,
+            moved,
+            crease,
+        });
     }
     // Holes: each inside the outline, clear of the others.
     let mut flat_loops = vec![flat_outline.clone()];
@@ -210,12 +297,13 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
         }
         let ring = counter_clockwise(hole, n);
         let flat: Vec<DVec2> = ring.iter().map(|&p| frame.flat(p)).collect();
+        let (part, at) = part_holding(&sheet, &mid, &frame, &parts, &flat).map_err(bad)?;
         add_loop(&flat_outline, &mut flat_loops, flat).map_err(bad)?;
         sheet
-            .punch(top, corners[0], ring.len())
+            .punch(part, at, ring.len())
             .map_err(|e| bad(e.to_string()))?;
         let ring_vertices =
-            place_ring(&sheet, &mut mid, top, &ring).map_err(|e| bad(e.to_string()))?;
+            place_ring(&sheet, &mut mid, part, &ring).map_err(|e| bad(e.to_string()))?;
         hole_rings.push(ring_vertices);
     }
     // Lifts: a region inside the plate, raised (or pushed down) on walls.
@@ -238,13 +326,14 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
         }
         let ring = counter_clockwise(&lift.points, n);
         let flat: Vec<DVec2> = ring.iter().map(|&p| frame.flat(p)).collect();
+        let (part, at) = part_holding(&sheet, &mid, &frame, &parts, &flat).map_err(bad)?;
         add_loop(&flat_outline, &mut flat_loops, flat).map_err(bad)?;
         let tops = inset(&ring, n, lift.height.abs() * lift.draft.tan()).ok_or_else(|| {
             bad("is too small for its draft: its top would turn inside out".into())
         })?;
         let topo = |e: TopologyError| bad(e.to_string());
-        let region = sheet.region(top, corners[0], ring.len()).map_err(topo)?;
-        place_ring(&sheet, &mut mid, top, &ring).map_err(topo)?;
+        let region = sheet.region(part, at, ring.len()).map_err(topo)?;
+        place_ring(&sheet, &mut mid, part, &ring).map_err(topo)?;
         let walls = sheet.lift(region.face).map_err(topo)?;
         // Each top corner stands over the base corner it was swept from: the one
         // placed corner its edges reach.
@@ -307,24 +396,28 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
                 "angle must lie from 0 up to (not including) 180 deg".into()
             ));
         }
-        let ring = sheet
-            .brep
-            .outer_vertices(top)
-            .map_err(|e| bad(e.to_string()))?;
-        let k = ring.len();
-        let nearest = (0..k)
-            .map(|i| {
-                let (a, c) = (mid.point(ring[i]), mid.point(ring[(i + 1) % k]));
-                let d = match (a, c) {
-                    (Some(a), Some(c)) => distance_to_segment(a, c, nears[index]),
+        // The edges of the plate's parts, each as its part's outer loop runs it.
+        let mut edges = Vec::new();
+        for &part in &parts {
+            let ring = sheet
+                .brep
+                .outer_vertices(part)
+                .map_err(|e| bad(e.to_string()))?;
+            let k = ring.len();
+            edges.extend((0..k).map(|i| (ring[i], ring[(i + 1) % k])));
+        }
+        let (a, c) = edges
+            .iter()
+            .map(|&(a, c)| {
+                let d = match (mid.point(a), mid.point(c)) {
+                    (Some(pa), Some(pc)) => distance_to_segment(pa, pc, nears[index]),
                     _ => f64::INFINITY,
                 };
-                (d, i)
+                (d, (a, c))
             })
             .min_by(|x, y| x.0.total_cmp(&y.0))
-            .map(|(_, i)| i)
+            .map(|(_, e)| e)
             .ok_or_else(|| bad("finds no edge".into()))?;
-        let (a, c) = (ring[nearest], ring[(nearest + 1) % k]);
         let (pa, pc) = (
             mid.point(a)
                 .ok_or_else(|| bad("edge has no point".into()))?,
@@ -410,6 +503,31 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
         }
         flange_sides.push(strips);
     }
+    // The bends turned, in order; a bend line may not end on a flange's edge (the
+    // flange would have to bend too).
+    for (index, cut) in cuts.iter().enumerate() {
+        let bad = |why: String| PartProblem::Bend { index, why };
+        let (from, to) = bend_ends[index];
+        for (k, &(a, c)) in flange_edges.iter().enumerate() {
+            if [from, to]
+                .iter()
+                .any(|&p| distance_to_segment(a, c, p) < SPAN_TOLERANCE)
+            {
+                return Err(bad(format!(
+                    "line ends on the edge of flange `{}`: the flange would have to bend too",
+                    spec.flanges[k].name
+                )));
+            }
+        }
+        bend(
+            &sheet,
+            &mut mid,
+            cut.fixed,
+            cut.crease,
+            spec.bends[index].angle,
+        )
+        .map_err(|e| bad(e.to_string()))?;
+    }
     // A solid that cannot be made, or passes through itself, is blamed on the flange
     // nearest the place at fault.
     let nearest_flange = |at: DVec3| {
@@ -424,6 +542,7 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
         &sheet,
         spec,
         (bottom, top),
+        &cuts,
         &hole_rings,
         &lifted,
         &flange_sides,
@@ -479,14 +598,28 @@ impl FaceNames {
         sheet: &Sheet,
         spec: &PlateSpec,
         (bottom, top): (FaceId, FaceId),
+        cuts: &[Cut],
         hole_rings: &[Vec<VertexId>],
         lifts: &[(FaceId, Vec<FaceId>)],
         flanges: &[Vec<(FaceId, FaceId)>],
     ) -> Result<FaceNames, TopologyError> {
         let b = &sheet.brep;
         let mut names = std::collections::BTreeMap::new();
-        names.insert(top, "plate.top".to_string());
-        names.insert(bottom, "plate.bottom".to_string());
+        // The plate's parts, named by the bend that turned them (the rest `plate`).
+        let mut part_names = std::collections::BTreeMap::new();
+        part_names.insert(top, "plate".to_string());
+        for (k, cut) in cuts.iter().enumerate() {
+            let before = part_names.get(&cut.part).cloned().unwrap_or_default();
+            part_names.insert(cut.fixed, before);
+            part_names.insert(cut.moved, spec.bends[k].name.clone());
+        }
+        for (&part, name) in &part_names {
+            names.insert(part, format!("{name}.top"));
+            if let FaceRole::Side { twin } = sheet.face_role(part)? {
+                names.insert(twin, format!("{name}.bottom"));
+            }
+        }
+        let _ = bottom;
         // The sides across the non-zero-length edges of face f.
         let neighbours = |f: FaceId| -> Result<Vec<FaceId>, TopologyError> {
             let mut out = Vec::new();
@@ -580,6 +713,96 @@ impl FaceNames {
             .get(&f)
             .cloned()
             .unwrap_or_else(|| format!("face {}", f.0))
+    }
+}
+
+/// A bend's split of the plate: the part split, the part that stays and the part that
+/// turns (one of them the part split), and the crease between them.
+struct Cut {
+    part: FaceId,
+    fixed: FaceId,
+    moved: FaceId,
+    crease: EdgeId,
+}
+
+/// Puts `p` into the outline as a corner of the edge nearest it (unless it is a corner
+/// already) and returns it as placed. Refused when it lies off the outline.
+fn add_corner(outline: &mut Vec<DVec3>, p: DVec3) -> Result<DVec3, String> {
+    let k = outline.len();
+    let (d, nearest) = (0..k)
+        .map(|i| (distance_to_segment(outline[i], outline[(i + 1) % k], p), i))
+        .min_by(|x, y| x.0.total_cmp(&y.0))
+        .ok_or_else(|| "finds no edge".to_string())?;
+    if d > SPAN_TOLERANCE {
+        return Err(format!(
+            "must end on the outline, but ({}, {}, {}) is {} mm off it",
+            tidy(p.x),
+            tidy(p.y),
+            tidy(p.z),
+            tidy(d)
+        ));
+    }
+    let (a, c) = (outline[nearest], outline[(nearest + 1) % k]);
+    for corner in [a, c] {
+        if corner.distance(p) <= SPAN_TOLERANCE {
+            return Ok(corner);
+        }
+    }
+    let along = c - a;
+    let q = a + ((p - a).dot(along) / along.length_squared()) * along;
+    outline.insert(nearest + 1, q);
+    Ok(q)
+}
+
+/// Whether the open segment from `a` to `c` crosses the polygon's boundary (touching
+/// it only at its ends, on corners, is not crossing) or runs outside it.
+fn crosses_outline(outline: &[DVec2], a: DVec2, c: DVec2) -> bool {
+    let k = outline.len();
+    let near = |p: DVec2, q: DVec2| p.distance(q) < 1e-9;
+    for i in 0..k {
+        let (p, q) = (outline[i], outline[(i + 1) % k]);
+        if near(p, a) || near(p, c) || near(q, a) || near(q, c) {
+            continue;
+        }
+        let d = c - a;
+        let e = q - p;
+        let denom = d.perp_dot(e);
+        if denom.abs() < 1e-12 {
+            continue;
+        }
+        let t = (p - a).perp_dot(e) / denom;
+        let u = (p - a).perp_dot(d) / denom;
+        if (0.0..=1.0).contains(&t) && (0.0..=1.0).contains(&u) {
+            return true;
+        }
+    }
+    polygon_winding(outline, 0.5 * (a + c)) == 0
+}
+
+/// The part of the plate (a side split off by bends) whose outline holds every point
+/// of `flat`, and a corner of it to bridge a ring from.
+fn part_holding(
+    sheet: &Sheet,
+    mid: &MidSurface,
+    frame: &Frame,
+    parts: &[FaceId],
+    flat: &[DVec2],
+) -> Result<(FaceId, VertexId), String> {
+    for &part in parts {
+        let corners = sheet.brep.outer_vertices(part).map_err(|e| e.to_string())?;
+        let outline: Vec<DVec2> = corners
+            .iter()
+            .filter_map(|&v| mid.point(v))
+            .map(|p| frame.flat(p))
+            .collect();
+        if flat.iter().all(|&q| polygon_winding(&outline, q) != 0) {
+            return Ok((part, corners[0]));
+        }
+    }
+    if parts.len() > 1 {
+        Err("crosses a bend line, or is not inside the outline".into())
+    } else {
+        Err("is not inside the outline".into())
     }
 }
 

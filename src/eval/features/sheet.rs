@@ -22,7 +22,9 @@
 use crate::diag::Diagnostic;
 use crate::geom::tessellate::{tessellate_curve, Tolerance};
 use crate::sheet::junction::{Junction, JunctionType};
-use crate::sheet::part::{self, FlangeSpec, HoleSpec, LiftSpec, PartProblem, PlateSpec, SheetPart};
+use crate::sheet::part::{
+    self, BendSpec, FlangeSpec, HoleSpec, LiftSpec, PartProblem, PlateSpec, SheetPart,
+};
 use crate::syntax::Span;
 
 use super::super::builtins::{as_angle, as_point2, type_error};
@@ -147,6 +149,45 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
             draft,
         });
     }
+    let bend_fields = block.named("bend");
+    let mut bends = Vec::with_capacity(bend_fields.len());
+    for (name, field) in &bend_fields {
+        let what = format!("`bend {name}`");
+        let r = record(
+            &field.value,
+            &what,
+            "a record `{ from: (x, y), to: (x, y), angle: 90 deg }`",
+        )?;
+        check_record(r, field.value.span, &what, &["from", "to", "angle"])?;
+        let get = |key: &str, help: &str| {
+            r.get(key).ok_or_else(|| {
+                feature_error(
+                    KIND,
+                    format!("{what} needs `{key}`"),
+                    field.value.span,
+                    format!("no `{key}`"),
+                    help.to_string(),
+                )
+            })
+        };
+        let end = |key: &str| -> Result<DVec3, Diagnostic> {
+            let v = get(
+                key,
+                "give the bend line's ends on the outline: `from: (x, y), to: (x, y)`",
+            )?;
+            Ok(view.place(as_point2(v, block.units, &format!("`{key}` of {what}"))?))
+        };
+        let angle = get(
+            "angle",
+            "add `angle: 90 deg`, how far the part left of the line turns up",
+        )?;
+        bends.push(BendSpec {
+            name: name.to_string(),
+            from: end("from")?,
+            to: end("to")?,
+            angle: as_angle(angle, block.units, &format!("`angle` of {what}"))?,
+        });
+    }
     let flange_fields = block.named("flange");
     let mut flanges = Vec::with_capacity(flange_fields.len());
     for (name, field) in &flange_fields {
@@ -262,6 +303,7 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
         normal,
         holes,
         lifts,
+        bends,
         flanges,
         thickness,
     };
@@ -271,6 +313,7 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
             outline_field.value.span,
             &punches,
             &lift_fields,
+            &bend_fields,
             &flange_fields,
         )
     })?;
@@ -289,6 +332,7 @@ fn problem(
     outline: Span,
     punches: &[(&str, &Field)],
     lifts: &[(&str, &Field)],
+    bends: &[(&str, &Field)],
     flanges: &[(&str, &Field)],
 ) -> Diagnostic {
     match &p {
@@ -312,6 +356,13 @@ fn problem(
             lifts[*index].1.value.span,
             "this lift",
             "draw the region inside the outline, clear of its edges, the holes and the other lifted regions, with a height other than 0 and a draft below 90 deg that its size allows",
+        ),
+        PartProblem::Bend { index, .. } => feature_error(
+            KIND,
+            format!("`bend {}`: {p}", bends[*index].0),
+            bends[*index].1.value.span,
+            "this bend",
+            "draw the bend line across the plate from one edge of the outline to another, clear of the holes, the lifted regions, the other bends' lines and the flanges' edges, with an angle between -180 and 180 deg",
         ),
         PartProblem::Flange { index, .. } => feature_error(
             KIND,
@@ -521,7 +572,7 @@ impl FeatureKind for SheetKind {
     fn fields(&self) -> FieldNames {
         FieldNames {
             single: vec!["outline", "thickness"],
-            named: vec!["punch", "lift", "flange"],
+            named: vec!["punch", "lift", "bend", "flange"],
         }
     }
     fn build(&self, block: &Block) -> Result<Value, Diagnostic> {
