@@ -567,3 +567,41 @@ sheet angle_plate {{
         assert!(part.solid.groups().iter().any(|g| g.name() == "plate.top"));
     }
 }
+
+/// Removing a lifted region's top (paper 003, section 4.4: the region lies inside the
+/// sheet, so a passage is made) leaves a collar: the walls stand round a through hole.
+/// The solid is sound and of genus 1; its volume is the area times the thickness less
+/// the cube of the thickness the four open corners' mitres no longer give back.
+#[test]
+fn removing_a_lifted_top_leaves_a_collar_round_a_passage() {
+    let text = "units mm deg
+sheet plate {
+    outline = sketch(top) { from (0, 0); line to (100, 0); line to (100, 60); line to (0, 60); close }
+    thickness = 1.5 mm
+    lift collar = { region: sketch(top) { from (40, 20); line to (60, 20); line to (60, 40); line to (40, 40); close }, height: 6 mm }
+    remove opening = { at: (50, 30) }
+}";
+    let values = script::evaluate_clean("plate.die", text);
+    let Data::Record(r) = &values[0].1 else {
+        panic!("a record")
+    };
+    let part = r.model::<SheetPart>().expect("a sheet part");
+    sheet::assert_sound(&part.solid);
+    assert_eq!(part.sheet.check().unwrap().genus, 1);
+    assert!(matches!(
+        part.removals[..],
+        [dieface::sheet::topology::Removal::Passage(_)]
+    ));
+    // The plate less the opening, plus four walls 20 x 6.
+    assert!(
+        (part.area - (6000.0 - 400.0 + 4.0 * 120.0)).abs() < 1e-9,
+        "{}",
+        part.area
+    );
+    let t: f64 = 1.5;
+    assert!(
+        (part.volume - (part.area * t - t.powi(3))).abs() < 1e-9,
+        "{}",
+        part.volume
+    );
+}

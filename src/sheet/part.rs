@@ -12,7 +12,9 @@ use glam::{DVec2, DVec3};
 use super::geometry::{bend, distance_to_segment, newell, MidSurface};
 use super::junction::{meetings, Junction, Meeting};
 use super::thicken::{thicken_named, Gauge, ThickenError};
-use super::topology::{EdgeId, EdgeRole, FaceId, FaceRole, Piece, Sheet, TopologyError, VertexId};
+use super::topology::{
+    EdgeId, EdgeRole, FaceId, FaceRole, Piece, Removal, Sheet, TopologyError, VertexId,
+};
 use crate::geom::mesh::{crossings, Face, Mesh};
 use crate::geom::tessellate::triangulate_loops;
 use crate::geom::trimmed::polygon_winding;
@@ -30,6 +32,8 @@ pub struct PlateSpec {
     pub lifts: Vec<LiftSpec>,
     /// Bends across the plate, in order.
     pub bends: Vec<BendSpec>,
+    /// Faces removed, each picked by a point.
+    pub removals: Vec<RemoveSpec>,
     /// The flanges, in order.
     pub flanges: Vec<FlangeSpec>,
     /// The thickness (mm) of the plate, and of each flange not given its own.
@@ -59,6 +63,17 @@ pub struct BendSpec {
     /// How far the part is turned (radians, between -180 and 180 deg; above 0 towards
     /// the plate's normal).
     pub angle: f64,
+}
+
+/// A face removed from the part (paper 003, section 4.4, Fig. 11-12), picked by a point
+/// over it in the outline's view: so far a lifted region's top, which leaves a passage
+/// lined by the region's walls (a collar, as an extruded hole).
+#[derive(Debug, Clone, PartialEq)]
+pub struct RemoveSpec {
+    /// Its name.
+    pub name: String,
+    /// A point over the face, in the outline's view (on the working plane).
+    pub at: DVec3,
 }
 
 /// A region of the plate lifted (or pushed down) on walls: an embossment.
@@ -112,6 +127,8 @@ pub enum PartProblem {
     Lift { index: usize, why: String },
     /// Bend `index` cannot be made.
     Bend { index: usize, why: String },
+    /// Removal `index` cannot be made.
+    Remove { index: usize, why: String },
     /// Flange `index` cannot be added.
     Flange { index: usize, why: String },
     /// Flange `index` meets flange `other` at the corner `at`: three sheets would meet at
@@ -141,6 +158,7 @@ impl std::fmt::Display for PartProblem {
             PartProblem::Flange { why, .. } => write!(f, "the flange {why}"),
             PartProblem::Lift { why, .. } => write!(f, "the lifted region {why}"),
             PartProblem::Bend { why, .. } => write!(f, "the bend {why}"),
+            PartProblem::Remove { why, .. } => write!(f, "the removal {why}"),
             PartProblem::FlangesMeet { at, .. } => write!(
                 f,
                 "the flanges meet at the corner ({}, {}, {}): three sheets would meet at one \
@@ -188,6 +206,8 @@ pub struct SheetPart {
     /// The junction at each vertex where two sheets meet on the free boundary, with
     /// the type the paper's rule chose there.
     pub junctions: Vec<Junction>,
+    /// What each removal did, in the paper's cases.
+    pub removals: Vec<Removal>,
 }
 
 /// Builds the plate of `spec`: the initial sheet over the outline, each hole punched,
@@ -308,6 +328,8 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
     }
     // Lifts: a region inside the plate, raised (or pushed down) on walls.
     let mut lifted = Vec::with_capacity(spec.lifts.len());
+    // Each lifted region's top, flat in the outline's view.
+    let mut lift_tops: Vec<Vec<DVec2>> = Vec::with_capacity(spec.lifts.len());
     for (index, lift) in spec.lifts.iter().enumerate() {
         let bad = |why: String| PartProblem::Lift { index, why };
         if lift.points.len() < 3 {
@@ -359,6 +381,41 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
                 .map_err(topo)?;
         }
         lifted.push((region.face, walls));
+        lift_tops.push(tops.iter().map(|&p| frame.flat(p)).collect::<Vec<DVec2>>());
+    }
+    // Removals: the face under each point, in the paper's cases (section 4.4).
+    let mut removals = Vec::with_capacity(spec.removals.len());
+    for (index, removal) in spec.removals.iter().enumerate() {
+        let bad = |why: String| PartProblem::Remove { index, why };
+        let q = frame.flat(removal.at);
+        let top = lift_tops
+            .iter()
+            .position(|ring| polygon_winding(ring, q) != 0)
+            .map(|k| lifted[k].0);
+        let face = match top {
+            Some(face) => face,
+            None if cuts.is_empty()
+                && flat_loops[1..].iter().all(|l| polygon_winding(l, q) == 0) =>
+            {
+                return Err(bad(
+                    "would take the whole plate: nothing would be left".into()
+                ))
+            }
+            None => {
+                return Err(bad(
+                    "finds no face to remove under its point: give a point on a lifted \
+                     region's top"
+                        .into(),
+                ))
+            }
+        };
+        let case = sheet.remove(face).map_err(|e| bad(e.to_string()))?;
+        if let Removal::Trimmed { pieces_made, .. } = case {
+            if pieces_made > 0 {
+                return Err(bad("would cut the part in two".into()));
+            }
+        }
+        removals.push(case);
     }
     // Flanges: on the outline edge nearest each point, if it is still free.
     let mut flange_edges = Vec::with_capacity(spec.flanges.len());
@@ -580,6 +637,7 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
         area,
         volume,
         junctions,
+        removals,
     })
 }
 

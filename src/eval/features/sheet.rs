@@ -23,8 +23,9 @@ use crate::diag::Diagnostic;
 use crate::geom::tessellate::{tessellate_curve, Tolerance};
 use crate::sheet::junction::{Junction, JunctionType};
 use crate::sheet::part::{
-    self, BendSpec, FlangeSpec, HoleSpec, LiftSpec, PartProblem, PlateSpec, SheetPart,
+    self, BendSpec, FlangeSpec, HoleSpec, LiftSpec, PartProblem, PlateSpec, RemoveSpec, SheetPart,
 };
+use crate::sheet::topology::Removal;
 use crate::syntax::Span;
 
 use super::super::builtins::{as_angle, as_point2, type_error};
@@ -188,6 +189,26 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
             angle: as_angle(angle, block.units, &format!("`angle` of {what}"))?,
         });
     }
+    let remove_fields = block.named("remove");
+    let mut removals = Vec::with_capacity(remove_fields.len());
+    for (name, field) in &remove_fields {
+        let what = format!("`remove {name}`");
+        let r = record(&field.value, &what, "a record `{ at: (x, y) }`")?;
+        check_record(r, field.value.span, &what, &["at"])?;
+        let at = r.get("at").ok_or_else(|| {
+            feature_error(
+                KIND,
+                format!("{what} needs `at`, a point over the face to remove"),
+                field.value.span,
+                "no `at`",
+                "add `at: (x, y)`, a point in the outline's view over a lifted region's top",
+            )
+        })?;
+        removals.push(RemoveSpec {
+            name: name.to_string(),
+            at: view.place(as_point2(at, block.units, &format!("`at` of {what}"))?),
+        });
+    }
     let flange_fields = block.named("flange");
     let mut flanges = Vec::with_capacity(flange_fields.len());
     for (name, field) in &flange_fields {
@@ -304,6 +325,7 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
         holes,
         lifts,
         bends,
+        removals,
         flanges,
         thickness,
     };
@@ -314,6 +336,7 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
             &punches,
             &lift_fields,
             &bend_fields,
+            &remove_fields,
             &flange_fields,
         )
     })?;
@@ -333,6 +356,7 @@ fn problem(
     punches: &[(&str, &Field)],
     lifts: &[(&str, &Field)],
     bends: &[(&str, &Field)],
+    removals: &[(&str, &Field)],
     flanges: &[(&str, &Field)],
 ) -> Diagnostic {
     match &p {
@@ -363,6 +387,13 @@ fn problem(
             bends[*index].1.value.span,
             "this bend",
             "draw the bend line across the plate from one edge of the outline to another, clear of the holes, the lifted regions, the other bends' lines and the flanges' edges, with an angle between -180 and 180 deg",
+        ),
+        PartProblem::Remove { index, .. } => feature_error(
+            KIND,
+            format!("`remove {}`: {p}", removals[*index].0),
+            removals[*index].1.value.span,
+            "this removal",
+            "put `at` over the top of a lifted region: removing it leaves a collar round a hole",
         ),
         PartProblem::Flange { index, .. } => feature_error(
             KIND,
@@ -521,6 +552,27 @@ fn output(block: &Block, built: SheetPart, holes: usize, flanges: usize, thickne
         "junctions".to_string(),
         junction_list(&built.junctions, span),
     ));
+    // What each removal did, in the paper's words (section 4.4).
+    let removals = built
+        .removals
+        .iter()
+        .map(|r| {
+            let case = match r {
+                Removal::Passage(_) => "a passage made".to_string(),
+                Removal::Trimmed {
+                    passages_closed: 0, ..
+                } => "trimmed, no passage changed".to_string(),
+                Removal::Trimmed {
+                    passages_closed, ..
+                } => format!("trimmed, {passages_closed} passage(s) closed"),
+            };
+            Value::new(Data::Str(case.into()), span)
+        })
+        .collect();
+    quality.push((
+        "removals".to_string(),
+        Value::new(Data::List(Arc::new(removals)), span),
+    ));
     feature_value(
         KIND,
         span,
@@ -572,7 +624,7 @@ impl FeatureKind for SheetKind {
     fn fields(&self) -> FieldNames {
         FieldNames {
             single: vec!["outline", "thickness"],
-            named: vec!["punch", "lift", "bend", "flange"],
+            named: vec!["punch", "lift", "remove", "bend", "flange"],
         }
     }
     fn build(&self, block: &Block) -> Result<Value, Diagnostic> {
