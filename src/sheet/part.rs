@@ -18,6 +18,7 @@ use super::topology::{
 use crate::geom::mesh::{crossings, Face, Mesh};
 use crate::geom::tessellate::triangulate_loops;
 use crate::geom::trimmed::polygon_winding;
+use crate::geom::MAX_COORDINATE;
 
 /// What a plate part is made of.
 #[derive(Debug, Clone, PartialEq)]
@@ -220,6 +221,7 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
             "needs 3 points or more on a plane".into(),
         ));
     }
+    check_sizes(spec)?;
     let frame = Frame::new(spec.outline[0], n);
     let mut outline = counter_clockwise(&spec.outline, n);
     let mut nears: Vec<DVec3> = spec.flanges.iter().map(|f| f.near).collect();
@@ -772,6 +774,69 @@ impl FaceNames {
             .cloned()
             .unwrap_or_else(|| format!("face {}", f.0))
     }
+}
+
+/// Every length and point of `spec` within [`MAX_COORDINATE`] (mm): beyond it the
+/// solid's coordinates leave what the kernel and the GLB hold (`docs/limits.md`).
+fn check_sizes(spec: &PlateSpec) -> Result<(), PartProblem> {
+    let fits = |x: f64| x.is_finite() && x.abs() <= MAX_COORDINATE;
+    let point = |p: &DVec3| fits(p.x) && fits(p.y) && fits(p.z);
+    let why = |what: &str| {
+        format!(
+            "has {what} beyond {MAX_COORDINATE} mm: every length of a sheet part lies within it"
+        )
+    };
+    if !spec.outline.iter().all(point) {
+        return Err(PartProblem::Outline(why("a point")));
+    }
+    if !fits(spec.thickness) {
+        return Err(PartProblem::Thicken(ThickenError::Thickness(
+            spec.thickness,
+        )));
+    }
+    for (index, h) in spec.holes.iter().enumerate() {
+        if !h.points.iter().all(point) {
+            return Err(PartProblem::Hole {
+                index,
+                why: why("a point"),
+            });
+        }
+    }
+    for (index, l) in spec.lifts.iter().enumerate() {
+        if !(l.points.iter().all(point) && fits(l.height)) {
+            return Err(PartProblem::Lift {
+                index,
+                why: why("a point or a height"),
+            });
+        }
+    }
+    for (index, b) in spec.bends.iter().enumerate() {
+        if !(point(&b.from) && point(&b.to)) {
+            return Err(PartProblem::Bend {
+                index,
+                why: why("a point"),
+            });
+        }
+    }
+    for (index, r) in spec.removals.iter().enumerate() {
+        if !point(&r.at) {
+            return Err(PartProblem::Remove {
+                index,
+                why: why("its point"),
+            });
+        }
+    }
+    for (index, f) in spec.flanges.iter().enumerate() {
+        let span = f.span.is_none_or(|(a, c)| point(&a) && point(&c));
+        let thick = f.thickness.is_none_or(fits);
+        if !(point(&f.near) && span && fits(f.height) && fits(f.radius) && thick) {
+            return Err(PartProblem::Flange {
+                index,
+                why: why("a point, a height, a radius or a thickness"),
+            });
+        }
+    }
+    Ok(())
 }
 
 /// A bend's split of the plate: the part split, the part that stays and the part that

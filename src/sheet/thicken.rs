@@ -42,7 +42,7 @@ use crate::geom::GeomError;
 pub enum ThickenError {
     /// The thickness is not a length above zero.
     Thickness(f64),
-    /// A vertex has no mid-surface point.
+    /// A vertex has no mid-surface point (or one that is not finite).
     Unplaced(VertexId),
     /// A side face spans no area (its points on one line), so it has no normal.
     Degenerate(FaceId),
@@ -162,7 +162,12 @@ pub fn thicken_named(
         return Err(ThickenError::Thickness(t));
     }
     let b = &sheet.brep;
-    let at = |v: VertexId| mid.point(v).ok_or(ThickenError::Unplaced(v));
+    // A point that is not finite would stall the SVD below: refused as unplaced.
+    let at = |v: VertexId| {
+        mid.point(v)
+            .filter(|p| p.is_finite())
+            .ok_or(ThickenError::Unplaced(v))
+    };
     // Each side face's outward normal on the mid-surface (Newell's, along its loop).
     let mut normals: Vec<Option<DVec3>> = vec![None; face_slots(b)];
     for f in b.faces() {
