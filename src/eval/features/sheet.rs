@@ -359,6 +359,17 @@ fn problem(
     removals: &[(&str, &Field)],
     flanges: &[(&str, &Field)],
 ) -> Diagnostic {
+    // The error at field `index` of the `keyword NAME = ...` fields `fields`.
+    let at_field =
+        |keyword: &str, fields: &[(&str, &Field)], index: usize, label: &str, help: &str| {
+            feature_error(
+                KIND,
+                format!("`{keyword} {}`: {p}", fields[index].0),
+                fields[index].1.value.span,
+                label,
+                help,
+            )
+        };
     match &p {
         PartProblem::Outline(_) => feature_error(
             KIND,
@@ -367,41 +378,11 @@ fn problem(
             "this outline",
             "draw the outline as one loop that does not cross itself",
         ),
-        PartProblem::Hole { index, .. } => feature_error(
-            KIND,
-            format!("`punch {}`: {p}", punches[*index].0),
-            punches[*index].1.value.span,
-            "this hole",
-            "draw each hole inside the outline, clear of its edges and of the other holes",
-        ),
-        PartProblem::Lift { index, .. } => feature_error(
-            KIND,
-            format!("`lift {}`: {p}", lifts[*index].0),
-            lifts[*index].1.value.span,
-            "this lift",
-            "draw the region inside the outline, clear of its edges, the holes and the other lifted regions, with a height other than 0 and a draft below 90 deg that its size allows",
-        ),
-        PartProblem::Bend { index, .. } => feature_error(
-            KIND,
-            format!("`bend {}`: {p}", bends[*index].0),
-            bends[*index].1.value.span,
-            "this bend",
-            "draw the bend line across the plate from one edge of the outline to another, clear of the holes, the lifted regions, the other bends' lines and the flanges' edges, with an angle between -180 and 180 deg",
-        ),
-        PartProblem::Remove { index, .. } => feature_error(
-            KIND,
-            format!("`remove {}`: {p}", removals[*index].0),
-            removals[*index].1.value.span,
-            "this removal",
-            "put `at` over the top of a lifted region: removing it leaves a collar round a hole",
-        ),
-        PartProblem::Flange { index, .. } => feature_error(
-            KIND,
-            format!("`flange {}`: {p}", flanges[*index].0),
-            flanges[*index].1.value.span,
-            "this flange",
-            "put `at` near a free edge of the outline, or `from` and `to` on one (one edge takes one flange); give a height above 0, an angle below 180 deg, and a bend `radius` or a `thickness` of its own, not both",
-        ),
+        PartProblem::Hole { index, .. } => at_field("punch", punches, *index, "this hole", "draw each hole inside the outline, clear of its edges and of the other holes"),
+        PartProblem::Lift { index, .. } => at_field("lift", lifts, *index, "this lift", "draw the region inside the outline, clear of its edges, the holes and the other lifted regions, with a height other than 0 and a draft below 90 deg that its size allows"),
+        PartProblem::Bend { index, .. } => at_field("bend", bends, *index, "this bend", "draw the bend line across the plate from one edge of the outline to another, clear of the holes, the lifted regions, the other bends' lines and the flanges' edges, with an angle between -180 and 180 deg"),
+        PartProblem::Remove { index, .. } => at_field("remove", removals, *index, "this removal", "put `at` over the top of a lifted region: removing it leaves a collar round a hole"),
+        PartProblem::Flange { index, .. } => at_field("flange", flanges, *index, "this flange", "put `at` near a free edge of the outline, or `from` and `to` on one (one edge takes one flange); give a height above 0, an angle below 180 deg, and a bend `radius` or a `thickness` of its own, not both"),
         PartProblem::FlangesMeet { index, other, .. } => feature_error(
             KIND,
             format!("`flange {}` and `flange {}`: {p}", flanges[*other].0, flanges[*index].0),
