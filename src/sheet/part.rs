@@ -249,7 +249,7 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
         return Err(PartProblem::Outline("crosses or touches itself".into()));
     }
     let topo = |e: TopologyError| PartProblem::Outline(e.to_string());
-    let (mut sheet, bottom, top) = Sheet::initial(outline.len()).map_err(topo)?;
+    let (mut sheet, _, top) = Sheet::initial(outline.len()).map_err(topo)?;
     let mut mid = MidSurface::new();
     let corners = sheet.brep.outer_vertices(top).map_err(topo)?;
     for (&v, &p) in corners.iter().zip(&outline) {
@@ -600,7 +600,7 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
     let names = FaceNames::new(
         &sheet,
         spec,
-        (bottom, top),
+        top,
         &cuts,
         &hole_rings,
         &lifted,
@@ -657,7 +657,7 @@ impl FaceNames {
     fn new(
         sheet: &Sheet,
         spec: &PlateSpec,
-        (bottom, top): (FaceId, FaceId),
+        top: FaceId,
         cuts: &[Cut],
         hole_rings: &[Vec<VertexId>],
         lifts: &[(FaceId, Vec<FaceId>)],
@@ -679,7 +679,6 @@ impl FaceNames {
                 names.insert(twin, format!("{name}.bottom"));
             }
         }
-        let _ = bottom;
         // The sides across the non-zero-length edges of face f.
         let neighbours = |f: FaceId| -> Result<Vec<FaceId>, TopologyError> {
             let mut out = Vec::new();
