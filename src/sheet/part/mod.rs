@@ -1,7 +1,20 @@
 //! A sheet part as a designer declares it: a plate over an outline on a working plane,
-//! holes punched through it, flanges on its edges, and a thickness; built by the sheet
-//! operations ([`super::topology`]), placed ([`super::geometry`]) and made solid
+//! with a thickness, holes punched through it, regions lifted, faces removed, bend
+//! lines across it and flanges on its edges; built by the sheet operations
+//! ([`super::topology`]), placed ([`super::geometry`]) and made solid
 //! ([`super::thicken`]).
+//!
+//! [`build`] runs the operations in a fixed order: the flat plate is split along the
+//! bend lines, the holes and lifts go into the parts that hold them, the removals and
+//! flanges follow, and the bends turn last, carrying what stands beyond them. Its
+//! helpers: `layout` (the flat plate and its loops), `strips` (a flange's bend
+//! facets), `names` (the solid's face names) and `measure` (the mid-surface mesh,
+//! areas and volumes).
+
+mod layout;
+mod measure;
+mod names;
+mod strips;
 
 use std::sync::Arc;
 
@@ -9,16 +22,22 @@ use std::f64::consts::FRAC_PI_2;
 
 use glam::{DVec2, DVec3};
 
-use super::geometry::{bend, distance_to_segment, newell, MidSurface};
+use super::geometry::{bend, distance_to_segment, MidSurface};
 use super::junction::{meetings, Junction, Meeting};
 use super::thicken::{thicken_named, Gauge, ThickenError};
-use super::topology::{
-    EdgeId, EdgeRole, FaceId, FaceRole, Piece, Removal, Sheet, TopologyError, VertexId,
-};
-use crate::geom::mesh::{crossings, Face, Mesh};
+use super::topology::{EdgeId, FaceId, Piece, Removal, Sheet, TopologyError, VertexId};
+use crate::geom::mesh::{crossings, Mesh};
 use crate::geom::tessellate::triangulate_loops;
 use crate::geom::trimmed::polygon_winding;
 use crate::geom::MAX_COORDINATE;
+pub use layout::SPAN_TOLERANCE;
+use layout::{
+    add_corner, add_loop, counter_clockwise, crosses_outline, inset, part_holding, place_ring,
+    split_outline, tidy, Frame,
+};
+use measure::{mesh_area, mesh_volume, mid_surface};
+use names::FaceNames;
+use strips::flange_reaches;
 
 /// What a plate part is made of.
 #[derive(Debug, Clone, PartialEq)]
@@ -643,138 +662,6 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
     })
 }
 
-/// The name of each face of a plate's solid, as a designer would call it: `plate.top`
-/// and `plate.bottom` (the top faces the working plane's normal), `plate.edge_K` across
-/// the outline's edges, `HOLE.wall_K` lining a hole, and per flange `NAME.inside` (the
-/// side that continues the plate's top, inside the bend), `NAME.outside` and
-/// `NAME.edge_K`, and a bend's facets `NAME.bend_K.inside` and `.outside`; K counts
-/// from 1 in the model's face order.
-struct FaceNames {
-    names: std::collections::BTreeMap<FaceId, String>,
-}
-
-impl FaceNames {
-    fn new(
-        sheet: &Sheet,
-        spec: &PlateSpec,
-        top: FaceId,
-        cuts: &[Cut],
-        hole_rings: &[Vec<VertexId>],
-        lifts: &[(FaceId, Vec<FaceId>)],
-        flanges: &[Vec<(FaceId, FaceId)>],
-    ) -> Result<FaceNames, TopologyError> {
-        let b = &sheet.brep;
-        let mut names = std::collections::BTreeMap::new();
-        // The plate's parts, named by the bend that turned them (the rest `plate`).
-        let mut part_names = std::collections::BTreeMap::new();
-        part_names.insert(top, "plate".to_string());
-        for (k, cut) in cuts.iter().enumerate() {
-            let before = part_names.get(&cut.part).cloned().unwrap_or_default();
-            part_names.insert(cut.fixed, before);
-            part_names.insert(cut.moved, spec.bends[k].name.clone());
-        }
-        for (&part, name) in &part_names {
-            names.insert(part, format!("{name}.top"));
-            if let FaceRole::Side { twin } = sheet.face_role(part)? {
-                names.insert(twin, format!("{name}.bottom"));
-            }
-        }
-        // The sides across the non-zero-length edges of face f.
-        let neighbours = |f: FaceId| -> Result<Vec<FaceId>, TopologyError> {
-            let mut out = Vec::new();
-            for &l in b.loops_of(f)? {
-                for h in b.loop_halves(l)? {
-                    let Some(e) = b.edge(h)? else { continue };
-                    if sheet.edge_role(e)? != EdgeRole::ZeroLength {
-                        out.push(b.face_with(b.loop_with(b.mate(h)?)?)?);
-                    }
-                }
-            }
-            Ok(out)
-        };
-        for (k, strips) in flanges.iter().enumerate() {
-            let name = &spec.flanges[k].name;
-            // Each strip's inside continues the one before it (the plate's top first).
-            let mut before = top;
-            for (i, &(a, c)) in strips.iter().enumerate() {
-                let inside = if neighbours(a)?.contains(&before) {
-                    a
-                } else {
-                    c
-                };
-                let outside = if inside == a { c } else { a };
-                let part = if i + 1 == strips.len() {
-                    name.clone()
-                } else {
-                    format!("{name}.bend_{}", i + 1)
-                };
-                names.insert(inside, format!("{part}.inside"));
-                names.insert(outside, format!("{part}.outside"));
-                before = inside;
-            }
-        }
-        let twin = |f: FaceId| -> Result<FaceId, TopologyError> {
-            match sheet.face_role(f)? {
-                FaceRole::Side { twin } => Ok(twin),
-                FaceRole::Thickness => Ok(f),
-            }
-        };
-        for (k, (cap, walls)) in lifts.iter().enumerate() {
-            let name = &spec.lifts[k].name;
-            names.insert(*cap, format!("{name}.top"));
-            names.insert(twin(*cap)?, format!("{name}.bottom"));
-            for (i, &w) in walls.iter().enumerate() {
-                names.insert(w, format!("{name}.wall_{}.top", i + 1));
-                names.insert(twin(w)?, format!("{name}.wall_{}.bottom", i + 1));
-            }
-        }
-        // Thickness faces, named after the sheet they edge (or the hole they line).
-        let mut counts = std::collections::BTreeMap::<String, usize>::new();
-        for f in b.faces() {
-            if sheet.face_role(f)? != FaceRole::Thickness {
-                continue;
-            }
-            let vertices = b.outer_vertices(f)?;
-            let hole = hole_rings.iter().position(|ring| {
-                vertices.iter().any(|&v| {
-                    ring.contains(&v) || sheet.twin_vertex(v).is_ok_and(|w| ring.contains(&w))
-                })
-            });
-            let owner = neighbours(f)?.into_iter().find_map(|side| {
-                flanges
-                    .iter()
-                    .position(|strips| strips.iter().any(|&(a, c)| side == a || side == c))
-            });
-            let prefix = match (hole, owner) {
-                (Some(i), _) => format!("{}.wall", spec.holes[i].name),
-                (None, Some(k)) => format!("{}.edge", spec.flanges[k].name),
-                (None, None) => "plate.edge".to_string(),
-            };
-            let n = counts.entry(prefix.clone()).or_insert(0);
-            *n += 1;
-            names.insert(f, format!("{prefix}_{n}"));
-        }
-        // A hole or flange named `plate` could repeat a name: the later face gets its
-        // id added, so every group name stays unique.
-        let mut seen = std::collections::BTreeSet::new();
-        for (f, name) in names.iter_mut() {
-            if !seen.insert(name.clone()) {
-                name.push_str(&format!("_{}", f.0));
-                seen.insert(name.clone());
-            }
-        }
-        Ok(FaceNames { names })
-    }
-
-    /// The name of face `f` (`face N` for one not named above).
-    fn of(&self, f: FaceId) -> String {
-        self.names
-            .get(&f)
-            .cloned()
-            .unwrap_or_else(|| format!("face {}", f.0))
-    }
-}
-
 /// Every length and point of `spec` within [`MAX_COORDINATE`] (mm): beyond it the
 /// solid's coordinates leave what the kernel and the GLB hold (`docs/limits.md`).
 fn check_sizes(spec: &PlateSpec) -> Result<(), PartProblem> {
@@ -840,374 +727,9 @@ fn check_sizes(spec: &PlateSpec) -> Result<(), PartProblem> {
 
 /// A bend's split of the plate: the part split, the part that stays and the part that
 /// turns (one of them the part split), and the crease between them.
-struct Cut {
+pub(super) struct Cut {
     part: FaceId,
     fixed: FaceId,
     moved: FaceId,
     crease: EdgeId,
-}
-
-/// Puts `p` into the outline as a corner of the edge nearest it (unless it is a corner
-/// already) and returns it as placed. Refused when it lies off the outline.
-fn add_corner(outline: &mut Vec<DVec3>, p: DVec3) -> Result<DVec3, String> {
-    let k = outline.len();
-    let (d, nearest) = (0..k)
-        .map(|i| (distance_to_segment(outline[i], outline[(i + 1) % k], p), i))
-        .min_by(|x, y| x.0.total_cmp(&y.0))
-        .ok_or_else(|| "finds no edge".to_string())?;
-    if d > SPAN_TOLERANCE {
-        return Err(format!(
-            "must end on the outline, but ({}, {}, {}) is {} mm off it",
-            tidy(p.x),
-            tidy(p.y),
-            tidy(p.z),
-            tidy(d)
-        ));
-    }
-    let (a, c) = (outline[nearest], outline[(nearest + 1) % k]);
-    for corner in [a, c] {
-        if corner.distance(p) <= SPAN_TOLERANCE {
-            return Ok(corner);
-        }
-    }
-    let along = c - a;
-    let q = a + ((p - a).dot(along) / along.length_squared()) * along;
-    outline.insert(nearest + 1, q);
-    Ok(q)
-}
-
-/// Whether the open segment from `a` to `c` crosses the polygon's boundary (touching
-/// it only at its ends, on corners, is not crossing) or runs outside it.
-fn crosses_outline(outline: &[DVec2], a: DVec2, c: DVec2) -> bool {
-    let k = outline.len();
-    let near = |p: DVec2, q: DVec2| p.distance(q) < 1e-9;
-    for i in 0..k {
-        let (p, q) = (outline[i], outline[(i + 1) % k]);
-        if near(p, a) || near(p, c) || near(q, a) || near(q, c) {
-            continue;
-        }
-        let d = c - a;
-        let e = q - p;
-        let denom = d.perp_dot(e);
-        if denom.abs() < 1e-12 {
-            continue;
-        }
-        let t = (p - a).perp_dot(e) / denom;
-        let u = (p - a).perp_dot(d) / denom;
-        if (0.0..=1.0).contains(&t) && (0.0..=1.0).contains(&u) {
-            return true;
-        }
-    }
-    polygon_winding(outline, 0.5 * (a + c)) == 0
-}
-
-/// The part of the plate (a side split off by bends) whose outline holds every point
-/// of `flat`, and a corner of it to bridge a ring from.
-fn part_holding(
-    sheet: &Sheet,
-    mid: &MidSurface,
-    frame: &Frame,
-    parts: &[FaceId],
-    flat: &[DVec2],
-) -> Result<(FaceId, VertexId), String> {
-    for &part in parts {
-        let corners = sheet.brep.outer_vertices(part).map_err(|e| e.to_string())?;
-        let outline: Vec<DVec2> = corners
-            .iter()
-            .filter_map(|&v| mid.point(v))
-            .map(|p| frame.flat(p))
-            .collect();
-        if flat.iter().all(|&q| polygon_winding(&outline, q) != 0) {
-            return Ok((part, corners[0]));
-        }
-    }
-    if parts.len() > 1 {
-        Err("crosses a bend line, or is not inside the outline".into())
-    } else {
-        Err("is not inside the outline".into())
-    }
-}
-
-/// Adds `flat`, a new loop inside the plate (a hole or a lifted region), to the plate's
-/// loops: refused when a point of it lies outside the outline, when it crosses the
-/// outline or another loop, or when it lies inside another loop or holds one.
-fn add_loop(
-    outline: &[DVec2],
-    loops: &mut Vec<Vec<DVec2>>,
-    flat: Vec<DVec2>,
-) -> Result<(), String> {
-    if flat.iter().any(|&q| polygon_winding(outline, q) == 0) {
-        return Err("is not inside the outline".into());
-    }
-    for other in &loops[1..] {
-        if other.iter().any(|&q| polygon_winding(&flat, q) != 0)
-            || flat.iter().any(|&q| polygon_winding(other, q) != 0)
-        {
-            return Err("lies inside another hole or lifted region, or holds one".into());
-        }
-    }
-    let mut trial = loops.clone();
-    trial.push(flat);
-    if triangulate_loops(&trial).is_err() {
-        return Err("crosses the outline or another hole or lifted region".into());
-    }
-    *loops = trial;
-    Ok(())
-}
-
-/// Places the ring a punch or region just made on side `top` (its last loop, which
-/// runs against the outline: clockwise) at `ring` (counter-clockwise).
-fn place_ring(
-    sheet: &Sheet,
-    mid: &mut MidSurface,
-    top: FaceId,
-    ring: &[DVec3],
-) -> Result<Vec<VertexId>, TopologyError> {
-    let b = &sheet.brep;
-    let loops = b.loops_of(top)?;
-    // `punch` and `region` leave the new ring last (`lkemr` appends it); a face has one
-    // loop at least.
-    let last = *loops.last().expect("a face has its outer loop");
-    let vertices: Vec<VertexId> = b
-        .loop_halves(last)?
-        .into_iter()
-        .map(|h| b.vertex(h))
-        .collect::<Result<_, _>>()?;
-    for (&v, &p) in vertices.iter().zip(ring.iter().rev()) {
-        mid.place(sheet, v, p)?;
-    }
-    Ok(vertices)
-}
-
-/// The counter-clockwise polygon `ring` (seen along `n`) with every edge moved inward
-/// by `by`, its corners where the moved edges meet; `None` when an edge would turn
-/// round (the polygon too small for the inset).
-fn inset(ring: &[DVec3], n: DVec3, by: f64) -> Option<Vec<DVec3>> {
-    if by == 0.0 {
-        return Some(ring.to_vec());
-    }
-    let k = ring.len();
-    let inward = |i: usize| n.cross(ring[(i + 1) % k] - ring[i]).normalize_or_zero();
-    let out: Vec<DVec3> = (0..k)
-        .map(|i| {
-            let (a, c) = (inward((i + k - 1) % k), inward(i));
-            let denom = 1.0 + a.dot(c);
-            if denom < 1e-9 {
-                ring[i] + by * c
-            } else {
-                ring[i] + by * (a + c) / denom
-            }
-        })
-        .collect();
-    // Each edge keeps its direction.
-    let keeps = (0..k).all(|i| {
-        let before = ring[(i + 1) % k] - ring[i];
-        let after = out[(i + 1) % k] - out[i];
-        before.dot(after) > 0.0
-    });
-    keeps.then_some(out)
-}
-
-/// How far a flange's `from` and `to` may lie off the outline's edge (mm).
-pub const SPAN_TOLERANCE: f64 = 0.01;
-
-/// Puts the ends of a flange on part of an edge, `from` and `to`, into the outline as
-/// vertices of the edge nearest their midpoint (where they are not corners already),
-/// and returns a point on the part between them. Refused when they do not lie on one
-/// edge or are too close together.
-fn split_outline(outline: &mut Vec<DVec3>, from: DVec3, to: DVec3) -> Result<DVec3, String> {
-    let k = outline.len();
-    let middle = 0.5 * (from + to);
-    let nearest = (0..k)
-        .map(|i| {
-            (
-                distance_to_segment(outline[i], outline[(i + 1) % k], middle),
-                i,
-            )
-        })
-        .min_by(|x, y| x.0.total_cmp(&y.0))
-        .map(|(_, i)| i)
-        .ok_or_else(|| "finds no edge".to_string())?;
-    let (a, c) = (outline[nearest], outline[(nearest + 1) % k]);
-    let along = c - a;
-    let length = along.length();
-    let at = |p: DVec3| ((p - a).dot(along) / (length * length)).clamp(0.0, 1.0);
-    for p in [from, to] {
-        if distance_to_segment(a, c, p) > SPAN_TOLERANCE {
-            return Err(format!(
-                "`from` and `to` must lie on one edge of the outline, but ({}, {}, {}) is \
-                 {} mm off the edge nearest them",
-                tidy(p.x),
-                tidy(p.y),
-                tidy(p.z),
-                tidy(distance_to_segment(a, c, p))
-            ));
-        }
-    }
-    let (s, e) = (at(from).min(at(to)), at(from).max(at(to)));
-    if (e - s) * length < 10.0 * SPAN_TOLERANCE {
-        return Err("`from` and `to` lie too close together on the edge".into());
-    }
-    // The new corners, in the outline's order along the edge; ends at a corner are kept.
-    let inner: Vec<DVec3> = [s, e]
-        .into_iter()
-        .filter(|&u| u * length > SPAN_TOLERANCE && (1.0 - u) * length > SPAN_TOLERANCE)
-        .map(|u| a + u * along)
-        .collect();
-    let count = inner.len();
-    outline.splice(nearest + 1..nearest + 1, inner);
-    debug_assert!(outline.len() == k + count);
-    Ok(a + 0.5 * (s + e) * along)
-}
-
-/// The largest angle one facet of a bend turns through.
-const BEND_STEP: f64 = std::f64::consts::PI / 12.0;
-
-/// How far a bend's facets may lie inside its arc (mm).
-const BEND_TOLERANCE: f64 = 0.01;
-
-/// Where the far edge of each strip of a flange lies, from the edge it stands on
-/// (`out` in the plate's plane away from it, `n` the plate's normal): first the facets
-/// of its bend, as chords of the mid-surface's arc (inside radius plus half the
-/// thickness) within [`BEND_TOLERANCE`] and [`BEND_STEP`], then the straight flange,
-/// `height` long, at `angle` to the plate.
-fn flange_reaches(flange: &FlangeSpec, thickness: f64, out: DVec3, n: DVec3) -> Vec<DVec3> {
-    let dir = flange.angle.cos() * out + flange.angle.sin() * n;
-    let rho = flange.radius + 0.5 * flange.thickness.unwrap_or(thickness);
-    let steps = if flange.radius > 0.0 && flange.angle > 0.0 {
-        let by_angle = (flange.angle / BEND_STEP).ceil();
-        let chord = 2.0 * (1.0 - BEND_TOLERANCE / rho).clamp(-1.0, 1.0).acos();
-        let by_sag = (flange.angle / chord.max(1e-3)).ceil();
-        by_angle.max(by_sag).min(MAX_BEND_FACETS as f64) as usize
-    } else {
-        0
-    };
-    let arc = |phi: f64| rho * (phi.sin() * out + (1.0 - phi.cos()) * n);
-    let mut reaches: Vec<DVec3> = (1..=steps)
-        .map(|i| arc(flange.angle * i as f64 / steps as f64))
-        .collect();
-    let start = reaches.last().copied().unwrap_or(DVec3::ZERO);
-    reaches.push(start + flange.height * dir);
-    reaches
-}
-
-/// The most facets a bend is cut into.
-const MAX_BEND_FACETS: usize = 64;
-
-/// One side of each sheet (the one of lower id of a pair of twins), each face
-/// triangulated in its plane.
-fn mid_surface(sheet: &Sheet, mid: &MidSurface) -> Result<Mesh, ThickenError> {
-    let b = &sheet.brep;
-    let mut positions = Vec::new();
-    let mut faces = Vec::new();
-    for f in b.faces() {
-        let FaceRole::Side { twin } = sheet.face_role(f)? else {
-            continue;
-        };
-        if twin < f {
-            continue;
-        }
-        let loops: Vec<Vec<DVec3>> = b
-            .loops_of(f)?
-            .iter()
-            .map(|&l| {
-                b.loop_halves(l)?
-                    .into_iter()
-                    .map(|h| {
-                        let v = b.vertex(h)?;
-                        mid.point(v)
-                            .ok_or_else(|| TopologyError::Dead(format!("point of vertex {}", v.0)))
-                    })
-                    .collect::<Result<Vec<DVec3>, TopologyError>>()
-            })
-            .collect::<Result<_, _>>()?;
-        let normal = newell(&loops[0]).normalize_or_zero();
-        if normal == DVec3::ZERO {
-            return Err(ThickenError::Degenerate(f));
-        }
-        let frame = Frame::new(loops[0][0], normal);
-        let flat: Vec<Vec<DVec2>> = loops
-            .iter()
-            .map(|ring| ring.iter().map(|&p| frame.flat(p)).collect())
-            .collect();
-        let first = positions.len() as u32;
-        positions.extend(loops.iter().flatten().copied());
-        for [a, c, d] in triangulate_loops(&flat).map_err(|e| ThickenError::Triangulation(f, e))? {
-            faces.push(Face::triangle(
-                first + a as u32,
-                first + c as u32,
-                first + d as u32,
-            ));
-        }
-    }
-    Mesh::new(positions, faces)
-        .map_err(|e| ThickenError::Topology(TopologyError::Invalid(e.to_string())))
-}
-
-/// `points` running counter-clockwise seen from along `n`.
-fn counter_clockwise(points: &[DVec3], n: DVec3) -> Vec<DVec3> {
-    let mut out = points.to_vec();
-    if newell(&out).dot(n) < 0.0 {
-        out.reverse();
-    }
-    out
-}
-
-/// A plane's 2-D coordinates.
-struct Frame {
-    origin: DVec3,
-    u: DVec3,
-    w: DVec3,
-}
-
-impl Frame {
-    fn new(origin: DVec3, n: DVec3) -> Frame {
-        let u = n.any_orthonormal_vector();
-        Frame {
-            origin,
-            u,
-            w: n.cross(u),
-        }
-    }
-
-    fn flat(&self, p: DVec3) -> DVec2 {
-        DVec2::new((p - self.origin).dot(self.u), (p - self.origin).dot(self.w))
-    }
-}
-
-/// The area of a triangle mesh.
-fn mesh_area(mesh: &Mesh) -> f64 {
-    let p = mesh.positions();
-    mesh.faces()
-        .iter()
-        .map(|f| {
-            let i = f.indices();
-            let (a, b, c) = (p[i[0] as usize], p[i[1] as usize], p[i[2] as usize]);
-            0.5 * (b - a).cross(c - a).length()
-        })
-        .sum()
-}
-
-/// The volume a closed, outward-facing triangle mesh encloses (divergence theorem).
-fn mesh_volume(mesh: &Mesh) -> f64 {
-    let p = mesh.positions();
-    mesh.faces()
-        .iter()
-        .map(|f| {
-            let i = f.indices();
-            let (a, b, c) = (p[i[0] as usize], p[i[1] as usize], p[i[2] as usize]);
-            a.dot(b.cross(c)) / 6.0
-        })
-        .sum()
-}
-
-/// A coordinate for a message: to 0.001 mm, without trailing zeros.
-fn tidy(x: f64) -> String {
-    let s = format!("{:.3}", x);
-    let s = s.trim_end_matches('0').trim_end_matches('.');
-    if s == "-0" {
-        "0".into()
-    } else {
-        s.into()
-    }
 }
