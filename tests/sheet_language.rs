@@ -605,3 +605,51 @@ sheet plate {
         part.volume
     );
 }
+
+/// Every operation of the block in one part, the bend last carrying what stands beyond
+/// its line (a hole and a drafted boss): the solid is sound, of genus 2 (the hole and
+/// the collar left by removing the dimple's floor), and its volume is each sheet's
+/// area times its own gauge, less the cube of the thickness the collar's four open
+/// corners do not give back.
+#[test]
+fn every_operation_in_one_part_gives_a_sound_solid() {
+    let text = "units mm deg
+sheet combo {
+    outline = sketch(top) { from (0, 0); line to (120, 0); line to (120, 60); line to (0, 60); close }
+    thickness = 1.5 mm
+    punch hole = sketch(top) { from (10, 20); line to (20, 20); line to (20, 30); line to (10, 30); close }
+    lift boss = { region: sketch(top) { from (25, 15); line to (45, 15); line to (45, 45); line to (25, 45); close }, height: 4 mm, draft: 20 deg }
+    lift dimple = { region: sketch(top) { from (80, 20); line to (100, 20); line to (100, 40); line to (80, 40); close }, height: -3 mm }
+    remove opening = { at: (90, 30) }
+    flange lip = { at: (0, 30), height: 15 mm, angle: 90 deg, radius: 2 mm }
+    flange tab = { from: (120, 20), to: (120, 40), height: 10 mm, thickness: 2 mm }
+    bend leg = { from: (60, 0), to: (60, 60), angle: 80 deg }
+}";
+    let values = script::evaluate_clean("combo.die", text);
+    let Data::Record(r) = &values[0].1 else {
+        panic!("a record")
+    };
+    let part = r.model::<SheetPart>().expect("a sheet part");
+    sheet::assert_sound(&part.solid);
+    assert_eq!(part.sheet.check().unwrap().genus, 2);
+    let (t, tab) = (1.5f64, 20.0 * 10.0);
+    let expected = (part.area - tab) * t + tab * 2.0 - t.powi(3);
+    assert!(
+        (part.volume - expected).abs() < 1e-9 * expected,
+        "{} against {expected}",
+        part.volume
+    );
+    // The boss turned with the leg: its top no longer lies flat.
+    let boss = part
+        .solid
+        .groups()
+        .iter()
+        .find(|g| g.name() == "boss.top")
+        .unwrap();
+    let f = part.solid.faces()[boss.faces()[0].0 as usize].indices();
+    let p = part.solid.positions();
+    let n = (p[f[1] as usize] - p[f[0] as usize])
+        .cross(p[f[2] as usize] - p[f[0] as usize])
+        .normalize();
+    assert!((n.z.abs() - 80f64.to_radians().cos()).abs() < 1e-9, "{n}");
+}
