@@ -141,8 +141,26 @@ pub fn mutate(rng: &mut Rng, text: &str, donors: &[String]) -> String {
     let mut out = text.to_string();
     for _ in 0..rng.between(1, 4) {
         out = once(rng, &out, donors);
+        truncate(&mut out, MAX_INPUT_BYTES);
     }
     out
+}
+
+/// The largest input a mutation makes (bytes). Repeats compound over the rounds of
+/// [`mutate`] (20,000 times 20,000 made a 5 GB script, more than a frame to a worker
+/// holds); past this size an input only meets the file limit, which
+/// `tests/cli_limits.rs` tests on its own.
+pub const MAX_INPUT_BYTES: usize = 32 << 20;
+
+/// `text` cut to at most `max` bytes, on a character boundary.
+fn truncate(text: &mut String, max: usize) {
+    if text.len() > max {
+        let mut cut = max;
+        while !text.is_char_boundary(cut) {
+            cut -= 1;
+        }
+        text.truncate(cut);
+    }
 }
 
 fn once(rng: &mut Rng, text: &str, donors: &[String]) -> String {
@@ -205,6 +223,7 @@ fn once(rng: &mut Rng, text: &str, donors: &[String]) -> String {
             let b = (i + rng.between(1, 6)).min(t.len());
             let piece = t[i..b].concat();
             let times = *rng.pick(&[10, 100, 1000, 20000]);
+            let times = times.min(MAX_INPUT_BYTES / piece.len().max(1));
             t.insert(b, piece.repeat(times));
         }
         12 => {
@@ -246,6 +265,23 @@ fn lines(rng: &mut Rng, text: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn mutations_stay_within_the_input_cap() {
+        let text = "let a = [1 mm, 2 mm, 3 mm]\nlet b = a\n".repeat(50);
+        for seed in 0..300 {
+            let mut rng = Rng::for_input(17, seed);
+            let mut out = text.clone();
+            for _ in 0..4 {
+                out = mutate(&mut rng, &out, std::slice::from_ref(&text));
+                assert!(
+                    out.len() <= MAX_INPUT_BYTES,
+                    "seed {seed}: {} bytes",
+                    out.len()
+                );
+            }
+        }
+    }
 
     #[test]
     fn tokens_cover_the_text() {

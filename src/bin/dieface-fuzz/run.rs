@@ -327,6 +327,9 @@ impl Worker {
     }
 
     fn died(&mut self) -> Verdict {
+        // A worker that cannot be written to may still be alive, waiting on its input:
+        // it is stopped, or waiting for it would wait for ever.
+        let _ = self.child.kill();
         let status = self.child.wait().map(|s| s.to_string()).unwrap_or_default();
         // Let the stderr reader catch the last words.
         std::thread::sleep(Duration::from_millis(50));
