@@ -107,24 +107,15 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
             "a record `{ region: sketch(top) { ... close }, height: 3 mm }`",
         )?;
         check_record(r, field.value.span, &what, &["region", "height", "draft"])?;
-        let region = r.get("region").ok_or_else(|| {
-            feature_error(
-                KIND,
-                format!("{what} needs `region`, the closed sketch of the part to lift"),
-                field.value.span,
-                "no `region`",
-                "add `region: sketch(top) { ... close }`, drawn in the outline's view",
-            )
-        })?;
-        let height = r.get("height").ok_or_else(|| {
-            feature_error(
-                KIND,
-                format!("{what} needs `height`"),
-                field.value.span,
-                "no `height`",
-                "add `height: 3 mm`, how far the region rises (below 0 pushes it down)",
-            )
-        })?;
+        let span = field.value.span;
+        let region = required(r, "region", &what, span, "add `region: sketch(top) { ... close }`, the closed sketch of the part to lift, drawn in the outline's view")?;
+        let height = required(
+            r,
+            "height",
+            &what,
+            span,
+            "add `height: 3 mm`, how far the region rises (below 0 pushes it down)",
+        )?;
         let sketch = closed_sketch(region, &format!("`region` of {what}"))?;
         if sketch.view != view {
             return Err(feature_error(
@@ -160,17 +151,7 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
             "a record `{ from: (x, y), to: (x, y), angle: 90 deg }`",
         )?;
         check_record(r, field.value.span, &what, &["from", "to", "angle"])?;
-        let get = |key: &str, help: &str| {
-            r.get(key).ok_or_else(|| {
-                feature_error(
-                    KIND,
-                    format!("{what} needs `{key}`"),
-                    field.value.span,
-                    format!("no `{key}`"),
-                    help.to_string(),
-                )
-            })
-        };
+        let get = |key: &str, help: &str| required(r, key, &what, field.value.span, help);
         let end = |key: &str| -> Result<DVec3, Diagnostic> {
             let v = get(
                 key,
@@ -195,15 +176,7 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
         let what = format!("`remove {name}`");
         let r = record(&field.value, &what, "a record `{ at: (x, y) }`")?;
         check_record(r, field.value.span, &what, &["at"])?;
-        let at = r.get("at").ok_or_else(|| {
-            feature_error(
-                KIND,
-                format!("{what} needs `at`, a point over the face to remove"),
-                field.value.span,
-                "no `at`",
-                "add `at: (x, y)`, a point in the outline's view over a lifted region's top",
-            )
-        })?;
+        let at = required(r, "at", &what, field.value.span, "add `at: (x, y)`, a point in the outline's view over the face to remove (a lifted region's top)")?;
         removals.push(RemoveSpec {
             name: name.to_string(),
             at: view.place(as_point2(at, block.units, &format!("`at` of {what}"))?),
@@ -257,15 +230,13 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
                 ))
             }
         };
-        let height = r.get("height").ok_or_else(|| {
-            feature_error(
-                KIND,
-                format!("{what} needs `height`"),
-                field.value.span,
-                "no `height`",
-                "add `height: 25 mm`, how far the flange reaches from the edge",
-            )
-        })?;
+        let height = required(
+            r,
+            "height",
+            &what,
+            field.value.span,
+            "add `height: 25 mm`, how far the flange reaches from the edge",
+        )?;
         let height = length(height, block.units, &format!("`height` of {what}"))?;
         let angle = match r.get("angle") {
             Some(a) => as_angle(a, block.units, &format!("`angle` of {what}"))?,
@@ -347,6 +318,26 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
         spec.flanges.len(),
         thickness,
     ))
+}
+
+/// Field `key` of record `r`, the value of `what` written at `span`, or the diagnostic
+/// that it is missing, with `help`.
+fn required<'a>(
+    r: &'a Record,
+    key: &str,
+    what: &str,
+    span: Span,
+    help: &str,
+) -> Result<&'a Value, Diagnostic> {
+    r.get(key).ok_or_else(|| {
+        feature_error(
+            KIND,
+            format!("{what} needs `{key}`"),
+            span,
+            format!("no `{key}`"),
+            help.to_string(),
+        )
+    })
 }
 
 /// The diagnostic of a part that could not be built, at the field at fault.

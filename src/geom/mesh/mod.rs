@@ -417,6 +417,22 @@ impl Mesh {
             .sum()
     }
 
+    /// The volume a closed mesh whose faces face out encloses (the divergence theorem
+    /// over its faces, quads split on their 0-2 diagonal); meaningless for an open one.
+    pub fn enclosed_volume(&self) -> f64 {
+        let p = &self.positions;
+        let tet =
+            |a: u32, b: u32, c: u32| p[a as usize].dot(p[b as usize].cross(p[c as usize])) / 6.0;
+        self.faces
+            .iter()
+            .map(|f| match *f.indices() {
+                [a, b, c] => tet(a, b, c),
+                [a, b, c, d] => tet(a, b, c) + tet(a, c, d),
+                _ => 0.0,
+            })
+            .sum()
+    }
+
     /// The half-edge topology of this mesh; see [`Topology::build`].
     pub fn topology(&self) -> Topology {
         Topology::build(self)

@@ -1,5 +1,5 @@
-//! What a built plate part is measured by: its mid-surface as a mesh, and the area and
-//! volume of meshes.
+//! A built plate part's mid-surface as a mesh (its area and its solid's volume are
+//! the mesh's own measures, `Mesh::total_area` and `Mesh::enclosed_volume`).
 
 use glam::{DVec2, DVec3};
 
@@ -58,28 +58,4 @@ pub(super) fn mid_surface(sheet: &Sheet, mid: &MidSurface) -> Result<Mesh, Thick
     }
     Mesh::new(positions, faces)
         .map_err(|e| ThickenError::Topology(TopologyError::Invalid(e.to_string())))
-}
-/// The area of a triangle mesh.
-pub(super) fn mesh_area(mesh: &Mesh) -> f64 {
-    let p = mesh.positions();
-    mesh.faces()
-        .iter()
-        .map(|f| {
-            let i = f.indices();
-            let (a, b, c) = (p[i[0] as usize], p[i[1] as usize], p[i[2] as usize]);
-            0.5 * (b - a).cross(c - a).length()
-        })
-        .sum()
-}
-/// The volume a closed, outward-facing triangle mesh encloses (divergence theorem).
-pub(super) fn mesh_volume(mesh: &Mesh) -> f64 {
-    let p = mesh.positions();
-    mesh.faces()
-        .iter()
-        .map(|f| {
-            let i = f.indices();
-            let (a, b, c) = (p[i[0] as usize], p[i[1] as usize], p[i[2] as usize]);
-            a.dot(b.cross(c)) / 6.0
-        })
-        .sum()
 }

@@ -35,7 +35,7 @@ use layout::{
     add_corner, add_loop, counter_clockwise, crosses_outline, inset, part_holding, place_ring,
     split_outline, tidy, Frame,
 };
-use measure::{mesh_area, mesh_volume, mid_surface};
+use measure::mid_surface;
 use names::FaceNames;
 use strips::flange_reaches;
 
@@ -648,8 +648,8 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
         })
         .collect();
     let mid_mesh = mid_surface(&sheet, &mid).map_err(PartProblem::Thicken)?;
-    let area = mesh_area(&mid_mesh);
-    let volume = mesh_volume(&solid);
+    let area = mid_mesh.total_area();
+    let volume = solid.enclosed_volume();
     Ok(SheetPart {
         sheet,
         mid,
