@@ -138,6 +138,18 @@ pub fn meetings(sheet: &Sheet, mid: &MidSurface) -> Result<Vec<Meeting>, Topolog
     Ok(out)
 }
 
+/// The junctions of `sheet`: its [`meetings`] of two sheets (three or more have no
+/// junction type).
+pub fn junctions(sheet: &Sheet, mid: &MidSurface) -> Result<Vec<Junction>, TopologyError> {
+    Ok(meetings(sheet, mid)?
+        .into_iter()
+        .filter_map(|m| match m {
+            Meeting::Two(j) => Some(j),
+            Meeting::Many { .. } => None,
+        })
+        .collect())
+}
+
 /// The faces round a vertex, and its edges with the two faces each joins.
 struct Round {
     sides: Vec<FaceId>,

@@ -31,7 +31,7 @@ use glam::{DMat3, DVec2, DVec3};
 use nalgebra::{DMatrix, DVector};
 
 use super::geometry::{newell, MidSurface};
-use super::junction::{meetings, Junction, JunctionType, Meeting};
+use super::junction::{junctions, Junction, JunctionType};
 use super::topology::{Brep, EdgeRole, FaceId, FaceRole, Sheet, TopologyError, VertexId};
 use crate::geom::mesh::{Face, FaceId as MeshFaceId, Mesh};
 use crate::geom::tessellate::triangulate_loops;
@@ -148,14 +148,17 @@ const MEET_TOLERANCE: f64 = 1e-7;
 /// as a closed triangle mesh whose triangles face out of the solid, one group per face
 /// of the solid named `face N` (N the sheet model's face id).
 pub fn thicken(sheet: &Sheet, mid: &MidSurface, gauge: &Gauge) -> Result<Mesh, ThickenError> {
-    thicken_named(sheet, mid, gauge, |f| format!("face {}", f.0))
+    let junctions = junctions(sheet, mid)?;
+    thicken_named(sheet, mid, gauge, &junctions, |f| format!("face {}", f.0))
 }
 
-/// [`thicken`], with each face's group named by `name` (names must differ).
+/// [`thicken`], with the model's junctions already found ([`junctions`]) and each
+/// face's group named by `name` (names must differ).
 pub fn thicken_named(
     sheet: &Sheet,
     mid: &MidSurface,
     gauge: &Gauge,
+    junctions: &[Junction],
     name: impl Fn(FaceId) -> String,
 ) -> Result<Mesh, ThickenError> {
     if let Some(t) = gauge.invalid() {
@@ -230,13 +233,6 @@ pub fn thicken_named(
     // direction no plane fixes it stays where it was. Where two sheets meet on the free
     // boundary and the four planes round the vertex miss one point, the vertex is split
     // in two by the junction's topology change (`split`).
-    let junctions: Vec<Junction> = meetings(sheet, mid)?
-        .into_iter()
-        .filter_map(|m| match m {
-            Meeting::Two(j) => Some(j),
-            Meeting::Many { .. } => None,
-        })
-        .collect();
     let mut corners: Vec<Corner> = vec![Corner::One(u32::MAX); vertex_slots(b)];
     // The split vertices: where, how far its planes missed, the junction's type.
     let mut splits: Vec<(VertexId, DVec3, f64, Option<JunctionType>)> = Vec::new();

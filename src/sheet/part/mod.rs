@@ -23,7 +23,7 @@ use std::f64::consts::FRAC_PI_2;
 use glam::{DVec2, DVec3};
 
 use super::geometry::{bend, distance_to_segment, MidSurface};
-use super::junction::{meetings, Junction, Meeting};
+use super::junction::{junctions, Junction};
 use super::thicken::{thicken_named, Gauge, ThickenError};
 use super::topology::{EdgeId, FaceId, Piece, Removal, Sheet, TopologyError, VertexId};
 use crate::geom::mesh::{crossings, Mesh};
@@ -626,27 +626,21 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
         &flange_sides,
     )
     .map_err(|e| PartProblem::Thicken(e.into()))?;
-    let solid = thicken_named(&sheet, &mid, &gauge, |f| names.of(f)).map_err(|e| match e {
-        ThickenError::Junction { at, .. } => PartProblem::Junction {
-            at,
-            flange: nearest_flange(at),
-        },
-        e => PartProblem::Thicken(e),
-    })?;
+    let junctions = junctions(&sheet, &mid).map_err(|e| PartProblem::Thicken(e.into()))?;
+    let solid =
+        thicken_named(&sheet, &mid, &gauge, &junctions, |f| names.of(f)).map_err(|e| match e {
+            ThickenError::Junction { at, .. } => PartProblem::Junction {
+                at,
+                flange: nearest_flange(at),
+            },
+            e => PartProblem::Thicken(e),
+        })?;
     if let Some(c) = crossings(&solid).first() {
         return Err(PartProblem::SelfIntersection {
             at: c.at,
             flange: nearest_flange(c.at),
         });
     }
-    let junctions = meetings(&sheet, &mid)
-        .map_err(|e| PartProblem::Thicken(e.into()))?
-        .into_iter()
-        .filter_map(|m| match m {
-            Meeting::Two(j) => Some(j),
-            Meeting::Many { .. } => None,
-        })
-        .collect();
     let mid_mesh = mid_surface(&sheet, &mid).map_err(PartProblem::Thicken)?;
     let area = mid_mesh.total_area();
     let volume = solid.enclosed_volume();
