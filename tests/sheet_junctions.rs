@@ -251,10 +251,14 @@ fn a_narrow_corner_under_a_leaning_flange_end_is_type_3() {
     }
 }
 
-/// Two flanges on the two edges at one corner of a plate: three sheets meet at the
-/// corner, which no junction type joins: the solid is refused there, never warped.
+/// Two flanges on the two edges at one corner of a plate, each added on its own edge
+/// and not joined to the other (an open corner): three sheets meet at the corner on the
+/// free boundary, where the solid would need faces the sheet model does not have (the
+/// notch between the two ends). No junction type joins them, so the solid is refused
+/// there, never warped. (Joined on their mitre line, a closed corner, they are made:
+/// `tests/sheet_corners.rs`.)
 #[test]
-fn three_sheets_at_a_corner_are_refused_at_that_corner() {
+fn an_open_corner_is_refused_at_that_corner() {
     let outline = [(0.0, 0.0), (100.0, 0.0), (100.0, 60.0), (0.0, 60.0)];
     let (mut sheet, mut mid) = plate_with_flange(&outline, 1, |p| p + DVec3::Z * H);
     // The second flange on the edge from (0, 0) to (100, 0).

@@ -178,31 +178,26 @@ sheet plate {{
     }
 }
 
-/// Sheets the solid cannot be made of yet are refused, never built broken: two flanges
-/// meeting at a corner (three sheets at a vertex: the solid there came out 398 mm³
-/// short), and flanges that lean over the plate into each other (their solids cross).
+/// Sheets the solid cannot be made of are refused, never built broken: two flanges
+/// meeting at a corner at different heights (their far edges would not meet on the
+/// mitre line), and flanges that lean over the plate into each other (their solids
+/// cross).
 #[test]
-fn flanges_meeting_at_a_corner_or_crossing_are_refused() {
-    let outline = "outline = sketch(top) { from (0, 0); line to (100, 0); line to (100, 60); line to (0, 60); close }";
+fn flanges_meeting_unequally_or_crossing_are_refused() {
     for (flanges, expected) in [
         (
-            "flange right = { at: (100, 30), height: 20 mm }\n    flange back = { at: (50, 60), height: 20 mm }",
-            "three sheets would meet at one vertex",
+            "flange right = { at: (100, 30), height: 20 mm }\n    flange back = { at: (50, 60), height: 20 mm, angle: 80 deg }",
+            "joined flanges must stand equally high there",
         ),
         (
             "flange front = { at: (50, 0), height: 40 mm, angle: 150 deg }\n    flange back = { at: (50, 60), height: 40 mm, angle: 150 deg }",
             "the solid passes through itself",
         ),
     ] {
-        let text = format!(
-            "units mm deg\nsheet part {{\n    {outline}\n    thickness = 1 mm\n    {flanges}\n}}"
-        );
-        let mut engine = Engine::new(None);
-        let out = engine.evaluate("part.die", &text, None);
-        let messages: Vec<String> = out.diagnostics.iter().map(|d| d.message.clone()).collect();
+        let found = script::diagnostics_of("part.die", &sheet::plate_script(flanges));
         assert!(
-            messages.iter().any(|m| m.contains(expected)),
-            "{expected}: {messages:?}"
+            found.iter().any(|d| d.message.contains(expected)),
+            "{expected}: {found:?}"
         );
     }
 }

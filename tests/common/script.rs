@@ -31,3 +31,8 @@ pub fn evaluate_clean(file: &str, text: &str) -> Vec<(String, Data)> {
         .map(|(name, value)| (name, value.data))
         .collect()
 }
+
+/// The diagnostics of evaluating `text` as the file `file` (no project folder).
+pub fn diagnostics_of(file: &str, text: &str) -> Vec<dieface::diag::Diagnostic> {
+    Engine::new(None).evaluate(file, text, None).diagnostics
+}

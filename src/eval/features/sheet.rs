@@ -379,7 +379,7 @@ fn problem(
             format!("`flange {}` and `flange {}`: {p}", flanges[*other].0, flanges[*index].0),
             flanges[*index].1.value.span,
             "this flange",
-            "end one of the flanges short of the corner: put them on edges that do not meet, or leave a relief edge between them in the outline",
+            "flanges joined at a corner must be sharp (no `radius`), out of one plane, and stand equally high above the plate at the corner; or end one short of the corner with a relief edge between them in the outline",
         )
         .with_label(flanges[*other].1.value.span, "meets this one"),
         PartProblem::SelfIntersection {

@@ -11,6 +11,7 @@
 //! facets), `names` (the solid's face names) and `measure` (the mid-surface mesh,
 //! areas and volumes).
 
+mod corners;
 mod layout;
 mod measure;
 mod names;
@@ -30,6 +31,7 @@ use crate::geom::mesh::{crossings, Mesh};
 use crate::geom::tessellate::triangulate_loops;
 use crate::geom::trimmed::polygon_winding;
 use crate::geom::MAX_COORDINATE;
+use corners::{mitre_top, Standing};
 pub use layout::SPAN_TOLERANCE;
 use layout::{
     add_corner, add_loop, counter_clockwise, crosses_outline, inset, part_holding, place_ring,
@@ -151,13 +153,13 @@ pub enum PartProblem {
     Remove { index: usize, why: String },
     /// Flange `index` cannot be added.
     Flange { index: usize, why: String },
-    /// Flange `index` meets flange `other` at the corner `at`: three sheets would meet at
-    /// one vertex, which the thickening does not make yet (one of the paper's open
-    /// problems).
+    /// Flange `index` meets the earlier flange `other` at the corner `at` and cannot be
+    /// joined to it there, for the reason `why`.
     FlangesMeet {
         index: usize,
         other: usize,
         at: DVec3,
+        why: String,
     },
     /// The solid could not be made.
     Thicken(ThickenError),
@@ -179,13 +181,10 @@ impl std::fmt::Display for PartProblem {
             PartProblem::Lift { why, .. } => write!(f, "the lifted region {why}"),
             PartProblem::Bend { why, .. } => write!(f, "the bend {why}"),
             PartProblem::Remove { why, .. } => write!(f, "the removal {why}"),
-            PartProblem::FlangesMeet { at, .. } => write!(
+            PartProblem::FlangesMeet { at, why, .. } => write!(
                 f,
-                "the flanges meet at the corner ({}, {}, {}): three sheets would meet at one \
-                 vertex, which the thickening does not make yet",
-                tidy(at.x),
-                tidy(at.y),
-                tidy(at.z)
+                "the flanges meet at the corner {} and cannot be joined there: {why}",
+                show(*at)
             ),
             PartProblem::Thicken(e) => write!(f, "{e}"),
             PartProblem::Junction { at, .. } => write!(
@@ -438,141 +437,136 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
         }
         removals.push(case);
     }
-    // Flanges: on the outline edge nearest each point, if it is still free.
-    let mut flange_edges = Vec::with_capacity(spec.flanges.len());
-    let mut gauge = Gauge::uniform(spec.thickness);
-    let mut flange_sides = Vec::with_capacity(spec.flanges.len());
+    // Flanges: on the outline edge nearest each point, if it is still free; two on the
+    // edges at one corner are joined there (a closed corner).
+    let mut flange_edges: Vec<(VertexId, VertexId, DVec3, DVec3)> =
+        Vec::with_capacity(spec.flanges.len());
+    let mut standing = Vec::with_capacity(spec.flanges.len());
     for (index, flange) in spec.flanges.iter().enumerate() {
         let bad = |why: String| PartProblem::Flange { index, why };
-        if !(flange.height.is_finite() && flange.height > 0.0) {
+        check_flange(flange).map_err(bad)?;
+        let (a, c, pa, pc) = nearest_edge(&sheet, &mid, &parts, nears[index]).map_err(bad)?;
+        if flange_edges.iter().any(|&(x, y, ..)| (x, y) == (a, c)) {
             return Err(bad(format!(
-                "height must be above 0, not {}",
-                flange.height
+                "cannot go on the edge nearest its point, from {} to {}: another flange \
+                 is there already",
+                show(pa),
+                show(pc)
             )));
         }
-        if let Some(t) = flange.thickness {
-            if !(t.is_finite() && t > 0.0) {
-                return Err(bad(format!("thickness must be above 0, not {t}")));
+        flange_edges.push((a, c, pa, pc));
+        let out = (pc - pa).cross(n).normalize_or_zero();
+        standing.push(Standing {
+            from: pa,
+            to: pc,
+            rise: flange.angle.cos() * out + flange.angle.sin() * n,
+            height: flange.height,
+        });
+    }
+    // The closed corners: where each flange's end (at its edge's first and last
+    // vertex) meets an earlier flange, and where its far corner goes on the mitre line.
+    let mut joined: Vec<[Option<usize>; 2]> = vec![[None, None]; spec.flanges.len()];
+    let mut mitred: Vec<[Option<DVec3>; 2]> = vec![[None, None]; spec.flanges.len()];
+    for index in 0..spec.flanges.len() {
+        let (a, c, pa, pc) = flange_edges[index];
+        for (end, (v, p)) in [(a, pa), (c, pc)].into_iter().enumerate() {
+            let Some(other) = flange_edges[..index]
+                .iter()
+                .position(|&(x, y, ..)| x == v || y == v)
+            else {
+                continue;
+            };
+            let meet = |why: String| PartProblem::FlangesMeet {
+                index,
+                other,
+                at: p,
+                why,
+            };
+            if spec.flanges[index].radius > 0.0 || spec.flanges[other].radius > 0.0 {
+                return Err(meet(
+                    "a flange with a bend radius cannot be joined at a corner yet: the \
+                     bends would need a curved corner between them"
+                        .into(),
+                ));
             }
+            let top = mitre_top(p, &standing[other], &standing[index], n).map_err(meet)?;
+            let other_end = if flange_edges[other].0 == v { 0 } else { 1 };
+            joined[index][end] = Some(other);
+            mitred[index][end] = Some(top);
+            mitred[other][other_end] = Some(top);
         }
-        if !(flange.radius.is_finite() && flange.radius >= 0.0) {
-            return Err(bad(format!(
-                "radius must be 0 or more, not {}",
-                flange.radius
-            )));
-        }
-        if flange.radius > 0.0 && flange.thickness.is_some() {
-            return Err(bad(
-                "cannot have both a bend radius and its own thickness: a flange of \
-                 another gauge is a separate piece joined at the edge, not bent from the \
-                 plate"
-                    .into(),
-            ));
-        }
-        if !(flange.angle.is_finite() && (0.0..std::f64::consts::PI).contains(&flange.angle)) {
-            return Err(bad(
-                "angle must lie from 0 up to (not including) 180 deg".into()
-            ));
-        }
-        // The edges of the plate's parts, each as its part's outer loop runs it.
-        let mut edges = Vec::new();
-        for &part in &parts {
-            let ring = sheet
-                .brep
-                .outer_vertices(part)
-                .map_err(|e| bad(e.to_string()))?;
-            let k = ring.len();
-            edges.extend((0..k).map(|i| (ring[i], ring[(i + 1) % k])));
-        }
-        let (a, c) = edges
-            .iter()
-            .map(|&(a, c)| {
-                let d = match (mid.point(a), mid.point(c)) {
-                    (Some(pa), Some(pc)) => distance_to_segment(pa, pc, nears[index]),
-                    _ => f64::INFINITY,
-                };
-                (d, (a, c))
+    }
+    let mut gauge = Gauge::uniform(spec.thickness);
+    let mut flange_sides = Vec::with_capacity(spec.flanges.len());
+    // Each flange's far corners, over its edge's first and last vertex.
+    let mut far_corners: Vec<[VertexId; 2]> = Vec::with_capacity(spec.flanges.len());
+    for (index, flange) in spec.flanges.iter().enumerate() {
+        let bad = |why: String| PartProblem::Flange { index, why };
+        let topo = |e: TopologyError| bad(e.to_string());
+        let (a, c, pa, pc) = flange_edges[index];
+        // The run of picked edges: the plate's edge, and on up the end of each flange
+        // it is joined to.
+        let far_of = |end: usize| {
+            joined[index][end].map(|other| {
+                let (x, ..) = flange_edges[other];
+                let v = [a, c][end];
+                far_corners[other][if x == v { 0 } else { 1 }]
             })
-            .min_by(|x, y| x.0.total_cmp(&y.0))
-            .map(|(_, e)| e)
-            .ok_or_else(|| bad("finds no edge".into()))?;
-        let (pa, pc) = (
-            mid.point(a)
-                .ok_or_else(|| bad("edge has no point".into()))?,
-            mid.point(c)
-                .ok_or_else(|| bad("edge has no point".into()))?,
-        );
-        let show = |p: DVec3| format!("({}, {}, {})", tidy(p.x), tidy(p.y), tidy(p.z));
-        // Three sheets at one vertex (two flanges meeting at a corner) are one of the
-        // paper's open problems: the solid there is not made yet, so it is refused.
-        for (other, &(x, y)) in flange_edges.iter().enumerate() {
-            let same = |p: DVec3, q: DVec3| p.distance(q) < 1e-9;
-            if (same(pa, x) && same(pc, y)) || (same(pa, y) && same(pc, x)) {
-                return Err(bad(format!(
-                    "cannot go on the edge nearest its point, from {} to {}: another flange \
-                     is there already",
-                    show(pa),
-                    show(pc)
-                )));
-            }
-            for corner in [pa, pc] {
-                if corner.distance(x) < 1e-9 || corner.distance(y) < 1e-9 {
-                    return Err(PartProblem::FlangesMeet {
-                        index,
-                        other,
-                        at: corner,
-                    });
-                }
-            }
-        }
+        };
+        let (before, after) = (far_of(0), far_of(1));
+        let mut path: Vec<VertexId> = before.into_iter().collect();
+        path.extend([a, c]);
+        path.extend(after);
+        let curves = 3 - before.iter().count() - after.iter().count();
         let added = sheet
-            .add_sheet(&[Piece::Picked(vec![a, c]), Piece::Curves(3)])
-            .map_err(|_| {
+            .add_sheet(&[Piece::Picked(path.clone()), Piece::Curves(curves)])
+            .map_err(|e| {
                 bad(format!(
-                    "cannot go on the edge nearest its point, from {} to {}: another flange \
-                     is there already",
+                    "cannot go on the edge nearest its point, from {} to {}: {e}",
                     show(pa),
                     show(pc)
                 ))
             })?;
-        flange_edges.push((pa, pc));
-        // Where each strip's far edge lies, from the edge: the bend's facets, then the
-        // straight flange.
+        // The new boundary curves run from the run's last vertex round to its first:
+        // from c (or the far corner over it) to the new far corners and back to a.
+        let chain = curve_chain(&sheet, path[path.len() - 1], &added.curves).map_err(topo)?;
+        let k = chain.len();
         let out = (pc - pa).cross(n).normalize_or_zero();
         let reaches = flange_reaches(flange, spec.thickness, out, n);
-        // The first curve runs from c to the new vertex beside it, the second (the far
-        // edge) on to the new vertex beside a, the third back to a.
-        let b = &sheet.brep;
-        let far_end = |curve: usize, from: VertexId| -> Result<VertexId, PartProblem> {
-            let (p, m) = b
-                .halves_of(added.curves[curve])
-                .map_err(|e| bad(e.to_string()))?;
-            let ends = [b.vertex(p), b.vertex(m)].map(|r| r.map_err(|e| bad(e.to_string())));
-            let [x, y] = ends;
-            let (x, y) = (x?, y?);
-            Ok(if x == from { y } else { x })
-        };
-        let (wc, wa) = (far_end(0, c)?, far_end(2, a)?);
-        mid.place(&sheet, wc, pc + reaches[0])
-            .map_err(|e| bad(e.to_string()))?;
-        mid.place(&sheet, wa, pa + reaches[0])
-            .map_err(|e| bad(e.to_string()))?;
-        let mut strips = vec![added.sides];
-        let mut far = added.curves[1];
-        for step in reaches.windows(2) {
-            let strip = sheet.flange(far).map_err(|e| bad(e.to_string()))?;
-            for (base, end) in strip.far_ends {
-                let from = mid
-                    .point(base)
-                    .ok_or_else(|| bad("a bend's edge has no point".into()))?;
-                mid.place(&sheet, end, from + step[1] - step[0])
-                    .map_err(|e| bad(e.to_string()))?;
+        if k != curves + 1 {
+            return Err(bad("a new far edge is not a chain of curves".into()));
+        }
+        let far_a = before.unwrap_or(chain[k - 2]);
+        let far_c = after.unwrap_or(chain[1]);
+        for (end, (v, p)) in [(far_a, pa), (far_c, pc)].into_iter().enumerate() {
+            if joined[index][end].is_none() {
+                let at = mitred[index][end].unwrap_or(p + reaches[0]);
+                mid.place(&sheet, v, at).map_err(topo)?;
             }
-            let [one, other] = strip.sides[..] else {
-                return Err(bad("a bend's strip has not two sides".into()));
-            };
-            strips.push((one, other));
-            far = strip.far_edge;
+        }
+        far_corners.push([far_a, far_c]);
+        let mut strips = vec![added.sides];
+        let bends = &reaches[1..];
+        if !bends.is_empty() {
+            // A flange on a bend radius (never joined at a corner): the straight
+            // flange's curve is the second, the far edge.
+            let mut far = added.curves[1];
+            let mut last = reaches[0];
+            for &reach in bends {
+                let strip = sheet.flange(far).map_err(topo)?;
+                for (base, end) in strip.far_ends {
+                    let from = mid
+                        .point(base)
+                        .ok_or_else(|| bad("a bend's edge has no point".into()))?;
+                    mid.place(&sheet, end, from + reach - last).map_err(topo)?;
+                }
+                let [one, other] = strip.sides[..] else {
+                    return Err(bad("a bend's strip has not two sides".into()));
+                };
+                strips.push((one, other));
+                far = strip.far_edge;
+                last = reach;
+            }
         }
         if let Some(t) = flange.thickness {
             gauge
@@ -581,6 +575,10 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
         }
         flange_sides.push(strips);
     }
+    let flange_edges: Vec<(DVec3, DVec3)> = flange_edges
+        .iter()
+        .map(|&(_, _, pa, pc)| (pa, pc))
+        .collect();
     // The bends turned, in order; a bend line may not end on a flange's edge (the
     // flange would have to bend too).
     for (index, cut) in cuts.iter().enumerate() {
@@ -726,4 +724,80 @@ pub(super) struct Cut {
     fixed: FaceId,
     moved: FaceId,
     crease: EdgeId,
+}
+
+/// A flange's own fields checked: a height above 0, a thickness above 0 when given, a
+/// radius of 0 or more (not with a thickness of its own), an angle from 0 up to 180
+/// deg.
+fn check_flange(flange: &FlangeSpec) -> Result<(), String> {
+    if !(flange.height.is_finite() && flange.height > 0.0) {
+        return Err(format!("height must be above 0, not {}", flange.height));
+    }
+    if let Some(t) = flange.thickness {
+        if !(t.is_finite() && t > 0.0) {
+            return Err(format!("thickness must be above 0, not {t}"));
+        }
+    }
+    if !(flange.radius.is_finite() && flange.radius >= 0.0) {
+        return Err(format!("radius must be 0 or more, not {}", flange.radius));
+    }
+    if flange.radius > 0.0 && flange.thickness.is_some() {
+        return Err(
+            "cannot have both a bend radius and its own thickness: a flange of another \
+             gauge is a separate piece joined at the edge, not bent from the plate"
+                .into(),
+        );
+    }
+    if !(flange.angle.is_finite() && (0.0..std::f64::consts::PI).contains(&flange.angle)) {
+        return Err("angle must lie from 0 up to (not including) 180 deg".into());
+    }
+    Ok(())
+}
+
+/// The edge of the plate's parts nearest `near`: its vertices on the top side, in the
+/// order the part's outer loop runs them, and their points.
+fn nearest_edge(
+    sheet: &Sheet,
+    mid: &MidSurface,
+    parts: &[FaceId],
+    near: DVec3,
+) -> Result<(VertexId, VertexId, DVec3, DVec3), String> {
+    let mut edges = Vec::new();
+    for &part in parts {
+        let ring = sheet.brep.outer_vertices(part).map_err(|e| e.to_string())?;
+        let k = ring.len();
+        edges.extend((0..k).map(|i| (ring[i], ring[(i + 1) % k])));
+    }
+    edges
+        .iter()
+        .filter_map(|&(a, c)| {
+            let (pa, pc) = (mid.point(a)?, mid.point(c)?);
+            Some((distance_to_segment(pa, pc, near), (a, c, pa, pc)))
+        })
+        .min_by(|x, y| x.0.total_cmp(&y.0))
+        .map(|(_, e)| e)
+        .ok_or_else(|| "finds no edge".into())
+}
+
+/// A point as a designer reads it: `(x, y, z)` to the micrometre.
+fn show(p: DVec3) -> String {
+    format!("({}, {}, {})", tidy(p.x), tidy(p.y), tidy(p.z))
+}
+
+/// The vertices along a new sheet's boundary curves `curves`, which run one after
+/// another from `start`: `start`, then each curve's far end.
+fn curve_chain(
+    sheet: &Sheet,
+    start: VertexId,
+    curves: &[EdgeId],
+) -> Result<Vec<VertexId>, TopologyError> {
+    let b = &sheet.brep;
+    let mut chain = vec![start];
+    for &curve in curves {
+        let (p, m) = b.halves_of(curve)?;
+        let (x, y) = (b.vertex(p)?, b.vertex(m)?);
+        let at = chain[chain.len() - 1];
+        chain.push(if x == at { y } else { x });
+    }
+    Ok(chain)
 }

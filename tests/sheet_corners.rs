@@ -1,0 +1,293 @@
+//! Closed corners (issue 15: "three or more zero-area loops meeting at one vertex",
+//! "three sheets at a corner"): two flanges on the two edges at a corner of the plate
+//! are joined on the line where their planes cross, so the plate and the two flanges
+//! meet at the corner's vertex. Checked on trays whose solids are known in closed form
+//! (the space between an outer and an inner prism), and on the refusals.
+
+#[path = "common/script.rs"]
+mod script;
+
+#[path = "common/sheet.rs"]
+mod common;
+
+use std::collections::BTreeSet;
+
+use common::{assert_sound, volume};
+use dieface::eval::Data;
+use dieface::sheet::junction::{meetings, JunctionType, Meeting};
+use dieface::sheet::part::SheetPart;
+use dieface::sheet::topology::{FaceRole, Sheet, VertexId};
+use glam::DVec3;
+
+const T: f64 = 1.0;
+const H: f64 = 20.0;
+
+/// The sheet part a one-block script declares (the script must evaluate cleanly).
+fn sheet_part(text: &str) -> SheetPart {
+    let values = script::evaluate_clean("part.die", text);
+    let Data::Record(r) = &values[0].1 else {
+        panic!("a sheet is a record")
+    };
+    r.model::<SheetPart>().expect("a sheet part").clone()
+}
+
+/// A script of a plate over `outline` (points in the top view) with a flange on every
+/// edge, each given `fields` after its `at` (the edge's midpoint).
+fn tray(outline: &[(f64, f64)], fields: &dyn Fn(usize) -> String) -> String {
+    let n = outline.len();
+    let mut s = String::from("units mm deg\nsheet tray {\n    outline = sketch(top) { ");
+    for (i, (x, y)) in outline.iter().enumerate() {
+        s += &if i == 0 {
+            format!("from ({x}, {y}); ")
+        } else {
+            format!("line to ({x}, {y}); ")
+        };
+    }
+    s += "close }\n    thickness = 1 mm\n";
+    for i in 0..n {
+        let (a, c) = (outline[i], outline[(i + 1) % n]);
+        let at = (0.5 * (a.0 + c.0), 0.5 * (a.1 + c.1));
+        s += &format!(
+            "    flange wall_{} = {{ at: ({}, {}), {} }}\n",
+            i + 1,
+            at.0,
+            at.1,
+            fields(i)
+        );
+    }
+    s + "}\n"
+}
+
+/// How many sheets have a side at vertex `v`.
+fn sheets_at(sheet: &Sheet, v: VertexId) -> usize {
+    let b = &sheet.brep;
+    let mut sheets = BTreeSet::new();
+    for f in b.faces() {
+        let FaceRole::Side { twin } = sheet.face_role(f).unwrap() else {
+            continue;
+        };
+        let on = b.loops_of(f).unwrap().iter().any(|&l| {
+            b.loop_halves(l)
+                .unwrap()
+                .into_iter()
+                .any(|h| b.vertex(h).unwrap() == v)
+        });
+        if on {
+            sheets.insert(f.min(twin));
+        }
+    }
+    sheets.len()
+}
+
+/// The vertex of the sheet model at `p` (either of a twin pair).
+fn vertex_at(part: &SheetPart, p: DVec3) -> VertexId {
+    part.sheet
+        .brep
+        .vertices()
+        .find(|&v| part.mid.point(v).is_some_and(|q| q.distance(p) < 1e-9))
+        .unwrap_or_else(|| panic!("no vertex at {p}"))
+}
+
+fn has_point(part: &SheetPart, p: DVec3) -> bool {
+    part.solid.positions().iter().any(|q| q.distance(p) < 1e-9)
+}
+
+/// The area of a polygon offset by `d` (out, below 0 in) with mitred corners: its area,
+/// plus its perimeter times d, plus d² times the sum over its corners of the tangent of
+/// half the turn there (1 at a square convex corner, -1 at a square reflex one).
+fn offset_area(outline: &[(f64, f64)], d: f64) -> f64 {
+    let n = outline.len();
+    let p = |i: usize| DVec3::new(outline[i % n].0, outline[i % n].1, 0.0);
+    let (mut area, mut perimeter, mut turns) = (0.0, 0.0, 0.0);
+    for i in 0..n {
+        let (a, b, c) = (p(i), p(i + 1), p(i + 2));
+        area += 0.5 * a.cross(b).z;
+        perimeter += a.distance(b);
+        let (u, w) = ((b - a).normalize(), (c - b).normalize());
+        let turn = u.cross(w).z.atan2(u.dot(w));
+        turns += (0.5 * turn).tan();
+    }
+    area + perimeter * d + turns * d * d
+}
+
+/// A box tray (a 100 x 60 plate, four square walls 20 mm high): at each bottom corner
+/// three sheets meet, each pair along an edge, and no thickness face reaches it; the
+/// solid's corner there is where three offset planes meet, (t/2, t/2, t/2) from the
+/// corner inside and the same outside. The solid is the outer box less the inner one:
+/// A t + t³, exactly. At each top corner two walls meet on the free boundary, the
+/// paper's plain mitre: α = β = θ = 90 deg, φ = 0, type 1.
+#[test]
+fn a_box_tray_is_three_sheets_at_each_bottom_corner() {
+    let outline = [(0.0, 0.0), (100.0, 0.0), (100.0, 60.0), (0.0, 60.0)];
+    let part = sheet_part(&tray(&outline, &|_| format!("height: {H} mm")));
+    assert_sound(&part.solid);
+    let area = 100.0 * 60.0 + 2.0 * (100.0 + 60.0) * H;
+    assert!((part.area - area).abs() < 1e-9 * area, "{}", part.area);
+    let exact = (100.0 + T) * (60.0 + T) * (H + T / 2.0) - (100.0 - T) * (60.0 - T) * (H - T / 2.0);
+    assert!((exact - (area * T + T * T * T)).abs() < 1e-9);
+    assert!(
+        (volume(&part.solid) - exact).abs() < 1e-9 * exact,
+        "{} against {exact}",
+        volume(&part.solid)
+    );
+    let mut found = meetings(&part.sheet, &part.mid).unwrap();
+    found.sort_by(|x, y| format!("{x:?}").cmp(&format!("{y:?}")));
+    assert_eq!(
+        found.len(),
+        4,
+        "only the top corners are on the free boundary"
+    );
+    for &(x, y) in &outline {
+        let v = vertex_at(&part, DVec3::new(x, y, 0.0));
+        assert_eq!(sheets_at(&part.sheet, v), 3, "at ({x}, {y})");
+        let (sx, sy) = (
+            if x == 0.0 { 1.0 } else { -1.0 },
+            if y == 0.0 { 1.0 } else { -1.0 },
+        );
+        let inside = DVec3::new(x + sx * T / 2.0, y + sy * T / 2.0, T / 2.0);
+        let outside = DVec3::new(x - sx * T / 2.0, y - sy * T / 2.0, -T / 2.0);
+        assert!(
+            has_point(&part, inside) && has_point(&part, outside),
+            "at ({x}, {y})"
+        );
+        let top = DVec3::new(x, y, H);
+        let j = part
+            .junctions
+            .iter()
+            .find(|j| j.at.distance(top) < 1e-9)
+            .unwrap_or_else(|| panic!("no junction at {top}"));
+        let right = std::f64::consts::FRAC_PI_2;
+        for (angle, expected) in [
+            (j.alpha, right),
+            (j.beta, right),
+            (j.theta, right),
+            (j.phi, 0.0),
+        ] {
+            assert!((angle - expected).abs() < 1e-9, "{j:?}");
+        }
+        assert_eq!(j.kind, JunctionType::One);
+        assert!(found.iter().all(|m| matches!(m, Meeting::Two(_))));
+    }
+}
+
+/// Walls of their own thickness at a corner (the right wall 1.5 mm, the rest 1 mm):
+/// each side still moves out by half its own sheet's thickness, so the solid is the
+/// outer box less the inner one with the right wall's faces 0.75 mm off its mid-plane.
+#[test]
+fn walls_of_two_gauges_meet_at_a_closed_corner() {
+    let outline = [(0.0, 0.0), (100.0, 0.0), (100.0, 60.0), (0.0, 60.0)];
+    let part = sheet_part(&tray(&outline, &|i| {
+        if i == 1 {
+            format!("height: {H} mm, thickness: 1.5 mm")
+        } else {
+            format!("height: {H} mm")
+        }
+    }));
+    assert_sound(&part.solid);
+    let exact = (100.0 + 0.5 + 0.75) * (60.0 + T) * (H + T / 2.0)
+        - (100.0 - 0.5 - 0.75) * (60.0 - T) * (H - T / 2.0);
+    assert!(
+        (volume(&part.solid) - exact).abs() < 1e-9 * exact,
+        "{} against {exact}",
+        volume(&part.solid)
+    );
+    assert!(has_point(&part, DVec3::new(100.75, -0.5, -0.5)));
+    assert!(has_point(&part, DVec3::new(99.25, 0.5, 0.5)));
+}
+
+/// An L-shaped tray: at the L's inside (reflex) corner the walls meet on the inside of
+/// the turn. The solid is the outline offset out by t/2 over the full height less the
+/// outline offset in by t/2 above the plate's top, each offset area in closed form.
+#[test]
+fn an_l_shaped_tray_closes_its_inside_corner_too() {
+    let outline = [
+        (0.0, 0.0),
+        (80.0, 0.0),
+        (80.0, 30.0),
+        (30.0, 30.0),
+        (30.0, 70.0),
+        (0.0, 70.0),
+    ];
+    let part = sheet_part(&tray(&outline, &|_| format!("height: {H} mm")));
+    assert_sound(&part.solid);
+    let exact = offset_area(&outline, T / 2.0) * (H + T / 2.0)
+        - offset_area(&outline, -T / 2.0) * (H - T / 2.0);
+    assert!(
+        (volume(&part.solid) - exact).abs() < 1e-9 * exact,
+        "{} against {exact}",
+        volume(&part.solid)
+    );
+    let reflex = vertex_at(&part, DVec3::new(30.0, 30.0, 0.0));
+    assert_eq!(sheets_at(&part.sheet, reflex), 3);
+    assert!(has_point(&part, DVec3::new(30.5, 30.5, -0.5)));
+    assert!(has_point(&part, DVec3::new(29.5, 29.5, 0.5)));
+}
+
+/// A drafted tray (walls at 80 deg to the plate, leaning out 10 deg): each wall is cut
+/// on the mitre line, the line through the corner where the two walls' planes cross,
+/// and its far corner lies there at the walls' common height above the plate, 20 sin
+/// 80 deg.
+#[test]
+fn drafted_walls_are_cut_on_the_mitre_line() {
+    let outline = [(0.0, 0.0), (100.0, 0.0), (100.0, 60.0), (0.0, 60.0)];
+    let angle = 80f64.to_radians();
+    let part = sheet_part(&tray(&outline, &|_| {
+        format!("height: {H} mm, angle: 80 deg")
+    }));
+    assert_sound(&part.solid);
+    // At the corner (0, 0) the front wall rises along (0, -cos 80, sin 80) and the left
+    // along (-cos 80, 0, sin 80): they meet 20 mm up each, at the far corner.
+    let lean = H * angle.cos();
+    let top = DVec3::new(-lean, -lean, H * angle.sin());
+    let v = vertex_at(&part, top);
+    assert_eq!(sheets_at(&part.sheet, v), 2);
+    assert_eq!(
+        sheets_at(&part.sheet, vertex_at(&part, DVec3::ZERO)),
+        3,
+        "three sheets at the corner"
+    );
+    // Every face of the solid lies in one plane (the build refuses warped faces), and
+    // the mid-surface's area is the plate's plus four trapezoids.
+    let slant = H;
+    let walls = 2.0 * (100.0 + 100.0 + 2.0 * lean) / 2.0 * slant
+        + 2.0 * (60.0 + 60.0 + 2.0 * lean) / 2.0 * slant;
+    let area = 6000.0 + walls;
+    assert!(
+        (part.area - area).abs() < 1e-9 * area,
+        "{} against {area}",
+        part.area
+    );
+}
+
+/// Flanges that cannot be joined at their corner are refused there, naming both: walls
+/// standing at different heights (their far edges would not meet), a wall with a bend
+/// radius (its corner would need a curved piece), and two flanges side by side on one
+/// edge (in one plane, with no mitre line).
+#[test]
+fn flanges_that_cannot_be_joined_are_refused_at_the_corner() {
+    for (flanges, expected) in [
+        (
+            "flange front = { at: (50, 0), height: 20 mm }\n    flange right = { at: (100, 30), height: 25 mm }",
+            "they stand 20 mm and 25 mm above the plate at the corner",
+        ),
+        (
+            "flange front = { at: (50, 0), height: 20 mm, radius: 2 mm }\n    flange right = { at: (100, 30), height: 20 mm }",
+            "a flange with a bend radius cannot be joined at a corner yet",
+        ),
+        (
+            "flange one = { from: (0, 0), to: (50, 0), height: 20 mm }\n    flange two = { from: (50, 0), to: (100, 0), height: 20 mm }",
+            "they stand in one plane there",
+        ),
+    ] {
+        let found = script::diagnostics_of("part.die", &common::plate_script(flanges));
+        let [d] = &found[..] else {
+            panic!("{expected}: {found:?}")
+        };
+        assert!(
+            d.message.contains(expected) && d.message.contains("cannot be joined there"),
+            "{expected}: {}",
+            d.message
+        );
+        assert_eq!(d.secondary.len(), 1, "both flanges are pointed at");
+    }
+}
