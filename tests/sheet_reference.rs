@@ -1,7 +1,7 @@
-//! The bracket example's solid against the same part thickened by OpenCascade (issue
-//! 15), from the committed reference data (`tests/data/sheet_reference.json`, written
-//! by `tests/reference/sheet_reference.py`, which builds the part from the example's
-//! numbers with exact arcs and thickens it with `BRepOffset_MakeOffset`).
+//! The bracket's and the tray's solids against the same parts thickened by OpenCascade
+//! (issue 15), from the committed reference data (`tests/data/sheet_reference.json`,
+//! written by `tests/reference/sheet_reference.py`, which builds each part from its
+//! example's numbers with exact arcs and thickens it with `BRepOffset_MakeOffset`).
 
 #[path = "common/example.rs"]
 mod example;
@@ -21,23 +21,21 @@ fn number(j: &Json) -> f64 {
     j.as_f64().expect("a number")
 }
 
-/// dieface's bracket differs from OpenCascade's only where dieface follows an arc by
+/// dieface's part differs from OpenCascade's only where dieface follows an arc by
 /// chords: in area by less than the tolerance times the arcs' length, in volume by that
 /// times the gauge, and no point of either solid lies further than the tolerance from
 /// the other. The data is current: it holds the volume dieface makes now.
-#[test]
-fn the_bracket_matches_opencascade_within_the_outline_tolerance() {
+fn matches_opencascade(name: &str) {
     let r = reference();
-    let values = example::example_values("bracket/bracket.die");
-    let (_, bracket) = values
-        .iter()
-        .find(|(n, _)| n == "bracket")
-        .expect("the bracket");
-    let Data::Record(record) = &bracket.data else {
+    let values = example::example_values(&format!("{name}/{name}.die"));
+    let (_, value) = values.iter().find(|(n, _)| n == name).expect("the part");
+    let Data::Record(record) = &value.data else {
         panic!("a record")
     };
     let part = record.model::<SheetPart>().expect("a sheet part");
-    let (gauge, tolerance) = (number(&r["gauge"]), number(&r["tolerance"]));
+    let tolerance = number(&r["tolerance"]);
+    let r = &r["parts"][name];
+    let gauge = number(&r["gauge"]);
     let occ = &r["occ"];
     assert_eq!(
         occ["valid"],
@@ -72,4 +70,17 @@ fn the_bracket_matches_opencascade_within_the_outline_tolerance() {
     let d = &r["distance"];
     assert!(number(&d["dieface_to_occ"]) < 1e-5, "{d}");
     assert!(number(&d["occ_to_dieface"]) <= tolerance, "{d}");
+}
+
+/// The bracket: a plate with a bolt hole and a slot, and a square flange.
+#[test]
+fn the_bracket_matches_opencascade_within_the_outline_tolerance() {
+    matches_opencascade("bracket");
+}
+
+/// The tray: a floor with a drain hole and a lifted pad, and four drafted walls joined
+/// at closed corners, where three sheets meet.
+#[test]
+fn the_tray_matches_opencascade_within_the_outline_tolerance() {
+    matches_opencascade("tray");
 }

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
-"""Thickens the bracket example with OpenCascade and compares the solid with dieface's
-(issue 15: "the same part thickened by OpenCascade ... reference volumes and a sampled
-distance between the two solids committed as reference data").
+"""Thickens the bracket and tray examples with OpenCascade and compares the solids with
+dieface's (issue 15: "the same part thickened by OpenCascade ... reference volumes and
+a sampled distance between the two solids committed as reference data").
 
 Usage (from the crate root):
 
@@ -9,18 +9,23 @@ Usage (from the crate root):
     python3 tests/reference/sheet_reference.py            # rewrites tests/data/sheet_reference.json
     python3 tests/reference/sheet_reference.py --stdout   # prints it instead
 
-OpenCascade's part is built from the example's numbers, not from dieface's output: the
-plate (120 x 70 mm, 8 mm corner fillets on the left, a 12 mm bolt hole and a 30 x 8 mm
-slot) and the 30 mm flange square to it along the right edge, as exact lines and
-circular arcs, sewn into one shell. That mid-surface is offset by half the gauge to one
+OpenCascade's parts are built from the examples' numbers, not from dieface's output,
+as exact lines and circular arcs sewn into one shell:
+
+* the bracket: the plate (120 x 70 mm, 8 mm corner fillets on the left, a 12 mm bolt
+  hole and a 30 x 8 mm slot) and the 30 mm flange square to it along the right edge;
+* the tray: the 160 x 100 mm floor with a 10 mm drain hole and a pad 80 x 40 mm
+  lifted 3 mm on walls drafted 30 deg, and four walls 25 mm long leaning out 10 deg,
+  each meeting its neighbours on the line where their planes cross (the closed
+  corners where three sheets meet). That mid-surface is offset by half the gauge to one
 side (`BRepOffsetAPI_MakeOffsetShape`, intersection joins) and thickened by the whole
 gauge back across it (`BRepOffset_MakeOffset` with thickening on: the algorithm under
 `BRepOffsetAPI_MakeThickSolid`), so the solid's mid-surfaces are the sheets, as
 dieface's junction type 1 makes them. (Offsetting half each way and adding the halves
 gives invalid shapes in OCCT 7.8; one-sided thickening from the shifted shell does not.)
 
-dieface's solid is read from `dieface build examples/bracket/bracket.die -o X.obj`
-(millimetres), the `bracket/solid` object. Recorded:
+dieface's solid is read from `dieface build examples/NAME/NAME.die -o X.obj`
+(millimetres), the `NAME/solid` object. Recorded per part:
 
 * `occ`: the solid's volume (`BRepGProp.VolumeProperties`, relative accuracy 1e-9),
   the mid-surface's area, the length of its curved edges (the arcs dieface follows by
@@ -72,12 +77,16 @@ from OCP.TopoDS import TopoDS
 from OCP.gp import gp_Pnt
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-EXAMPLE = "examples/bracket/bracket.die"
 OUT = os.path.join(ROOT, "tests", "data", "sheet_reference.json")
 
 # The bracket's numbers, as examples/bracket/bracket.die gives them.
-GAUGE = 1.5
+BRACKET_GAUGE = 1.5
 LENGTH, DEPTH, CORNER, FLANGE = 120.0, 70.0, 8.0, 30.0
+# The tray's, as examples/tray/tray.die gives them.
+TRAY_GAUGE = 1.0
+TRAY_LENGTH, TRAY_WIDTH, TRAY_WALL, TRAY_DRAFT = 160.0, 100.0, 25.0, math.radians(10.0)
+PAD = (50.0, 30.0, 130.0, 70.0)
+PAD_HEIGHT, PAD_DRAFT = 3.0, math.radians(30.0)
 OUTLINE_TOLERANCE = 0.05
 
 
@@ -104,7 +113,20 @@ def wire(edges):
     return w.Wire()
 
 
-def mid_surface():
+def polygon(points):
+    """A closed wire through `points` (x, y, z) by straight lines."""
+    return wire([seg(P(*a), P(*b)) for a, b in zip(points, points[1:] + points[:1])])
+
+
+def sewn(faces):
+    sew = BRepBuilderAPI_Sewing(1e-6)
+    for f in faces:
+        sew.Add(f)
+    sew.Perform()
+    return sew.SewedShape()
+
+
+def bracket_mid_surface():
     """The bracket's sheets, sewn into one shell."""
     r = CORNER
     c = r * (1 - math.sqrt(0.5))
@@ -141,11 +163,31 @@ def mid_surface():
         ),
         True,
     ).Face()
-    sew = BRepBuilderAPI_Sewing(1e-6)
-    sew.Add(plate.Face())
-    sew.Add(flange)
-    sew.Perform()
-    return sew.SewedShape()
+    return sewn([plate.Face(), flange])
+
+
+def tray_mid_surface():
+    """The tray's sheets, sewn into one shell: the floor (holed by the drain and by the
+    pad's foot), the pad's walls and top, and the four walls, each a trapezoid whose
+    ends lie on the lines where it meets its neighbours."""
+    lean, rise = TRAY_WALL * math.sin(TRAY_DRAFT), TRAY_WALL * math.cos(TRAY_DRAFT)
+    lx, wy = TRAY_LENGTH, TRAY_WIDTH
+    floor = [(0, 0, 0), (lx, 0, 0), (lx, wy, 0), (0, wy, 0)]
+    rim = [(-lean, -lean, rise), (lx + lean, -lean, rise), (lx + lean, wy + lean, rise), (-lean, wy + lean, rise)]
+    x0, y0, x1, y1 = PAD
+    inset = PAD_HEIGHT * math.tan(PAD_DRAFT)
+    foot = [(x0, y0, 0), (x1, y0, 0), (x1, y1, 0), (x0, y1, 0)]
+    top = [(x0 + inset, y0 + inset, PAD_HEIGHT), (x1 - inset, y0 + inset, PAD_HEIGHT), (x1 - inset, y1 - inset, PAD_HEIGHT), (x0 + inset, y1 - inset, PAD_HEIGHT)]
+    drain = wire([arc(P(20, 45), P(25, 50), P(30, 45)), arc(P(30, 45), P(25, 40), P(20, 45))])
+    plate = BRepBuilderAPI_MakeFace(polygon(floor), True)
+    plate.Add(drain)  # drawn clockwise: a hole as it is
+    plate.Add(polygon(foot[::-1]))
+    faces = [plate.Face(), BRepBuilderAPI_MakeFace(polygon(top), True).Face()]
+    for i in range(4):
+        j = (i + 1) % 4
+        faces.append(BRepBuilderAPI_MakeFace(polygon([floor[i], floor[j], rim[j], rim[i]]), True).Face())
+        faces.append(BRepBuilderAPI_MakeFace(polygon([foot[i], foot[j], top[j], top[i]]), True).Face())
+    return sewn(faces)
 
 
 def curved_length(shape):
@@ -155,7 +197,7 @@ def curved_length(shape):
     from OCP.TopAbs import TopAbs_EDGE
 
     # The explorer meets an edge once per face it bounds; every arc bounds the plate
-    # only (the one shared edge, the flange's, is straight), so each counts once.
+    # only (the edges sheets share are straight), so each counts once.
     total = 0.0
     exp = TopExp_Explorer(shape, TopAbs_EDGE)
     while exp.More():
@@ -180,15 +222,15 @@ def volume(shape):
     return g.Mass()
 
 
-def thicken(shell):
+def thicken(name, shell, gauge):
     """The solid: the shell moved half the gauge to one side, thickened across."""
     shifted = BRepOffsetAPI_MakeOffsetShape()
-    shifted.PerformByJoin(shell, -GAUGE / 2, 1e-7, BRepOffset_Skin, False, False, GeomAbs_Intersection, False)
+    shifted.PerformByJoin(shell, -gauge / 2, 1e-7, BRepOffset_Skin, False, False, GeomAbs_Intersection, False)
     thick = BRepOffset_MakeOffset()
-    thick.Initialize(shifted.Shape(), GAUGE, 1e-7, BRepOffset_Skin, False, False, GeomAbs_Intersection, True)
+    thick.Initialize(shifted.Shape(), gauge, 1e-7, BRepOffset_Skin, False, False, GeomAbs_Intersection, True)
     thick.MakeOffsetShape(Message_ProgressRange())
     if not thick.IsDone():
-        raise SystemExit(f"OpenCascade could not thicken the bracket: error {thick.Error()}")
+        raise SystemExit(f"OpenCascade could not thicken the {name}: error {thick.Error()}")
     return thick.Shape()
 
 
@@ -269,21 +311,27 @@ def mesh_volume(vertices, triangles):
     return float(np.einsum("ij,ij->i", a, np.cross(b, c)).sum() / 6.0)
 
 
-def dieface_solid(dieface):
+def dieface_solid(dieface, name):
     with tempfile.TemporaryDirectory() as tmp:
-        out = os.path.join(tmp, "bracket.obj")
-        command = dieface + ["build", EXAMPLE, "-o", out]
+        out = os.path.join(tmp, f"{name}.obj")
+        command = dieface + ["build", f"examples/{name}/{name}.die", "-o", out]
         subprocess.run(command, cwd=ROOT, check=True, capture_output=True)
-        return read_obj_object(out, "bracket/solid")
+        return read_obj_object(out, f"{name}/solid")
 
 
-def main():
-    dieface = ["cargo", "run", "--quiet", "--release", "--bin", "dieface", "--"]
-    if "--dieface" in sys.argv:
-        dieface = [sys.argv[sys.argv.index("--dieface") + 1]]
-    shell = mid_surface()
-    solid = thicken(shell)
-    vertices, triangles = dieface_solid(dieface)
+# Each part: its mid-surface and gauge.
+PARTS = {
+    "bracket": (bracket_mid_surface, BRACKET_GAUGE),
+    "tray": (tray_mid_surface, TRAY_GAUGE),
+}
+
+
+def compare(dieface, name):
+    """One part's record: OpenCascade's solid, dieface's, and the distances between."""
+    build, gauge = PARTS[name]
+    shell = build()
+    solid = thicken(name, shell, gauge)
+    vertices, triangles = dieface_solid(dieface, name)
     # dieface's vertices to OpenCascade's exact solid.
     to_occ = 0.0
     for x, y, z in vertices:
@@ -294,11 +342,9 @@ def main():
     samples = occ_samples(solid)
     a, b, c = (vertices[triangles[:, i]] for i in range(3))
     to_dieface = float(point_triangle_distances(samples, a, b, c).max())
-    result = {
-        "example": EXAMPLE,
-        "ocp": metadata.version("cadquery-ocp"),
-        "gauge": GAUGE,
-        "tolerance": OUTLINE_TOLERANCE,
+    return {
+        "example": f"examples/{name}/{name}.die",
+        "gauge": gauge,
         "occ": {
             "volume": sig(volume(solid)),
             "mid_area": sig(area(shell)),
@@ -315,6 +361,17 @@ def main():
             "occ_to_dieface": sig(to_dieface, 6),
             "occ_samples": len(samples),
         },
+    }
+
+
+def main():
+    dieface = ["cargo", "run", "--quiet", "--release", "--bin", "dieface", "--"]
+    if "--dieface" in sys.argv:
+        dieface = [sys.argv[sys.argv.index("--dieface") + 1]]
+    result = {
+        "ocp": metadata.version("cadquery-ocp"),
+        "tolerance": OUTLINE_TOLERANCE,
+        "parts": {name: compare(dieface, name) for name in PARTS},
     }
     text = json.dumps(result, indent=2) + "\n"
     if "--stdout" in sys.argv:
