@@ -184,7 +184,7 @@ sheet plate {{
 /// cross).
 #[test]
 fn flanges_meeting_unequally_or_crossing_are_refused() {
-    for (flanges, expected) in [
+    assert_refused(&[
         (
             "flange right = { at: (100, 30), height: 20 mm }\n    flange back = { at: (50, 60), height: 20 mm, angle: 80 deg }",
             "joined flanges must stand equally high there",
@@ -193,8 +193,14 @@ fn flanges_meeting_unequally_or_crossing_are_refused() {
             "flange front = { at: (50, 0), height: 40 mm, angle: 150 deg }\n    flange back = { at: (50, 60), height: 40 mm, angle: 150 deg }",
             "the solid passes through itself",
         ),
-    ] {
-        let found = script::diagnostics_of("part.die", &sheet::plate_script(flanges));
+    ]);
+}
+
+/// Each `(lines, expected)`: the 100 x 60 plate with `lines` in its block is refused
+/// with a message holding `expected`.
+fn assert_refused(cases: &[(&str, &str)]) {
+    for &(lines, expected) in cases {
+        let found = script::diagnostics_of("part.die", &sheet::plate_script(lines));
         assert!(
             found.iter().any(|d| d.message.contains(expected)),
             "{expected}: {found:?}"
@@ -509,23 +515,30 @@ fn the_reinforcement_is_sound_with_two_gauges_and_type_2_junctions() {
     assert!(part.junctions.iter().all(|j| j.kind.number() != 3));
 }
 
+/// A 100 x 60 plate at 2 mm with a 10 mm square hole at (20, 20), and `lines` in its
+/// block.
+fn holed_plate(lines: &str) -> SheetPart {
+    sheet_part(&format!(
+        "units mm deg
+sheet angle_plate {{
+    outline = sketch(top) {{ from (0, 0); line to (100, 0); line to (100, 60); line to (0, 60); close }}
+    thickness = 2 mm
+    punch hole = sketch(top) {{ from (20, 20); line to (30, 20); line to (30, 30); line to (20, 30); close }}
+    {lines}
+}}"
+    ))
+}
+
 /// A bend across the plate (paper 003, Fig. 14: geometry only): the part left of the
 /// line turns up about it, carrying its hole along; the junctions at the line's ends
 /// are plain mitres (type 1), and the volume stays the area times the thickness.
 #[test]
 fn a_bend_turns_the_part_left_of_its_line_with_what_is_on_it() {
     for angle in [90.0f64, 45.0, -60.0] {
-        let text = format!(
-            "units mm deg
-sheet angle_plate {{
-    outline = sketch(top) {{ from (0, 0); line to (100, 0); line to (100, 60); line to (0, 60); close }}
-    thickness = 2 mm
-    punch hole = sketch(top) {{ from (20, 20); line to (30, 20); line to (30, 30); line to (20, 30); close }}
-    punch far_hole = sketch(top) {{ from (80, 20); line to (90, 20); line to (90, 30); line to (80, 30); close }}
-    bend leg = {{ from: (60, 0), to: (60, 60), angle: {angle} deg }}
-}}"
-        );
-        let part = &sheet_part(&text);
+        let part = &holed_plate(&format!(
+            "punch far_hole = sketch(top) {{ from (80, 20); line to (90, 20); line to (90, 30); line to (80, 30); close }}
+    bend leg = {{ from: (60, 0), to: (60, 60), angle: {angle} deg }}"
+        ));
         sheet::assert_sound(&part.solid);
         assert!((part.area - 5800.0).abs() < 1e-9, "{}", part.area);
         assert!(
@@ -546,6 +559,92 @@ sheet angle_plate {{
         assert!(part.solid.groups().iter().any(|g| g.name() == "leg.top"));
         assert!(part.solid.groups().iter().any(|g| g.name() == "plate.top"));
     }
+}
+
+/// A bend on an inside radius (issue 15: "bend sheets about an edge by an angle, with an
+/// inside radius when given"): a zone of narrow facets centred on the bend line, each
+/// as wide flat as its chord of the mid-surface's arc, so the mid-surface keeps the
+/// flat plate's area and the volume is that times the thickness, exactly. The fixed
+/// part ends where the zone starts, the solid's inside and outside corners at each
+/// joint of two facets lie on the radius and the radius plus the thickness (as a
+/// flange's bend), and the part beyond turns by the whole angle, its hole with it.
+#[test]
+fn a_bend_on_a_radius_is_a_zone_of_facets_centred_on_its_line() {
+    for (radius, angle) in [(3.0f64, 90.0f64), (5.0, -60.0), (2.0, 135.0)] {
+        let part = &holed_plate(&format!(
+            "bend leg = {{ from: (60, 0), to: (60, 60), angle: {angle} deg, radius: {radius} mm }}"
+        ));
+        let t = 2.0;
+        sheet::assert_sound(&part.solid);
+        assert!((part.area - 5900.0).abs() < 1e-9, "{}", part.area);
+        assert!((part.volume - part.area * t).abs() < 1e-9 * part.volume);
+        let facets = part
+            .solid
+            .groups()
+            .iter()
+            .filter(|g| g.name().starts_with("leg.bend_") && g.name().ends_with(".top"))
+            .count();
+        let (a, s) = (angle.abs().to_radians(), angle.signum());
+        let rho = radius + 0.5 * t;
+        let step = a / facets as f64;
+        assert!(step <= 15f64.to_radians() + 1e-12, "{facets} facets");
+        // The zone: the facets' chords side by side, centred on x = 60.
+        let zone = facets as f64 * 2.0 * rho * (0.5 * step).sin();
+        let start = 60.0 + 0.5 * zone;
+        // The arc's axis runs along Y through (start, ., s rho); a point at angle phi
+        // along the arc lies at (start - rho sin phi, s rho (1 - cos phi)).
+        let centre = glam::DVec2::new(start, s * rho);
+        let mut joints = 0;
+        for p in part.solid.positions() {
+            let q = glam::DVec2::new(p.x, p.z) - centre;
+            let phi = (-q.x).atan2(-s * q.y);
+            if !(0.5 * step..a - 0.5 * step).contains(&phi) || q.length() > 2.0 * rho + t {
+                continue;
+            }
+            let off = 0.5 * t / (0.5 * step).cos();
+            let d = q.length();
+            assert!(
+                (d - (rho - off)).abs() < 1e-9 || (d - (rho + off)).abs() < 1e-9,
+                "r {radius}, {angle} deg: {p} lies {d} from the bend's axis"
+            );
+            assert!(
+                off - 0.5 * t < 0.01,
+                "r {radius}, {angle} deg: steps too coarse"
+            );
+            joints += 1;
+        }
+        assert_eq!(joints, 4 * (facets - 1), "r {radius}, {angle} deg");
+        // The hole's corner (20, 20) lay 60 - zone / 2 - 20 from the zone's far edge:
+        // now as far along the turned part from the arc's end.
+        let end = centre + rho * glam::DVec2::new(-a.sin(), -s * a.cos());
+        let along = glam::DVec2::new(-a.cos(), s * a.sin());
+        let corner = end + (40.0 - 0.5 * zone) * along;
+        let corner = glam::DVec3::new(corner.x, 20.0, corner.y);
+        assert!(
+            part.mid_mesh
+                .positions()
+                .iter()
+                .any(|p| p.distance(corner) < 1e-9),
+            "r {radius}, {angle} deg: no hole corner at {corner}"
+        );
+    }
+}
+
+/// A bend whose zone of facets would not fit on the plate (a radius larger than the
+/// plate allows there) is refused at the bend, with how wide the zone is; so is a
+/// negative radius.
+#[test]
+fn a_bend_radius_the_plate_cannot_hold_is_refused() {
+    assert_refused(&[
+        (
+            "bend leg = { from: (4, 0), to: (4, 60), angle: 90 deg, radius: 10 mm }",
+            "`bend leg`: the bend zone (16.488 mm wide for radius 10 mm) runs off the plate",
+        ),
+        (
+            "bend leg = { from: (40, 0), to: (40, 60), angle: 90 deg, radius: -1 mm }",
+            "`bend leg`: the bend's inside radius must be 0 mm or more",
+        ),
+    ]);
 }
 
 /// Removing a lifted region's top (paper 003, section 4.4: the region lies inside the

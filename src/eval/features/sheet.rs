@@ -31,6 +31,7 @@ use crate::syntax::Span;
 use super::super::builtins::{as_angle, as_point2, type_error};
 use super::super::sketch::{Sketch, View};
 use super::super::summary::round;
+use super::super::units::Units;
 use super::super::value::{Data, Dim, Quantity, Record, Value};
 use super::kind::{FeatureKind, FieldNames};
 use super::{
@@ -150,7 +151,12 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
             &what,
             "a record `{ from: (x, y), to: (x, y), angle: 90 deg }`",
         )?;
-        check_record(r, field.value.span, &what, &["from", "to", "angle"])?;
+        check_record(
+            r,
+            field.value.span,
+            &what,
+            &["from", "to", "angle", "radius"],
+        )?;
         let get = |key: &str, help: &str| required(r, key, &what, field.value.span, help);
         let end = |key: &str| -> Result<DVec3, Diagnostic> {
             let v = get(
@@ -168,6 +174,7 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
             from: end("from")?,
             to: end("to")?,
             angle: as_angle(angle, block.units, &format!("`angle` of {what}"))?,
+            radius: bend_radius(r, block.units, &what)?,
         });
     }
     let remove_fields = block.named("remove");
@@ -261,25 +268,7 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
             }
             None => None,
         };
-        let radius = match r.get("radius") {
-            Some(v) => {
-                let radius = length(v, block.units, &format!("`radius` of {what}"))?;
-                if !(radius.is_finite() && radius >= 0.0) {
-                    return Err(feature_error(
-                        KIND,
-                        format!(
-                            "{what}: the bend's inside radius must be 0 mm or more, not {} mm",
-                            round(radius)
-                        ),
-                        v.span,
-                        "not a radius",
-                        "give the inside radius of the bend, such as `radius: 2 mm` (0 for a sharp fold)",
-                    ));
-                }
-                radius
-            }
-            None => 0.0,
-        };
+        let radius = bend_radius(r, block.units, &what)?;
         flanges.push(FlangeSpec {
             name: name.to_string(),
             near,
@@ -340,6 +329,28 @@ fn required<'a>(
     })
 }
 
+/// The inside radius of a bend or a flange's bend (`radius`, 0 mm when left out), 0 mm
+/// or more.
+fn bend_radius(r: &Record, units: Units, what: &str) -> Result<f64, Diagnostic> {
+    let Some(v) = r.get("radius") else {
+        return Ok(0.0);
+    };
+    let radius = length(v, units, &format!("`radius` of {what}"))?;
+    if !(radius.is_finite() && radius >= 0.0) {
+        return Err(feature_error(
+            KIND,
+            format!(
+                "{what}: the bend's inside radius must be 0 mm or more, not {} mm",
+                round(radius)
+            ),
+            v.span,
+            "not a radius",
+            "give the inside radius of the bend, such as `radius: 2 mm` (0 for a sharp fold)",
+        ));
+    }
+    Ok(radius)
+}
+
 /// The diagnostic of a part that could not be built, at the field at fault.
 fn problem(
     p: PartProblem,
@@ -371,7 +382,7 @@ fn problem(
         ),
         PartProblem::Hole { index, .. } => at_field("punch", punches, *index, "this hole", "draw each hole inside the outline, clear of its edges and of the other holes"),
         PartProblem::Lift { index, .. } => at_field("lift", lifts, *index, "this lift", "draw the region inside the outline, clear of its edges, the holes and the other lifted regions, with a height other than 0 and a draft below 90 deg that its size allows"),
-        PartProblem::Bend { index, .. } => at_field("bend", bends, *index, "this bend", "draw the bend line across the plate from one edge of the outline to another, clear of the holes, the lifted regions, the other bends' lines and the flanges' edges, with an angle between -180 and 180 deg"),
+        PartProblem::Bend { index, .. } => at_field("bend", bends, *index, "this bend", "draw the bend line across the plate from one edge of the outline to another, clear of the holes, the lifted regions, the other bends' lines and the flanges' edges, with an angle between -180 and 180 deg; on a `radius`, the zone of facets centred on the line (the radius plus half the thickness, times the angle in radians, wide) must fit on the plate too"),
         PartProblem::Remove { index, .. } => at_field("remove", removals, *index, "this removal", "put `at` over the top of a lifted region: removing it leaves a collar round a hole"),
         PartProblem::Flange { index, .. } => at_field("flange", flanges, *index, "this flange", "put `at` near a free edge of the outline, or `from` and `to` on one (one edge takes one flange); give a height above 0, an angle below 180 deg, and a bend `radius` or a `thickness` of its own, not both"),
         PartProblem::FlangesMeet { index, other, .. } => feature_error(

@@ -12,6 +12,7 @@
 //! areas and volumes).
 
 mod corners;
+mod creases;
 mod layout;
 mod measure;
 mod names;
@@ -32,10 +33,11 @@ use crate::geom::tessellate::triangulate_loops;
 use crate::geom::trimmed::polygon_winding;
 use crate::geom::MAX_COORDINATE;
 use corners::{mitre_top, Standing};
+use creases::{creases, Crease};
 pub use layout::SPAN_TOLERANCE;
 use layout::{
-    add_corner, add_loop, counter_clockwise, crosses_outline, inset, part_holding, place_ring,
-    split_outline, tidy, Frame,
+    add_loop, counter_clockwise, crosses_outline, inset, part_holding, place_ring, split_outline,
+    tidy, Frame,
 };
 use measure::mid_surface;
 use names::FaceNames;
@@ -85,6 +87,9 @@ pub struct BendSpec {
     /// How far the part is turned (radians, between -180 and 180 deg; above 0 towards
     /// the plate's normal).
     pub angle: f64,
+    /// The inside radius (mm; 0 for a sharp crease): the bend is then a zone of narrow
+    /// facets centred on the line, chords of the mid-surface's arc.
+    pub radius: f64,
 }
 
 /// A face removed from the part (paper 003, section 4.4, Fig. 11-12), picked by a point
@@ -249,18 +254,21 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
                 .map_err(|why| PartProblem::Flange { index, why })?;
         }
     }
-    let mut bend_ends = Vec::with_capacity(spec.bends.len());
+    // Each bend's creases: its line, or the edges of its facets on a radius.
+    let mut bend_creases: Vec<Crease> = Vec::with_capacity(spec.bends.len());
     for (index, bend) in spec.bends.iter().enumerate() {
         let bad = |why: String| PartProblem::Bend { index, why };
         if !(bend.angle.is_finite() && bend.angle.abs() < std::f64::consts::PI) {
             return Err(bad("angle must lie between -180 and 180 deg".into()));
         }
-        let from = add_corner(&mut outline, bend.from).map_err(bad)?;
-        let to = add_corner(&mut outline, bend.to).map_err(bad)?;
-        if from.distance(to) < 10.0 * SPAN_TOLERANCE {
-            return Err(bad("`from` and `to` lie too close together".into()));
+        if !(bend.radius.is_finite() && bend.radius >= 0.0) {
+            return Err(bad(format!(
+                "radius must be 0 or more, not {}",
+                bend.radius
+            )));
         }
-        bend_ends.push((from, to));
+        bend_creases
+            .extend(creases(&mut outline, &frame, index, bend, spec.thickness, n).map_err(bad)?);
     }
     let flat_outline: Vec<DVec2> = outline.iter().map(|&p| frame.flat(p)).collect();
     if triangulate_loops(std::slice::from_ref(&flat_outline)).is_err() {
@@ -276,9 +284,13 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
     // Bends: the plate split along each line now, while it is flat and has no holes;
     // turned at the end, carrying what was built beyond the line.
     let mut parts = vec![top];
-    let mut cuts = Vec::with_capacity(spec.bends.len());
-    for (index, &(from, to)) in bend_ends.iter().enumerate() {
-        let bad = |why: String| PartProblem::Bend { index, why };
+    let mut cuts = Vec::with_capacity(bend_creases.len());
+    for crease in &bend_creases {
+        let (from, to) = (crease.from, crease.to);
+        let bad = |why: String| PartProblem::Bend {
+            index: crease.bend,
+            why,
+        };
         let corner = |p: DVec3| {
             corners
                 .iter()
@@ -305,7 +317,7 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
                     .is_ok_and(|vs| vs.contains(&vf) && vs.contains(&vt))
             })
             .ok_or_else(|| bad("line crosses an earlier bend's line".into()))?;
-        let (crease, new) = sheet.split(part, vf, vt).map_err(|e| bad(e.to_string()))?;
+        let (edge, new) = sheet.split(part, vf, vt).map_err(|e| bad(e.to_string()))?;
         parts.push(new);
         // The part to the left of the line, seen along the normal, turns.
         let points: Vec<DVec2> = sheet
@@ -323,7 +335,8 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
             part,
             fixed,
             moved,
-            crease,
+            crease: edge,
+            name: crease.name.clone(),
         });
     }
     // Holes: each inside the outline, clear of the others.
@@ -581,9 +594,12 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
         .collect();
     // The bends turned, in order; a bend line may not end on a flange's edge (the
     // flange would have to bend too).
-    for (index, cut) in cuts.iter().enumerate() {
-        let bad = |why: String| PartProblem::Bend { index, why };
-        let (from, to) = bend_ends[index];
+    for (cut, crease) in cuts.iter().zip(&bend_creases) {
+        let bad = |why: String| PartProblem::Bend {
+            index: crease.bend,
+            why,
+        };
+        let (from, to) = (crease.from, crease.to);
         for (k, &(a, c)) in flange_edges.iter().enumerate() {
             if [from, to]
                 .iter()
@@ -595,14 +611,8 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
                 )));
             }
         }
-        bend(
-            &sheet,
-            &mut mid,
-            cut.fixed,
-            cut.crease,
-            spec.bends[index].angle,
-        )
-        .map_err(|e| bad(e.to_string()))?;
+        bend(&sheet, &mut mid, cut.fixed, cut.crease, crease.angle)
+            .map_err(|e| bad(e.to_string()))?;
     }
     // A solid that cannot be made, or passes through itself, is blamed on the flange
     // nearest the place at fault.
@@ -717,13 +727,15 @@ fn check_sizes(spec: &PlateSpec) -> Result<(), PartProblem> {
     Ok(())
 }
 
-/// A bend's split of the plate: the part split, the part that stays and the part that
-/// turns (one of them the part split), and the crease between them.
+/// A crease's split of the plate: the part split, the part that stays and the part that
+/// turns (one of them the part split), the crease between them, and the name of the
+/// part that turns (`BEND` or a facet's `BEND.bend_K`).
 pub(super) struct Cut {
     part: FaceId,
     fixed: FaceId,
     moved: FaceId,
     crease: EdgeId,
+    name: String,
 }
 
 /// A flange's own fields checked: a height above 0, a thickness above 0 when given, a

@@ -28,10 +28,10 @@ impl FaceNames {
         // The plate's parts, named by the bend that turned them (the rest `plate`).
         let mut part_names = std::collections::BTreeMap::new();
         part_names.insert(top, "plate".to_string());
-        for (k, cut) in cuts.iter().enumerate() {
+        for cut in cuts {
             let before = part_names.get(&cut.part).cloned().unwrap_or_default();
             part_names.insert(cut.fixed, before);
-            part_names.insert(cut.moved, spec.bends[k].name.clone());
+            part_names.insert(cut.moved, cut.name.clone());
         }
         for (&part, name) in &part_names {
             names.insert(part, format!("{name}.top"));

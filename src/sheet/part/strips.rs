@@ -23,10 +23,7 @@ pub(super) fn flange_reaches(
     let dir = flange.angle.cos() * out + flange.angle.sin() * n;
     let rho = flange.radius + 0.5 * flange.thickness.unwrap_or(thickness);
     let steps = if flange.radius > 0.0 && flange.angle > 0.0 {
-        let by_angle = (flange.angle / BEND_STEP).ceil();
-        let chord = 2.0 * (1.0 - BEND_TOLERANCE / rho).clamp(-1.0, 1.0).acos();
-        let by_sag = (flange.angle / chord.max(1e-3)).ceil();
-        by_angle.max(by_sag).min(MAX_BEND_FACETS as f64) as usize
+        facets(flange.angle, rho)
     } else {
         0
     };
@@ -40,3 +37,13 @@ pub(super) fn flange_reaches(
 }
 /// The most facets a bend is cut into.
 pub(super) const MAX_BEND_FACETS: usize = 64;
+
+/// How many facets a bend through `angle` (radians, above 0) on a mid-surface radius
+/// `rho` is cut into: each turns at most [`BEND_STEP`] and lies within
+/// [`BEND_TOLERANCE`] of the arc, and there are at most [`MAX_BEND_FACETS`].
+pub(super) fn facets(angle: f64, rho: f64) -> usize {
+    let by_angle = (angle / BEND_STEP).ceil();
+    let chord = 2.0 * (1.0 - BEND_TOLERANCE / rho).clamp(-1.0, 1.0).acos();
+    let by_sag = (angle / chord.max(1e-3)).ceil();
+    by_angle.max(by_sag).min(MAX_BEND_FACETS as f64) as usize
+}
