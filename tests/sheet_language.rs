@@ -513,6 +513,17 @@ fn the_reinforcement_is_sound_with_two_gauges_and_type_2_junctions() {
         assert!((x - 160.0).abs() < 1e-9 && ((y - 25.0).abs() < 1e-9 || (y - 55.0).abs() < 1e-9));
     }
     assert!(part.junctions.iter().all(|j| j.kind.number() != 3));
+    // The back strip bent down 30 deg on its radius: facets, then the turned strip
+    // carrying the back flange, whose far edge now lies below the plate.
+    let groups: Vec<&str> = part.solid.groups().iter().map(|g| g.name()).collect();
+    assert!(groups.contains(&"step_down.bend_1.top") && groups.contains(&"step_down.top"));
+    let lowest = part
+        .mid_mesh
+        .positions()
+        .iter()
+        .map(|p| p.z)
+        .fold(f64::INFINITY, f64::min);
+    assert!(lowest < -5.0, "the back strip does not turn down: {lowest}");
 }
 
 /// A 100 x 60 plate at 2 mm with a 10 mm square hole at (20, 20), and `lines` in its
