@@ -22,9 +22,10 @@ fn number(j: &Json) -> f64 {
 }
 
 /// dieface's part differs from OpenCascade's only where dieface follows an arc by
-/// chords: in area by less than the tolerance times the arcs' length, in volume by that
-/// times the gauge, and no point of either solid lies further than the tolerance from
-/// the other. The data is current: it holds the volume dieface makes now.
+/// chords (an outline's arcs, a bend's cylinder): in area by less than the tolerance
+/// times the arcs' length, in volume by that times the gauge, and no point of either
+/// solid lies further than the tolerance from the other. The data is current: it holds
+/// the volume dieface makes now.
 fn matches_opencascade(name: &str) {
     let r = reference();
     let values = example::example_values(&format!("{name}/{name}.die"));
@@ -68,11 +69,17 @@ fn matches_opencascade(name: &str) {
         "the reference data is stale: rerun tests/reference/sheet_reference.py"
     );
     let d = &r["distance"];
-    assert!(number(&d["dieface_to_occ"]) < 1e-5, "{d}");
+    // Every vertex of dieface's solid lies on OpenCascade's: exactly where the sheets
+    // are flat, within the bend's chord sag where OpenCascade has a cylinder.
+    assert!(
+        number(&d["dieface_to_occ"]) < number(&r["sag"]) + 1e-5,
+        "{d}"
+    );
     assert!(number(&d["occ_to_dieface"]) <= tolerance, "{d}");
 }
 
-/// The bracket: a plate with a bolt hole and a slot, and a square flange.
+/// The bracket: a plate with a bolt hole and a slot, a square flange, and a foot bent
+/// down on a 2 mm radius (OpenCascade's bend an exact quarter cylinder).
 #[test]
 fn the_bracket_matches_opencascade_within_the_outline_tolerance() {
     matches_opencascade("bracket");

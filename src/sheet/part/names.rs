@@ -54,10 +54,11 @@ impl FaceNames {
         };
         for (k, strips) in flanges.iter().enumerate() {
             let name = &spec.flanges[k].name;
-            // Each strip's inside continues the one before it (the plate's top first).
-            let mut before = top;
+            // Each strip's inside continues the one before it (first the top of the
+            // plate's part it stands on: bends split the plate into parts).
+            let mut before: Vec<FaceId> = part_names.keys().copied().collect();
             for (i, &(a, c)) in strips.iter().enumerate() {
-                let inside = if neighbours(a)?.contains(&before) {
+                let inside = if neighbours(a)?.iter().any(|f| before.contains(f)) {
                     a
                 } else {
                     c
@@ -70,7 +71,7 @@ impl FaceNames {
                 };
                 names.insert(inside, format!("{part}.inside"));
                 names.insert(outside, format!("{part}.outside"));
-                before = inside;
+                before = vec![inside];
             }
         }
         let twin = |f: FaceId| -> Result<FaceId, TopologyError> {
