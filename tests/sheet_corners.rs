@@ -13,7 +13,6 @@ mod common;
 use std::collections::BTreeSet;
 
 use common::{assert_sound, volume};
-use dieface::eval::Data;
 use dieface::sheet::junction::{meetings, JunctionType, Meeting};
 use dieface::sheet::part::SheetPart;
 use dieface::sheet::topology::{FaceRole, Sheet, VertexId};
@@ -21,15 +20,6 @@ use glam::DVec3;
 
 const T: f64 = 1.0;
 const H: f64 = 20.0;
-
-/// The sheet part a one-block script declares (the script must evaluate cleanly).
-fn sheet_part(text: &str) -> SheetPart {
-    let values = script::evaluate_clean("part.die", text);
-    let Data::Record(r) = &values[0].1 else {
-        panic!("a sheet is a record")
-    };
-    r.model::<SheetPart>().expect("a sheet part").clone()
-}
 
 /// A script of a plate over `outline` (points in the top view) with a flange on every
 /// edge, each given `fields` after its `at` (the edge's midpoint).
@@ -119,7 +109,7 @@ fn offset_area(outline: &[(f64, f64)], d: f64) -> f64 {
 #[test]
 fn a_box_tray_is_three_sheets_at_each_bottom_corner() {
     let outline = [(0.0, 0.0), (100.0, 0.0), (100.0, 60.0), (0.0, 60.0)];
-    let part = sheet_part(&tray(&outline, &|_| format!("height: {H} mm")));
+    let part = script::sheet_part(&tray(&outline, &|_| format!("height: {H} mm")));
     assert_sound(&part.solid);
     let area = 100.0 * 60.0 + 2.0 * (100.0 + 60.0) * H;
     assert!((part.area - area).abs() < 1e-9 * area, "{}", part.area);
@@ -176,7 +166,7 @@ fn a_box_tray_is_three_sheets_at_each_bottom_corner() {
 #[test]
 fn walls_of_two_gauges_meet_at_a_closed_corner() {
     let outline = [(0.0, 0.0), (100.0, 0.0), (100.0, 60.0), (0.0, 60.0)];
-    let part = sheet_part(&tray(&outline, &|i| {
+    let part = script::sheet_part(&tray(&outline, &|i| {
         if i == 1 {
             format!("height: {H} mm, thickness: 1.5 mm")
         } else {
@@ -208,7 +198,7 @@ fn an_l_shaped_tray_closes_its_inside_corner_too() {
         (30.0, 70.0),
         (0.0, 70.0),
     ];
-    let part = sheet_part(&tray(&outline, &|_| format!("height: {H} mm")));
+    let part = script::sheet_part(&tray(&outline, &|_| format!("height: {H} mm")));
     assert_sound(&part.solid);
     let exact = offset_area(&outline, T / 2.0) * (H + T / 2.0)
         - offset_area(&outline, -T / 2.0) * (H - T / 2.0);
@@ -231,7 +221,7 @@ fn an_l_shaped_tray_closes_its_inside_corner_too() {
 fn drafted_walls_are_cut_on_the_mitre_line() {
     let outline = [(0.0, 0.0), (100.0, 0.0), (100.0, 60.0), (0.0, 60.0)];
     let angle = 80f64.to_radians();
-    let part = sheet_part(&tray(&outline, &|_| {
+    let part = script::sheet_part(&tray(&outline, &|_| {
         format!("height: {H} mm, angle: 80 deg")
     }));
     assert_sound(&part.solid);

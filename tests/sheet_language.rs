@@ -19,15 +19,6 @@ use dieface::geom::mesh::{Mesh, Topology};
 use dieface::sheet::part::SheetPart;
 use sheet::volume;
 
-/// The sheet part a one-block script declares (the script must evaluate cleanly).
-fn sheet_part(text: &str) -> SheetPart {
-    let values = script::evaluate_clean("part.die", text);
-    let Data::Record(r) = &values[0].1 else {
-        panic!("a sheet is a record")
-    };
-    r.model::<SheetPart>().expect("a sheet part").clone()
-}
-
 /// The mesh in field `field` of a sheet's record.
 fn mesh<'a>(v: &'a Value, field: &str) -> &'a Mesh {
     let Data::Record(r) = &v.data else {
@@ -126,7 +117,7 @@ sheet plate {{
     flange lip = {{ at: (100, 30), height: 40 mm, angle: {angle} deg }}
 }}"
         );
-        let part = &sheet_part(&text);
+        let part = &script::sheet_part(&text);
         assert!((part.area - 8400.0).abs() < 1e-9, "{angle}: {}", part.area);
         assert!(
             (part.volume - 16800.0).abs() < 1e-8,
@@ -158,7 +149,7 @@ sheet plate {{
     flange lip = {{ at: (100, 30), height: 40 mm, angle: {angle} deg, thickness: 1.2 mm }}
 }}"
         );
-        let part = &sheet_part(&text);
+        let part = &script::sheet_part(&text);
         let expected = 6000.0 * 0.8 + 2400.0 * 1.2;
         assert!(
             (part.volume - expected).abs() < 1e-9 * expected,
@@ -331,7 +322,7 @@ sheet plate {{
     flange lip = {{ at: (100, 30), height: 40 mm, angle: {angle} deg, radius: {radius} mm }}
 }}"
         );
-        let part = &sheet_part(&text);
+        let part = &script::sheet_part(&text);
         let t = 2.0;
         assert!((part.volume - part.area * t).abs() < 1e-9 * part.volume);
         // The mid-surface's arc has radius r + t / 2 about an axis along Y through
@@ -397,7 +388,7 @@ sheet plate {
     flange tab = { from: (100, 20), to: (100, 40), height: 30 mm }
     flange lip = { from: (70, 60), to: (30, 60), height: 15 mm, angle: 60 deg }
 }";
-    let part = &sheet_part(text);
+    let part = &script::sheet_part(text);
     sheet::assert_sound(&part.solid);
     let expected = (6000.0 + 20.0 * 30.0 + 40.0 * 15.0) * 2.0;
     assert!(
@@ -440,7 +431,7 @@ sheet plate {
     lift boss = { region: sketch(top) { from (20, 20); line to (60, 20); line to (60, 40); line to (20, 40); close }, height: 5 mm }
     lift dimple = { region: sketch(top) { from (70, 25); line to (90, 25); line to (90, 45); line to (70, 45); close }, height: -4 mm, draft: 30 deg }
 }";
-    let part = &sheet_part(text);
+    let part = &script::sheet_part(text);
     sheet::assert_sound(&part.solid);
     let inset = 4.0 * 30f64.to_radians().tan();
     let slant = 4.0 / 30f64.to_radians().cos();
@@ -529,7 +520,7 @@ fn the_reinforcement_is_sound_with_two_gauges_and_type_2_junctions() {
 /// A 100 x 60 plate at 2 mm with a 10 mm square hole at (20, 20), and `lines` in its
 /// block.
 fn holed_plate(lines: &str) -> SheetPart {
-    sheet_part(&format!(
+    script::sheet_part(&format!(
         "units mm deg
 sheet angle_plate {{
     outline = sketch(top) {{ from (0, 0); line to (100, 0); line to (100, 60); line to (0, 60); close }}
@@ -671,7 +662,7 @@ sheet plate {
     lift collar = { region: sketch(top) { from (40, 20); line to (60, 20); line to (60, 40); line to (40, 40); close }, height: 6 mm }
     remove opening = { at: (50, 30) }
 }";
-    let part = &sheet_part(text);
+    let part = &script::sheet_part(text);
     sheet::assert_sound(&part.solid);
     assert_eq!(part.sheet.check().unwrap().genus, 1);
     assert!(matches!(
@@ -711,7 +702,7 @@ sheet combo {
     flange tab = { from: (120, 20), to: (120, 40), height: 10 mm, thickness: 2 mm }
     bend leg = { from: (60, 0), to: (60, 60), angle: 80 deg }
 }";
-    let part = &sheet_part(text);
+    let part = &script::sheet_part(text);
     sheet::assert_sound(&part.solid);
     assert_eq!(part.sheet.check().unwrap().genus, 2);
     let (t, tab) = (1.5f64, 20.0 * 10.0);

@@ -36,3 +36,15 @@ pub fn evaluate_clean(file: &str, text: &str) -> Vec<(String, Data)> {
 pub fn diagnostics_of(file: &str, text: &str) -> Vec<dieface::diag::Diagnostic> {
     Engine::new(None).evaluate(file, text, None).diagnostics
 }
+
+/// The sheet part a script's first declaration, a `sheet` block, builds (the script
+/// must evaluate cleanly).
+pub fn sheet_part(text: &str) -> dieface::sheet::part::SheetPart {
+    let values = evaluate_clean("part.die", text);
+    let Data::Record(r) = &values[0].1 else {
+        panic!("a sheet is a record")
+    };
+    r.model::<dieface::sheet::part::SheetPart>()
+        .expect("a sheet part")
+        .clone()
+}

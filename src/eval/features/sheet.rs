@@ -39,7 +39,7 @@ use super::{
     Block, Field,
 };
 
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 use std::sync::Arc;
 
 /// How closely a curved outline is followed by the plate's straight edges (mm).
@@ -202,7 +202,16 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
             r,
             field.value.span,
             &what,
-            &["at", "from", "to", "height", "angle", "thickness", "radius"],
+            &[
+                "at",
+                "from",
+                "to",
+                "height",
+                "angle",
+                "thickness",
+                "radius",
+                "shape",
+            ],
         )?;
         // Where it stands: on the edge nearest `at`, or on the part of an edge between
         // `from` and `to`.
@@ -237,14 +246,33 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
                 ))
             }
         };
-        let height = required(
-            r,
-            "height",
-            &what,
-            field.value.span,
-            "add `height: 25 mm`, how far the flange reaches from the edge",
-        )?;
-        let height = length(height, block.units, &format!("`height` of {what}"))?;
+        let shape = match r.get("shape") {
+            Some(v) => Some(flange_shape(v, &what)?),
+            None => None,
+        };
+        let height = match (r.get("height"), &shape) {
+            (Some(h), None) => length(h, block.units, &format!("`height` of {what}"))?,
+            (None, Some(points)) => points.iter().map(|p| p.y).fold(0.0, f64::max),
+            (Some(h), Some(_)) => {
+                return Err(feature_error(
+                    KIND,
+                    format!("{what} has both a `height` and a `shape`"),
+                    h.span,
+                    "the shape gives the height",
+                    "give `height` for a rectangular flange, or draw its `shape`, not both",
+                ))
+            }
+            (None, None) => {
+                let h = required(
+                    r,
+                    "height",
+                    &what,
+                    field.value.span,
+                    "add `height: 25 mm`, how far the flange reaches from the edge (or draw its outline as `shape: sketch(profile) { ... }`)",
+                )?;
+                length(h, block.units, &format!("`height` of {what}"))?
+            }
+        };
         let angle = match r.get("angle") {
             Some(a) => as_angle(a, block.units, &format!("`angle` of {what}"))?,
             None => std::f64::consts::FRAC_PI_2,
@@ -277,6 +305,7 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
             thickness: own,
             span,
             radius,
+            shape,
         });
     }
     let spec = PlateSpec {
@@ -327,6 +356,43 @@ fn required<'a>(
             help.to_string(),
         )
     })
+}
+
+/// A flange's drawn `shape`: an open sketch in the `profile` view, (s, z) in the
+/// flange's plane, as its points (its curves followed within [`OUTLINE_TOLERANCE`]).
+fn flange_shape(v: &Value, what: &str) -> Result<Vec<DVec2>, Diagnostic> {
+    let Data::Sketch(s) = &v.data else {
+        return Err(type_error(v, &format!("`shape` of {what}"), "a sketch"));
+    };
+    if s.view != View::Profile || s.closed {
+        return Err(feature_error(
+            KIND,
+            format!(
+                "the `shape` of {what} must be an open sketch in the `profile` view, not {} in the {} view",
+                if s.closed { "a closed sketch" } else { "a sketch" },
+                s.view.name()
+            ),
+            v.span,
+            "this sketch",
+            "draw the flange's outline seen from outside the part as `sketch(profile) { from (0, 0) ... }`: s along the edge from its left end, z up the flange, from (0, 0) to the edge's other end (length, 0); the edge closes the loop",
+        ));
+    }
+    let tol = Tolerance {
+        chordal: OUTLINE_TOLERANCE,
+        angle: 0.2,
+        max_edge: None,
+    };
+    let flat = s.curve.map_points(|p| DVec3::new(p.x, p.y, 0.0));
+    let line = tessellate_curve(&flat, &tol).map_err(|e| {
+        feature_error(
+            KIND,
+            format!("the `shape` of {what} cannot be followed by straight edges: {e}"),
+            v.span,
+            "this sketch",
+            "simplify the sketch",
+        )
+    })?;
+    Ok(line.points.iter().map(|p| DVec2::new(p.x, p.y)).collect())
 }
 
 /// The inside radius of a bend or a flange's bend (`radius`, 0 mm when left out), 0 mm
@@ -384,7 +450,7 @@ fn problem(
         PartProblem::Lift { index, .. } => at_field("lift", lifts, *index, "this lift", "draw the region inside the outline, clear of its edges, the holes and the other lifted regions, with a height other than 0 and a draft below 90 deg that its size allows"),
         PartProblem::Bend { index, .. } => at_field("bend", bends, *index, "this bend", "draw the bend line across the plate from one edge of the outline to another, clear of the holes, the lifted regions, the other bends' lines and the flanges' edges, with an angle between -180 and 180 deg; on a `radius`, the zone of facets centred on the line (the radius plus half the thickness, times the angle in radians, wide) must fit on the plate too"),
         PartProblem::Remove { index, .. } => at_field("remove", removals, *index, "this removal", "put `at` over the top of a lifted region: removing it leaves a collar round a hole"),
-        PartProblem::Flange { index, .. } => at_field("flange", flanges, *index, "this flange", "put `at` near a free edge of the outline, or `from` and `to` on one (one edge takes one flange); give a height above 0, an angle below 180 deg, and a bend `radius` or a `thickness` of its own, not both"),
+        PartProblem::Flange { index, .. } => at_field("flange", flanges, *index, "this flange", "put `at` on (or within 5 mm of) a free edge of the outline, nearer it than any other, or `from` and `to` on one (one edge takes one flange); give a height above 0 (or a `shape` from the edge's left end to its right, seen from outside), an angle below 180 deg, and a bend `radius` or a `thickness` of its own, not both"),
         PartProblem::FlangesMeet { index, other, .. } => feature_error(
             KIND,
             format!("`flange {}` and `flange {}`: {p}", flanges[*other].0, flanges[*index].0),
@@ -411,7 +477,7 @@ fn problem(
             format!("`flange {}`: {p}", flanges[*index].0),
             flanges[*index].1.value.span,
             "this flange, the nearest",
-            "a flange of its own thickness needs an angle well away from 0 deg, so its sides cross the plate's on a mitre; or give it the plate's thickness",
+            "start a flange's ends square to the plate's edge where they meet it (a drawn shape's first and last segments straight up from the edge); a flange of its own thickness needs an angle well away from 0 deg, so its sides cross the plate's on a mitre, or the plate's thickness",
         ),
         PartProblem::Junction { flange: None, .. } => feature_error(
             KIND,

@@ -141,6 +141,11 @@ pub struct FlangeSpec {
     /// is made of narrow strips, chords of the arc, and the straight flange runs
     /// `height` on from the bend's end.
     pub radius: f64,
+    /// Its outline drawn in its own plane, when not a rectangle `height` high: the
+    /// boundary curves (followed by straight edges) from the edge's left end to its
+    /// right end, seen from outside the part, as points `(s, z)`: `s` along the edge
+    /// from its left end, `z` up the flange away from it. The edge closes the loop.
+    pub shape: Option<Vec<DVec2>>,
 }
 
 /// Why a plate could not be built.
@@ -495,6 +500,13 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
                 at: p,
                 why,
             };
+            if spec.flanges[index].shape.is_some() || spec.flanges[other].shape.is_some() {
+                return Err(meet(
+                    "a flange with a drawn `shape` cannot be joined at a corner yet: end \
+                     its shape short of the corner, or draw the other flange to meet it"
+                        .into(),
+                ));
+            }
             if spec.flanges[index].radius > 0.0 || spec.flanges[other].radius > 0.0 {
                 return Err(meet(
                     "a flange with a bend radius cannot be joined at a corner yet: the \
@@ -530,7 +542,14 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
         let mut path: Vec<VertexId> = before.into_iter().collect();
         path.extend([a, c]);
         path.extend(after);
-        let curves = 3 - before.iter().count() - after.iter().count();
+        let shape = match &flange.shape {
+            Some(shape) => Some(shape_chain(shape, pa.distance(pc)).map_err(bad)?),
+            None => None,
+        };
+        let curves = match &shape {
+            Some(points) => points.len() - 1,
+            None => 3 - before.iter().count() - after.iter().count(),
+        };
         let added = sheet
             .add_sheet(&[Piece::Picked(path.clone()), Piece::Curves(curves)])
             .map_err(|e| {
@@ -551,10 +570,20 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
         }
         let far_a = before.unwrap_or(chain[k - 2]);
         let far_c = after.unwrap_or(chain[1]);
-        for (end, (v, p)) in [(far_a, pa), (far_c, pc)].into_iter().enumerate() {
-            if joined[index][end].is_none() {
-                let at = mitred[index][end].unwrap_or(p + reaches[0]);
-                mid.place(&sheet, v, at).map_err(topo)?;
+        if let Some(points) = &shape {
+            // The chain runs from c back to a: the shape's points the other way round.
+            let rise = flange.angle.cos() * out + flange.angle.sin() * n;
+            let along = (pc - pa) / pa.distance(pc);
+            for (v, q) in chain[1..k - 1].iter().zip(points[1..k - 1].iter().rev()) {
+                mid.place(&sheet, *v, pa + q.x * along + q.y * rise)
+                    .map_err(topo)?;
+            }
+        } else {
+            for (end, (v, p)) in [(far_a, pa), (far_c, pc)].into_iter().enumerate() {
+                if joined[index][end].is_none() {
+                    let at = mitred[index][end].unwrap_or(p + reaches[0]);
+                    mid.place(&sheet, v, at).map_err(topo)?;
+                }
             }
         }
         far_corners.push([far_a, far_c]);
@@ -717,7 +746,11 @@ fn check_sizes(spec: &PlateSpec) -> Result<(), PartProblem> {
     for (index, f) in spec.flanges.iter().enumerate() {
         let span = f.span.is_none_or(|(a, c)| point(&a) && point(&c));
         let thick = f.thickness.is_none_or(fits);
-        if !(point(&f.near) && span && fits(f.height) && fits(f.radius) && thick) {
+        let shape = f
+            .shape
+            .as_ref()
+            .is_none_or(|s| s.iter().all(|p| fits(p.x) && fits(p.y)));
+        if !(point(&f.near) && span && fits(f.height) && fits(f.radius) && thick && shape) {
             return Err(PartProblem::Flange {
                 index,
                 why: why("a point, a height, a radius or a thickness"),
@@ -763,11 +796,71 @@ fn check_flange(flange: &FlangeSpec) -> Result<(), String> {
     if !(flange.angle.is_finite() && (0.0..std::f64::consts::PI).contains(&flange.angle)) {
         return Err("angle must lie from 0 up to (not including) 180 deg".into());
     }
+    if flange.shape.is_some() && flange.radius > 0.0 {
+        return Err(
+            "cannot have both a drawn `shape` and a bend radius yet: a shaped flange is \
+             folded sharp"
+                .into(),
+        );
+    }
     Ok(())
 }
 
+/// A flange's drawn shape checked against the length of its edge: it must run from the
+/// edge's left end `(0, 0)` to its right end `(length, 0)` (each within
+/// [`SPAN_TOLERANCE`], then put on it exactly), stay above the edge between, and with
+/// the edge bound an area without crossing itself.
+fn shape_chain(shape: &[DVec2], length: f64) -> Result<Vec<DVec2>, String> {
+    let show = |p: DVec2| format!("({}, {})", tidy(p.x), tidy(p.y));
+    let (start, end) = (DVec2::ZERO, DVec2::new(length, 0.0));
+    let (Some(&first), Some(&last)) = (shape.first(), shape.last()) else {
+        return Err("is drawn with no points".into());
+    };
+    if first.distance(start) > SPAN_TOLERANCE {
+        return Err(format!(
+            "is drawn to start at {}, not at the edge's left end {}: its boundary curves \
+             must close a loop with the edge, from one end of it to the other",
+            show(first),
+            show(start)
+        ));
+    }
+    if last.distance(end) > SPAN_TOLERANCE {
+        return Err(format!(
+            "is drawn to end at {}, not at the edge's right end {} (the edge is {} mm \
+             long): its boundary curves must close a loop with the edge, from one end of \
+             it to the other",
+            show(last),
+            show(end),
+            tidy(length)
+        ));
+    }
+    let mut points = shape.to_vec();
+    let k = points.len();
+    points[0] = start;
+    points[k - 1] = end;
+    if k < 3 {
+        return Err("is drawn along the edge only: it must rise from it".into());
+    }
+    if let Some(&low) = points[1..k - 1].iter().find(|p| p.y <= SPAN_TOLERANCE) {
+        return Err(format!(
+            "is drawn down to the edge (or below it) at {}: between its ends it must \
+             stay above the edge",
+            show(low)
+        ));
+    }
+    if triangulate_loops(&[points.clone()]).is_err() {
+        return Err("is drawn crossing itself".into());
+    }
+    Ok(points)
+}
+
+/// How far from its edge a flange's point may lie (mm): further, the point picks no
+/// edge of the sheet.
+pub const PICK_REACH: f64 = 5.0;
+
 /// The edge of the plate's parts nearest `near`: its vertices on the top side, in the
-/// order the part's outer loop runs them, and their points.
+/// order the part's outer loop runs them, and their points. Refused when `near` lies
+/// more than [`PICK_REACH`] from every edge, or as near two edges (a corner).
 fn nearest_edge(
     sheet: &Sheet,
     mid: &MidSurface,
@@ -780,15 +873,45 @@ fn nearest_edge(
         let k = ring.len();
         edges.extend((0..k).map(|i| (ring[i], ring[(i + 1) % k])));
     }
-    edges
+    let mut found: Vec<(f64, (VertexId, VertexId, DVec3, DVec3))> = edges
         .iter()
         .filter_map(|&(a, c)| {
             let (pa, pc) = (mid.point(a)?, mid.point(c)?);
             Some((distance_to_segment(pa, pc, near), (a, c, pa, pc)))
         })
-        .min_by(|x, y| x.0.total_cmp(&y.0))
-        .map(|(_, e)| e)
-        .ok_or_else(|| "finds no edge".into())
+        .collect();
+    found.sort_by(|x, y| x.0.total_cmp(&y.0));
+    let Some(&(d, edge)) = found.first() else {
+        return Err("finds no edge".into());
+    };
+    if d > PICK_REACH {
+        return Err(format!(
+            "picks no edge of the sheet: its point {} lies {} mm from the nearest edge, \
+             and a picked edge must lie within {} mm of its point",
+            show(near),
+            tidy(d),
+            tidy(PICK_REACH)
+        ));
+    }
+    let (a, c, pa, pc) = edge;
+    // The next edge other than this one (a crease is in two parts' rings).
+    let other = found
+        .iter()
+        .find(|(_, (x, y, ..))| (*x, *y) != (a, c) && (*x, *y) != (c, a));
+    if let Some(&(d2, (_, _, qa, qc))) = other {
+        if d2 - d < 1e-9 {
+            return Err(format!(
+                "picks no one edge: its point {} lies as near the edge from {} to {} as the \
+                 edge from {} to {}",
+                show(near),
+                show(pa),
+                show(pc),
+                show(qa),
+                show(qc)
+            ));
+        }
+    }
+    Ok(edge)
 }
 
 /// A point as a designer reads it: `(x, y, z)` to the micrometre.
