@@ -371,6 +371,11 @@ enum SheetOp {
     /// A sheet added on the free edge picked by the first number (run one way or the
     /// other by the third), with 1 + the second number boundary curves.
     Add(u32, u8, bool),
+    /// A sheet added on a run of two picked edges (`Skze` at the vertex between): the
+    /// free edge picked by the first number and, of the free edges at its second end,
+    /// the one picked by the second number (a flange joined at a closed corner, when
+    /// those are a plate's edge and a flange's end), with 1 + the third number curves.
+    AddRun(u32, u32, u8),
 }
 
 fn sheet_op() -> impl Strategy<Value = SheetOp> {
@@ -381,6 +386,7 @@ fn sheet_op() -> impl Strategy<Value = SheetOp> {
         (any::<u32>(), 0u8..4, any::<u32>()).prop_map(|(f, n, v)| SheetOp::Lift(f, n, v)),
         any::<u32>().prop_map(SheetOp::Remove),
         (any::<u32>(), 0u8..5, any::<bool>()).prop_map(|(e, k, r)| SheetOp::Add(e, k, r)),
+        (any::<u32>(), any::<u32>(), 0u8..3).prop_map(|(e, f, k)| SheetOp::AddRun(e, f, k)),
     ]
 }
 
@@ -419,6 +425,33 @@ fn apply_sheet(sheet: &mut Sheet, op: SheetOp) -> bool {
             sheet
                 .add_sheet(&[
                     Piece::Picked(vec![x, y]),
+                    Piece::Curves(1 + curves as usize),
+                ])
+                .is_ok()
+        }
+        SheetOp::AddRun(k, j, curves) => {
+            if free.is_empty() {
+                return false;
+            }
+            let ends = |e| {
+                let (p, m) = b.halves_of(e).unwrap();
+                (b.vertex(p).unwrap(), b.vertex(m).unwrap())
+            };
+            let e = free[k as usize % free.len()];
+            let (x, y) = ends(e);
+            let next: Vec<_> = free
+                .iter()
+                .copied()
+                .filter(|&f| f != e && (ends(f).0 == y || ends(f).1 == y))
+                .collect();
+            if next.is_empty() {
+                return false;
+            }
+            let (p, q) = ends(next[j as usize % next.len()]);
+            let z = if p == y { q } else { p };
+            sheet
+                .add_sheet(&[
+                    Piece::Picked(vec![x, y, z]),
                     Piece::Curves(1 + curves as usize),
                 ])
                 .is_ok()
@@ -463,7 +496,7 @@ proptest! {
 
     /// 200 random sequences of up to 30 sheet operations (flanges on free edges,
     /// holes through sides, splits of sides, lifted regions, removed sides, sheets
-    /// added on a free edge) from an
+    /// added on a free edge or on a run of two, as a closed corner's flange is) from an
     /// initial sheet, shrinking on failure: after each, the topology and every twin,
     /// zero-area loop and zero-length edge is valid, the genus counts the holes punched
     /// (a removal may add one or close some), and the model stays one shell unless a

@@ -1116,12 +1116,25 @@ struct Made {
     vertices: Vec<(VertexId, VertexId)>,
 }
 
-/// The half-edge of face `f`'s outer loop that leaves vertex `v`.
+/// The half-edge of face `f`'s outer loop that leaves vertex `v`. Where the loop passes
+/// through `v` twice (the free rim pinched there) which of the two a new curve should
+/// leave by is not known, so the operation does not apply.
 fn leaving_in(b: &Brep, f: FaceId, v: VertexId) -> Result<HalfEdgeId> {
-    b.loop_halves(b.loops_of(f)?[0])?
+    let mut leaving = b
+        .loop_halves(b.loops_of(f)?[0])?
         .into_iter()
-        .find(|&h| b.vertex(h).ok() == Some(v))
-        .ok_or_else(|| lost("a vertex on an open loop"))
+        .filter(|&h| b.vertex(h).ok() == Some(v));
+    let h = leaving
+        .next()
+        .ok_or_else(|| lost("a vertex on an open loop"))?;
+    if leaving.next().is_some() {
+        return Err(TopologyError::NotApplicable(format!(
+            "the free rim passes through vertex {} twice there, so a new curve from it \
+             has two ways to go",
+            v.0
+        )));
+    }
+    Ok(h)
 }
 
 /// The face across edge `e` from the sheets that were there before (`sides`, the faces
@@ -1806,6 +1819,7 @@ impl Sheet {
         let bad = |why: String| Err(TopologyError::NotApplicable(why));
         let b = &self.brep;
         let mut runs: Vec<PickedRun> = Vec::new();
+        let mut seen: BTreeSet<VertexId> = BTreeSet::new();
         for (i, piece) in pieces.iter().enumerate() {
             let Piece::Picked(path) = piece else {
                 continue;
@@ -1815,6 +1829,11 @@ impl Sheet {
             };
             if *curves == 0 || path.len() < 2 {
                 return bad("a picked run needs two vertices or more, and curves after it".into());
+            }
+            // A run is a path: it meets no vertex twice, its own or another run's (a run
+            // back to its start would close the new sheet's boundary on itself).
+            if !path.iter().all(|&v| seen.insert(v)) {
+                return bad("a picked run meets a vertex twice: it is not a path".into());
             }
             let mut edges = Vec::new();
             let mut open = Vec::new();
