@@ -961,3 +961,38 @@ fn a_sheet_on_a_wrong_pick_changes_nothing() {
         assert_eq!(sheet, before, "{pieces:?}");
     }
 }
+
+/// The sequences the property test shrank to when runs of two picked edges came in:
+/// a sheet added over two edges of a triangle, the plate removed, and another run
+/// added, once back to its start and once with its curve ending where the free rim is
+/// pinched. Each step leaves the model valid (the last is refused, changing nothing).
+#[test]
+fn runs_that_are_not_paths_or_end_on_a_pinched_rim_are_refused() {
+    for ops in [
+        vec![
+            SheetOp::AddRun(440631411, 0, 0),
+            SheetOp::Split(0, 0, 0),
+            SheetOp::Remove(1387823616),
+            SheetOp::AddRun(5259687, 0, 0),
+        ],
+        vec![
+            SheetOp::AddRun(179459564, 0, 0),
+            SheetOp::Remove(0),
+            SheetOp::AddRun(24231364, 0, 0),
+        ],
+    ] {
+        let (mut sheet, _, _) = Sheet::initial(3).unwrap();
+        let last = ops.len() - 1;
+        for (i, op) in ops.into_iter().enumerate() {
+            let before = sheet.clone();
+            let applied = apply_sheet(&mut sheet, op);
+            sheet
+                .check()
+                .unwrap_or_else(|e| panic!("after {op:?}: {e}"));
+            if i == last {
+                assert!(!applied, "{op:?} applied");
+                assert_eq!(sheet, before);
+            }
+        }
+    }
+}
