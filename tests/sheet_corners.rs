@@ -269,7 +269,7 @@ fn flanges_that_cannot_be_joined_are_refused_at_the_corner() {
             "they stand in one plane there",
         ),
     ] {
-        let found = script::diagnostics_of("part.die", &common::plate_script(flanges));
+        let found = script::diagnostics_of("part.die", &script::plate_script(flanges));
         let [d] = &found[..] else {
             panic!("{expected}: {found:?}")
         };

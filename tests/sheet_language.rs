@@ -175,7 +175,7 @@ sheet plate {{
 /// cross).
 #[test]
 fn flanges_meeting_unequally_or_crossing_are_refused() {
-    assert_refused(&[
+    script::assert_plate_refused(&[
         (
             "flange right = { at: (100, 30), height: 20 mm }\n    flange back = { at: (50, 60), height: 20 mm, angle: 80 deg }",
             "joined flanges must stand equally high there",
@@ -185,18 +185,6 @@ fn flanges_meeting_unequally_or_crossing_are_refused() {
             "the solid passes through itself",
         ),
     ]);
-}
-
-/// Each `(lines, expected)`: the 100 x 60 plate with `lines` in its block is refused
-/// with a message holding `expected`.
-fn assert_refused(cases: &[(&str, &str)]) {
-    for &(lines, expected) in cases {
-        let found = script::diagnostics_of("part.die", &sheet::plate_script(lines));
-        assert!(
-            found.iter().any(|d| d.message.contains(expected)),
-            "{expected}: {found:?}"
-        );
-    }
 }
 
 /// The solid carries one named group per face of the solid (issue 15: "one group per
@@ -637,7 +625,7 @@ fn a_bend_on_a_radius_is_a_zone_of_facets_centred_on_its_line() {
 /// negative radius.
 #[test]
 fn a_bend_radius_the_plate_cannot_hold_is_refused() {
-    assert_refused(&[
+    script::assert_plate_refused(&[
         (
             "bend leg = { from: (4, 0), to: (4, 60), angle: 90 deg, radius: 10 mm }",
             "`bend leg`: the bend zone (16.488 mm wide for radius 10 mm) runs off the plate",

@@ -48,3 +48,24 @@ pub fn sheet_part(text: &str) -> dieface::sheet::part::SheetPart {
         .expect("a sheet part")
         .clone()
 }
+
+/// A script of one `sheet part` at 1 mm over a 100 x 60 mm plate, with `flanges` (the
+/// block's further lines).
+pub fn plate_script(flanges: &str) -> String {
+    format!(
+        "units mm deg\nsheet part {{\n    outline = sketch(top) {{ from (0, 0); line to (100, 0); \
+         line to (100, 60); line to (0, 60); close }}\n    thickness = 1 mm\n    {flanges}\n}}"
+    )
+}
+
+/// Each `(lines, expected)`: the [`plate_script`] with `lines` in its block is refused
+/// with a message holding `expected`.
+pub fn assert_plate_refused(cases: &[(&str, &str)]) {
+    for &(lines, expected) in cases {
+        let found = diagnostics_of("part.die", &plate_script(lines));
+        assert!(
+            found.iter().any(|d| d.message.contains(expected)),
+            "{expected}: {found:#?}"
+        );
+    }
+}

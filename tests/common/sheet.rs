@@ -77,12 +77,3 @@ pub fn place_flange(
         mid.place(sheet, end, far(from)).unwrap();
     }
 }
-
-/// A script of one `sheet part` at 1 mm over a 100 x 60 mm plate, with `flanges` (the
-/// block's further lines).
-pub fn plate_script(flanges: &str) -> String {
-    format!(
-        "units mm deg\nsheet part {{\n    outline = sketch(top) {{ from (0, 0); line to (100, 0); \
-         line to (100, 60); line to (0, 60); close }}\n    thickness = 1 mm\n    {flanges}\n}}"
-    )
-}

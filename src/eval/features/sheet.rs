@@ -23,7 +23,8 @@ use crate::diag::Diagnostic;
 use crate::geom::tessellate::{tessellate_curve, Tolerance};
 use crate::sheet::junction::{Junction, JunctionType};
 use crate::sheet::part::{
-    self, BendSpec, FlangeSpec, HoleSpec, LiftSpec, PartProblem, PlateSpec, RemoveSpec, SheetPart,
+    self, BendSpec, FlangeSpec, HoleSpec, LiftSpec, PartProblem, PlateSpec, RemoveSpec, RoundSpec,
+    SheetPart,
 };
 use crate::sheet::topology::Removal;
 use crate::syntax::Span;
@@ -308,6 +309,30 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
             shape,
         });
     }
+    let round_fields = block.named("round");
+    let mut rounds = Vec::with_capacity(round_fields.len());
+    for (name, field) in &round_fields {
+        let what = format!("`round {name}`");
+        let r = record(
+            &field.value,
+            &what,
+            "a record `{ at: (x, y), radius: 2 mm }`",
+        )?;
+        check_record(r, field.value.span, &what, &["at", "radius"])?;
+        let at = required(r, "at", &what, field.value.span, "add `at: (x, y)`, a point in the outline's view on the joint to round: a flange's foot or a bend's line")?;
+        let radius = required(
+            r,
+            "radius",
+            &what,
+            field.value.span,
+            "add `radius: 2 mm`, the joint's inside radius",
+        )?;
+        rounds.push(RoundSpec {
+            name: name.to_string(),
+            at: view.place(as_point2(at, block.units, &format!("`at` of {what}"))?),
+            radius: length(radius, block.units, &format!("`radius` of {what}"))?,
+        });
+    }
     let spec = PlateSpec {
         outline,
         normal,
@@ -316,19 +341,18 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
         bends,
         removals,
         flanges,
+        rounds,
         thickness,
     };
-    let built = part::build(&spec).map_err(|p| {
-        problem(
-            p,
-            outline_field.value.span,
-            &punches,
-            &lift_fields,
-            &bend_fields,
-            &remove_fields,
-            &flange_fields,
-        )
-    })?;
+    let fields = NamedFields {
+        punches: &punches,
+        lifts: &lift_fields,
+        bends: &bend_fields,
+        removals: &remove_fields,
+        flanges: &flange_fields,
+        rounds: &round_fields,
+    };
+    let built = part::build(&spec).map_err(|p| problem(p, outline_field.value.span, &fields))?;
     Ok(output(
         block,
         built,
@@ -417,16 +441,26 @@ fn bend_radius(r: &Record, units: Units, what: &str) -> Result<f64, Diagnostic> 
     Ok(radius)
 }
 
+/// A sheet block's `keyword NAME = ...` fields, by keyword, in order.
+struct NamedFields<'a> {
+    punches: &'a [(&'a str, &'a Field)],
+    lifts: &'a [(&'a str, &'a Field)],
+    bends: &'a [(&'a str, &'a Field)],
+    removals: &'a [(&'a str, &'a Field)],
+    flanges: &'a [(&'a str, &'a Field)],
+    rounds: &'a [(&'a str, &'a Field)],
+}
+
 /// The diagnostic of a part that could not be built, at the field at fault.
-fn problem(
-    p: PartProblem,
-    outline: Span,
-    punches: &[(&str, &Field)],
-    lifts: &[(&str, &Field)],
-    bends: &[(&str, &Field)],
-    removals: &[(&str, &Field)],
-    flanges: &[(&str, &Field)],
-) -> Diagnostic {
+fn problem(p: PartProblem, outline: Span, fields: &NamedFields) -> Diagnostic {
+    let NamedFields {
+        punches,
+        lifts,
+        bends,
+        removals,
+        flanges,
+        rounds,
+    } = *fields;
     // The error at field `index` of the `keyword NAME = ...` fields `fields`.
     let at_field =
         |keyword: &str, fields: &[(&str, &Field)], index: usize, label: &str, help: &str| {
@@ -450,6 +484,7 @@ fn problem(
         PartProblem::Lift { index, .. } => at_field("lift", lifts, *index, "this lift", "draw the region inside the outline, clear of its edges, the holes and the other lifted regions, with a height other than 0 and a draft below 90 deg that its size allows"),
         PartProblem::Bend { index, .. } => at_field("bend", bends, *index, "this bend", "draw the bend line across the plate from one edge of the outline to another, clear of the holes, the lifted regions, the other bends' lines and the flanges' edges, with an angle between -180 and 180 deg; on a `radius`, the zone of facets centred on the line (the radius plus half the thickness, times the angle in radians, wide) must fit on the plate too"),
         PartProblem::Remove { index, .. } => at_field("remove", removals, *index, "this removal", "put `at` over the top of a lifted region: removing it leaves a collar round a hole"),
+        PartProblem::Round { index, .. } => at_field("round", rounds, *index, "this round", "put `at` on (or within 5 mm of) a flange's foot or a bend's line, nearer it than any other, and give a radius above 0; a joint takes one radius, and a flange of its own thickness none"),
         PartProblem::Flange { index, .. } => at_field("flange", flanges, *index, "this flange", "put `at` on (or within 5 mm of) a free edge of the outline, nearer it than any other, or `from` and `to` on one (one edge takes one flange); give a height above 0 (or a `shape` from the edge's left end to its right, seen from outside), an angle below 180 deg, and a bend `radius` or a `thickness` of its own, not both"),
         PartProblem::FlangesMeet { index, other, .. } => feature_error(
             KIND,
@@ -673,7 +708,7 @@ impl FeatureKind for SheetKind {
     fn fields(&self) -> FieldNames {
         FieldNames {
             single: vec!["outline", "thickness"],
-            named: vec!["punch", "lift", "remove", "bend", "flange"],
+            named: vec!["punch", "lift", "remove", "bend", "flange", "round"],
         }
     }
     fn build(&self, block: &Block) -> Result<Value, Diagnostic> {

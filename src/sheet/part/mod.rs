@@ -16,6 +16,7 @@ mod creases;
 mod layout;
 mod measure;
 mod names;
+mod rounds;
 mod strips;
 
 use std::sync::Arc;
@@ -41,6 +42,7 @@ use layout::{
 };
 use measure::mid_surface;
 use names::FaceNames;
+pub use rounds::RoundSpec;
 use strips::flange_reaches;
 
 /// What a plate part is made of.
@@ -60,6 +62,9 @@ pub struct PlateSpec {
     pub removals: Vec<RemoveSpec>,
     /// The flanges, in order.
     pub flanges: Vec<FlangeSpec>,
+    /// Joints (flange feet, bend lines) given a radius after the fact, each picked by a
+    /// point.
+    pub rounds: Vec<RoundSpec>,
     /// The thickness (mm) of the plate, and of each flange not given its own.
     pub thickness: f64,
 }
@@ -163,6 +168,8 @@ pub enum PartProblem {
     Remove { index: usize, why: String },
     /// Flange `index` cannot be added.
     Flange { index: usize, why: String },
+    /// Round `index` cannot be made.
+    Round { index: usize, why: String },
     /// Flange `index` meets the earlier flange `other` at the corner `at` and cannot be
     /// joined to it there, for the reason `why`.
     FlangesMeet {
@@ -191,6 +198,7 @@ impl std::fmt::Display for PartProblem {
             PartProblem::Lift { why, .. } => write!(f, "the lifted region {why}"),
             PartProblem::Bend { why, .. } => write!(f, "the bend {why}"),
             PartProblem::Remove { why, .. } => write!(f, "the removal {why}"),
+            PartProblem::Round { why, .. } => write!(f, "the round {why}"),
             PartProblem::FlangesMeet { at, why, .. } => write!(
                 f,
                 "the flanges meet at the corner {} and cannot be joined there: {why}",
@@ -239,9 +247,10 @@ pub struct SheetPart {
     pub removals: Vec<Removal>,
 }
 
-/// Builds the plate of `spec`: the initial sheet over the outline, each hole punched,
-/// each flange added on the free edge nearest its point (three boundary curves), then
-/// the solid.
+/// Builds the plate of `spec`: the initial sheet over the outline split along the
+/// bends' creases, each hole punched, each region lifted, each removal, each flange
+/// added on the free edge nearest its point (joined at corners), the bends turned, then
+/// the solid. The rounds first give their joints a radius.
 pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
     let n = spec.normal.normalize_or_zero();
     if n == DVec3::ZERO || spec.outline.len() < 3 {
@@ -250,6 +259,7 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
         ));
     }
     check_sizes(spec)?;
+    let spec = &rounds::apply_rounds(spec)?;
     let frame = Frame::new(spec.outline[0], n);
     let mut outline = counter_clockwise(&spec.outline, n);
     let mut nears: Vec<DVec3> = spec.flanges.iter().map(|f| f.near).collect();
@@ -740,6 +750,14 @@ fn check_sizes(spec: &PlateSpec) -> Result<(), PartProblem> {
             return Err(PartProblem::Remove {
                 index,
                 why: why("its point"),
+            });
+        }
+    }
+    for (index, r) in spec.rounds.iter().enumerate() {
+        if !(point(&r.at) && fits(r.radius)) {
+            return Err(PartProblem::Round {
+                index,
+                why: why("its point or its radius"),
             });
         }
     }
