@@ -21,10 +21,9 @@ use glam::DVec3;
 const T: f64 = 1.0;
 const H: f64 = 20.0;
 
-/// A script of a plate over `outline` (points in the top view) with a flange on every
-/// edge, each given `fields` after its `at` (the edge's midpoint).
-fn tray(outline: &[(f64, f64)], fields: &dyn Fn(usize) -> String) -> String {
-    let n = outline.len();
+/// A script of a plate over `outline` (points in the top view, 1 mm thick) with
+/// `lines` in its block.
+fn plate(outline: &[(f64, f64)], lines: &str) -> String {
     let mut s = String::from("units mm deg\nsheet tray {\n    outline = sketch(top) { ");
     for (i, (x, y)) in outline.iter().enumerate() {
         s += &if i == 0 {
@@ -33,11 +32,18 @@ fn tray(outline: &[(f64, f64)], fields: &dyn Fn(usize) -> String) -> String {
             format!("line to ({x}, {y}); ")
         };
     }
-    s += "close }\n    thickness = 1 mm\n";
+    s + &format!("close }}\n    thickness = 1 mm\n{lines}}}\n")
+}
+
+/// A script of a plate over `outline` with a flange on every edge, each given `fields`
+/// after its `at` (the edge's midpoint).
+fn tray(outline: &[(f64, f64)], fields: &dyn Fn(usize) -> String) -> String {
+    let n = outline.len();
+    let mut lines = String::new();
     for i in 0..n {
         let (a, c) = (outline[i], outline[(i + 1) % n]);
         let at = (0.5 * (a.0 + c.0), 0.5 * (a.1 + c.1));
-        s += &format!(
+        lines += &format!(
             "    flange wall_{} = {{ at: ({}, {}), {} }}\n",
             i + 1,
             at.0,
@@ -45,7 +51,7 @@ fn tray(outline: &[(f64, f64)], fields: &dyn Fn(usize) -> String) -> String {
             fields(i)
         );
     }
-    s + "}\n"
+    plate(outline, &lines)
 }
 
 /// How many sheets have a side at vertex `v`.
@@ -280,4 +286,120 @@ fn flanges_that_cannot_be_joined_are_refused_at_the_corner() {
         );
         assert_eq!(d.secondary.len(), 1, "both flanges are pointed at");
     }
+}
+
+/// A flange from a point on one edge to a point on another runs along the outline
+/// between them, counter-clockwise: one strip per edge, `NAME.1`, `NAME.2`, ..., each
+/// joined to the next at the corner between them. From (30, 0) round to (60, 60) on
+/// the 100 x 60 plate: 70 + 60 + 40 mm of wall, two closed corners (t³/4 each).
+#[test]
+fn a_flange_from_one_edge_to_another_runs_along_the_outline_between() {
+    let part = script::sheet_part(&script::plate_script(
+        "flange lip = { from: (30, 0), to: (60, 60), height: 20 mm }",
+    ));
+    assert_sound(&part.solid);
+    let area = 6000.0 + (70.0 + 60.0 + 40.0) * H;
+    assert!((part.area - area).abs() < 1e-9 * area, "{}", part.area);
+    let exact = area * T + 2.0 * T * T * T / 4.0;
+    assert!(
+        (part.volume - exact).abs() < 1e-9 * exact,
+        "{} against {exact}",
+        part.volume
+    );
+    let names: Vec<&str> = part.solid.groups().iter().map(|g| g.name()).collect();
+    for strip in ["lip.1.inside", "lip.2.inside", "lip.3.outside"] {
+        assert!(names.contains(&strip), "no {strip} in {names:?}");
+    }
+    assert_eq!(
+        sheets_at(&part.sheet, vertex_at(&part, DVec3::new(100.0, 0.0, 0.0))),
+        3
+    );
+}
+
+/// A wall `around` a chamfered rectangle (an octagon): every corner closed, so the
+/// solid is the outline offset out by t/2 over the full height less the outline
+/// offset in by t/2 above the floor, exactly, at the 45 deg corners as at square ones.
+#[test]
+fn a_wall_around_an_octagon_is_the_shell_between_its_prisms() {
+    let outline = [
+        (10.0, 0.0),
+        (90.0, 0.0),
+        (100.0, 10.0),
+        (100.0, 50.0),
+        (90.0, 60.0),
+        (10.0, 60.0),
+        (0.0, 50.0),
+        (0.0, 10.0),
+    ];
+    let part = script::sheet_part(&plate(
+        &outline,
+        "    flange wall = { around: true, height: 20 mm }\n",
+    ));
+    assert_sound(&part.solid);
+    let exact = offset_area(&outline, T / 2.0) * (H + T / 2.0)
+        - offset_area(&outline, -T / 2.0) * (H - T / 2.0);
+    assert!(
+        (part.volume - exact).abs() < 1e-9 * exact,
+        "{} against {exact}",
+        part.volume
+    );
+    assert_eq!(strips(&part), 8);
+    assert!(part.junctions.iter().all(|j| j.at.z == H));
+}
+
+/// A drafted wall `around` a rectangle with 15 mm corner fillets: a drawn tray with
+/// round corners in plan, each fillet's chords a strip of its own joined to the next on
+/// the mitre line, so the rim runs level at 25 sin 80 deg all round and the solid is
+/// sound.
+#[test]
+fn a_drafted_wall_around_a_filleted_outline_is_a_tray_with_round_corners() {
+    let part = script::sheet_part(
+        "units mm deg
+sheet tray {
+    outline = sketch(top) { from (0, 0); line to (160, 0); fillet 15; line to (160, 100); fillet 15; line to (0, 100); fillet 15; close; fillet 15 }
+    thickness = 1 mm
+    flange wall = { around: true, height: 25 mm, angle: 80 deg }
+}",
+    );
+    assert_sound(&part.solid);
+    let rim = 25.0 * 80f64.to_radians().sin();
+    let tops: Vec<f64> = part
+        .mid_mesh
+        .positions()
+        .iter()
+        .map(|p| p.z)
+        .filter(|&z| z > 1.0)
+        .collect();
+    assert!(tops.iter().all(|&z| (z - rim).abs() < 1e-9), "{tops:?}");
+    let strips = strips(&part);
+    assert!(strips > 4 * 4, "{strips} strips");
+    assert_eq!(
+        part.junctions.len(),
+        strips,
+        "one junction at each rim corner"
+    );
+}
+
+/// A flange `around` the outline takes no point, and a run of edges is sharp.
+#[test]
+fn runs_that_cannot_be_made_are_refused() {
+    script::assert_plate_refused(&[
+        (
+            "flange wall = { around: true, at: (50, 0), height: 20 mm }",
+            "`flange wall` runs `around` the whole outline, so it takes no `at`",
+        ),
+        (
+            "flange wall = { from: (30, 0), to: (60, 60), height: 20 mm, radius: 2 mm }",
+            "`flange wall`: the flange runs along several edges, so it must be sharp",
+        ),
+    ]);
+}
+
+/// How many strips a flange `wall` along a run of edges has: its faces `wall.K.inside`.
+fn strips(part: &SheetPart) -> usize {
+    part.solid
+        .groups()
+        .iter()
+        .filter(|g| g.name().starts_with("wall.") && g.name().ends_with(".inside"))
+        .count()
 }

@@ -212,8 +212,38 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
                 "thickness",
                 "radius",
                 "shape",
+                "around",
             ],
         )?;
+        let around = match r.get("around") {
+            Some(v) => {
+                let Data::Bool(b) = v.data else {
+                    return Err(type_error(
+                        v,
+                        &format!("`around` of {what}"),
+                        "true or false",
+                    ));
+                };
+                if b {
+                    if let Some(key) = ["at", "from", "to"]
+                        .into_iter()
+                        .find(|k| r.get(k).is_some())
+                    {
+                        return Err(feature_error(
+                            KIND,
+                            format!(
+                                "{what} runs `around` the whole outline, so it takes no `{key}`"
+                            ),
+                            field.value.span,
+                            "around, and placed",
+                            "leave out `at`, `from` and `to`, or `around`",
+                        ));
+                    }
+                }
+                b
+            }
+            None => false,
+        };
         // Where it stands: on the edge nearest `at`, or on the part of an edge between
         // `from` and `to`.
         let point = |key: &str| -> Result<Option<DVec3>, Diagnostic> {
@@ -235,6 +265,7 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
             )),
         };
         let near = match (point("at")?, span) {
+            _ if around => outline[0],
             (Some(at), _) => at,
             (None, Some((from, to))) => 0.5 * (from + to),
             (None, None) => {
@@ -307,6 +338,7 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
             span,
             radius,
             shape,
+            around,
         });
     }
     let round_fields = block.named("round");

@@ -17,6 +17,7 @@ mod layout;
 mod measure;
 mod names;
 mod rounds;
+mod runs;
 mod strips;
 
 use std::sync::Arc;
@@ -151,6 +152,9 @@ pub struct FlangeSpec {
     /// right end, seen from outside the part, as points `(s, z)`: `s` along the edge
     /// from its left end, `z` up the flange away from it. The edge closes the loop.
     pub shape: Option<Vec<DVec2>>,
+    /// Whether it runs all round the outline, one strip per edge joined at every
+    /// corner (`near` and `span` are then not used).
+    pub around: bool,
 }
 
 /// Why a plate could not be built.
@@ -259,7 +263,41 @@ pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
         ));
     }
     check_sizes(spec)?;
-    let spec = &rounds::apply_rounds(spec)?;
+    let spec = rounds::apply_rounds(spec)?;
+    let (spec, origin) = runs::expand_runs(&spec)?;
+    // Errors name the flange as written, not the strip of a run.
+    let written = |i: usize| origin.get(i).copied().unwrap_or(i);
+    build_strips(&spec).map_err(|p| match p {
+        PartProblem::Flange { index, why } => PartProblem::Flange {
+            index: written(index),
+            why,
+        },
+        PartProblem::FlangesMeet {
+            index,
+            other,
+            at,
+            why,
+        } => PartProblem::FlangesMeet {
+            index: written(index),
+            other: written(other),
+            at,
+            why,
+        },
+        PartProblem::Junction { at, flange } => PartProblem::Junction {
+            at,
+            flange: flange.map(written),
+        },
+        PartProblem::SelfIntersection { at, flange } => PartProblem::SelfIntersection {
+            at,
+            flange: flange.map(written),
+        },
+        p => p,
+    })
+}
+
+/// [`build`] once every flange along a run of edges is one strip per edge.
+fn build_strips(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
+    let n = spec.normal.normalize_or_zero();
     let frame = Frame::new(spec.outline[0], n);
     let mut outline = counter_clockwise(&spec.outline, n);
     let mut nears: Vec<DVec3> = spec.flanges.iter().map(|f| f.near).collect();
