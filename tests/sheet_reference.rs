@@ -85,8 +85,9 @@ fn the_bracket_matches_opencascade_within_the_outline_tolerance() {
     matches_opencascade("bracket");
 }
 
-/// The tray: a floor with a drain hole and a lifted pad, and four drafted walls joined
-/// at closed corners, where three sheets meet.
+/// The tray: a floor with round corners in plan, a drain hole and a lifted pad, and a
+/// drafted wall all round, its strips joined at closed corners where three sheets
+/// meet (OpenCascade's wall exact cones round the corners).
 #[test]
 fn the_tray_matches_opencascade_within_the_outline_tolerance() {
     matches_opencascade("tray");

@@ -14,10 +14,10 @@ as exact lines and circular arcs sewn into one shell:
 
 * the bracket: the plate (120 x 70 mm, 8 mm corner fillets on the left, a 12 mm bolt
   hole and a 30 x 8 mm slot) and the 30 mm flange square to it along the right edge;
-* the tray: the 160 x 100 mm floor with a 10 mm drain hole and a pad 80 x 40 mm
-  lifted 3 mm on walls drafted 30 deg, and four walls 25 mm long leaning out 10 deg,
-  each meeting its neighbours on the line where their planes cross (the closed
-  corners where three sheets meet). That mid-surface is offset by half the gauge to one
+* the tray: the 160 x 100 mm floor with 15 mm corner radii, a 10 mm drain hole and a
+  pad 80 x 40 mm lifted 3 mm on walls drafted 30 deg, and a wall 25 mm long all round
+  leaning out 10 deg: planes along the sides and exact cones round the corners, where
+  dieface has planar strips on the fillets' chords joined on their mitre lines. That mid-surface is offset by half the gauge to one
 side (`BRepOffsetAPI_MakeOffsetShape`, intersection joins) and thickened by the whole
 gauge back across it (`BRepOffset_MakeOffset` with thickening on: the algorithm under
 `BRepOffsetAPI_MakeThickSolid`), so the solid's mid-surfaces are the sheets, as
@@ -75,7 +75,8 @@ from OCP.TopAbs import TopAbs_FACE
 from OCP.TopExp import TopExp_Explorer
 from OCP.TopLoc import TopLoc_Location
 from OCP.TopoDS import TopoDS
-from OCP.gp import gp_Pnt, gp_Vec
+from OCP.Geom import Geom_ConicalSurface
+from OCP.gp import gp_Ax3, gp_Dir, gp_Pnt, gp_Vec
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 OUT = os.path.join(ROOT, "tests", "data", "sheet_reference.json")
@@ -87,6 +88,7 @@ FOOT_LINE, FOOT_RADIUS = 14.0, 2.0  # the foot's bend line and inside radius, -9
 # The tray's, as examples/tray/tray.die gives them.
 TRAY_GAUGE = 1.0
 TRAY_LENGTH, TRAY_WIDTH, TRAY_WALL, TRAY_DRAFT = 160.0, 100.0, 25.0, math.radians(10.0)
+TRAY_CORNER = 15.0
 PAD = (50.0, 30.0, 130.0, 70.0)
 PAD_HEIGHT, PAD_DRAFT = 3.0, math.radians(30.0)
 OUTLINE_TOLERANCE = 0.05
@@ -195,26 +197,62 @@ def bracket_mid_surface():
 
 
 def tray_mid_surface():
-    """The tray's sheets, sewn into one shell: the floor (holed by the drain and by the
-    pad's foot), the pad's walls and top, and the four walls, each a trapezoid whose
-    ends lie on the lines where it meets its neighbours."""
+    """The tray's sheets, sewn into one shell: the floor (a rounded rectangle, holed by
+    the drain and by the pad's foot), the pad's walls and top, and the wall all round:
+    four planes leaning out and, at the corners, exact cones (the fillets' arcs at the
+    floor, their radius grown by the lean at the rim)."""
     lean, rise = TRAY_WALL * math.sin(TRAY_DRAFT), TRAY_WALL * math.cos(TRAY_DRAFT)
-    lx, wy = TRAY_LENGTH, TRAY_WIDTH
-    floor = [(0, 0, 0), (lx, 0, 0), (lx, wy, 0), (0, wy, 0)]
-    rim = [(-lean, -lean, rise), (lx + lean, -lean, rise), (lx + lean, wy + lean, rise), (-lean, wy + lean, rise)]
+    lx, wy, r = TRAY_LENGTH, TRAY_WIDTH, TRAY_CORNER
+
+    def corner_arc(cx, cy, a0):
+        a1, am = a0 + math.pi / 2, a0 + math.pi / 4
+        return arc(
+            P(cx + r * math.cos(a0), cy + r * math.sin(a0)),
+            P(cx + r * math.cos(am), cy + r * math.sin(am)),
+            P(cx + r * math.cos(a1), cy + r * math.sin(a1)),
+        )
+
+    # The corners' centres and the angle each arc starts at, counter-clockwise.
+    corners = [(lx - r, r, -math.pi / 2), (lx - r, wy - r, 0.0), (r, wy - r, math.pi / 2), (r, r, math.pi)]
+    floor_wire = wire(
+        [
+            seg(P(r, 0), P(lx - r, 0)),
+            corner_arc(*corners[0]),
+            seg(P(lx, r), P(lx, wy - r)),
+            corner_arc(*corners[1]),
+            seg(P(lx - r, wy), P(r, wy)),
+            corner_arc(*corners[2]),
+            seg(P(0, wy - r), P(0, r)),
+            corner_arc(*corners[3]),
+        ]
+    )
     x0, y0, x1, y1 = PAD
     inset = PAD_HEIGHT * math.tan(PAD_DRAFT)
     foot = [(x0, y0, 0), (x1, y0, 0), (x1, y1, 0), (x0, y1, 0)]
     top = [(x0 + inset, y0 + inset, PAD_HEIGHT), (x1 - inset, y0 + inset, PAD_HEIGHT), (x1 - inset, y1 - inset, PAD_HEIGHT), (x0 + inset, y1 - inset, PAD_HEIGHT)]
     drain = wire([arc(P(20, 45), P(25, 50), P(30, 45)), arc(P(30, 45), P(25, 40), P(20, 45))])
-    plate = BRepBuilderAPI_MakeFace(polygon(floor), True)
+    plate = BRepBuilderAPI_MakeFace(floor_wire, True)
     plate.Add(drain)  # drawn clockwise: a hole as it is
     plate.Add(polygon(foot[::-1]))
     faces = [plate.Face(), BRepBuilderAPI_MakeFace(polygon(top), True).Face()]
     for i in range(4):
         j = (i + 1) % 4
-        faces.append(BRepBuilderAPI_MakeFace(polygon([floor[i], floor[j], rim[j], rim[i]]), True).Face())
         faces.append(BRepBuilderAPI_MakeFace(polygon([foot[i], foot[j], top[j], top[i]]), True).Face())
+    # The straight walls, each from its floor edge up and out by the lean.
+    for a, b, out in [
+        ((r, 0, 0), (lx - r, 0, 0), (0, -1)),
+        ((lx, r, 0), (lx, wy - r, 0), (1, 0)),
+        ((lx - r, wy, 0), (r, wy, 0), (0, 1)),
+        ((0, wy - r, 0), (0, r, 0), (-1, 0)),
+    ]:
+        up = lambda p: (p[0] + lean * out[0], p[1] + lean * out[1], rise)
+        faces.append(BRepBuilderAPI_MakeFace(polygon([a, b, up(b), up(a)]), True).Face())
+    # The corners: cones about vertical axes through the fillets' centres, opening by
+    # the draft, from the floor's arcs along the wall's slant.
+    for cx, cy, a0 in corners:
+        cone = Geom_ConicalSurface(gp_Ax3(P(cx, cy), gp_Dir(0, 0, 1), gp_Dir(1, 0, 0)), TRAY_DRAFT, r)
+        u0 = a0 % (2 * math.pi)
+        faces.append(BRepBuilderAPI_MakeFace(cone, u0, u0 + math.pi / 2, 0.0, TRAY_WALL, 1e-7).Face())
     return sewn(faces)
 
 
@@ -350,10 +388,11 @@ def dieface_solid(dieface, name):
 # Each part: its mid-surface and gauge.
 # Each part: its mid-surface, its gauge, and how far dieface's vertices may lie off
 # the exact solid: on a bend's radius, dieface's facets are chords within 0.01 mm of
-# the arc (BEND_TOLERANCE in src/sheet/part/strips.rs); flat parts are exact.
+# the arc (BEND_TOLERANCE in src/sheet/part/strips.rs); round the tray's corners its
+# wall's strips are chords of the fillets within the outline tolerance.
 PARTS = {
     "bracket": (bracket_mid_surface, BRACKET_GAUGE, 0.01),
-    "tray": (tray_mid_surface, TRAY_GAUGE, 0.0),
+    "tray": (tray_mid_surface, TRAY_GAUGE, OUTLINE_TOLERANCE),
 }
 
 
