@@ -17,6 +17,7 @@ use std::path::Path;
 use dieface::eval::{Data, Engine, Value};
 use dieface::geom::mesh::{Mesh, Topology};
 use dieface::sheet::part::SheetPart;
+use dieface::sheet::topology::Removal;
 use sheet::volume;
 
 /// The mesh in field `field` of a sheet's record.
@@ -713,4 +714,57 @@ sheet combo {
         .cross(p[f[2] as usize] - p[f[0] as usize])
         .normalize();
     assert!((n.z.abs() - 80f64.to_radians().cos()).abs() < 1e-9, "{n}");
+}
+
+/// Removing a part of the plate that a bend's line splits off (paper 003, section
+/// 4.4: the region lies on the sheet's free boundary, so the sheet is trimmed and no
+/// passage changes): what is left is the rest of the plate, its edge along the line
+/// now free, the hole in it kept, and the bend turns nothing.
+#[test]
+fn removing_a_part_a_bend_splits_off_trims_the_sheet() {
+    let part = script::sheet_part(&script::plate_script(
+        "punch keep = sketch(top) { from (60, 20); line to (70, 20); line to (70, 30); line to (60, 30); close }
+    bend leg = { from: (40, 0), to: (40, 60), angle: 90 deg }
+    remove leg_part = { at: (30, 50) }
+    flange lip = { at: (100, 30), height: 20 mm }",
+    ));
+    sheet::assert_sound(&part.solid);
+    let area = 60.0 * 60.0 - 100.0 + 20.0 * 60.0;
+    assert!((part.area - area).abs() < 1e-9, "{}", part.area);
+    assert!((part.volume - area).abs() < 1e-9 * area, "{}", part.volume);
+    assert_eq!(part.sheet.check().unwrap().genus, 1);
+    assert!(matches!(
+        part.removals[..],
+        [Removal::Trimmed {
+            passages_closed: 0,
+            pieces_made: 0,
+            ..
+        }]
+    ));
+    // Nothing of the plate lies left of the line, and nothing turned up.
+    let p = part.mid_mesh.positions();
+    assert!(p
+        .iter()
+        .all(|q| q.x >= 40.0 - 1e-9 && (q.z.abs() < 1e-9 || q.x > 99.0)));
+}
+
+/// Removals of a plate's part that cannot be made are refused at the removal: a part
+/// with a hole (its passage would be lost: not yet), a point over a hole, the part
+/// between two bends (the plate would fall in two).
+#[test]
+fn removals_of_a_plate_part_that_cannot_be_made_are_refused() {
+    script::assert_plate_refused(&[
+        (
+            "punch hole = sketch(top) { from (10, 20); line to (20, 20); line to (20, 30); line to (10, 30); close }\n    bend leg = { from: (40, 0), to: (40, 60), angle: 90 deg }\n    remove leg_part = { at: (30, 50) }",
+            "`remove leg_part`: the removal a region with holes is not removed yet",
+        ),
+        (
+            "punch hole = sketch(top) { from (10, 20); line to (20, 20); line to (20, 30); line to (10, 30); close }\n    bend leg = { from: (40, 0), to: (40, 60), angle: 90 deg }\n    remove over = { at: (15, 25) }",
+            "`remove over`: the removal lies over a hole",
+        ),
+        (
+            "bend one = { from: (30, 0), to: (30, 60), angle: 90 deg }\n    bend two = { from: (70, 60), to: (70, 0), angle: 90 deg }\n    remove middle = { at: (50, 30) }",
+            "`remove middle`: the removal would cut the part in two",
+        ),
+    ]);
 }

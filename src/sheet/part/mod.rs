@@ -29,7 +29,7 @@ use glam::{DVec2, DVec3};
 use super::geometry::{bend, distance_to_segment, MidSurface};
 use super::junction::{junctions, Junction};
 use super::thicken::{thicken_named, Gauge, ThickenError};
-use super::topology::{EdgeId, FaceId, Piece, Removal, Sheet, TopologyError, VertexId};
+use super::topology::{EdgeId, FaceId, FaceRole, Piece, Removal, Sheet, TopologyError, VertexId};
 use crate::geom::mesh::{crossings, Mesh};
 use crate::geom::tessellate::triangulate_loops;
 use crate::geom::trimmed::polygon_winding;
@@ -478,19 +478,38 @@ fn build_strips(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
             .iter()
             .position(|ring| polygon_winding(ring, q) != 0)
             .map(|k| lifted[k].0);
-        let face = match top {
-            Some(face) => face,
-            None if cuts.is_empty()
-                && flat_loops[1..].iter().all(|l| polygon_winding(l, q) == 0) =>
-            {
+        let over_hole = flat_loops[1..].iter().any(|l| polygon_winding(l, q) != 0);
+        // The plate's part under the point (bends split the plate into parts).
+        let part = parts.iter().copied().find(|&f| {
+            let ring: Vec<DVec2> = sheet
+                .brep
+                .outer_vertices(f)
+                .map(|vs| vs.iter().filter_map(|&v| mid.point(v)).collect::<Vec<_>>())
+                .unwrap_or_default()
+                .into_iter()
+                .map(|p| frame.flat(p))
+                .collect();
+            polygon_winding(&ring, q) != 0
+        });
+        let face = match (top, part) {
+            (Some(face), _) => face,
+            (None, Some(_)) if over_hole => {
+                return Err(bad(
+                    "lies over a hole or a lifted region's wall: give a point on the face \
+                     to remove"
+                        .into(),
+                ))
+            }
+            (None, Some(_)) if parts.len() == 1 => {
                 return Err(bad(
                     "would take the whole plate: nothing would be left".into()
                 ))
             }
-            None => {
+            (None, Some(part)) => part,
+            (None, None) => {
                 return Err(bad(
                     "finds no face to remove under its point: give a point on a lifted \
-                     region's top"
+                     region's top, or on a part of the plate a bend's line splits off"
                         .into(),
                 ))
             }
@@ -501,6 +520,7 @@ fn build_strips(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
                 return Err(bad("would cut the part in two".into()));
             }
         }
+        parts.retain(|&f| f != face);
         removals.push(case);
     }
     // Flanges: on the outline edge nearest each point, if it is still free; two on the
@@ -676,6 +696,10 @@ fn build_strips(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
             index: crease.bend,
             why,
         };
+        // A crease whose part on one side was removed joins nothing: nothing turns.
+        if removed_beside(&sheet, cut.crease) {
+            continue;
+        }
         let (from, to) = (crease.from, crease.to);
         for (k, &(a, c)) in flange_edges.iter().enumerate() {
             if [from, to]
@@ -991,4 +1015,19 @@ fn curve_chain(
         chain.push(if x == at { y } else { x });
     }
     Ok(chain)
+}
+
+/// Whether the crease `e` lost the part on one side of it to a removal: it is gone, or
+/// a thickness face now lines it (it lies on the free boundary).
+fn removed_beside(sheet: &Sheet, e: EdgeId) -> bool {
+    let b = &sheet.brep;
+    let Ok((p, m)) = b.halves_of(e) else {
+        return true;
+    };
+    [p, m].into_iter().any(|h| {
+        b.loop_with(h)
+            .and_then(|l| b.face_with(l))
+            .and_then(|f| sheet.face_role(f))
+            .map_or(true, |r| r == FaceRole::Thickness)
+    })
 }

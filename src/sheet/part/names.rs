@@ -34,10 +34,12 @@ impl FaceNames {
             part_names.insert(cut.moved, cut.name.clone());
         }
         for (&part, name) in &part_names {
+            // A part removed (split off by a bend, then taken away) has no faces.
+            let Ok(FaceRole::Side { twin }) = sheet.face_role(part) else {
+                continue;
+            };
             names.insert(part, format!("{name}.top"));
-            if let FaceRole::Side { twin } = sheet.face_role(part)? {
-                names.insert(twin, format!("{name}.bottom"));
-            }
+            names.insert(twin, format!("{name}.bottom"));
         }
         // The sides across the non-zero-length edges of face f.
         let neighbours = |f: FaceId| -> Result<Vec<FaceId>, TopologyError> {
