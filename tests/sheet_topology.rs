@@ -516,10 +516,11 @@ proptest! {
                     Ok(c) => {
                         match op {
                             SheetOp::Punch(..) => holes += 1,
-                            // A removal makes a passage, closes some, or cuts the sheet;
-                            // which one the counts tell, and only those.
+                            // A removal makes a passage, closes some (one per free run
+                            // of its rim beyond the first), or cuts the sheet; which one
+                            // the counts tell, and only those.
                             SheetOp::Remove(_) => {
-                                prop_assert!(c.genus + 1 >= genus_before);
+                                prop_assert!(c.genus <= genus_before + 1);
                                 holes = c.genus;
                                 prop_assert!(c.shells >= shells);
                                 shells = c.shells;
@@ -965,23 +966,47 @@ fn a_sheet_on_a_wrong_pick_changes_nothing() {
 /// The sequences the property test shrank to when runs of two picked edges came in:
 /// a sheet added over two edges of a triangle, the plate removed, and another run
 /// added, once back to its start and once with its curve ending where the free rim is
-/// pinched. Each step leaves the model valid (the last is refused, changing nothing).
+/// pinched; and a flange on an edge whose zero-area loop, after runs and removals,
+/// passes through a vertex twice. Each step leaves the model valid (the last is
+/// refused, changing nothing).
 #[test]
 fn runs_that_are_not_paths_or_end_on_a_pinched_rim_are_refused() {
-    for ops in [
-        vec![
-            SheetOp::AddRun(440631411, 0, 0),
-            SheetOp::Split(0, 0, 0),
-            SheetOp::Remove(1387823616),
-            SheetOp::AddRun(5259687, 0, 0),
-        ],
-        vec![
-            SheetOp::AddRun(179459564, 0, 0),
-            SheetOp::Remove(0),
-            SheetOp::AddRun(24231364, 0, 0),
-        ],
+    for (n, ops) in [
+        (
+            3,
+            vec![
+                SheetOp::AddRun(440631411, 0, 0),
+                SheetOp::Split(0, 0, 0),
+                SheetOp::Remove(1387823616),
+                SheetOp::AddRun(5259687, 0, 0),
+            ],
+        ),
+        (
+            3,
+            vec![
+                SheetOp::AddRun(179459564, 0, 0),
+                SheetOp::Remove(0),
+                SheetOp::AddRun(24231364, 0, 0),
+            ],
+        ),
+        (
+            5,
+            vec![
+                SheetOp::Lift(0, 1, 0),
+                SheetOp::Lift(3974714242, 3, 0),
+                SheetOp::Remove(38748195),
+                SheetOp::Remove(1735060924),
+                SheetOp::Flange(267238972),
+                SheetOp::AddRun(2733610656, 0, 2),
+                SheetOp::AddRun(1574239066, 0, 0),
+                SheetOp::Remove(3169412873),
+                SheetOp::Remove(511170763),
+                SheetOp::Remove(3054298466),
+                SheetOp::Flange(2465703534),
+            ],
+        ),
     ] {
-        let (mut sheet, _, _) = Sheet::initial(3).unwrap();
+        let (mut sheet, _, _) = Sheet::initial(n).unwrap();
         let last = ops.len() - 1;
         for (i, op) in ops.into_iter().enumerate() {
             let before = sheet.clone();

@@ -1653,6 +1653,18 @@ impl Sheet {
         })?;
         let mut b = self.brep.clone();
         let t_loop = b.loops_of(t)?[0];
+        // A zero-area loop that passes through a vertex twice (the free rim pinched
+        // there) has no one flange to sweep.
+        let mut seen = BTreeSet::new();
+        for h in b.loop_halves(t_loop)? {
+            if !seen.insert(b.vertex(h)?) {
+                return Err(TopologyError::NotApplicable(format!(
+                    "the free rim at edge {} passes through vertex {} twice",
+                    edge.0,
+                    b.vertex(h)?.0
+                )));
+            }
+        }
         let sw = sweep(&mut b, t_loop)?;
         let base_edges = sw.base_edges(&b)?;
         let roles: Vec<EdgeRole> = base_edges
