@@ -768,3 +768,53 @@ fn removals_of_a_plate_part_that_cannot_be_made_are_refused() {
         ),
     ]);
 }
+
+/// Moving a face (paper 003, section 4): a lifted region's top picked by a point over
+/// it and moved by an offset, its walls following. Straight up by 2 mm it is the
+/// region lifted 2 mm higher, point for point; moved across, its walls lean (each
+/// stays flat: a moved top keeps every wall's edges parallel).
+#[test]
+fn moving_a_lifted_top_takes_its_walls_along() {
+    let pad = "lift pad = { region: sketch(top) { from (30, 20); line to (70, 20); line to (70, 40); line to (30, 40); close }, height: HEIGHT }";
+    let moved = script::sheet_part(&script::plate_script(&format!(
+        "{}\n    move higher = {{ at: (50, 30), by: (0, 0, 2) }}",
+        pad.replace("HEIGHT", "3 mm")
+    )));
+    let declared = script::sheet_part(&script::plate_script(&pad.replace("HEIGHT", "5 mm")));
+    assert_eq!(moved.solid.positions(), declared.solid.positions());
+    assert_eq!(moved.volume, declared.volume);
+    let sheared = script::sheet_part(&script::plate_script(&format!(
+        "{}\n    move across = {{ at: (50, 30), by: (5, 3, 0) }}",
+        pad.replace("HEIGHT", "3 mm")
+    )));
+    sheet::assert_sound(&sheared.solid);
+    let walls = 2.0 * 40.0 * 18f64.sqrt() + 2.0 * 20.0 * 34f64.sqrt();
+    let area = 6000.0 + walls;
+    assert!(
+        (sheared.area - area).abs() < 1e-9 * area,
+        "{}",
+        sheared.area
+    );
+    assert!(sheared
+        .mid_mesh
+        .positions()
+        .iter()
+        .any(|p| p.distance(glam::DVec3::new(35.0, 23.0, 3.0)) < 1e-9));
+}
+
+/// Moves that cannot be made are refused at the move: no lifted top under the point,
+/// and a top taken through the plate.
+#[test]
+fn moves_that_cannot_be_made_are_refused() {
+    let pad = "lift pad = { region: sketch(top) { from (30, 20); line to (70, 20); line to (70, 40); line to (30, 40); close }, height: 3 mm }";
+    script::assert_plate_refused(&[
+        (
+            &format!("{pad}\n    move off = {{ at: (10, 10), by: (0, 0, 2) }}"),
+            "`move off`: the move finds no face to move under its point",
+        ),
+        (
+            &format!("{pad}\n    move down = {{ at: (50, 30), by: (0, 0, -4) }}"),
+            "`move down`: the move would take the top of `pad` through the plate: it stands 3 mm off it, and the move takes it -4 mm along the normal",
+        ),
+    ]);
+}

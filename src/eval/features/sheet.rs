@@ -23,13 +23,13 @@ use crate::diag::Diagnostic;
 use crate::geom::tessellate::{tessellate_curve, Tolerance};
 use crate::sheet::junction::{Junction, JunctionType};
 use crate::sheet::part::{
-    self, BendSpec, FlangeSpec, HoleSpec, LiftSpec, PartProblem, PlateSpec, RemoveSpec, RoundSpec,
-    SheetPart,
+    self, BendSpec, FlangeSpec, HoleSpec, LiftSpec, MoveSpec, PartProblem, PlateSpec, RemoveSpec,
+    RoundSpec, SheetPart,
 };
 use crate::sheet::topology::Removal;
 use crate::syntax::Span;
 
-use super::super::builtins::{as_angle, as_point2, type_error};
+use super::super::builtins::{as_angle, as_point2, as_point3, type_error};
 use super::super::sketch::{Sketch, View};
 use super::super::summary::round;
 use super::super::units::Units;
@@ -188,6 +188,30 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
         removals.push(RemoveSpec {
             name: name.to_string(),
             at: view.place(as_point2(at, block.units, &format!("`at` of {what}"))?),
+        });
+    }
+    let move_fields = block.named("move");
+    let mut moves = Vec::with_capacity(move_fields.len());
+    for (name, field) in &move_fields {
+        let what = format!("`move {name}`");
+        let r = record(
+            &field.value,
+            &what,
+            "a record `{ at: (x, y), by: (dx, dy, dz) }`",
+        )?;
+        check_record(r, field.value.span, &what, &["at", "by"])?;
+        let at = required(r, "at", &what, field.value.span, "add `at: (x, y)`, a point in the outline's view over the face to move (a lifted region's top)")?;
+        let by = required(
+            r,
+            "by",
+            &what,
+            field.value.span,
+            "add `by: (dx, dy, dz)`, how far the face moves, in press coordinates",
+        )?;
+        moves.push(MoveSpec {
+            name: name.to_string(),
+            at: view.place(as_point2(at, block.units, &format!("`at` of {what}"))?),
+            by: as_point3(by, block.units, &format!("`by` of {what}"))?,
         });
     }
     let flange_fields = block.named("flange");
@@ -371,6 +395,7 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
         holes,
         lifts,
         bends,
+        moves,
         removals,
         flanges,
         rounds,
@@ -380,6 +405,7 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
         punches: &punches,
         lifts: &lift_fields,
         bends: &bend_fields,
+        moves: &move_fields,
         removals: &remove_fields,
         flanges: &flange_fields,
         rounds: &round_fields,
@@ -478,6 +504,7 @@ struct NamedFields<'a> {
     punches: &'a [(&'a str, &'a Field)],
     lifts: &'a [(&'a str, &'a Field)],
     bends: &'a [(&'a str, &'a Field)],
+    moves: &'a [(&'a str, &'a Field)],
     removals: &'a [(&'a str, &'a Field)],
     flanges: &'a [(&'a str, &'a Field)],
     rounds: &'a [(&'a str, &'a Field)],
@@ -489,6 +516,7 @@ fn problem(p: PartProblem, outline: Span, fields: &NamedFields) -> Diagnostic {
         punches,
         lifts,
         bends,
+        moves,
         removals,
         flanges,
         rounds,
@@ -516,6 +544,7 @@ fn problem(p: PartProblem, outline: Span, fields: &NamedFields) -> Diagnostic {
         PartProblem::Lift { index, .. } => at_field("lift", lifts, *index, "this lift", "draw the region inside the outline, clear of its edges, the holes and the other lifted regions, with a height other than 0 and a draft below 90 deg that its size allows"),
         PartProblem::Bend { index, .. } => at_field("bend", bends, *index, "this bend", "draw the bend line across the plate from one edge of the outline to another, clear of the holes, the lifted regions, the other bends' lines and the flanges' edges, with an angle between -180 and 180 deg; on a `radius`, the zone of facets centred on the line (the radius plus half the thickness, times the angle in radians, wide) must fit on the plate too"),
         PartProblem::Remove { index, .. } => at_field("remove", removals, *index, "this removal", "put `at` over the top of a lifted region: removing it leaves a collar round a hole"),
+        PartProblem::Move { index, .. } => at_field("move", moves, *index, "this move", "put `at` over the top of a lifted region, and keep it on its side of the plate: `by` moves it in press coordinates, its walls following"),
         PartProblem::Round { index, .. } => at_field("round", rounds, *index, "this round", "put `at` on (or within 5 mm of) a flange's foot or a bend's line, nearer it than any other, and give a radius above 0; a joint takes one radius, and a flange of its own thickness none"),
         PartProblem::Flange { index, .. } => at_field("flange", flanges, *index, "this flange", "put `at` on (or within 5 mm of) a free edge of the outline, nearer it than any other, or `from` and `to` on one (one edge takes one flange); give a height above 0 (or a `shape` from the edge's left end to its right, seen from outside), an angle below 180 deg, and a bend `radius` or a `thickness` of its own, not both"),
         PartProblem::FlangesMeet { index, other, .. } => feature_error(
@@ -740,7 +769,7 @@ impl FeatureKind for SheetKind {
     fn fields(&self) -> FieldNames {
         FieldNames {
             single: vec!["outline", "thickness"],
-            named: vec!["punch", "lift", "remove", "bend", "flange", "round"],
+            named: vec!["punch", "lift", "move", "remove", "bend", "flange", "round"],
         }
     }
     fn build(&self, block: &Block) -> Result<Value, Diagnostic> {

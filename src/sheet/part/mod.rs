@@ -26,7 +26,7 @@ use std::f64::consts::FRAC_PI_2;
 
 use glam::{DVec2, DVec3};
 
-use super::geometry::{bend, distance_to_segment, MidSurface};
+use super::geometry::{bend, distance_to_segment, move_face, MidSurface};
 use super::junction::{junctions, Junction};
 use super::thicken::{thicken_named, Gauge, ThickenError};
 use super::topology::{EdgeId, FaceId, FaceRole, Piece, Removal, Sheet, TopologyError, VertexId};
@@ -59,6 +59,8 @@ pub struct PlateSpec {
     pub lifts: Vec<LiftSpec>,
     /// Bends across the plate, in order.
     pub bends: Vec<BendSpec>,
+    /// Faces moved, each picked by a point.
+    pub moves: Vec<MoveSpec>,
     /// Faces removed, each picked by a point.
     pub removals: Vec<RemoveSpec>,
     /// The flanges, in order.
@@ -96,6 +98,19 @@ pub struct BendSpec {
     /// The inside radius (mm; 0 for a sharp crease): the bend is then a zone of narrow
     /// facets centred on the line, chords of the mid-surface's arc.
     pub radius: f64,
+}
+
+/// A face moved (paper 003, section 4: moving a face), picked by a point over it in the
+/// outline's view: so far a lifted region's top, its walls following (a translated top
+/// keeps each wall's edges parallel, so the walls stay flat).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MoveSpec {
+    /// Its name.
+    pub name: String,
+    /// A point over the face, in the outline's view (on the working plane).
+    pub at: DVec3,
+    /// How far the face moves (mm, in press coordinates).
+    pub by: DVec3,
 }
 
 /// A face removed from the part (paper 003, section 4.4, Fig. 11-12), picked by a point
@@ -168,6 +183,8 @@ pub enum PartProblem {
     Lift { index: usize, why: String },
     /// Bend `index` cannot be made.
     Bend { index: usize, why: String },
+    /// Move `index` cannot be made.
+    Move { index: usize, why: String },
     /// Removal `index` cannot be made.
     Remove { index: usize, why: String },
     /// Flange `index` cannot be added.
@@ -202,6 +219,7 @@ impl std::fmt::Display for PartProblem {
             PartProblem::Lift { why, .. } => write!(f, "the lifted region {why}"),
             PartProblem::Bend { why, .. } => write!(f, "the bend {why}"),
             PartProblem::Remove { why, .. } => write!(f, "the removal {why}"),
+            PartProblem::Move { why, .. } => write!(f, "the move {why}"),
             PartProblem::Round { why, .. } => write!(f, "the round {why}"),
             PartProblem::FlangesMeet { at, why, .. } => write!(
                 f,
@@ -468,6 +486,36 @@ fn build_strips(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
         }
         lifted.push((region.face, walls));
         lift_tops.push(tops.iter().map(|&p| frame.flat(p)).collect::<Vec<DVec2>>());
+    }
+    // Moves: the lifted top under each point, its walls following.
+    for (index, step) in spec.moves.iter().enumerate() {
+        let bad = |why: String| PartProblem::Move { index, why };
+        let q = frame.flat(step.at);
+        let k = lift_tops
+            .iter()
+            .position(|ring| polygon_winding(ring, q) != 0)
+            .ok_or_else(|| {
+                bad(
+                    "finds no face to move under its point: give a point on a lifted \
+                     region's top"
+                        .into(),
+                )
+            })?;
+        let height = spec.lifts[k].height + step.by.dot(n);
+        if height * spec.lifts[k].height <= 0.0 {
+            return Err(bad(format!(
+                "would take the top of `{}` through the plate: it stands {} mm off it, and \
+                 the move takes it {} mm along the normal",
+                spec.lifts[k].name,
+                tidy(spec.lifts[k].height),
+                tidy(step.by.dot(n))
+            )));
+        }
+        move_face(&sheet, &mut mid, lifted[k].0, step.by).map_err(|e| bad(e.to_string()))?;
+        let shift = frame.flat(step.at + step.by) - q;
+        for p in &mut lift_tops[k] {
+            *p += shift;
+        }
     }
     // Removals: the face under each point, in the paper's cases (section 4.4).
     let mut removals = Vec::with_capacity(spec.removals.len());
@@ -812,6 +860,14 @@ fn check_sizes(spec: &PlateSpec) -> Result<(), PartProblem> {
             return Err(PartProblem::Remove {
                 index,
                 why: why("its point"),
+            });
+        }
+    }
+    for (index, m) in spec.moves.iter().enumerate() {
+        if !(point(&m.at) && point(&m.by)) {
+            return Err(PartProblem::Move {
+                index,
+                why: why("its point or its offset"),
             });
         }
     }
