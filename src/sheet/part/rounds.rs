@@ -101,6 +101,11 @@ fn joints(spec: &PlateSpec) -> Vec<(Joint, DVec3, DVec3)> {
         .collect();
     let mut out = Vec::new();
     for (i, flange) in spec.flanges.iter().enumerate() {
+        // A flange all round the outline is sharp (its strips are joined at corners):
+        // it has no one foot to round.
+        if flange.around {
+            continue;
+        }
         let foot = flange.span.or_else(|| {
             edges.iter().copied().min_by(|x, y| {
                 distance_to_segment(x.0, x.1, flange.near).total_cmp(&distance_to_segment(
