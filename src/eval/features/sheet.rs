@@ -182,25 +182,31 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
     let mut removals = Vec::with_capacity(remove_fields.len());
     for (name, field) in &remove_fields {
         let what = format!("`remove {name}`");
-        let r = record(&field.value, &what, "a record `{ at: (x, y) }`")?;
-        check_record(r, field.value.span, &what, &["at"])?;
-        let at = required(r, "at", &what, field.value.span, "add `at: (x, y)`, a point in the outline's view over the face to remove (a lifted region's top)")?;
+        let (_, at) = picked(
+            field,
+            &what,
+            &["at"],
+            "a record `{ at: (x, y) }`",
+            "add `at: (x, y)`, a point in the outline's view over the face to remove (a lifted region's top, or a part a bend splits off)",
+            (view, block.units),
+        )?;
         removals.push(RemoveSpec {
             name: name.to_string(),
-            at: view.place(as_point2(at, block.units, &format!("`at` of {what}"))?),
+            at,
         });
     }
     let move_fields = block.named("move");
     let mut moves = Vec::with_capacity(move_fields.len());
     for (name, field) in &move_fields {
         let what = format!("`move {name}`");
-        let r = record(
-            &field.value,
+        let (r, at) = picked(
+            field,
             &what,
+            &["at", "by"],
             "a record `{ at: (x, y), by: (dx, dy, dz) }`",
+            "add `at: (x, y)`, a point in the outline's view over the face to move (a lifted region's top)",
+            (view, block.units),
         )?;
-        check_record(r, field.value.span, &what, &["at", "by"])?;
-        let at = required(r, "at", &what, field.value.span, "add `at: (x, y)`, a point in the outline's view over the face to move (a lifted region's top)")?;
         let by = required(
             r,
             "by",
@@ -210,7 +216,7 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
         )?;
         moves.push(MoveSpec {
             name: name.to_string(),
-            at: view.place(as_point2(at, block.units, &format!("`at` of {what}"))?),
+            at,
             by: as_point3(by, block.units, &format!("`by` of {what}"))?,
         });
     }
@@ -369,13 +375,14 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
     let mut rounds = Vec::with_capacity(round_fields.len());
     for (name, field) in &round_fields {
         let what = format!("`round {name}`");
-        let r = record(
-            &field.value,
+        let (r, at) = picked(
+            field,
             &what,
+            &["at", "radius"],
             "a record `{ at: (x, y), radius: 2 mm }`",
+            "add `at: (x, y)`, a point in the outline's view on the joint to round: a flange's foot or a bend's line",
+            (view, block.units),
         )?;
-        check_record(r, field.value.span, &what, &["at", "radius"])?;
-        let at = required(r, "at", &what, field.value.span, "add `at: (x, y)`, a point in the outline's view on the joint to round: a flange's foot or a bend's line")?;
         let radius = required(
             r,
             "radius",
@@ -385,7 +392,7 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
         )?;
         rounds.push(RoundSpec {
             name: name.to_string(),
-            at: view.place(as_point2(at, block.units, &format!("`at` of {what}"))?),
+            at,
             radius: length(radius, block.units, &format!("`radius` of {what}"))?,
         });
     }
@@ -417,6 +424,28 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
         spec.holes.len(),
         spec.flanges.len(),
         thickness,
+    ))
+}
+
+/// A `keyword NAME = { at: (x, y), ... }` field that picks a face or a joint by a
+/// point: its record, checked to hold only `keys` (`example` shows one), and its `at`
+/// (required, with `at_help`) placed on the outline's view, `place` (the view and the
+/// block's units).
+fn picked<'a>(
+    field: &'a Field,
+    what: &str,
+    keys: &[&str],
+    example: &str,
+    at_help: &str,
+    place: (View, Units),
+) -> Result<(&'a Record, DVec3), Diagnostic> {
+    let (view, units) = place;
+    let r = record(&field.value, what, example)?;
+    check_record(r, field.value.span, what, keys)?;
+    let at = required(r, "at", what, field.value.span, at_help)?;
+    Ok((
+        r,
+        view.place(as_point2(at, units, &format!("`at` of {what}"))?),
     ))
 }
 
