@@ -1,15 +1,18 @@
 //! A sheet part as a designer declares it: a plate over an outline on a working plane,
-//! with a thickness, holes punched through it, regions lifted, faces removed, bend
-//! lines across it and flanges on its edges; built by the sheet operations
-//! ([`super::topology`]), placed ([`super::geometry`]) and made solid
-//! ([`super::thicken`]).
+//! with a thickness, holes punched through it, regions lifted, faces moved and
+//! removed, bend lines across it, flanges on its edges and joints rounded; built by
+//! the sheet operations ([`super::topology`]), placed ([`super::geometry`]) and made
+//! solid ([`super::thicken`]).
 //!
-//! [`build`] runs the operations in a fixed order: the flat plate is split along the
-//! bend lines, the holes and lifts go into the parts that hold them, the removals and
-//! flanges follow, and the bends turn last, carrying what stands beyond them. Its
-//! helpers: `layout` (the flat plate and its loops), `strips` (a flange's bend
-//! facets), `names` (the solid's face names) and `measure` (the mid-surface mesh,
-//! areas and volumes).
+//! [`build`] runs the operations in a fixed order: the rounds give their joints a
+//! radius, the flanges along runs of edges become a strip per edge, the flat plate is
+//! split along the bends' creases, the holes and lifts go into the parts that hold
+//! them, the moves, removals and flanges follow, and the bends turn last, carrying
+//! what stands beyond them. Its helpers: `layout` (the flat plate and its loops),
+//! `creases` (a bend's creases), `corners` (flanges joined at a corner), `runs` (a
+//! flange along a run of edges), `rounds` (joints rounded after the fact), `strips` (a
+//! flange's bend facets), `names` (the solid's face names) and `measure` (the
+//! mid-surface mesh, areas and volumes).
 
 mod corners;
 mod creases;
@@ -270,9 +273,9 @@ pub struct SheetPart {
 }
 
 /// Builds the plate of `spec`: the initial sheet over the outline split along the
-/// bends' creases, each hole punched, each region lifted, each removal, each flange
-/// added on the free edge nearest its point (joined at corners), the bends turned, then
-/// the solid. The rounds first give their joints a radius.
+/// bends' creases, each hole punched, each region lifted, each move and removal, each
+/// flange added on the free edge nearest its point (joined at corners), the bends
+/// turned, then the solid. The rounds first give their joints a radius.
 pub fn build(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
     let n = spec.normal.normalize_or_zero();
     if n == DVec3::ZERO || spec.outline.len() < 3 {
