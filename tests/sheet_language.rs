@@ -504,6 +504,25 @@ fn the_reinforcement_is_sound_with_two_gauges_and_type_2_junctions() {
         .map(|p| p.z)
         .fold(f64::INFINITY, f64::min);
     assert!(lowest < -5.0, "the back strip does not turn down: {lowest}");
+    // Per sheet its area and thickness: the tab alone at 2 mm, the areas adding up to
+    // the mid-surface's, the tab 30 x 15.
+    let names: Vec<&str> = part.sheets.iter().map(|s| s.name.as_str()).collect();
+    assert_eq!(
+        names,
+        ["back", "front", "plate", "rib", "step_down", "tab"],
+        "{:?}",
+        part.sheets
+    );
+    for s in &part.sheets {
+        let t = if s.name == "tab" { 2.0 } else { 1.2 };
+        assert_eq!(s.thickness, t, "{s:?}");
+    }
+    let total: f64 = part.sheets.iter().map(|s| s.area).sum();
+    assert!((total - part.area).abs() < 1e-9 * part.area);
+    let tab = part.sheets.iter().find(|s| s.name == "tab").unwrap();
+    assert!((tab.area - 450.0).abs() < 1e-9, "{tab:?}");
+    let expected: f64 = part.sheets.iter().map(|s| s.area * s.thickness).sum();
+    assert!((part.volume - expected).abs() < 1e-9 * expected);
 }
 
 /// A 100 x 60 plate at 2 mm with a 10 mm square hole at (20, 20), and `lines` in its

@@ -726,6 +726,36 @@ fn output(block: &Block, built: SheetPart, holes: usize, flanges: usize, thickne
         "junctions".to_string(),
         junction_list(&built.junctions, span),
     ));
+    // Each named sheet's area and thickness (issue 15: "per sheet its area and
+    // thickness").
+    let sheets = built
+        .sheets
+        .iter()
+        .map(|figures| {
+            let fields = vec![
+                (
+                    "name".to_string(),
+                    Value::new(Data::Str(figures.name.as_str().into()), span),
+                ),
+                (
+                    "area".to_string(),
+                    quantity(
+                        figures.area,
+                        Dim {
+                            length: 2,
+                            angle: 0,
+                        },
+                    ),
+                ),
+                ("thickness".to_string(), mm(figures.thickness, span)),
+            ];
+            record_value(fields, span)
+        })
+        .collect();
+    quality.push((
+        "sheets".to_string(),
+        Value::new(Data::List(Arc::new(sheets)), span),
+    ));
     // What each removal did, in the paper's words (section 4.4).
     let removals = built
         .removals

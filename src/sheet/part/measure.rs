@@ -5,17 +5,21 @@ use glam::{DVec2, DVec3};
 
 use super::super::geometry::{newell, MidSurface};
 use super::super::thicken::ThickenError;
-use super::super::topology::{FaceRole, Sheet, TopologyError};
+use super::super::topology::{FaceId, FaceRole, Sheet, TopologyError};
 use super::layout::Frame;
 use crate::geom::mesh::{Face, Mesh};
 use crate::geom::tessellate::triangulate_loops;
 
 /// One side of each sheet (the one of lower id of a pair of twins), each face
-/// triangulated in its plane.
-pub(super) fn mid_surface(sheet: &Sheet, mid: &MidSurface) -> Result<Mesh, ThickenError> {
+/// triangulated in its plane, with each such side's area (mm²).
+pub(super) fn mid_surface(
+    sheet: &Sheet,
+    mid: &MidSurface,
+) -> Result<(Mesh, Vec<(FaceId, f64)>), ThickenError> {
     let b = &sheet.brep;
     let mut positions = Vec::new();
     let mut faces = Vec::new();
+    let mut areas = Vec::new();
     for f in b.faces() {
         let FaceRole::Side { twin } = sheet.face_role(f)? else {
             continue;
@@ -48,14 +52,53 @@ pub(super) fn mid_surface(sheet: &Sheet, mid: &MidSurface) -> Result<Mesh, Thick
             .collect();
         let first = positions.len() as u32;
         positions.extend(loops.iter().flatten().copied());
+        let mut area = 0.0;
         for [a, c, d] in triangulate_loops(&flat).map_err(|e| ThickenError::Triangulation(f, e))? {
+            let [pa, pc, pd] = [a, c, d].map(|i| positions[first as usize + i]);
+            area += 0.5 * (pc - pa).cross(pd - pa).length();
             faces.push(Face::triangle(
                 first + a as u32,
                 first + c as u32,
                 first + d as u32,
             ));
         }
+        areas.push((f, area));
     }
-    Mesh::new(positions, faces)
-        .map_err(|e| ThickenError::Topology(TopologyError::Invalid(e.to_string())))
+    let mesh = Mesh::new(positions, faces)
+        .map_err(|e| ThickenError::Topology(TopologyError::Invalid(e.to_string())))?;
+    Ok((mesh, areas))
+}
+
+/// A sheet of the part as the designer named it (`plate`, a flange, a lifted region, a
+/// bend's turned part), with its area and its thickness.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SheetFigures {
+    /// The name its faces carry before the first dot (`plate`, `lip`, `pad`, ...).
+    pub name: String,
+    /// Its mid-surface's area (mm²).
+    pub area: f64,
+    /// Its thickness (mm).
+    pub thickness: f64,
+}
+
+/// The figures of each named sheet: the areas of its sides (`areas`, one side of each
+/// pair of twins), summed by the name before the first dot of each side's face name,
+/// with the side's thickness; by name.
+pub(super) fn sheet_figures(
+    areas: &[(FaceId, f64)],
+    name: impl Fn(FaceId) -> String,
+    thickness: impl Fn(FaceId) -> f64,
+) -> Vec<SheetFigures> {
+    let mut by_name: std::collections::BTreeMap<String, SheetFigures> = Default::default();
+    for &(f, area) in areas {
+        let full = name(f);
+        let key = full.split('.').next().unwrap_or(&full).to_string();
+        let entry = by_name.entry(key.clone()).or_insert(SheetFigures {
+            name: key,
+            area: 0.0,
+            thickness: thickness(f),
+        });
+        entry.area += area;
+    }
+    by_name.into_values().collect()
 }

@@ -44,7 +44,8 @@ use layout::{
     add_loop, counter_clockwise, crosses_outline, inset, part_holding, place_ring, split_outline,
     tidy, Frame,
 };
-use measure::mid_surface;
+pub use measure::SheetFigures;
+use measure::{mid_surface, sheet_figures};
 use names::FaceNames;
 pub use rounds::RoundSpec;
 use strips::flange_reaches;
@@ -270,6 +271,9 @@ pub struct SheetPart {
     pub junctions: Vec<Junction>,
     /// What each removal did, in the paper's cases.
     pub removals: Vec<Removal>,
+    /// Each named sheet's area and thickness (`plate`, each flange, lifted region and
+    /// bend's turned part), by name.
+    pub sheets: Vec<SheetFigures>,
 }
 
 /// Builds the plate of `spec`: the initial sheet over the outline split along the
@@ -801,7 +805,15 @@ fn build_strips(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
             flange: nearest_flange(c.at),
         });
     }
-    let mid_mesh = mid_surface(&sheet, &mid).map_err(PartProblem::Thicken)?;
+    let (mid_mesh, side_areas) = mid_surface(&sheet, &mid).map_err(PartProblem::Thicken)?;
+    let sheets = sheet_figures(
+        &side_areas,
+        |f| names.of(f),
+        |f| match sheet.face_role(f) {
+            Ok(FaceRole::Side { twin }) => gauge.of(f, twin),
+            _ => gauge.base,
+        },
+    );
     let area = mid_mesh.total_area();
     let volume = solid.enclosed_volume();
     Ok(SheetPart {
@@ -813,6 +825,7 @@ fn build_strips(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
         volume,
         junctions,
         removals,
+        sheets,
     })
 }
 
