@@ -10,14 +10,21 @@ use super::super::topology::{FaceId, Sheet, TopologyError, VertexId};
 use crate::geom::tessellate::triangulate_loops;
 use crate::geom::trimmed::polygon_winding;
 
+/// The edge of the closed polygon `outline` nearest `p` (edge `i` runs from point `i`
+/// to the next), with its distance from `p`; `None` for an outline of no points.
+pub(super) fn nearest_outline_edge(outline: &[DVec3], p: DVec3) -> Option<(f64, usize)> {
+    let k = outline.len();
+    (0..k)
+        .map(|i| (distance_to_segment(outline[i], outline[(i + 1) % k], p), i))
+        .min_by(|x, y| x.0.total_cmp(&y.0))
+}
+
 /// Puts `p` into the outline as a corner of the edge nearest it (unless it is a corner
 /// already) and returns it as placed. Refused when it lies off the outline.
 pub(super) fn add_corner(outline: &mut Vec<DVec3>, p: DVec3) -> Result<DVec3, String> {
     let k = outline.len();
-    let (d, nearest) = (0..k)
-        .map(|i| (distance_to_segment(outline[i], outline[(i + 1) % k], p), i))
-        .min_by(|x, y| x.0.total_cmp(&y.0))
-        .ok_or_else(|| "finds no edge".to_string())?;
+    let (d, nearest) =
+        nearest_outline_edge(outline, p).ok_or_else(|| "finds no edge".to_string())?;
     if d > SPAN_TOLERANCE {
         return Err(format!(
             "must end on the outline, but ({}, {}, {}) is {} mm off it",
@@ -124,9 +131,10 @@ pub(super) fn place_ring(
 ) -> Result<Vec<VertexId>, TopologyError> {
     let b = &sheet.brep;
     let loops = b.loops_of(top)?;
-    // `punch` and `region` leave the new ring last (`lkemr` appends it); a face has one
-    // loop at least.
-    let last = *loops.last().expect("a face has its outer loop");
+    // `punch` and `region` leave the new ring last (`lkemr` appends it).
+    let last = *loops
+        .last()
+        .ok_or_else(|| TopologyError::Invalid(format!("face {} has no loop", top.0)))?;
     let vertices: Vec<VertexId> = b
         .loop_halves(last)?
         .into_iter()
@@ -178,16 +186,8 @@ pub(super) fn split_outline(
 ) -> Result<DVec3, String> {
     let k = outline.len();
     let middle = 0.5 * (from + to);
-    let nearest = (0..k)
-        .map(|i| {
-            (
-                distance_to_segment(outline[i], outline[(i + 1) % k], middle),
-                i,
-            )
-        })
-        .min_by(|x, y| x.0.total_cmp(&y.0))
-        .map(|(_, i)| i)
-        .ok_or_else(|| "finds no edge".to_string())?;
+    let (_, nearest) =
+        nearest_outline_edge(outline, middle).ok_or_else(|| "finds no edge".to_string())?;
     let (a, c) = (outline[nearest], outline[(nearest + 1) % k]);
     let along = c - a;
     let length = along.length();

@@ -7,7 +7,7 @@
 use glam::DVec3;
 
 use super::super::geometry::distance_to_segment;
-use super::layout::tidy;
+use super::layout::{nearest_outline_edge, tidy};
 use super::{PartProblem, PlateSpec, PICK_REACH};
 
 /// A joint rounded: the flange foot or bend line nearest `at` gets `radius`.
@@ -96,9 +96,6 @@ pub(super) fn apply_rounds(spec: &PlateSpec) -> Result<PlateSpec, PartProblem> {
 /// Every joint of `spec` with the segment it runs along on the flat plate.
 fn joints(spec: &PlateSpec) -> Vec<(Joint, DVec3, DVec3)> {
     let k = spec.outline.len();
-    let edges: Vec<(DVec3, DVec3)> = (0..k)
-        .map(|i| (spec.outline[i], spec.outline[(i + 1) % k]))
-        .collect();
     let mut out = Vec::new();
     for (i, flange) in spec.flanges.iter().enumerate() {
         // A flange all round the outline is sharp (its strips are joined at corners):
@@ -107,13 +104,8 @@ fn joints(spec: &PlateSpec) -> Vec<(Joint, DVec3, DVec3)> {
             continue;
         }
         let foot = flange.span.or_else(|| {
-            edges.iter().copied().min_by(|x, y| {
-                distance_to_segment(x.0, x.1, flange.near).total_cmp(&distance_to_segment(
-                    y.0,
-                    y.1,
-                    flange.near,
-                ))
-            })
+            nearest_outline_edge(&spec.outline, flange.near)
+                .map(|(_, e)| (spec.outline[e], spec.outline[(e + 1) % k]))
         });
         if let Some((a, c)) = foot {
             out.push((Joint::Flange(i), a, c));

@@ -7,8 +7,7 @@
 
 use glam::DVec3;
 
-use super::super::geometry::distance_to_segment;
-use super::layout::{counter_clockwise, tidy, SPAN_TOLERANCE};
+use super::layout::{counter_clockwise, nearest_outline_edge, tidy, SPAN_TOLERANCE};
 use super::{FlangeSpec, PartProblem, PlateSpec};
 
 /// `spec` with every flange along a run of edges given as one strip per edge, named
@@ -71,10 +70,7 @@ fn run(outline: &[DVec3], from: DVec3, to: DVec3) -> Result<Vec<(DVec3, DVec3)>,
     // point on a corner is taken at the start of the edge leaving it when `leaving`,
     // else at the end of the edge arriving there.
     let place = |p: DVec3, leaving: bool| -> Result<(usize, f64), String> {
-        let (d, i) = (0..k)
-            .map(|i| (distance_to_segment(edge(i).0, edge(i).1, p), i))
-            .min_by(|x, y| x.0.total_cmp(&y.0))
-            .ok_or_else(|| "finds no edge".to_string())?;
+        let (d, i) = nearest_outline_edge(outline, p).ok_or_else(|| "finds no edge".to_string())?;
         if d > SPAN_TOLERANCE {
             return Err(format!(
                 "`from` and `to` must lie on the outline, but ({}, {}, {}) is {} mm off it",
