@@ -38,6 +38,42 @@ impl MidSurface {
     }
 }
 
+/// One side of each sheet: of each pair of twin sides, the one of lower id (what the
+/// mid-surface mesh shows and measures).
+pub fn mid_sides(sheet: &Sheet) -> Result<Vec<FaceId>, TopologyError> {
+    let mut out = Vec::new();
+    for f in sheet.brep.faces() {
+        if let FaceRole::Side { twin } = sheet.face_role(f)? {
+            if f < twin {
+                out.push(f);
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// The mid-surface points of each loop of face `f` (the outer loop first).
+pub fn face_loops(
+    sheet: &Sheet,
+    mid: &MidSurface,
+    f: FaceId,
+) -> Result<Vec<Vec<DVec3>>, TopologyError> {
+    let b = &sheet.brep;
+    b.loops_of(f)?
+        .iter()
+        .map(|&l| {
+            b.loop_halves(l)?
+                .into_iter()
+                .map(|h| {
+                    let v = b.vertex(h)?;
+                    mid.point(v)
+                        .ok_or_else(|| TopologyError::Dead(format!("point of vertex {}", v.0)))
+                })
+                .collect()
+        })
+        .collect()
+}
+
 /// The side face of `sheet` nearest `q` (the distance to its outer loop's plane inside
 /// the loop, else to the loop), of two twins at the same place the one whose outward
 /// normal faces `q`; `None` when no side is placed.

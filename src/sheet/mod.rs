@@ -12,11 +12,14 @@
 //! sheet on picked edges, flange, split, punch, lift, remove), the placed model with
 //! picking by points, moves and bends ([`geometry`]), the junction type at each vertex
 //! where two sheets meet ([`junction`]), its solid at each sheet's thickness
-//! ([`thicken`]), and a plate part as the language declares it ([`part`]). Curved
-//! geometry and rounding come next (issue 15).
+//! ([`thicken`]), a part laid on a curved surface ([`base`], [`laid`]: its faces cut
+//! to follow the surface and its solid worked out again there), and a plate part as the
+//! language declares it ([`part`]).
 
+pub mod base;
 pub mod geometry;
 pub mod junction;
+pub mod laid;
 pub mod part;
 pub mod thicken;
 pub mod topology;

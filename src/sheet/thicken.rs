@@ -32,7 +32,9 @@ use nalgebra::{DMatrix, DVector};
 
 use super::geometry::{newell, MidSurface};
 use super::junction::{junctions, Junction, JunctionType};
-use super::topology::{Brep, EdgeRole, FaceId, FaceRole, Sheet, TopologyError, VertexId};
+use super::topology::{
+    Brep, EdgeRole, FaceId, FaceRole, HalfEdgeId, Sheet, TopologyError, VertexId,
+};
 use crate::geom::mesh::{Face, FaceId as MeshFaceId, Mesh};
 use crate::geom::tessellate::triangulate_loops;
 use crate::geom::GeomError;
@@ -161,6 +163,145 @@ pub fn thicken_named(
     junctions: &[Junction],
     name: impl Fn(FaceId) -> String,
 ) -> Result<Mesh, ThickenError> {
+    let plan = plan_solid(sheet, mid, gauge, junctions)?;
+    // Every face of the solid triangulated in its own plane, its triangles a group.
+    let b = &sheet.brep;
+    let mut faces = Vec::new();
+    let mut groups = Vec::new();
+    for face in &plan.faces {
+        let f = face.face;
+        let first = faces.len();
+        let loops: Vec<Vec<u32>> = face
+            .loops
+            .iter()
+            .map(|ring| ring.iter().map(|c| c.at).collect())
+            .collect();
+        let outer: Vec<DVec3> = loops[0]
+            .iter()
+            .map(|&i| plan.positions[i as usize])
+            .collect();
+        let n = newell(&outer);
+        if n.length() <= 1e-12 * scale(&outer) {
+            return Err(ThickenError::Degenerate(f));
+        }
+        let n = n.normalize();
+        let u = n.any_orthonormal_vector();
+        let w = n.cross(u);
+        let flat: Vec<Vec<DVec2>> = loops
+            .iter()
+            .map(|ring| {
+                ring.iter()
+                    .map(|&i| {
+                        let p = plan.positions[i as usize];
+                        DVec2::new(p.dot(u), p.dot(w))
+                    })
+                    .collect()
+            })
+            .collect();
+        let all: Vec<u32> = loops.iter().flatten().copied().collect();
+        // A face whose outline crosses itself at a split vertex: that split leaves a
+        // piece of the solid uncovered (a corner too narrow for the other sheet's
+        // thickness face to cross), so the junction is refused there.
+        let triangles = triangulate_loops(&flat).map_err(|e| {
+            let split_here = plan
+                .splits
+                .iter()
+                .find(|(v, ..)| b.outer_vertices(f).is_ok_and(|vs| vs.contains(v)));
+            match split_here {
+                Some(&(_, at, miss, kind)) => ThickenError::Junction { at, miss, kind },
+                None => ThickenError::Triangulation(f, e),
+            }
+        })?;
+        for [a, c, d] in triangles {
+            faces.push(Face::triangle(all[a], all[c], all[d]));
+        }
+        groups.push((name(f), first..faces.len()));
+    }
+    let invalid = |e: GeomError| ThickenError::Topology(TopologyError::Invalid(e.to_string()));
+    let mut mesh = Mesh::new(plan.positions, faces).map_err(invalid)?;
+    for (group, range) in groups {
+        mesh.add_group(group, range.map(|t| MeshFaceId(t as u32)))
+            .map_err(invalid)?;
+    }
+    Ok(mesh)
+}
+
+/// A plane a point of the solid lies on, as the face it bounds defines it: kept so the
+/// laid solid ([`super::laid`]) can work each plane out again where a face is curved.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum PlaneRule {
+    /// A side's offset: along the side's outward `normal`, `half` its sheet's
+    /// thickness out from the mid-surface.
+    Side {
+        face: FaceId,
+        normal: DVec3,
+        half: f64,
+    },
+    /// A thickness face's plane through the side edge from `from` to `to` (mid-surface
+    /// points), square to `side`, the side across that edge.
+    Across {
+        face: FaceId,
+        side: FaceId,
+        from: DVec3,
+        to: DVec3,
+    },
+}
+
+impl PlaneRule {
+    /// The face of the solid the plane belongs to.
+    pub(crate) fn face(&self) -> FaceId {
+        match *self {
+            PlaneRule::Side { face, .. } | PlaneRule::Across { face, .. } => face,
+        }
+    }
+}
+
+/// The solid's points and faces before the faces are triangulated: each point with the
+/// mid-surface point it was offset from and the planes it lies on, each face of the
+/// solid as loops of points.
+#[derive(Debug, Clone)]
+pub(crate) struct SolidPlan {
+    /// The solid's points.
+    pub positions: Vec<DVec3>,
+    /// Per point, the mid-surface point it was offset from.
+    pub mids: Vec<DVec3>,
+    /// Per point, the planes it lies on.
+    pub rules: Vec<Vec<PlaneRule>>,
+    /// The faces of the solid, one per face of the sheet model.
+    pub faces: Vec<PlanFace>,
+    /// The split vertices: where, how far its planes missed, the junction's type.
+    splits: Vec<(VertexId, DVec3, f64, Option<JunctionType>)>,
+}
+
+/// A face of the solid in a [`SolidPlan`].
+#[derive(Debug, Clone)]
+pub(crate) struct PlanFace {
+    /// The sheet model's face.
+    pub face: FaceId,
+    /// Its loops (the outer first), each a ring of points.
+    pub loops: Vec<Vec<PlanCorner>>,
+    /// For a side: its outward normal on the mid-surface and half its thickness.
+    pub side: Option<(DVec3, f64)>,
+}
+
+/// A point on a face's loop in a [`SolidPlan`], with what the loop runs along from it
+/// to the next point.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct PlanCorner {
+    /// The point.
+    pub at: u32,
+    /// The face across, where the loop runs on along a side edge of the sheet model;
+    /// `None` where it crosses the thickness (a zero-length edge, a split's edge).
+    pub along: Option<FaceId>,
+}
+
+/// The solid of `sheet` before its faces are triangulated ([`thicken_named`]).
+pub(crate) fn plan_solid(
+    sheet: &Sheet,
+    mid: &MidSurface,
+    gauge: &Gauge,
+    junctions: &[Junction],
+) -> Result<SolidPlan, ThickenError> {
     if let Some(t) = gauge.invalid() {
         return Err(ThickenError::Thickness(t));
     }
@@ -190,6 +331,8 @@ pub fn thicken_named(
     let normal = |f: FaceId| normals[f.index()].ok_or(ThickenError::Degenerate(f));
     // The planes (normal, offset) round each vertex.
     let mut planes: Vec<Vec<(FaceId, DVec3, f64)>> = vec![Vec::new(); vertex_slots(b)];
+    // The same planes as the faces define them, for the laid solid.
+    let mut plane_rules: Vec<Vec<PlaneRule>> = vec![Vec::new(); vertex_slots(b)];
     for f in b.faces() {
         let role = sheet.face_role(f)?;
         for &l in b.loops_of(f)? {
@@ -200,6 +343,11 @@ pub fn thicken_named(
                         let n = normal(f)?;
                         let half = 0.5 * gauge.of(f, twin);
                         planes[v.index()].push((f, n, n.dot(at(v)?) + half));
+                        plane_rules[v.index()].push(PlaneRule::Side {
+                            face: f,
+                            normal: n,
+                            half,
+                        });
                     }
                     FaceRole::Thickness => {
                         // The side edges of the thickness face at v: the one leaving v
@@ -221,6 +369,12 @@ pub fn thicken_named(
                             if m.length() > 0.0 {
                                 let m = m.normalize();
                                 planes[v.index()].push((f, m, m.dot(at(v)?)));
+                                plane_rules[v.index()].push(PlaneRule::Across {
+                                    face: f,
+                                    side,
+                                    from: at(from)?,
+                                    to: at(to)?,
+                                });
                             }
                         }
                     }
@@ -237,6 +391,8 @@ pub fn thicken_named(
     // The split vertices: where, how far its planes missed, the junction's type.
     let mut splits: Vec<(VertexId, DVec3, f64, Option<JunctionType>)> = Vec::new();
     let mut positions = Vec::new();
+    let mut mids = Vec::new();
+    let mut rules = Vec::new();
     for v in b.vertices() {
         let p = at(v)?;
         let round = &planes[v.index()];
@@ -265,6 +421,8 @@ pub fn thicken_named(
         if miss <= MEET_TOLERANCE * gauge.thickest() {
             corners[v.index()] = Corner::One(positions.len() as u32);
             positions.push(q);
+            mids.push(p);
+            rules.push(plane_rules[v.index()].clone());
             continue;
         }
         let twin = sheet.twin_vertex(v)?;
@@ -279,24 +437,35 @@ pub fn thicken_named(
         };
         let points = points?;
         let first = positions.len() as u32;
-        positions.push(points[0].0);
-        positions.push(points[1].0);
+        for (point, on) in points {
+            positions.push(point);
+            mids.push(p);
+            // The first plane of each face, as `split` reads them.
+            rules.push(
+                on.iter()
+                    .filter_map(|&f| plane_rules[v.index()].iter().find(|r| r.face() == f))
+                    .copied()
+                    .collect(),
+            );
+        }
         corners[v.index()] = Corner::Split([(first, points[0].1), (first + 1, points[1].1)]);
         splits.push((v, p, miss, junction.map(|j| j.kind)));
     }
-    // Every face of the solid triangulated in its own plane, its triangles a group.
+    // Each face of the solid as loops of points, with what each loop runs along.
     let mut faces = Vec::new();
-    let mut groups = Vec::new();
     for f in b.faces() {
-        let first = faces.len();
-        let loops: Vec<Vec<u32>> = b
+        let side = match sheet.face_role(f)? {
+            FaceRole::Side { twin } => Some((normal(f)?, 0.5 * gauge.of(f, twin))),
+            FaceRole::Thickness => None,
+        };
+        let loops: Vec<Vec<PlanCorner>> = b
             .loops_of(f)?
             .iter()
             .map(|&l| {
-                let mut ring = Vec::new();
+                let mut ring: Vec<(u32, HalfEdgeId)> = Vec::new();
                 for h in b.loop_halves(l)? {
                     match corners[b.vertex(h)?.index()] {
-                        Corner::One(i) => ring.push(i),
+                        Corner::One(i) => ring.push((i, h)),
                         Corner::Split(points) => {
                             // The points on this face, the one on the face across the
                             // edge arriving here first.
@@ -306,11 +475,11 @@ pub fn thicken_named(
                                 .filter(|(_, fs)| fs.contains(&f))
                                 .collect();
                             match on.as_slice() {
-                                [(i, _)] => ring.push(*i),
+                                [(i, _)] => ring.push((*i, h)),
                                 [(i, fi), (j, _)] if fi.contains(&arriving) => {
-                                    ring.extend([*i, *j])
+                                    ring.extend([(*i, h), (*j, h)])
                                 }
-                                [(i, _), (j, _)] => ring.extend([*j, *i]),
+                                [(i, _), (j, _)] => ring.extend([(*j, h), (*i, h)]),
                                 _ => {
                                     return Err(TopologyError::Invalid(format!(
                                         "face {} has no corner at a split vertex",
@@ -321,53 +490,41 @@ pub fn thicken_named(
                         }
                     }
                 }
-                Ok(ring)
-            })
-            .collect::<Result<_, TopologyError>>()?;
-        let outer: Vec<DVec3> = loops[0].iter().map(|&i| positions[i as usize]).collect();
-        let n = newell(&outer);
-        if n.length() <= 1e-12 * scale(&outer) {
-            return Err(ThickenError::Degenerate(f));
-        }
-        let n = n.normalize();
-        let u = n.any_orthonormal_vector();
-        let w = n.cross(u);
-        let flat: Vec<Vec<DVec2>> = loops
-            .iter()
-            .map(|ring| {
-                ring.iter()
-                    .map(|&i| {
-                        let p = positions[i as usize];
-                        DVec2::new(p.dot(u), p.dot(w))
+                // From each point the loop runs along its half-edge's edge when the
+                // next point is on the next half-edge and that edge is a side edge.
+                let n = ring.len();
+                (0..n)
+                    .map(|k| {
+                        let (at, h) = ring[k];
+                        let next = ring[(k + 1) % n].1;
+                        let along = if next == h {
+                            None
+                        } else {
+                            match b.edge(h)? {
+                                Some(e) if sheet.edge_role(e)? != EdgeRole::ZeroLength => {
+                                    Some(b.face_with(b.loop_with(b.mate(h)?)?)?)
+                                }
+                                _ => None,
+                            }
+                        };
+                        Ok(PlanCorner { at, along })
                     })
                     .collect()
             })
-            .collect();
-        let all: Vec<u32> = loops.iter().flatten().copied().collect();
-        // A face whose outline crosses itself at a split vertex: that split leaves a
-        // piece of the solid uncovered (a corner too narrow for the other sheet's
-        // thickness face to cross), so the junction is refused there.
-        let triangles = triangulate_loops(&flat).map_err(|e| {
-            let split_here = splits
-                .iter()
-                .find(|(v, ..)| b.outer_vertices(f).is_ok_and(|vs| vs.contains(v)));
-            match split_here {
-                Some(&(_, at, miss, kind)) => ThickenError::Junction { at, miss, kind },
-                None => ThickenError::Triangulation(f, e),
-            }
-        })?;
-        for [a, c, d] in triangles {
-            faces.push(Face::triangle(all[a], all[c], all[d]));
-        }
-        groups.push((name(f), first..faces.len()));
+            .collect::<Result<_, TopologyError>>()?;
+        faces.push(PlanFace {
+            face: f,
+            loops,
+            side,
+        });
     }
-    let invalid = |e: GeomError| ThickenError::Topology(TopologyError::Invalid(e.to_string()));
-    let mut mesh = Mesh::new(positions, faces).map_err(invalid)?;
-    for (group, range) in groups {
-        mesh.add_group(group, range.map(|t| MeshFaceId(t as u32)))
-            .map_err(invalid)?;
-    }
-    Ok(mesh)
+    Ok(SolidPlan {
+        positions,
+        mids,
+        rules,
+        faces,
+        splits,
+    })
 }
 
 /// A vertex of the sheet model in the solid: one point, or two joined by a new edge

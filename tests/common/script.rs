@@ -37,16 +37,16 @@ pub fn diagnostics_of(file: &str, text: &str) -> Vec<dieface::diag::Diagnostic> 
     Engine::new(None).evaluate(file, text, None).diagnostics
 }
 
-/// The sheet part a script's first declaration, a `sheet` block, builds (the script
-/// must evaluate cleanly).
+/// The sheet part the script's first `sheet` block builds (the script must evaluate
+/// cleanly).
 pub fn sheet_part(text: &str) -> dieface::sheet::part::SheetPart {
-    let values = evaluate_clean("part.die", text);
-    let Data::Record(r) = &values[0].1 else {
-        panic!("a sheet is a record")
-    };
-    r.model::<dieface::sheet::part::SheetPart>()
+    evaluate_clean("part.die", text)
+        .into_iter()
+        .find_map(|(_, data)| match data {
+            Data::Record(r) => r.model::<dieface::sheet::part::SheetPart>().cloned(),
+            _ => None,
+        })
         .expect("a sheet part")
-        .clone()
 }
 
 /// A script of one `sheet part` at 1 mm over a 100 x 60 mm plate, with `flanges` (the

@@ -21,6 +21,7 @@
 
 use crate::diag::Diagnostic;
 use crate::geom::tessellate::{tessellate_curve, Tolerance};
+use crate::sheet::base::BaseError;
 use crate::sheet::junction::{Junction, JunctionType};
 use crate::sheet::part::{
     self, BendSpec, FlangeSpec, HoleSpec, LiftSpec, MoveSpec, PartProblem, PlateSpec, RemoveSpec,
@@ -77,6 +78,19 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
     let view = sketch.view;
     let normal = view_normal(view);
     let outline = polygon(&sketch, outline_field.value.span)?;
+    let base = match block.get("on") {
+        None => None,
+        Some(field) => match &field.value.data {
+            Data::Surface(surface) => Some(surface.clone()),
+            _ => {
+                return Err(type_error(
+                    &field.value,
+                    "`on`",
+                    "a surface (the part is laid on it, seen along the outline's view)",
+                ))
+            }
+        },
+    };
     let punches = block.named("punch");
     let mut holes = Vec::with_capacity(punches.len());
     for (name, field) in &punches {
@@ -407,6 +421,7 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
         flanges,
         rounds,
         thickness,
+        base,
     };
     let fields = NamedFields {
         punches: &punches,
@@ -417,7 +432,9 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
         flanges: &flange_fields,
         rounds: &round_fields,
     };
-    let built = part::build(&spec).map_err(|p| problem(p, outline_field.value.span, &fields))?;
+    let on = block.get("on").map(|f| f.value.span);
+    let built =
+        part::build(&spec).map_err(|p| problem(p, outline_field.value.span, on, &fields))?;
     Ok(output(
         block,
         built,
@@ -540,7 +557,7 @@ struct NamedFields<'a> {
 }
 
 /// The diagnostic of a part that could not be built, at the field at fault.
-fn problem(p: PartProblem, outline: Span, fields: &NamedFields) -> Diagnostic {
+fn problem(p: PartProblem, outline: Span, on: Option<Span>, fields: &NamedFields) -> Diagnostic {
     let NamedFields {
         punches,
         lifts,
@@ -618,6 +635,22 @@ fn problem(p: PartProblem, outline: Span, fields: &NamedFields) -> Diagnostic {
             "this sheet",
             "make the sheet thinner than the gaps between its parts",
         ),
+        PartProblem::Base(BaseError::Miss { .. }) => feature_error(
+            KIND,
+            format!("the sheet cannot be laid on its surface: {p}"),
+            on.unwrap_or(outline),
+            "this surface",
+            "every point of the part, seen along the outline's view (the plate, and the flanges and lifted regions standing on it), must lie over the surface: draw the outline inside the surface's edges, or extend the surface",
+        )
+        .with_label(outline, "this outline"),
+        PartProblem::Base(BaseError::Steep { .. }) => feature_error(
+            KIND,
+            format!("the sheet cannot be laid on its surface: {p}"),
+            on.unwrap_or(outline),
+            "this surface",
+            "draw the outline in a view that sees the surface from above: the surface under the part must stand less than 75 deg to the view",
+        )
+        .with_label(outline, "this outline"),
         PartProblem::Thicken(_) => feature_error(
             KIND,
             format!("the sheet cannot be made solid: {p}"),
@@ -827,7 +860,7 @@ impl FeatureKind for SheetKind {
     }
     fn fields(&self) -> FieldNames {
         FieldNames {
-            single: vec!["outline", "thickness"],
+            single: vec!["outline", "thickness", "on"],
             named: vec!["punch", "lift", "move", "remove", "bend", "flange", "round"],
         }
     }

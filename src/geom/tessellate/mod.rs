@@ -26,7 +26,7 @@ mod surface;
 mod trimmed;
 
 pub use curve::{tessellate_curve, tessellate_curve_within, CURVE_POINT_LIMIT};
-pub use polygon::triangulate_loops;
+pub use polygon::{triangulate_loops, triangulate_loops_with};
 pub use surface::{tessellate_surface, tessellate_surface_within, SURFACE_VERTEX_LIMIT};
 pub use trimmed::{tessellate_trimmed, tessellate_trimmed_within};
 

@@ -5,7 +5,6 @@ use glam::DVec2;
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 
 use crate::geom::error::{GeomError, Result};
-use crate::geom::trimmed::polygon_winding;
 
 /// Coordinates below this are taken as 0 (the triangulation refuses magnitudes under
 /// about 1e-43).
@@ -17,6 +16,14 @@ const TINY: f64 = 1e-30;
 /// odd number of loops run round it, so the holes may run either way. Refused: fewer
 /// than 3 points in a loop, and loops that cross or touch.
 pub fn triangulate_loops(loops: &[Vec<DVec2>]) -> Result<Vec<[usize; 3]>> {
+    triangulate_loops_with(loops, &[])
+}
+
+/// [`triangulate_loops`] with `inside` points added as corners of the triangles (a
+/// face refined for a curved surface it will be laid on): their indices follow the
+/// loops' points. Each must lie inside the region, clear of the loops and of each
+/// other; one that repeats a point is refused.
+pub fn triangulate_loops_with(loops: &[Vec<DVec2>], inside: &[DVec2]) -> Result<Vec<[usize; 3]>> {
     let invalid = |reason: String| GeomError::InvalidMesh { reason };
     let mut points = Vec::new();
     let mut edges = Vec::new();
@@ -36,6 +43,9 @@ pub fn triangulate_loops(loops: &[Vec<DVec2>]) -> Result<Vec<[usize; 3]>> {
             edges.push([first + i, first + (i + 1) % ring.len()]);
         }
     }
+    for q in inside {
+        points.push(Point2::new(q.x, q.y));
+    }
     let count = points.len();
     let mut conflicts = 0usize;
     let cdt: ConstrainedDelaunayTriangulation<Point2<f64>> =
@@ -46,24 +56,39 @@ pub fn triangulate_loops(loops: &[Vec<DVec2>]) -> Result<Vec<[usize; 3]>> {
             "the polygon's loops cross or touch (or a point repeats)".into(),
         ));
     }
-    let inside = |q: DVec2| {
-        loops
-            .iter()
-            .filter(|ring| polygon_winding(ring, q) != 0)
-            .count()
-            % 2
-            == 1
-    };
+    // Inside where an odd number of loops run round: the triangles reached from the
+    // outside across an odd number of the loops' edges (flooding the triangulation,
+    // so a sliver along nearly straight points of a loop is judged by its neighbours,
+    // not by where its centre falls).
+    let mut crossings: Vec<Option<usize>> = vec![None; cdt.num_all_faces()];
+    let mut queue = std::collections::VecDeque::new();
+    for e in cdt.convex_hull() {
+        let rev = e.rev();
+        if let Some(f) = rev.face().as_inner() {
+            let n = usize::from(cdt.is_constraint_edge(e.as_undirected().fix()));
+            if crossings[f.fix().index()].is_none() {
+                crossings[f.fix().index()] = Some(n);
+                queue.push_back(f);
+            }
+        }
+    }
+    while let Some(f) = queue.pop_front() {
+        let n = crossings[f.fix().index()].unwrap_or(0);
+        for e in f.adjacent_edges() {
+            let Some(g) = e.rev().face().as_inner() else {
+                continue;
+            };
+            if crossings[g.fix().index()].is_none() {
+                let m = n + usize::from(cdt.is_constraint_edge(e.as_undirected().fix()));
+                crossings[g.fix().index()] = Some(m);
+                queue.push_back(g);
+            }
+        }
+    }
     let mut out = Vec::new();
     for f in cdt.inner_faces() {
-        let vs = f.vertices();
-        let ids = vs.map(|v| v.fix().index());
-        let centre = vs
-            .iter()
-            .map(|v| DVec2::new(v.position().x, v.position().y))
-            .sum::<DVec2>()
-            / 3.0;
-        if inside(centre) {
+        let ids = f.vertices().map(|v| v.fix().index());
+        if crossings[f.fix().index()].is_some_and(|n| n % 2 == 1) {
             out.push(ids);
         }
     }

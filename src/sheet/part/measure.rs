@@ -3,9 +3,9 @@
 
 use glam::{DVec2, DVec3};
 
-use super::super::geometry::{newell, MidSurface};
+use super::super::geometry::{face_loops, mid_sides, newell, MidSurface};
 use super::super::thicken::ThickenError;
-use super::super::topology::{FaceId, FaceRole, Sheet, TopologyError};
+use super::super::topology::{FaceId, Sheet, TopologyError};
 use super::layout::Frame;
 use crate::geom::mesh::{Face, Mesh};
 use crate::geom::tessellate::triangulate_loops;
@@ -16,31 +16,11 @@ pub(super) fn mid_surface(
     sheet: &Sheet,
     mid: &MidSurface,
 ) -> Result<(Mesh, Vec<(FaceId, f64)>), ThickenError> {
-    let b = &sheet.brep;
     let mut positions = Vec::new();
     let mut faces = Vec::new();
     let mut areas = Vec::new();
-    for f in b.faces() {
-        let FaceRole::Side { twin } = sheet.face_role(f)? else {
-            continue;
-        };
-        if twin < f {
-            continue;
-        }
-        let loops: Vec<Vec<DVec3>> = b
-            .loops_of(f)?
-            .iter()
-            .map(|&l| {
-                b.loop_halves(l)?
-                    .into_iter()
-                    .map(|h| {
-                        let v = b.vertex(h)?;
-                        mid.point(v)
-                            .ok_or_else(|| TopologyError::Dead(format!("point of vertex {}", v.0)))
-                    })
-                    .collect::<Result<Vec<DVec3>, TopologyError>>()
-            })
-            .collect::<Result<_, _>>()?;
+    for f in mid_sides(sheet)? {
+        let loops = face_loops(sheet, mid, f)?;
         let normal = newell(&loops[0]).normalize_or_zero();
         if normal == DVec3::ZERO {
             return Err(ThickenError::Degenerate(f));

@@ -29,14 +29,16 @@ use std::f64::consts::FRAC_PI_2;
 
 use glam::{DVec2, DVec3};
 
+use super::base::{BaseError, BaseSurface};
 use super::geometry::{bend, distance_to_segment, move_face, MidSurface};
 use super::junction::{junctions, Junction};
-use super::thicken::{thicken_named, Gauge, ThickenError};
+use super::laid::{lay_mid_surface, lay_solid, LaidError, Refiner};
+use super::thicken::{plan_solid, thicken_named, Gauge, ThickenError};
 use super::topology::{EdgeId, FaceId, FaceRole, Piece, Removal, Sheet, TopologyError, VertexId};
 use crate::geom::mesh::{crossings, Mesh};
 use crate::geom::tessellate::triangulate_loops;
 use crate::geom::trimmed::polygon_winding;
-use crate::geom::MAX_COORDINATE;
+use crate::geom::{NurbsSurface, MAX_COORDINATE};
 use corners::{mitre_top, Standing};
 use creases::{creases, Crease};
 pub use layout::SPAN_TOLERANCE;
@@ -74,6 +76,9 @@ pub struct PlateSpec {
     pub rounds: Vec<RoundSpec>,
     /// The thickness (mm) of the plate, and of each flange not given its own.
     pub thickness: f64,
+    /// The surface the part lies on, seen along `normal` ([`super::base`]): the part is
+    /// built flat and laid onto it. `None`: the part stays on its working plane.
+    pub base: Option<Arc<NurbsSurface>>,
 }
 
 /// A hole punched through the plate.
@@ -212,6 +217,9 @@ pub enum PartProblem {
     /// The solid passes through itself at `at` (two flanges closer than the thickness,
     /// say): flange `flange` is the nearest, when there are flanges.
     SelfIntersection { at: DVec3, flange: Option<usize> },
+    /// The part cannot be laid on its surface: a point of it does not lie over the
+    /// surface, or the surface stands too steep under it.
+    Base(BaseError),
 }
 
 impl std::fmt::Display for PartProblem {
@@ -247,6 +255,7 @@ impl std::fmt::Display for PartProblem {
                 tidy(at.y),
                 tidy(at.z)
             ),
+            PartProblem::Base(e) => write!(f, "{e}"),
         }
     }
 }
@@ -790,22 +799,45 @@ fn build_strips(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
         &flange_sides,
     )
     .map_err(|e| PartProblem::Thicken(e.into()))?;
-    let junctions = junctions(&sheet, &mid).map_err(|e| PartProblem::Thicken(e.into()))?;
-    let solid =
-        thicken_named(&sheet, &mid, &gauge, &junctions, |f| names.of(f)).map_err(|e| match e {
-            ThickenError::Junction { at, .. } => PartProblem::Junction {
-                at,
-                flange: nearest_flange(at),
-            },
-            e => PartProblem::Thicken(e),
-        })?;
+    let mut junctions = junctions(&sheet, &mid).map_err(|e| PartProblem::Thicken(e.into()))?;
+    let refused = |e: ThickenError| match e {
+        ThickenError::Junction { at, .. } => PartProblem::Junction {
+            at,
+            flange: nearest_flange(at),
+        },
+        e => PartProblem::Thicken(e),
+    };
+    let laid_refused = |e: LaidError| match e {
+        LaidError::Base(e) => PartProblem::Base(e),
+        LaidError::Thicken(e) => refused(e),
+    };
+    let (solid, mid_mesh, side_areas) = match &spec.base {
+        None => {
+            let solid = thicken_named(&sheet, &mid, &gauge, &junctions, |f| names.of(f))
+                .map_err(refused)?;
+            let (mid_mesh, side_areas) = mid_surface(&sheet, &mid).map_err(PartProblem::Thicken)?;
+            (solid, mid_mesh, side_areas)
+        }
+        Some(surface) => {
+            // Built flat, laid on the surface: each face cut to follow it.
+            let base = BaseSurface::new((**surface).clone(), spec.outline[0], n);
+            let mut refiner = Refiner::new(&base);
+            let plan = plan_solid(&sheet, &mid, &gauge, &junctions).map_err(refused)?;
+            let solid = lay_solid(&plan, &mut refiner, |f| names.of(f)).map_err(laid_refused)?;
+            let (mid_mesh, side_areas) =
+                lay_mid_surface(&sheet, &mid, &mut refiner).map_err(laid_refused)?;
+            for j in &mut junctions {
+                j.at = base.lay(j.at).map_err(PartProblem::Base)?;
+            }
+            (solid, mid_mesh, side_areas)
+        }
+    };
     if let Some(c) = crossings(&solid).first() {
         return Err(PartProblem::SelfIntersection {
             at: c.at,
             flange: nearest_flange(c.at),
         });
     }
-    let (mid_mesh, side_areas) = mid_surface(&sheet, &mid).map_err(PartProblem::Thicken)?;
     let sheets = sheet_figures(
         &side_areas,
         |f| names.of(f),
