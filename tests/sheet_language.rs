@@ -837,3 +837,69 @@ fn moves_that_cannot_be_made_are_refused() {
         ),
     ]);
 }
+
+/// A corner moved (paper 003, section 4: moving a vertex): a plate's corner in the
+/// plate's plane, a flange's far corner up the flange's plane. The faces that meet
+/// there follow and stay planar, and the solid keeps each sheet's area times its
+/// thickness, in closed form.
+#[test]
+fn moving_a_corner_takes_the_faces_that_meet_there_along() {
+    // The plate's corner at the origin moved out to (-10, -5): the plate gains the
+    // triangles (0,0)-(-10,-5)-(100,0) and (0,60)-(-10,-5)-(0,0), 250 + 300 mm^2.
+    let plate = script::sheet_part(&script::plate_script(
+        "move out = { corner: (0, 0, 0), by: (-10, -5, 0) }",
+    ));
+    sheet::assert_sound(&plate.solid);
+    assert!((plate.area - 6550.0).abs() < 1e-9, "{}", plate.area);
+    assert!((plate.volume - 6550.0).abs() < 1e-9, "{}", plate.volume);
+    // A 20 mm flange whose far corner over (100, 60) is raised 5 mm: a trapezoid 20 to
+    // 25 mm high along its 60 mm foot.
+    let tapered = script::sheet_part(&script::plate_script(
+        "flange lip = { at: (100, 30), height: 20 mm }\n    move taller = { corner: (100, 60, 20), by: (0, 0, 5) }",
+    ));
+    sheet::assert_sound(&tapered.solid);
+    let lip = tapered
+        .sheets
+        .iter()
+        .find(|s| s.name == "lip")
+        .expect("the lip");
+    assert!((lip.area - 60.0 * 22.5).abs() < 1e-9, "{}", lip.area);
+    assert!(
+        (tapered.volume - (6000.0 + 1350.0)).abs() < 1e-9,
+        "{}",
+        tapered.volume
+    );
+}
+
+/// Corner moves that cannot be made are refused at the move, with nothing moved: no
+/// corner within reach, a point as near two corners, a face taken out of its plane,
+/// and a face made to cross itself.
+#[test]
+fn corner_moves_that_cannot_be_made_are_refused() {
+    script::assert_plate_refused(&[
+        (
+            "move off = { corner: (50, 30, 0), by: (0, 0, 2) }",
+            "`move off`: the move picks no corner of the part: its point (50, 30, 0) lies",
+        ),
+        (
+            "move up = { corner: (0, 0, 0), by: (0, 0, 3) }",
+            "`move up`: the move would take a face at the corner 3.000 mm out of its plane",
+        ),
+        (
+            "move across = { corner: (0, 0, 0), by: (60, 80, 0) }",
+            "`move across`: the move would make a face at the corner cross itself",
+        ),
+        (
+            "move both = { corner: (50, 0, 0), by: (0, 1, 0), at: (3, 3) }",
+            "`move both` has no field `at`",
+        ),
+    ]);
+    let found = script::diagnostics_of(
+        "part.die",
+        &script::plate_script("move between = { corner: (50, 0, 0), by: (0, 1, 0) }"),
+    );
+    assert!(
+        found.iter().any(|d| d.message.contains("picks no corner")),
+        "{found:#?}"
+    );
+}

@@ -27,6 +27,9 @@ pub const STEEPEST: f64 = 75.0;
 /// Seeds per parameter direction for finding the surface point under a point.
 const SEEDS: usize = 33;
 
+/// Seeds tried, after the nearest, before a point counts as not over the surface.
+const SEEDS_TRIED: usize = 8;
+
 /// Newton steps for the surface point under a point.
 const ITERATIONS: usize = 40;
 
@@ -204,14 +207,20 @@ impl BaseSurface {
     /// The surface under the plane's point `q` (`at`, the layout's point, for errors):
     /// Newton on the parameters from the nearest seeds, kept inside the domain.
     fn foot(&self, q: DVec2, at: DVec3) -> Result<Foot, BaseError> {
-        let mut order: Vec<(f64, DVec2)> = self
+        let tolerance = 1e-10 * self.extent;
+        let distance = |&(s, _): &(DVec2, DVec2)| s.distance_squared(q);
+        // The nearest seed first; the next ones only where Newton fails from it.
+        let nearest = self
             .seeds
             .iter()
-            .map(|&(s, uv)| (s.distance_squared(q), uv))
-            .collect();
+            .min_by(|a, b| distance(a).total_cmp(&distance(b)))
+            .map(|&(_, uv)| uv);
+        if let Some(uv) = nearest.and_then(|start| self.newton(q, start, tolerance)) {
+            return self.frame(uv, at);
+        }
+        let mut order: Vec<(f64, DVec2)> = self.seeds.iter().map(|s| (distance(s), s.1)).collect();
         order.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let tolerance = 1e-10 * self.extent;
-        for &(_, start) in order.iter().take(4) {
+        for &(_, start) in order.iter().skip(1).take(SEEDS_TRIED) {
             if let Some(uv) = self.newton(q, start, tolerance) {
                 return self.frame(uv, at);
             }

@@ -6,6 +6,7 @@
 use glam::{DQuat, DVec3};
 
 use super::topology::{EdgeId, EdgeRole, FaceId, FaceRole, Sheet, TopologyError, VertexId};
+use crate::geom::intersect::polyline_self_crossing;
 
 /// Where each vertex of a sheet model lies on the mid-surface. A vertex and its twin lie
 /// at the same point: they part only when the sheet is thickened.
@@ -72,6 +73,86 @@ pub fn face_loops(
                 .collect()
         })
         .collect()
+}
+
+/// The vertices of `sheet` by distance from `q`, nearest first, each with its distance:
+/// of a vertex and its twin (at one point) only the one of lower id.
+pub fn vertices_by_distance(sheet: &Sheet, mid: &MidSurface, q: DVec3) -> Vec<(f64, VertexId)> {
+    let mut found: Vec<(f64, VertexId)> = sheet
+        .brep
+        .vertices()
+        .filter(|&v| sheet.twin_vertex(v).is_ok_and(|w| v <= w))
+        .filter_map(|v| Some((mid.point(v)?.distance(q), v)))
+        .collect();
+    found.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    found
+}
+
+/// Moves vertex `v` of `sheet` (and its twin) by `offset` (paper 003, section 4: moving
+/// a vertex). The faces are planar, so every side face at the vertex must keep its
+/// plane: a plate's corner moves in the plate's plane, a flange's foot corner along
+/// the line where the flange meets the plate. Refused, with nothing moved, when a side
+/// face would leave its plane or cross itself.
+pub fn move_vertex(
+    sheet: &Sheet,
+    mid: &mut MidSurface,
+    v: VertexId,
+    offset: DVec3,
+) -> Result<(), TopologyError> {
+    let b = &sheet.brep;
+    let p = mid
+        .point(v)
+        .ok_or_else(|| TopologyError::NotApplicable(format!("vertex {} has no point", v.0)))?;
+    let mut moved = mid.clone();
+    moved.place(sheet, v, p + offset)?;
+    let twin = sheet.twin_vertex(v)?;
+    for f in b.faces() {
+        if !matches!(sheet.face_role(f)?, FaceRole::Side { .. }) {
+            continue;
+        }
+        let mut touches = false;
+        for &l in b.loops_of(f)? {
+            for h in b.loop_halves(l)? {
+                let u = b.vertex(h)?;
+                touches |= u == v || u == twin;
+            }
+        }
+        if !touches {
+            continue;
+        }
+        // The face's plane before the move: the corner must stay in it.
+        let before = face_loops(sheet, mid, f)?;
+        let n = newell(&before[0]).normalize_or_zero();
+        let off = n.dot(offset).abs();
+        if off > 1e-9 * offset.length().max(1.0) {
+            return Err(TopologyError::NotApplicable(format!(
+                "would take a face at the corner {off:.3} mm out of its plane: a corner \
+                 moves in the plane of every face that meets there (along the line where \
+                 two meet)"
+            )));
+        }
+        let loops = face_loops(sheet, &moved, f)?;
+        if newell(&loops[0]).dot(n) <= 0.0 {
+            return Err(TopologyError::NotApplicable(
+                "would turn a face at the corner over".into(),
+            ));
+        }
+        let u = n.any_orthonormal_vector();
+        let w = n.cross(u);
+        for ring in &loops {
+            let flat: Vec<glam::DVec2> = ring
+                .iter()
+                .map(|q| glam::DVec2::new(q.dot(u), q.dot(w)))
+                .collect();
+            if polyline_self_crossing(&flat, true).is_some() {
+                return Err(TopologyError::NotApplicable(
+                    "would make a face at the corner cross itself".into(),
+                ));
+            }
+        }
+    }
+    *mid = moved;
+    Ok(())
 }
 
 /// The side face of `sheet` nearest `q` (the distance to its outer loop's plane inside

@@ -24,8 +24,8 @@ use crate::geom::tessellate::{tessellate_curve, Tolerance};
 use crate::sheet::base::BaseError;
 use crate::sheet::junction::{Junction, JunctionType};
 use crate::sheet::part::{
-    self, BendSpec, FlangeSpec, HoleSpec, LiftSpec, MoveSpec, PartProblem, PlateSpec, RemoveSpec,
-    RoundSpec, SheetPart,
+    self, BendSpec, FlangeSpec, HoleSpec, LiftSpec, MovePick, MoveSpec, PartProblem, PlateSpec,
+    RemoveSpec, RoundSpec, SheetPart,
 };
 use crate::sheet::topology::Removal;
 use crate::syntax::Span;
@@ -213,25 +213,41 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
     let mut moves = Vec::with_capacity(move_fields.len());
     for (name, field) in &move_fields {
         let what = format!("`move {name}`");
-        let (r, at) = picked(
-            field,
-            &what,
-            &["at", "by"],
-            "a record `{ at: (x, y), by: (dx, dy, dz) }`",
-            "add `at: (x, y)`, a point in the outline's view over the face to move (a lifted region's top)",
-            (view, block.units),
-        )?;
+        let example = "a record `{ at: (x, y), by: (dx, dy, dz) }` (a face) or `{ corner: (x, y, z), by: (dx, dy, dz) }` (a corner)";
+        let r = record(&field.value, &what, example)?;
+        // A corner is picked by a 3-D point near it; a face by a point over it.
+        let (at, pick) = match r.get("corner") {
+            Some(corner) => {
+                check_record(r, field.value.span, &what, &["corner", "by"])?;
+                (
+                    as_point3(corner, block.units, &format!("`corner` of {what}"))?,
+                    MovePick::Corner,
+                )
+            }
+            None => {
+                let (_, at) = picked(
+                    field,
+                    &what,
+                    &["at", "by"],
+                    example,
+                    "add `at: (x, y)`, a point in the outline's view over the face to move (a lifted region's top), or `corner: (x, y, z)`, a point near the corner to move",
+                    (view, block.units),
+                )?;
+                (at, MovePick::Face)
+            }
+        };
         let by = required(
             r,
             "by",
             &what,
             field.value.span,
-            "add `by: (dx, dy, dz)`, how far the face moves, in press coordinates",
+            "add `by: (dx, dy, dz)`, how far the face or corner moves, in press coordinates",
         )?;
         moves.push(MoveSpec {
             name: name.to_string(),
             at,
             by: as_point3(by, block.units, &format!("`by` of {what}"))?,
+            pick,
         });
     }
     let flange_fields = block.named("flange");
@@ -590,7 +606,7 @@ fn problem(p: PartProblem, outline: Span, on: Option<Span>, fields: &NamedFields
         PartProblem::Lift { index, .. } => at_field("lift", lifts, *index, "this lift", "draw the region inside the outline, clear of its edges, the holes and the other lifted regions, with a height other than 0 and a draft below 90 deg that its size allows"),
         PartProblem::Bend { index, .. } => at_field("bend", bends, *index, "this bend", "draw the bend line across the plate from one edge of the outline to another, clear of the holes, the lifted regions, the other bends' lines and the flanges' edges, with an angle between -180 and 180 deg; on a `radius`, the zone of facets centred on the line (the radius plus half the thickness, times the angle in radians, wide) must fit on the plate too"),
         PartProblem::Remove { index, .. } => at_field("remove", removals, *index, "this removal", "put `at` over the top of a lifted region: removing it leaves a collar round a hole"),
-        PartProblem::Move { index, .. } => at_field("move", moves, *index, "this move", "put `at` over the top of a lifted region, and keep it on its side of the plate: `by` moves it in press coordinates, its walls following"),
+        PartProblem::Move { index, .. } => at_field("move", moves, *index, "this move", "put `at` over the top of a lifted region, and keep it on its side of the plate: `by` moves it in press coordinates, its walls following; or put `corner` within 5 mm of one corner of the part and move it in the plane of every face that meets there"),
         PartProblem::Round { index, .. } => at_field("round", rounds, *index, "this round", "put `at` on (or within 5 mm of) a flange's foot or a bend's line, nearer it than any other, and give a radius above 0; a joint takes one radius, and a flange of its own thickness none"),
         PartProblem::Flange { index, .. } => at_field("flange", flanges, *index, "this flange", "put `at` on (or within 5 mm of) a free edge of the outline, nearer it than any other, or `from` and `to` on one (one edge takes one flange); give a height above 0 (or a `shape` from the edge's left end to its right, seen from outside), an angle below 180 deg, and a bend `radius` or a `thickness` of its own, not both"),
         PartProblem::FlangesMeet { index, other, .. } => feature_error(

@@ -30,7 +30,9 @@ use std::f64::consts::FRAC_PI_2;
 use glam::{DVec2, DVec3};
 
 use super::base::{BaseError, BaseSurface};
-use super::geometry::{bend, distance_to_segment, move_face, MidSurface};
+use super::geometry::{
+    bend, distance_to_segment, move_face, move_vertex, vertices_by_distance, MidSurface,
+};
 use super::junction::{junctions, Junction};
 use super::laid::{lay_mid_surface, lay_solid, LaidError, Refiner};
 use super::thicken::{plan_solid, thicken_named, Gauge, ThickenError};
@@ -109,17 +111,32 @@ pub struct BendSpec {
     pub radius: f64,
 }
 
-/// A face moved (paper 003, section 4: moving a face), picked by a point over it in the
-/// outline's view: so far a lifted region's top, its walls following (a translated top
-/// keeps each wall's edges parallel, so the walls stay flat).
+/// A face or a corner moved (paper 003, section 4: moving a vertex or a face).
 #[derive(Debug, Clone, PartialEq)]
 pub struct MoveSpec {
     /// Its name.
     pub name: String,
-    /// A point over the face, in the outline's view (on the working plane).
+    /// What it picks: for a face, a point over it in the outline's view (on the working
+    /// plane); for a corner, a point near it (3-D, in press coordinates, on the part as
+    /// built before it is laid on a surface).
     pub at: DVec3,
-    /// How far the face moves (mm, in press coordinates).
+    /// How far the face or corner moves (mm, in press coordinates).
     pub by: DVec3,
+    /// Whether it moves a face or a corner.
+    pub pick: MovePick,
+}
+
+/// What a move picks.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MovePick {
+    /// The face under the point: so far a lifted region's top, its walls following (a
+    /// translated top keeps each wall's edges parallel, so the walls stay flat). Moved
+    /// before the flanges are added.
+    Face,
+    /// The corner of the part nearest the point (within [`PICK_REACH`]), once every
+    /// other operation is done: the faces that meet there follow, and must keep their
+    /// planes.
+    Corner,
 }
 
 /// A face removed from the part (paper 003, section 4.4, Fig. 11-12), picked by a point
@@ -505,6 +522,9 @@ fn build_strips(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
     }
     // Moves: the lifted top under each point, its walls following.
     for (index, step) in spec.moves.iter().enumerate() {
+        if step.pick != MovePick::Face {
+            continue;
+        }
         let bad = |why: String| PartProblem::Move { index, why };
         let q = frame.flat(step.at);
         let k = lift_tops
@@ -779,6 +799,15 @@ fn build_strips(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
         bend(&sheet, &mut mid, cut.fixed, cut.crease, crease.angle)
             .map_err(|e| bad(e.to_string()))?;
     }
+    // Corners moved, last: the one nearest each point, the faces there following.
+    for (index, step) in spec.moves.iter().enumerate() {
+        if step.pick != MovePick::Corner {
+            continue;
+        }
+        let bad = |why: String| PartProblem::Move { index, why };
+        let v = corner_near(&sheet, &mid, step.at).map_err(bad)?;
+        move_vertex(&sheet, &mut mid, v, step.by).map_err(|e| bad(e.to_string()))?;
+    }
     // A solid that cannot be made, or passes through itself, is blamed on the flange
     // nearest the place at fault.
     let nearest_flange = |at: DVec3| {
@@ -1041,6 +1070,37 @@ fn shape_chain(shape: &[DVec2], length: f64) -> Result<Vec<DVec2>, String> {
 /// How far from its edge a flange's point may lie (mm): further, the point picks no
 /// edge of the sheet.
 pub const PICK_REACH: f64 = 5.0;
+
+/// The corner of the part nearest `near` (of a vertex and its twin, the one of lower
+/// id). Refused when none lies within [`PICK_REACH`], or two lie as near.
+fn corner_near(sheet: &Sheet, mid: &MidSurface, near: DVec3) -> Result<VertexId, String> {
+    let found = vertices_by_distance(sheet, mid, near);
+    let Some(&(d, v)) = found.first() else {
+        return Err("finds no corner".into());
+    };
+    if d > PICK_REACH {
+        return Err(format!(
+            "picks no corner of the part: its point {} lies {} mm from the nearest, and a \
+             picked corner must lie within {} mm of its point",
+            show(near),
+            tidy(d),
+            tidy(PICK_REACH)
+        ));
+    }
+    if let Some(&(d2, w)) = found.get(1) {
+        if d2 - d < 1e-9 {
+            let at = |u: VertexId| mid.point(u).map(show).unwrap_or_default();
+            return Err(format!(
+                "picks no one corner: its point {} lies as near the corner at {} as the \
+                 corner at {}",
+                show(near),
+                at(v),
+                at(w)
+            ));
+        }
+    }
+    Ok(v)
+}
 
 /// The edge of the plate's parts nearest `near`: its vertices on the top side, in the
 /// order the part's outer loop runs them, and their points. Refused when `near` lies
