@@ -75,6 +75,8 @@ pub struct BaseSurface {
     axes: DMat3,
     /// Where each seed of a grid over the parameters lies on the working plane.
     seeds: Vec<(DVec2, DVec2)>,
+    /// The seeds by where they lie on the plane, to find the nearest quickly.
+    buckets: Buckets,
     /// The size of the surface's control net, for relative tolerances.
     extent: f64,
 }
@@ -113,11 +115,13 @@ impl BaseSurface {
             }
         }
         let extent = surface.net_extent().max(1.0);
+        let buckets = Buckets::new(&seeds);
         BaseSurface {
             surface,
             origin,
             axes,
             seeds,
+            buckets,
             extent,
         }
     }
@@ -209,12 +213,9 @@ impl BaseSurface {
     fn foot(&self, q: DVec2, at: DVec3) -> Result<Foot, BaseError> {
         let tolerance = 1e-10 * self.extent;
         let distance = |&(s, _): &(DVec2, DVec2)| s.distance_squared(q);
-        // The nearest seed first; the next ones only where Newton fails from it.
-        let nearest = self
-            .seeds
-            .iter()
-            .min_by(|a, b| distance(a).total_cmp(&distance(b)))
-            .map(|&(_, uv)| uv);
+        // A seed near the point first; the others, nearest first, only where Newton
+        // fails from it.
+        let nearest = self.buckets.near(&self.seeds, q).map(|k| self.seeds[k].1);
         if let Some(uv) = nearest.and_then(|start| self.newton(q, start, tolerance)) {
             return self.frame(uv, at);
         }
@@ -295,6 +296,91 @@ impl BaseSurface {
             nu,
             nv,
         })
+    }
+}
+
+/// The seeds sorted into a square grid of cells over where they lie on the plane.
+#[derive(Debug, Clone)]
+struct Buckets {
+    low: DVec2,
+    cell: f64,
+    side: usize,
+    cells: Vec<Vec<usize>>,
+}
+
+impl Buckets {
+    fn new(seeds: &[(DVec2, DVec2)]) -> Buckets {
+        let (low, high) = seeds.iter().fold(
+            (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+            |(lo, hi), &(p, _)| (lo.min(p), hi.max(p)),
+        );
+        let side = SEEDS;
+        let span = (high - low).max_element();
+        let cell = if span.is_finite() && span > 0.0 {
+            span / side as f64
+        } else {
+            1.0
+        };
+        let low = if low.is_finite() { low } else { DVec2::ZERO };
+        let mut cells = vec![Vec::new(); side * side];
+        let mut out = Buckets {
+            low,
+            cell,
+            side,
+            cells: Vec::new(),
+        };
+        for (k, &(p, _)) in seeds.iter().enumerate() {
+            let (i, j) = out.cell_of(p);
+            cells[i * side + j].push(k);
+        }
+        out.cells = cells;
+        out
+    }
+
+    /// The cell holding `p`, or the nearest cell to it.
+    fn cell_of(&self, p: DVec2) -> (usize, usize) {
+        let at = |x: f64| {
+            let c = (x / self.cell).floor();
+            if c.is_finite() {
+                c.clamp(0.0, (self.side - 1) as f64) as usize
+            } else {
+                0
+            }
+        };
+        (at(p.x - self.low.x), at(p.y - self.low.y))
+    }
+
+    /// The seed nearest `q` among those in the first ring of cells round `q`'s cell
+    /// that holds any, and the ring beyond it.
+    fn near(&self, seeds: &[(DVec2, DVec2)], q: DVec2) -> Option<usize> {
+        let (ci, cj) = self.cell_of(q);
+        let mut best: Option<(f64, usize)> = None;
+        let mut found_at: Option<usize> = None;
+        for ring in 0..self.side {
+            if found_at.is_some_and(|r| ring > r + 1) {
+                break;
+            }
+            let (i0, i1) = (ci.saturating_sub(ring), (ci + ring).min(self.side - 1));
+            let (j0, j1) = (cj.saturating_sub(ring), (cj + ring).min(self.side - 1));
+            for i in i0..=i1 {
+                for j in j0..=j1 {
+                    // The ring's cells only: the inner ones were searched.
+                    if i.abs_diff(ci) != ring && j.abs_diff(cj) != ring {
+                        continue;
+                    }
+                    for &k in &self.cells[i * self.side + j] {
+                        let d = seeds[k].0.distance_squared(q);
+                        if best.is_none_or(|(b, _)| d < b) {
+                            best = Some((d, k));
+                        }
+                    }
+                }
+            }
+            if best.is_some() && found_at.is_none() {
+                found_at = Some(ring);
+            }
+        }
+        best.map(|(_, k)| k)
     }
 }
 

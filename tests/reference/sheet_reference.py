@@ -14,6 +14,20 @@ as exact lines and circular arcs sewn into one shell:
 
 * the bracket: the plate (120 x 70 mm, 8 mm corner fillets on the left, a 12 mm bolt
   hole and a 30 x 8 mm slot) and the 30 mm flange square to it along the right edge;
+* the hood reinforcement (`examples/hood_reinforcement`, a part laid on a curved skin):
+  the skin as the same bicubic B-spline, the plate as the skin trimmed by the outline
+  seen from above (each line and arc's points found on the skin by OpenCascade's own
+  line-surface intersection, `GeomAPI_IntCS`, and joined by a parameter-space curve),
+  the bolt holes, the slot and the rib's foot cut from it, the rib's top on the skin's
+  exact offset (`Geom_OffsetSurface`) and its walls ruled between foot and top. Its
+  solid is compared without the rear flange: OpenCascade's offset fails on the inside
+  of that curved fold (`BRepOffset_MakeOffset` gives an invalid shape there, either
+  way round); the flange is checked on its own, each of dieface's vertices on the
+  flange's sides against OpenCascade's exact offsets of the ruled surface along the
+  skin's normals (`hood_flange`), with the whole part's mid-surface area. That solid
+  is thickened half the gauge each way from the mid-surface (one-sided
+  `BRepOffset_MakeOffset`, then `BRepAlgoAPI_Fuse`: the shift-then-thicken below
+  fails on B-spline faces with `BRepOffset_C0Geometry`);
 * the tray: the 160 x 100 mm floor with 15 mm corner radii, a 10 mm drain hole and a
   pad 80 x 40 mm lifted 3 mm on walls drafted 30 deg, and a wall 25 mm long all round
   leaning out 10 deg: planes along the sides and exact cones round the corners, where
@@ -43,9 +57,11 @@ same file. `tests/sheet_reference.rs` checks the committed result against what d
 computes now.
 """
 
+import atexit
 import json
 import math
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -76,7 +92,17 @@ from OCP.TopExp import TopExp_Explorer
 from OCP.TopLoc import TopLoc_Location
 from OCP.TopoDS import TopoDS
 from OCP.Geom import Geom_ConicalSurface
-from OCP.gp import gp_Ax3, gp_Dir, gp_Pnt, gp_Vec
+from OCP.gp import gp_Ax3, gp_Dir, gp_Lin, gp_Pnt, gp_Pnt2d, gp_Vec
+from OCP.BRepAlgoAPI import BRepAlgoAPI_Fuse
+from OCP.BRepFill import BRepFill
+from OCP.BRepLib import BRepLib
+from OCP.Geom import Geom_BSplineSurface, Geom_Line, Geom_OffsetSurface
+from OCP.Geom2dAPI import Geom2dAPI_Interpolate
+from OCP.GeomAPI import GeomAPI_IntCS, GeomAPI_Interpolate
+from OCP.GeomFill import GeomFill_BSplineCurves, GeomFill_StretchStyle
+from OCP.GeomLProp import GeomLProp_SLProps
+from OCP.OCP.collections import Array1_double, Array1_int, Array2_gp_Pnt, HArray1_gp_Pnt, HArray1_gp_Pnt2d
+from OCP.ShapeFix import ShapeFix_Face
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 OUT = os.path.join(ROOT, "tests", "data", "sheet_reference.json")
@@ -256,6 +282,146 @@ def tray_mid_surface():
     return sewn(faces)
 
 
+# The hood reinforcement's numbers, as examples/hood_reinforcement gives them.
+HOOD_GAUGE = 1.2
+HOOD_CROWN, HOOD_FALL = 14.0, 0.12
+HOOD_CORNER = 12.0
+RIB = (25.0, 30.0, 150.0, 50.0)
+RIB_HEIGHT, RIB_DRAFT = 2.5, math.radians(30.0)
+REAR = ((168.0, 110.0), (12.0, 110.0), 18.0)  # the flange's ends and height
+
+
+def hood_skin():
+    """The hood's skin: the example's bicubic net, clamped uniform knots."""
+    poles = Array2_gp_Pnt(1, 5, 1, 5)
+    for i in range(5):
+        for j in range(5):
+            x, y = i * 75.0 - 60.0, j * 60.0 - 50.0
+            z = HOOD_FALL * x + HOOD_CROWN * math.sin(math.radians(i * 45)) * math.sin(math.radians(j * 45))
+            poles.SetValue(i + 1, j + 1, P(x, y, z))
+    knots = Array1_double(1, 3)
+    mults = Array1_int(1, 3)
+    for k, (t, m) in enumerate([(0.0, 4), (0.5, 1), (1.0, 4)]):
+        knots.SetValue(k + 1, t)
+        mults.SetValue(k + 1, m)
+    return Geom_BSplineSurface(poles, knots, knots, mults, mults, 3, 3)
+
+
+SKIN = hood_skin()
+
+
+def uv_under(x, y):
+    """The skin's parameters under (x, y) seen from above, by OpenCascade's own
+    line-surface intersection."""
+    hit = GeomAPI_IntCS(Geom_Line(gp_Lin(P(x, y, -500.0), gp_Dir(0, 0, 1))), SKIN)
+    if hit.NbPoints() != 1:
+        raise SystemExit(f"the skin is not met once under ({x}, {y})")
+    u, v, _ = hit.Parameters(1)
+    return u, v
+
+
+def on_skin(points, surface=SKIN):
+    """An edge on `surface` (the skin or an offset of it, whose parameters are the
+    skin's) through the skin's parameters under `points`, seen from above."""
+    uv = HArray1_gp_Pnt2d(1, len(points))
+    for k, (x, y) in enumerate(points):
+        uv.SetValue(k + 1, gp_Pnt2d(*uv_under(x, y)))
+    curve = Geom2dAPI_Interpolate(uv, False, 1e-12)
+    curve.Perform()
+    edge = BRepBuilderAPI_MakeEdge(curve.Curve(), surface).Edge()
+    BRepLib.BuildCurves3d_s(edge, 1e-9)
+    return edge
+
+
+def line_points(a, b, n=41):
+    return [(a[0] + (b[0] - a[0]) * k / (n - 1), a[1] + (b[1] - a[1]) * k / (n - 1)) for k in range(n)]
+
+
+def arc_points(c, r, a0, a1, n=41):
+    return [(c[0] + r * math.cos(a0 + (a1 - a0) * k / (n - 1)), c[1] + r * math.sin(a0 + (a1 - a0) * k / (n - 1))) for k in range(n)]
+
+
+def rectangle(x0, y0, x1, y1):
+    return [line_points((x0, y0), (x1, y0)), line_points((x1, y0), (x1, y1)), line_points((x1, y1), (x0, y1)), line_points((x0, y1), (x0, y0))]
+
+
+def fixed(face):
+    fix = ShapeFix_Face(face)
+    fix.Perform()
+    return fix.Face()
+
+
+def hood_mid_surface(with_flange=False):
+    """The hood reinforcement's sheets, sewn into one shell: the skin trimmed by the
+    rounded outline and holed by the bolt holes, the slot and the rib's foot; the rib's
+    top on the skin offset by its height over the foot inset by the height times the
+    draft's tangent, its walls ruled between; with `with_flange`, the rear flange
+    ruled between the skin under its edge and the points 18 mm along the normals."""
+    r = HOOD_CORNER
+    outline = [
+        line_points((r, 0), (180 - r, 0)), arc_points((180 - r, r), r, -math.pi / 2, 0),
+        line_points((180, r), (180, 110 - r)), arc_points((180 - r, 110 - r), r, 0, math.pi / 2),
+        line_points((180 - r, 110), (r, 110)), arc_points((r, 110 - r), r, math.pi / 2, math.pi),
+        line_points((0, 110 - r), (0, r)), arc_points((r, r), r, math.pi, 1.5 * math.pi),
+    ]
+    circle = lambda cx, cy, rr: [arc_points((cx, cy), rr, 0, math.pi), arc_points((cx, cy), rr, math.pi, 2 * math.pi)]
+    slot = [
+        line_points((120, 70.5), (140, 70.5)), arc_points((140, 75), 4.5, -math.pi / 2, math.pi / 2),
+        line_points((140, 79.5), (120, 79.5)), arc_points((120, 75), 4.5, math.pi / 2, 1.5 * math.pi),
+    ]
+    plate = BRepBuilderAPI_MakeFace(SKIN, wire([on_skin(p) for p in outline]), True)
+    for hole in [circle(40, 80, 4.25), circle(80, 80, 4.25), slot, rectangle(*RIB)]:
+        plate.Add(TopoDS.Wire(wire([on_skin(p) for p in hole]).Reversed()))
+    faces = [fixed(plate.Face())]
+    inset = RIB_HEIGHT * math.tan(RIB_DRAFT)
+    x0, y0, x1, y1 = RIB
+    top_surface = Geom_OffsetSurface(SKIN, RIB_HEIGHT)
+    foot = [on_skin(p) for p in rectangle(*RIB)]
+    top = [on_skin(p, top_surface) for p in rectangle(x0 + inset, y0 + inset, x1 - inset, y1 - inset)]
+    faces.append(fixed(BRepBuilderAPI_MakeFace(top_surface, wire(top), True).Face()))
+    faces += [BRepFill.Face_s(a, b) for a, b in zip(foot, top)]
+    if with_flange:
+        faces.append(BRepBuilderAPI_MakeFace(rear_flange(), 1e-7).Face())
+    return sewn(faces)
+
+
+def rear_flange(below=0.0):
+    """The rear flange's mid-surface: ruled between the skin under its edge and the
+    points its height along the skin's normals (turned up) there; with `below`, run
+    on that far below the skin (where the outside of the fold's mitre lies)."""
+    a, b, height = REAR
+    points = line_points(a, b, 61)
+    foot, top = HArray1_gp_Pnt(1, len(points)), HArray1_gp_Pnt(1, len(points))
+    for k, (x, y) in enumerate(points):
+        props = GeomLProp_SLProps(SKIN, *uv_under(x, y), 1, 1e-9)
+        n = props.Normal()
+        if n.Z() < 0:
+            n.Reverse()
+        p = props.Value()
+        foot.SetValue(k + 1, P(p.X() - below * n.X(), p.Y() - below * n.Y(), p.Z() - below * n.Z()))
+        top.SetValue(k + 1, P(p.X() + height * n.X(), p.Y() + height * n.Y(), p.Z() + height * n.Z()))
+    curves = []
+    for row in (foot, top):
+        fit = GeomAPI_Interpolate(row, False, 1e-12)
+        fit.Perform()
+        curves.append(fit.Curve())
+    return GeomFill_BSplineCurves(curves[0], curves[1], GeomFill_StretchStyle).Surface()
+
+
+def thicken_both_ways(name, shell, gauge):
+    """The solid half the gauge each side of the shell: two one-sided thickenings
+    fused."""
+    halves = []
+    for side in (shell, shell.Reversed()):
+        thick = BRepOffset_MakeOffset()
+        thick.Initialize(side, gauge / 2, 1e-7, BRepOffset_Skin, False, False, GeomAbs_Intersection, True)
+        thick.MakeOffsetShape(Message_ProgressRange())
+        if not thick.IsDone():
+            raise SystemExit(f"OpenCascade could not thicken the {name}: error {thick.Error()}")
+        halves.append(thick.Shape())
+    return BRepAlgoAPI_Fuse(*halves).Shape()
+
+
 def curved_length(shape):
     """The length of the shape's edges that are not straight lines (its arcs)."""
     from OCP.BRepAdaptor import BRepAdaptor_Curve
@@ -377,31 +543,71 @@ def mesh_volume(vertices, triangles):
     return float(np.einsum("ij,ij->i", a, np.cross(b, c)).sum() / 6.0)
 
 
-def dieface_solid(dieface, name):
-    with tempfile.TemporaryDirectory() as tmp:
-        out = os.path.join(tmp, f"{name}.obj")
-        command = dieface + ["build", f"examples/{name}/{name}.die", "-o", out]
-        subprocess.run(command, cwd=ROOT, check=True, capture_output=True)
-        return read_obj_object(out, f"{name}/solid")
+# How dieface is run: built by cargo unless `--dieface PATH` names a binary.
+dieface = ["cargo", "run", "--quiet", "--release", "--bin", "dieface", "--"]
 
 
-# Each part: its mid-surface and gauge.
-# Each part: its mid-surface, its gauge, and how far dieface's vertices may lie off
-# the exact solid: on a bend's radius, dieface's facets are chords within 0.01 mm of
-# the arc (BEND_TOLERANCE in src/sheet/part/strips.rs); round the tray's corners its
-# wall's strips are chords of the fillets within the outline tolerance.
+def dieface_obj(dieface, example, edit=None):
+    """dieface's OBJ of `examples/NAME/NAME.die` (its text changed by `edit` first),
+    as the path of a file in a temporary folder the caller removes."""
+    tmp = tempfile.mkdtemp()
+    atexit.register(shutil.rmtree, tmp, True)
+    source = os.path.join(ROOT, "examples", example, f"{example}.die")
+    if edit is not None:
+        with open(source) as f:
+            text = edit(f.read())
+        source = os.path.join(tmp, f"{example}.die")
+        with open(source, "w") as f:
+            f.write(text)
+    out = os.path.join(tmp, f"{example}.obj")
+    subprocess.run(dieface + ["build", source, "-o", out], cwd=ROOT, check=True, capture_output=True)
+    return out
+
+
+def obj_group_vertices(path, group):
+    """The vertices of the triangles of OBJ group `group` (a `g` line's name)."""
+    vertices, used, inside = [], set(), False
+    with open(path) as f:
+        for line in f:
+            if line.startswith("v "):
+                vertices.append([float(x) for x in line.split()[1:4]])
+            elif line.startswith("g ") or line.startswith("o "):
+                inside = line.split()[1] == group
+            elif line.startswith("f ") and inside:
+                used.update(int(x.split("/")[0]) - 1 for x in line.split()[1:4])
+    return np.array(vertices)[sorted(used)]
+
+
+def without_rear_flange(text):
+    """The hood reinforcement's script without its rear flange."""
+    kept = [line for line in text.splitlines() if not line.strip().startswith("flange rear")]
+    if len(kept) != len(text.splitlines()) - 1:
+        raise SystemExit("the hood reinforcement has no one `flange rear` line")
+    return "\n".join(kept) + "\n"
+
+
+# Each part: its mid-surface, gauge and thickening, the example and sheet it is
+# compared with (its script edited first where OpenCascade cannot make the whole
+# part), and how far dieface's vertices may lie off the exact solid: on a bend's
+# radius, dieface's facets are chords within 0.01 mm of the arc (BEND_TOLERANCE in
+# src/sheet/part/strips.rs); round the tray's corners its wall's strips are chords of
+# the fillets within the outline tolerance; on the hood's skin, dieface's vertices lie
+# on the offsets exactly but for the rib's curved mitres (within the skin's curvature
+# times the gauge squared, LAID_TOLERANCE bounds it).
 PARTS = {
-    "bracket": (bracket_mid_surface, BRACKET_GAUGE, 0.01),
-    "tray": (tray_mid_surface, TRAY_GAUGE, OUTLINE_TOLERANCE),
+    "bracket": dict(build=bracket_mid_surface, gauge=BRACKET_GAUGE, sag=0.01, thicken=thicken, example="bracket", sheet="bracket", edit=None),
+    "tray": dict(build=tray_mid_surface, gauge=TRAY_GAUGE, sag=OUTLINE_TOLERANCE, thicken=thicken, example="tray", sheet="tray", edit=None),
+    "hood_reinforcement": dict(build=hood_mid_surface, gauge=HOOD_GAUGE, sag=0.01, thicken=thicken_both_ways, example="hood_reinforcement", sheet="reinforcement", edit=without_rear_flange),
 }
 
 
 def compare(dieface, name):
     """One part's record: OpenCascade's solid, dieface's, and the distances between."""
-    build, gauge, sag = PARTS[name]
-    shell = build()
-    solid = thicken(name, shell, gauge)
-    vertices, triangles = dieface_solid(dieface, name)
+    part = PARTS[name]
+    shell = part["build"]()
+    solid = part["thicken"](name, shell, part["gauge"])
+    obj = dieface_obj(dieface, part["example"], part["edit"])
+    vertices, triangles = read_obj_object(obj, f"{part['sheet']}/solid")
     # dieface's vertices to OpenCascade's exact solid.
     to_occ = 0.0
     for x, y, z in vertices:
@@ -413,9 +619,10 @@ def compare(dieface, name):
     a, b, c = (vertices[triangles[:, i]] for i in range(3))
     to_dieface = float(point_triangle_distances(samples, a, b, c).max())
     return {
-        "example": f"examples/{name}/{name}.die",
-        "gauge": gauge,
-        "sag": sag,
+        "example": f"examples/{part['example']}/{part['example']}.die",
+        "edited": part["edit"].__doc__ if part["edit"] else None,
+        "gauge": part["gauge"],
+        "sag": part["sag"],
         "occ": {
             "volume": sig(volume(solid)),
             "mid_area": sig(area(shell)),
@@ -435,14 +642,42 @@ def compare(dieface, name):
     }
 
 
+def hood_flange(dieface):
+    """The whole hood reinforcement, flange and all: OpenCascade's mid-surface area and
+    dieface's, and how far each of dieface's vertices on the flange's sides lies off
+    OpenCascade's exact offsets of the flange half the gauge each way."""
+    from OCP.GeomAPI import GeomAPI_ProjectPointOnSurf
+
+    obj = dieface_obj(dieface, "hood_reinforcement")
+    # The flange run on below the skin: the outside of the fold's mitre lies there.
+    flange = rear_flange(below=2.0)
+    offsets = [Geom_OffsetSurface(flange, HOOD_GAUGE / 2), Geom_OffsetSurface(flange, -HOOD_GAUGE / 2)]
+    worst, count = 0.0, 0
+    for side in ("inside", "outside"):
+        for x, y, z in obj_group_vertices(obj, f"reinforcement/solid/rear.{side}"):
+            d = min(GeomAPI_ProjectPointOnSurf(P(x, y, z), s).LowerDistance() for s in offsets)
+            worst, count = max(worst, d), count + 1
+    mid, triangles = read_obj_object(obj, "reinforcement/mid")
+    a, b, c = (mid[triangles[:, i]] for i in range(3))
+    mid_area = float(0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1).sum())
+    return {
+        "example": "examples/hood_reinforcement/hood_reinforcement.die",
+        "occ_mid_area": sig(area(hood_mid_surface(with_flange=True))),
+        "dieface_mid_area": sig(mid_area),
+        "flange_vertices": count,
+        "flange_sides_to_occ_offsets": sig(worst, 6),
+    }
+
+
 def main():
-    dieface = ["cargo", "run", "--quiet", "--release", "--bin", "dieface", "--"]
+    global dieface
     if "--dieface" in sys.argv:
         dieface = [sys.argv[sys.argv.index("--dieface") + 1]]
     result = {
         "ocp": metadata.version("cadquery-ocp"),
         "tolerance": OUTLINE_TOLERANCE,
         "parts": {name: compare(dieface, name) for name in PARTS},
+        "hood_flange": hood_flange(dieface),
     }
     text = json.dumps(result, indent=2) + "\n"
     if "--stdout" in sys.argv:
