@@ -509,10 +509,21 @@ fn the_reinforcement_is_sound_with_two_gauges_and_type_2_junctions() {
     let names: Vec<&str> = part.sheets.iter().map(|s| s.name.as_str()).collect();
     assert_eq!(
         names,
-        ["back", "front", "plate", "rib", "step_down", "tab"],
+        [
+            "back",
+            "back_lip",
+            "front",
+            "plate",
+            "rib",
+            "step_down",
+            "tab"
+        ],
         "{:?}",
         part.sheets
     );
+    // The lip turned in on the back flange: 150 x 6 mm.
+    let lip = part.sheets.iter().find(|s| s.name == "back_lip").unwrap();
+    assert!((lip.area - 900.0).abs() < 1e-9, "{lip:?}");
     for s in &part.sheets {
         let t = if s.name == "tab" { 2.0 } else { 1.2 };
         assert_eq!(s.thickness, t, "{s:?}");
@@ -902,4 +913,77 @@ fn corner_moves_that_cannot_be_made_are_refused() {
         found.iter().any(|d| d.message.contains("picks no corner")),
         "{found:#?}"
     );
+}
+
+/// Return flanges (`on`: a flange on an earlier flange's far edge, the paper's new
+/// sheet on a picked edge at an angle to the existing sheet, the edge picked by its
+/// flange's name): a C channel's lip turned in, a hat's brim turned out, a return on
+/// a return, one of its own gauge. Each keeps every sheet's area times its thickness.
+#[test]
+fn return_flanges_stand_on_a_flange_s_far_edge() {
+    let far_corner = |part: &SheetPart, p: glam::DVec3| {
+        part.mid_mesh
+            .positions()
+            .iter()
+            .any(|q| q.distance(p) < 1e-9)
+    };
+    // The lip stands 20 mm up on the right edge; the return turns in over the plate.
+    let lip = "flange lip = { at: (100, 30), height: 20 mm }";
+    let channel = script::sheet_part(&script::plate_script(&format!(
+        "{lip}\n    flange turn_in = {{ on: \"lip\", height: 10 mm, angle: 90 deg }}"
+    )));
+    sheet::assert_sound(&channel.solid);
+    assert!(far_corner(&channel, glam::DVec3::new(90.0, 0.0, 20.0)));
+    assert!(far_corner(&channel, glam::DVec3::new(90.0, 60.0, 20.0)));
+    assert!((channel.volume - 7800.0).abs() < 1e-9, "{}", channel.volume);
+    assert!(channel.solid.group("turn_in.inside").is_some());
+    assert_eq!(
+        channel
+            .junctions
+            .iter()
+            .filter(|j| j.kind == dieface::sheet::junction::JunctionType::One)
+            .count(),
+        4
+    );
+    // Turned out, and a return on the return, of its own gauge.
+    let hat = script::sheet_part(&script::plate_script(&format!(
+        "{lip}\n    flange brim = {{ on: \"lip\", height: 10 mm, angle: -90 deg }}\n    flange edge = {{ on: \"brim\", height: 8 mm, angle: 90 deg, thickness: 2 mm }}"
+    )));
+    sheet::assert_sound(&hat.solid);
+    assert!(far_corner(&hat, glam::DVec3::new(110.0, 0.0, 20.0)));
+    // The brim turned out runs to x = 110; the return on it turns towards the brim's
+    // inside (up, the side that continues the plate's top), 8 mm.
+    assert!(far_corner(&hat, glam::DVec3::new(110.0, 60.0, 28.0)));
+    let expected = 6000.0 + 1200.0 + 600.0 + 2.0 * 480.0;
+    assert!((hat.volume - expected).abs() < 1e-9, "{}", hat.volume);
+}
+
+/// Return flanges that cannot be made are refused at the flange: no earlier flange of
+/// that name, a flange along a run or joined at a corner (no one free far edge), a
+/// radius, and a place given besides `on`.
+#[test]
+fn return_flanges_that_cannot_be_made_are_refused() {
+    let lip = "flange lip = { at: (100, 30), height: 20 mm }";
+    script::assert_plate_refused(&[
+        (
+            "flange turn = { on: \"lip\", height: 10 mm }",
+            "`flange turn`: the flange stands `on` flange `lip`, but no flange of that name comes before it",
+        ),
+        (
+            &format!("{lip}\n    flange side = {{ at: (50, 0), height: 20 mm }}\n    flange turn = {{ on: \"lip\", height: 10 mm }}"),
+            "`flange turn`: the flange cannot stand on flange `lip`: its far edge is not one edge free at both ends",
+        ),
+        (
+            "flange wall = { around: true, height: 20 mm }\n    flange turn = { on: \"wall\", height: 10 mm }",
+            "`flange turn`: the flange cannot stand on flange `wall`: it runs along several edges",
+        ),
+        (
+            &format!("{lip}\n    flange turn = {{ on: \"lip\", height: 10 mm, radius: 2 mm }}"),
+            "no `radius` yet",
+        ),
+        (
+            &format!("{lip}\n    flange turn = {{ on: \"lip\", height: 10 mm, at: (3, 3) }}"),
+            "`flange turn` stands `on` the far edge of flange `lip`, so it takes no `at`",
+        ),
+    ]);
 }

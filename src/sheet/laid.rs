@@ -51,6 +51,10 @@ const NARROWEST: f64 = 0.25;
 /// The most segments an edge is cut into.
 const MOST_SEGMENTS: usize = 4096;
 
+/// The most grid points a face is filled with: beyond, the grid is spread wider (a face
+/// far larger than the surface's curvature asks for would otherwise take millions).
+const MOST_FILL: f64 = 40_000.0;
+
 /// Singular values below this count as none (the planes' normals are unit vectors).
 const RANK_TOLERANCE: f64 = 1e-9;
 
@@ -451,7 +455,8 @@ impl Plane {
 
 /// The points of a square grid at `spacing` inside the region of `loops` (odd winding),
 /// each clear of every loop's edges by a third of the spacing: the corners a face is
-/// filled with.
+/// filled with. A face so large that the grid would pass [`MOST_FILL`] points gets a
+/// wider one.
 fn fill(loops: &[Vec<DVec2>], spacing: f64) -> Vec<DVec2> {
     let (lo, hi) = loops.iter().flatten().fold(
         (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
@@ -460,6 +465,8 @@ fn fill(loops: &[Vec<DVec2>], spacing: f64) -> Vec<DVec2> {
     if !(lo.is_finite() && hi.is_finite()) {
         return Vec::new();
     }
+    let span = hi - lo;
+    let spacing = spacing.max((span.x * span.y / MOST_FILL).sqrt());
     let clear = spacing / 3.0;
     let segments: Vec<(DVec2, DVec2)> = loops
         .iter()

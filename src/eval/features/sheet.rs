@@ -273,8 +273,38 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
                 "radius",
                 "shape",
                 "around",
+                "on",
             ],
         )?;
+        // A flange on an earlier flange's far edge (a return flange), by that flange's
+        // name.
+        let on = match r.get("on") {
+            Some(v) => {
+                let Data::Str(parent) = &v.data else {
+                    return Err(type_error(
+                        v,
+                        &format!("`on` of {what}"),
+                        "the name of an earlier flange, as a string such as \"lip\"",
+                    ));
+                };
+                if let Some(key) = ["at", "from", "to", "around", "shape"]
+                    .into_iter()
+                    .find(|k| r.get(k).is_some())
+                {
+                    return Err(feature_error(
+                        KIND,
+                        format!(
+                            "{what} stands `on` the far edge of flange `{parent}`, so it takes no `{key}`"
+                        ),
+                        field.value.span,
+                        "on a flange, and placed",
+                        "leave out `at`, `from`, `to`, `around` and `shape`: a return flange runs the whole far edge of the flange it stands on",
+                    ));
+                }
+                Some(parent.to_string())
+            }
+            None => None,
+        };
         let around = match r.get("around") {
             Some(v) => {
                 let Data::Bool(b) = v.data else {
@@ -325,7 +355,7 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
             )),
         };
         let near = match (point("at")?, span) {
-            _ if around => outline[0],
+            _ if around || on.is_some() => outline[0],
             (Some(at), _) => at,
             (None, Some((from, to))) => 0.5 * (from + to),
             (None, None) => {
@@ -399,6 +429,7 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
             radius,
             shape,
             around,
+            on,
         });
     }
     let round_fields = block.named("round");
@@ -608,7 +639,7 @@ fn problem(p: PartProblem, outline: Span, on: Option<Span>, fields: &NamedFields
         PartProblem::Remove { index, .. } => at_field("remove", removals, *index, "this removal", "put `at` over the top of a lifted region: removing it leaves a collar round a hole"),
         PartProblem::Move { index, .. } => at_field("move", moves, *index, "this move", "put `at` over the top of a lifted region, and keep it on its side of the plate: `by` moves it in press coordinates, its walls following; or put `corner` within 5 mm of one corner of the part and move it in the plane of every face that meets there"),
         PartProblem::Round { index, .. } => at_field("round", rounds, *index, "this round", "put `at` on (or within 5 mm of) a flange's foot or a bend's line, nearer it than any other, and give a radius above 0; a joint takes one radius, and a flange of its own thickness none"),
-        PartProblem::Flange { index, .. } => at_field("flange", flanges, *index, "this flange", "put `at` on (or within 5 mm of) a free edge of the outline, nearer it than any other, or `from` and `to` on one (one edge takes one flange); give a height above 0 (or a `shape` from the edge's left end to its right, seen from outside), an angle below 180 deg, and a bend `radius` or a `thickness` of its own, not both"),
+        PartProblem::Flange { index, .. } => at_field("flange", flanges, *index, "this flange", "put `at` on (or within 5 mm of) a free edge of the outline, nearer it than any other, or `from` and `to` on one (one edge takes one flange); give a height above 0 (or a `shape` from the edge's left end to its right, seen from outside), an angle below 180 deg, and a bend `radius` or a `thickness` of its own, not both; or stand it `on` an earlier flange by name, whose far edge is free at both ends"),
         PartProblem::FlangesMeet { index, other, .. } => feature_error(
             KIND,
             format!("`flange {}` and `flange {}`: {p}", flanges[*other].0, flanges[*index].0),

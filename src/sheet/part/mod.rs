@@ -196,6 +196,10 @@ pub struct FlangeSpec {
     /// Whether it runs all round the outline, one strip per edge joined at every
     /// corner (`near` and `span` are then not used).
     pub around: bool,
+    /// The earlier flange on whose far edge it stands (a return flange), by name: it
+    /// then runs that whole edge, and its `angle` is up from that flange, towards the
+    /// side that continues the plate's top (`near` and `span` are not used).
+    pub on: Option<String>,
 }
 
 /// Why a plate could not be built.
@@ -615,6 +619,18 @@ fn build_strips(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
     for (index, flange) in spec.flanges.iter().enumerate() {
         let bad = |why: String| PartProblem::Flange { index, why };
         check_flange(flange).map_err(bad)?;
+        if flange.on.is_some() {
+            // A return flange stands on another flange, not on the plate: it is added
+            // with the others below, and meets no flange at the plate's corners.
+            flange_edges.push((NO_VERTEX, NO_VERTEX, DVec3::ZERO, DVec3::ZERO));
+            standing.push(Standing {
+                from: DVec3::ZERO,
+                to: DVec3::ZERO,
+                rise: n,
+                height: flange.height,
+            });
+            continue;
+        }
         let (a, c, pa, pc) = nearest_edge(&sheet, &mid, &parts, nears[index]).map_err(bad)?;
         if flange_edges.iter().any(|&(x, y, ..)| (x, y) == (a, c)) {
             return Err(bad(format!(
@@ -639,6 +655,9 @@ fn build_strips(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
     let mut mitred: Vec<[Option<DVec3>; 2]> = vec![[None, None]; spec.flanges.len()];
     for index in 0..spec.flanges.len() {
         let (a, c, pa, pc) = flange_edges[index];
+        if spec.flanges[index].on.is_some() {
+            continue;
+        }
         for (end, (v, p)) in [(a, pa), (c, pc)].into_iter().enumerate() {
             let Some(other) = flange_edges[..index]
                 .iter()
@@ -677,9 +696,25 @@ fn build_strips(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
     let mut flange_sides = Vec::with_capacity(spec.flanges.len());
     // Each flange's far corners, over its edge's first and last vertex.
     let mut far_corners: Vec<[VertexId; 2]> = Vec::with_capacity(spec.flanges.len());
+    // Each flange's far edge, where a return flange may stand, with the flange's frame
+    // (the direction it rises in from its foot, and its inside's normal); `None` where
+    // it has no one far edge free to stand on (a drawn shape, a closed corner).
+    let mut far_edges: Vec<Option<(EdgeId, DVec3, DVec3)>> = Vec::with_capacity(spec.flanges.len());
     for (index, flange) in spec.flanges.iter().enumerate() {
         let bad = |why: String| PartProblem::Flange { index, why };
         let topo = |e: TopologyError| bad(e.to_string());
+        if let Some(parent) = &flange.on {
+            let added =
+                add_return(&mut sheet, &mut mid, spec, index, parent, &far_edges).map_err(bad)?;
+            flange_edges[index] = (NO_VERTEX, NO_VERTEX, added.foot.0, added.foot.1);
+            far_corners.push(added.far_corners);
+            far_edges.push(Some(added.far_edge));
+            if let Some(t) = flange.thickness {
+                gauge.sheets.push((added.sides.0, t));
+            }
+            flange_sides.push(vec![added.sides]);
+            continue;
+        }
         let (a, c, pa, pc) = flange_edges[index];
         // The run of picked edges: the plate's edge, and on up the end of each flange
         // it is joined to.
@@ -741,6 +776,8 @@ fn build_strips(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
         far_corners.push([far_a, far_c]);
         let mut strips = vec![added.sides];
         let bends = &reaches[1..];
+        // The far edge: the second of the new curves, or the last strip's on a radius.
+        let mut far_of_strips = added.curves.get(1).copied();
         if !bends.is_empty() {
             // A flange on a bend radius (never joined at a corner): the straight
             // flange's curve is the second, the far edge.
@@ -761,12 +798,24 @@ fn build_strips(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
                 far = strip.far_edge;
                 last = reach;
             }
+            far_of_strips = Some(far);
         }
         if let Some(t) = flange.thickness {
             gauge
                 .sheets
                 .extend(strips.iter().map(|&(side, _)| (side, t)));
         }
+        // The far edge a return flange may stand on: the straight flange's, free at
+        // both ends (not a drawn shape, not joined at a corner, either way round).
+        let corner = joined[index] != [None, None]
+            || joined.iter().flatten().any(|&other| other == Some(index));
+        let rise = flange.angle.cos() * out + flange.angle.sin() * n;
+        let inside = -flange.angle.sin() * out + flange.angle.cos() * n;
+        far_edges.push(
+            far_of_strips
+                .filter(|_| shape.is_none() && !corner)
+                .map(|e| (e, rise, inside)),
+        );
         flange_sides.push(strips);
     }
     let flange_edges: Vec<(DVec3, DVec3)> = flange_edges
@@ -1006,7 +1055,16 @@ fn check_flange(flange: &FlangeSpec) -> Result<(), String> {
                 .into(),
         );
     }
-    if !(flange.angle.is_finite() && (0.0..std::f64::consts::PI).contains(&flange.angle)) {
+    if flange.on.is_some() {
+        let pi = std::f64::consts::PI;
+        if !(flange.angle.is_finite() && flange.angle > -pi && flange.angle < pi) {
+            return Err(
+                "angle must lie between -180 and 180 deg (above 0 towards the inside of \
+                 the flange it stands on)"
+                    .into(),
+            );
+        }
+    } else if !(flange.angle.is_finite() && (0.0..std::f64::consts::PI).contains(&flange.angle)) {
         return Err("angle must lie from 0 up to (not including) 180 deg".into());
     }
     if flange.shape.is_some() && flange.radius > 0.0 {
@@ -1070,6 +1128,87 @@ fn shape_chain(shape: &[DVec2], length: f64) -> Result<Vec<DVec2>, String> {
 /// How far from its edge a flange's point may lie (mm): further, the point picks no
 /// edge of the sheet.
 pub const PICK_REACH: f64 = 5.0;
+
+/// A vertex id no vertex has: the edge of a return flange, which stands on no edge of
+/// the plate, in the lists of the plate's flange edges.
+const NO_VERTEX: VertexId = VertexId(u32::MAX);
+
+/// What [`add_return`] added: the edge it stands on (its ends' points), its far
+/// corners, its own far edge with its frame, and its sides.
+struct AddedReturn {
+    foot: (DVec3, DVec3),
+    far_corners: [VertexId; 2],
+    far_edge: (EdgeId, DVec3, DVec3),
+    sides: (FaceId, FaceId),
+}
+
+/// Adds return flange `index` of `spec` on the far edge of the earlier flange named
+/// `parent` (`far_edges`: each earlier flange's far edge, the direction it rises in
+/// from its foot and its inside's normal): `Sheet::flange` on that edge, its far
+/// corners `height` away, rising `angle` up from the parent towards the parent's
+/// inside.
+fn add_return(
+    sheet: &mut Sheet,
+    mid: &mut MidSurface,
+    spec: &PlateSpec,
+    index: usize,
+    parent: &str,
+    far_edges: &[Option<(EdgeId, DVec3, DVec3)>],
+) -> Result<AddedReturn, String> {
+    let flange = &spec.flanges[index];
+    let Some(p) = spec.flanges[..index].iter().rposition(|f| f.name == parent) else {
+        let run = spec.flanges[..index]
+            .iter()
+            .any(|f| f.name.starts_with(&format!("{parent}.")));
+        return Err(if run {
+            format!(
+                "cannot stand on flange `{parent}`: it runs along several edges, so it has \
+                 no one far edge"
+            )
+        } else {
+            format!("stands `on` flange `{parent}`, but no flange of that name comes before it")
+        });
+    };
+    let Some((edge, rise, inside)) = far_edges.get(p).copied().flatten() else {
+        return Err(format!(
+            "cannot stand on flange `{parent}`: its far edge is not one edge free at both \
+             ends (a drawn `shape`, or a flange joined to another at a corner)"
+        ));
+    };
+    if flange.radius > 0.0 {
+        return Err("stands on another flange, and is folded sharp there: no `radius` yet".into());
+    }
+    let (h1, _) = sheet.brep.halves_of(edge).map_err(|e| e.to_string())?;
+    let ends = [
+        sheet.brep.vertex(h1).map_err(|e| e.to_string())?,
+        sheet
+            .brep
+            .vertex(sheet.brep.next(h1).map_err(|e| e.to_string())?)
+            .map_err(|e| e.to_string())?,
+    ];
+    let point = |mid: &MidSurface, v: VertexId| {
+        mid.point(v)
+            .ok_or_else(|| "an edge without points".to_string())
+    };
+    let foot = (point(mid, ends[0])?, point(mid, ends[1])?);
+    let made = sheet.flange(edge).map_err(|e| e.to_string())?;
+    let reach = flange.height * (flange.angle.cos() * rise + flange.angle.sin() * inside);
+    for (base, far) in made.far_ends {
+        let from = point(mid, base)?;
+        mid.place(sheet, far, from + reach)
+            .map_err(|e| e.to_string())?;
+    }
+    let [one, other] = made.sides[..] else {
+        return Err("a return flange has not two sides".into());
+    };
+    let (b, a) = (flange.angle.sin(), flange.angle.cos());
+    Ok(AddedReturn {
+        foot,
+        far_corners: made.far_ends.map(|(_, far)| far),
+        far_edge: (made.far_edge, a * rise + b * inside, -b * rise + a * inside),
+        sides: (one, other),
+    })
+}
 
 /// The corner of the part nearest `near` (of a vertex and its twin, the one of lower
 /// id). Refused when none lies within [`PICK_REACH`], or two lie as near.

@@ -54,11 +54,21 @@ impl FaceNames {
             }
             Ok(out)
         };
+        // Each flange's last inside: where a return flange on it continues.
+        let mut insides: Vec<Option<FaceId>> = Vec::with_capacity(flanges.len());
         for (k, strips) in flanges.iter().enumerate() {
             let name = &spec.flanges[k].name;
             // Each strip's inside continues the one before it (first the top of the
-            // plate's part it stands on: bends split the plate into parts).
-            let mut before: Vec<FaceId> = part_names.keys().copied().collect();
+            // plate's part it stands on: bends split the plate into parts; for a return
+            // flange, the inside of the flange it stands on).
+            let parent = spec.flanges[k]
+                .on
+                .as_ref()
+                .and_then(|p| spec.flanges[..k].iter().rposition(|f| &f.name == p));
+            let mut before: Vec<FaceId> = match parent.and_then(|p| insides[p]) {
+                Some(inside) => vec![inside],
+                None => part_names.keys().copied().collect(),
+            };
             for (i, &(a, c)) in strips.iter().enumerate() {
                 let inside = if neighbours(a)?.iter().any(|f| before.contains(f)) {
                     a
@@ -75,6 +85,7 @@ impl FaceNames {
                 names.insert(outside, format!("{part}.outside"));
                 before = vec![inside];
             }
+            insides.push(before.first().copied());
         }
         let twin = |f: FaceId| -> Result<FaceId, TopologyError> {
             match sheet.face_role(f)? {

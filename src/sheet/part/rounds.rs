@@ -100,7 +100,7 @@ fn joints(spec: &PlateSpec) -> Vec<(Joint, DVec3, DVec3)> {
     for (i, flange) in spec.flanges.iter().enumerate() {
         // A flange all round the outline is sharp (its strips are joined at corners):
         // it has no one foot to round.
-        if flange.around {
+        if flange.around || flange.on.is_some() {
             continue;
         }
         let foot = flange.span.or_else(|| {
