@@ -221,20 +221,26 @@ fn a_narrow_corner_under_a_flange_is_type_1_and_refused_for_now() {
 
 /// A plate corner of 50 deg under a flange whose end leans to 80 deg: f1 is the flange
 /// (β = 80), but the plate's thickness face cuts it at 90 (θ > β): f2's face,
-/// continued, misses f1 - type 3, which is not made yet: refused at that corner.
+/// continued, misses f1 - type 3. The two sides need different splits: on the top,
+/// coming down the fold, the plate's edge is met first (at y = 0.839) and carries on
+/// across the flange's thickness, trimming the flange's end up to z = 4.76; on the
+/// bottom the flange's leaning end is met first (at y = -0.176) and carries on across
+/// the plate's thickness (the paper's type 3). The solid is sound, and holds the
+/// sheets' area times the thickness up to the slanted wedges' bound.
 #[test]
 fn a_narrow_corner_under_a_leaning_flange_end_is_type_3() {
     let b = 50f64.to_radians();
     let p1 = (100.0 - 60.0 * b.sin(), 60.0 * b.cos());
     let outline = [(0.0, p1.1), p1, (100.0, 0.0), (100.0, 60.0), (0.0, 60.0)];
     let lean = 80f64.to_radians();
-    let (sheet, mid) = plate_with_flange(&outline, 2, |p| {
+    let far = |p: DVec3| {
         if p.y < 1.0 {
             p + H * DVec3::new(0.0, lean.cos(), lean.sin()) / lean.sin()
         } else {
             p + DVec3::Z * H
         }
-    });
+    };
+    let (sheet, mid) = plate_with_flange(&outline, 2, far);
     let js = junctions(&sheet, &mid);
     let j = at(&js, (100.0, 0.0, 0.0));
     assert_eq!(j.kind, JunctionType::Three, "{j:?}");
@@ -242,13 +248,39 @@ fn a_narrow_corner_under_a_leaning_flange_end_is_type_3() {
         (j.beta - lean).abs() < 1e-9 && (j.theta - FRAC_PI_2).abs() < 1e-9,
         "{j:?}"
     );
-    match thicken(&sheet, &mid, &Gauge::uniform(T)) {
-        Err(ThickenError::Junction {
-            kind: Some(JunctionType::Three),
-            ..
-        }) => {}
-        other => panic!("{other:?}"),
-    }
+    let solid = thicken(&sheet, &mid, &Gauge::uniform(T)).expect("a type 3 junction is made");
+    assert_sound(&solid);
+    let has = |q: DVec3| solid.positions().iter().any(|p| p.distance(q) < 1e-9);
+    // Top: the plate's edge across the flange's thickness; bottom: the flange's end
+    // across the plate's.
+    let e2_top = 0.8390996311772909;
+    assert!(
+        has(DVec3::new(99.0, e2_top, 1.0)),
+        "{:?}",
+        solid.positions()
+    );
+    let cut = lean.tan() * e2_top;
+    assert!(
+        has(DVec3::new(99.0, e2_top, cut)),
+        "{:?}",
+        solid.positions()
+    );
+    let e1_bottom = -1.0 / lean.tan();
+    assert!(
+        has(DVec3::new(101.0, e1_bottom, -1.0)),
+        "{:?}",
+        solid.positions()
+    );
+    let flange = 60.0 * H - 0.5 * H * H / lean.tan();
+    let expected = (shoelace(&outline) + flange) * T;
+    let alpha = FRAC_PI_2;
+    let slant = 1.0 + (1.0 / lean.tan()).abs() + (1.0 / b.tan()).abs();
+    let bound = 0.5 * T.powi(3) * (1.0 + 1.0 / (alpha / 2.0).tan()) * slant;
+    assert!(
+        (volume(&solid) - expected).abs() < bound,
+        "{} against {expected} (bound {bound})",
+        volume(&solid)
+    );
 }
 
 /// Two flanges on the two edges at one corner of a plate, each added on its own edge

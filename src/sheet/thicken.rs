@@ -427,7 +427,8 @@ pub(crate) fn plan_solid(
         }
         let twin = sheet.twin_vertex(v)?;
         let junction = junctions.iter().find(|j| j.vertex == v || j.vertex == twin);
-        let Some(points) = junction.and_then(|j| split(sheet, j, v, round, p, gauge).transpose())
+        let Some(points) =
+            junction.and_then(|j| split(sheet, mid, j, v, round, p, gauge).transpose())
         else {
             return Err(ThickenError::Junction {
                 at: p,
@@ -547,6 +548,7 @@ type SplitPoint = (DVec3, [FaceId; 3]);
 /// is tried when the chosen one's planes do not meet at a point near v.
 fn split(
     sheet: &Sheet,
+    mid: &MidSurface,
     j: &Junction,
     v: VertexId,
     round: &[(FaceId, DVec3, f64)],
@@ -583,16 +585,71 @@ fn split(
     };
     let across_f1 = [[s1, s2, e2], [s1, e1, e2]];
     let across_f2 = [[s1, s2, e1], [s2, e1, e2]];
-    let order = if j.kind == JunctionType::Three {
+    let mut order = if j.kind == JunctionType::Three {
         [across_f2, across_f1]
     } else {
         [across_f1, across_f2]
     };
+    // At a type 3 junction, which thickness face carries on across the other sheet is
+    // read off the line where the two sides meet (the solid's edge along the common
+    // edge): coming along it from the common edge's far end, the first thickness face
+    // met bounds both sheets there and cuts the other's. The two sides of a sheet may
+    // need different ones: a flange end leaning over a narrow plate corner meets the
+    // plate's edge first on one side and its own end first on the other. (Types 1 and
+    // 2 keep the paper's split, f2's face across f1's, on both sides.)
+    if j.kind == JunctionType::Three {
+        if let (Some(along), Some(by_e2), Some(by_e1)) = (
+            common_edge_direction(sheet, mid, s1, s2, v, p)?,
+            meet([s1, s2, e2]),
+            meet([s1, s2, e1]),
+        ) {
+            let (t2, t1) = ((by_e2 - p).dot(along), (by_e1 - p).dot(along));
+            if (t2 - t1).abs() > MEET_TOLERANCE * gauge.thickest() {
+                order = if t2 > t1 {
+                    [across_f1, across_f2]
+                } else {
+                    [across_f2, across_f1]
+                };
+            }
+        }
+    }
     for [fa, fb] in order {
         if let (Some(a), Some(c)) = (meet(fa), meet(fb)) {
             if a.distance(c) > MEET_TOLERANCE * gauge.thickest() {
                 return Ok(Some([(a, fa), (c, fb)]));
             }
+        }
+    }
+    Ok(None)
+}
+
+/// The unit direction from vertex `v` (at `p`) along the edge that sides `s1` and `s2`
+/// share there, or `None` when they share none at `v`.
+fn common_edge_direction(
+    sheet: &Sheet,
+    mid: &MidSurface,
+    s1: FaceId,
+    s2: FaceId,
+    v: VertexId,
+    p: DVec3,
+) -> Result<Option<DVec3>, ThickenError> {
+    let b = &sheet.brep;
+    for &l in b.loops_of(s1)? {
+        for h in b.loop_halves(l)? {
+            let across = b.face_with(b.loop_with(b.mate(h)?)?)?;
+            if across != s2 {
+                continue;
+            }
+            let (from, to) = (b.vertex(h)?, b.vertex(b.next(h)?)?);
+            let other = if from == v {
+                to
+            } else if to == v {
+                from
+            } else {
+                continue;
+            };
+            let q = mid.point(other).ok_or(ThickenError::Unplaced(other))?;
+            return Ok(Some((q - p).normalize_or_zero()).filter(|d| *d != DVec3::ZERO));
         }
     }
     Ok(None)
