@@ -956,11 +956,20 @@ fn return_flanges_stand_on_a_flange_s_far_edge() {
     assert!(far_corner(&hat, glam::DVec3::new(110.0, 60.0, 28.0)));
     let expected = 6000.0 + 1200.0 + 600.0 + 2.0 * 480.0;
     assert!((hat.volume - expected).abs() < 1e-9, "{}", hat.volume);
+    // On a 2 mm inside radius: the bend's mid-surface radius is 2.5 mm, so the return's
+    // far corners lie 2.5 mm up and 2.5 + 10 mm in from the lip's far edge.
+    let bent = script::sheet_part(&script::plate_script(&format!(
+        "{lip}\n    flange turn_in = {{ on: \"lip\", height: 10 mm, radius: 2 mm }}"
+    )));
+    sheet::assert_sound(&bent.solid);
+    assert!(far_corner(&bent, glam::DVec3::new(87.5, 0.0, 22.5)));
+    assert!((bent.volume - bent.area).abs() < 1e-9 * bent.area);
+    assert!(bent.solid.group("turn_in.bend_1.inside").is_some());
 }
 
 /// Return flanges that cannot be made are refused at the flange: no earlier flange of
-/// that name, a flange along a run or joined at a corner (no one free far edge), a
-/// radius, and a place given besides `on`.
+/// that name, a flange along a run or joined at a corner (no one free far edge), and a
+/// place given besides `on`.
 #[test]
 fn return_flanges_that_cannot_be_made_are_refused() {
     let lip = "flange lip = { at: (100, 30), height: 20 mm }";
@@ -976,10 +985,6 @@ fn return_flanges_that_cannot_be_made_are_refused() {
         (
             "flange wall = { around: true, height: 20 mm }\n    flange turn = { on: \"wall\", height: 10 mm }",
             "`flange turn`: the flange cannot stand on flange `wall`: it runs along several edges",
-        ),
-        (
-            &format!("{lip}\n    flange turn = {{ on: \"lip\", height: 10 mm, radius: 2 mm }}"),
-            "no `radius` yet",
         ),
         (
             &format!("{lip}\n    flange turn = {{ on: \"lip\", height: 10 mm, at: (3, 3) }}"),

@@ -710,9 +710,11 @@ fn build_strips(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
             far_corners.push(added.far_corners);
             far_edges.push(Some(added.far_edge));
             if let Some(t) = flange.thickness {
-                gauge.sheets.push((added.sides.0, t));
+                gauge
+                    .sheets
+                    .extend(added.strips.iter().map(|&(side, _)| (side, t)));
             }
-            flange_sides.push(vec![added.sides]);
+            flange_sides.push(added.strips);
             continue;
         }
         let (a, c, pa, pc) = flange_edges[index];
@@ -1134,19 +1136,20 @@ pub const PICK_REACH: f64 = 5.0;
 const NO_VERTEX: VertexId = VertexId(u32::MAX);
 
 /// What [`add_return`] added: the edge it stands on (its ends' points), its far
-/// corners, its own far edge with its frame, and its sides.
+/// corners, its own far edge with its frame, and its strips' sides (on a radius, the
+/// bend's facets, then the straight return).
 struct AddedReturn {
     foot: (DVec3, DVec3),
     far_corners: [VertexId; 2],
     far_edge: (EdgeId, DVec3, DVec3),
-    sides: (FaceId, FaceId),
+    strips: Vec<(FaceId, FaceId)>,
 }
 
 /// Adds return flange `index` of `spec` on the far edge of the earlier flange named
 /// `parent` (`far_edges`: each earlier flange's far edge, the direction it rises in
-/// from its foot and its inside's normal): `Sheet::flange` on that edge, its far
-/// corners `height` away, rising `angle` up from the parent towards the parent's
-/// inside.
+/// from its foot and its inside's normal): `Sheet::flange` on that edge (and on each
+/// strip's far edge in turn, on a radius), its far corners `height` away, rising
+/// `angle` up from the parent towards the parent's inside.
 fn add_return(
     sheet: &mut Sheet,
     mid: &mut MidSurface,
@@ -1175,9 +1178,6 @@ fn add_return(
              ends (a drawn `shape`, or a flange joined to another at a corner)"
         ));
     };
-    if flange.radius > 0.0 {
-        return Err("stands on another flange, and is folded sharp there: no `radius` yet".into());
-    }
     let (h1, _) = sheet.brep.halves_of(edge).map_err(|e| e.to_string())?;
     let ends = [
         sheet.brep.vertex(h1).map_err(|e| e.to_string())?,
@@ -1191,22 +1191,40 @@ fn add_return(
             .ok_or_else(|| "an edge without points".to_string())
     };
     let foot = (point(mid, ends[0])?, point(mid, ends[1])?);
-    let made = sheet.flange(edge).map_err(|e| e.to_string())?;
-    let reach = flange.height * (flange.angle.cos() * rise + flange.angle.sin() * inside);
-    for (base, far) in made.far_ends {
-        let from = point(mid, base)?;
-        mid.place(sheet, far, from + reach)
-            .map_err(|e| e.to_string())?;
-    }
-    let [one, other] = made.sides[..] else {
-        return Err("a return flange has not two sides".into());
+    // Its strips' reaches from the edge: on a radius, the bend's chords first (turning
+    // towards the inside, or away from it for an angle below 0), then the straight
+    // return.
+    let towards = if flange.angle < 0.0 { -inside } else { inside };
+    let turned = FlangeSpec {
+        angle: flange.angle.abs(),
+        ..flange.clone()
     };
+    let reaches = flange_reaches(&turned, spec.thickness, rise, towards);
+    let mut strips = Vec::with_capacity(reaches.len());
+    let mut far = edge;
+    let mut last = DVec3::ZERO;
+    let mut far_corners = [NO_VERTEX; 2];
+    for &reach in &reaches {
+        let made = sheet.flange(far).map_err(|e| e.to_string())?;
+        for (base, end) in made.far_ends {
+            let from = point(mid, base)?;
+            mid.place(sheet, end, from + reach - last)
+                .map_err(|e| e.to_string())?;
+        }
+        let [one, other] = made.sides[..] else {
+            return Err("a return flange's strip has not two sides".into());
+        };
+        strips.push((one, other));
+        far_corners = made.far_ends.map(|(_, end)| end);
+        far = made.far_edge;
+        last = reach;
+    }
     let (b, a) = (flange.angle.sin(), flange.angle.cos());
     Ok(AddedReturn {
         foot,
-        far_corners: made.far_ends.map(|(_, far)| far),
-        far_edge: (made.far_edge, a * rise + b * inside, -b * rise + a * inside),
-        sides: (one, other),
+        far_corners,
+        far_edge: (far, a * rise + b * inside, -b * rise + a * inside),
+        strips,
     })
 }
 
