@@ -992,3 +992,71 @@ fn return_flanges_that_cannot_be_made_are_refused() {
         ),
     ]);
 }
+
+/// Flanges removed by name (paper 003, section 4.4: removing a face on the free
+/// boundary, the sheet trimmed and no passage changed): a flange, one on a radius
+/// (its strips from the far one in), and one wall of a tray's run, which leaves the
+/// tray open on that side with its other corners still closed.
+#[test]
+fn removing_a_flange_frees_the_edge_it_stood_on() {
+    for lip in [
+        "flange lip = { at: (100, 30), height: 20 mm }",
+        "flange lip = { at: (100, 30), height: 20 mm, radius: 3 mm }",
+    ] {
+        let part = script::sheet_part(&script::plate_script(&format!(
+            "{lip}\n    remove lip_gone = {{ flange: \"lip\" }}"
+        )));
+        sheet::assert_sound(&part.solid);
+        assert!((part.volume - 6000.0).abs() < 1e-9, "{}", part.volume);
+        assert!(part.removals.iter().all(|r| matches!(
+            r,
+            Removal::Trimmed {
+                passages_closed: 0,
+                pieces_made: 0,
+                ..
+            }
+        )));
+        assert!(part.solid.group("lip.inside").is_none());
+    }
+    // A tray's wall all round, its second strip (the right side, 60 mm) removed: the
+    // walls' area less 60 x 20, and t³/4 for each of the two corners still closed.
+    let open = script::sheet_part(&script::plate_script(
+        "flange wall = { around: true, height: 20 mm }\n    remove chute = { flange: \"wall.2\" }",
+    ));
+    sheet::assert_sound(&open.solid);
+    assert!(
+        (open.area - (6000.0 + 5200.0)).abs() < 1e-9,
+        "{}",
+        open.area
+    );
+    assert!(
+        (open.volume - (11200.0 + 0.5)).abs() < 1e-9,
+        "{}",
+        open.volume
+    );
+}
+
+/// Flange removals that cannot be made are refused at the removal: no flange of that
+/// name, a run named whole, and a flange another stands on (the part would fall in
+/// two).
+#[test]
+fn flange_removals_that_cannot_be_made_are_refused() {
+    script::assert_plate_refused(&[
+        (
+            "remove gone = { flange: \"lip\" }",
+            "`remove gone`: the removal finds no flange `lip`",
+        ),
+        (
+            "flange wall = { around: true, height: 20 mm }\n    remove gone = { flange: \"wall\" }",
+            "`remove gone`: the removal finds no one flange `wall`: it runs along several edges",
+        ),
+        (
+            "flange lip = { at: (100, 30), height: 20 mm }\n    flange turn = { on: \"lip\", height: 5 mm }\n    remove gone = { flange: \"lip\" }",
+            "`remove gone`: the removal would cut the part in two: another flange stands on `lip`",
+        ),
+        (
+            "flange lip = { at: (100, 30), height: 20 mm }\n    remove gone = { flange: \"lip\", at: (3, 3) }",
+            "`remove gone` has no field `at`",
+        ),
+    ]);
+}

@@ -148,6 +148,10 @@ pub struct RemoveSpec {
     pub name: String,
     /// A point over the face, in the outline's view (on the working plane).
     pub at: DVec3,
+    /// A flange removed instead, by name (a strip of a run of edges as `NAME.K`): once
+    /// every flange is added, its sides (on a radius, its strips from the far one in)
+    /// go, and the edge it stood on is free again.
+    pub flange: Option<String>,
 }
 
 /// A region of the plate lifted (or pushed down) on walls: an embossment.
@@ -560,6 +564,9 @@ fn build_strips(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
     // Removals: the face under each point, in the paper's cases (section 4.4).
     let mut removals = Vec::with_capacity(spec.removals.len());
     for (index, removal) in spec.removals.iter().enumerate() {
+        if removal.flange.is_some() {
+            continue;
+        }
         let bad = |why: String| PartProblem::Remove { index, why };
         let q = frame.flat(removal.at);
         let top = lift_tops
@@ -819,6 +826,56 @@ fn build_strips(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
                 .map(|e| (e, rise, inside)),
         );
         flange_sides.push(strips);
+    }
+    // Flanges removed, by name, once every flange stands.
+    for (index, removal) in spec.removals.iter().enumerate() {
+        let Some(name) = &removal.flange else {
+            continue;
+        };
+        let bad = |why: String| PartProblem::Remove { index, why };
+        let k = spec
+            .flanges
+            .iter()
+            .position(|f| &f.name == name)
+            .ok_or_else(|| {
+                bad(
+                    if spec
+                        .flanges
+                        .iter()
+                        .any(|f| f.name.starts_with(&format!("{name}.")))
+                    {
+                        format!(
+                            "finds no one flange `{name}`: it runs along several edges; name one \
+                         of its strips, `{name}.1`, `{name}.2`, ..."
+                        )
+                    } else {
+                        format!("finds no flange `{name}`")
+                    },
+                )
+            })?;
+        let strips = std::mem::take(&mut flange_sides[k]);
+        if strips.is_empty() {
+            return Err(bad(format!("finds flange `{name}` removed already")));
+        }
+        // From the far strip in: each stands free but for the edge it rises from.
+        for &(side, _) in strips.iter().rev() {
+            let case = sheet.remove(side).map_err(|e| bad(e.to_string()))?;
+            if let Removal::Trimmed {
+                passages_closed,
+                pieces_made,
+                ..
+            } = &case
+            {
+                if *pieces_made > 0 || *passages_closed > 0 {
+                    return Err(bad(format!(
+                        "would cut the part in two: another flange stands on `{name}`; \
+                         remove that one first"
+                    )));
+                }
+            }
+            removals.push(case);
+        }
+        far_edges[k] = None;
     }
     let flange_edges: Vec<(DVec3, DVec3)> = flange_edges
         .iter()
