@@ -126,16 +126,6 @@ impl BaseSurface {
         }
     }
 
-    /// The surface it lies on.
-    pub fn surface(&self) -> &NurbsSurface {
-        &self.surface
-    }
-
-    /// The view's unit normal.
-    pub fn normal(&self) -> DVec3 {
-        self.axes.z_axis
-    }
-
     /// Where the flat layout's point `p` lies once laid on the surface.
     pub fn lay(&self, p: DVec3) -> Result<DVec3, BaseError> {
         let (q, z) = self.split(p);

@@ -32,7 +32,7 @@ use glam::{DMat3, DVec2, DVec3};
 use nalgebra::{DMatrix, DVector};
 
 use super::base::{BaseError, BaseSurface};
-use super::geometry::{face_loops, mid_sides, newell, MidSurface};
+use super::geometry::{distance_to_segment, face_loops, mid_sides, newell, MidSurface};
 use super::thicken::{PlaneRule, SolidPlan, ThickenError};
 use super::topology::{FaceId, Sheet, TopologyError};
 use crate::geom::mesh::{Face, FaceId as MeshFaceId, Mesh};
@@ -123,11 +123,6 @@ impl<'a> Refiner<'a> {
             spacing: spacing.clamp(NARROWEST, WIDEST),
             edges: HashMap::new(),
         }
-    }
-
-    /// The spacing (mm) of the points that fill a face.
-    pub fn spacing(&self) -> f64 {
-        self.spacing
     }
 
     /// Where the mid-surface edge from `a` to `b` is cut, from `a` on: each cut's point
@@ -491,26 +486,14 @@ fn fill(loops: &[Vec<DVec2>], spacing: f64) -> Vec<DVec2> {
             if winding % 2 == 0 {
                 continue;
             }
-            if segments
-                .iter()
-                .all(|&(a, b)| segment_distance(q, a, b) > clear)
-            {
+            if segments.iter().all(|&(a, b)| {
+                distance_to_segment(a.extend(0.0), b.extend(0.0), q.extend(0.0)) > clear
+            }) {
                 out.push(q);
             }
         }
     }
     out
-}
-
-/// The distance from `q` to the segment from `a` to `b`.
-fn segment_distance(q: DVec2, a: DVec2, b: DVec2) -> f64 {
-    let d = b - a;
-    let t = if d.length_squared() > 0.0 {
-        ((q - a).dot(d) / d.length_squared()).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    q.distance(a + d * t)
 }
 
 fn invalid(e: GeomError) -> LaidError {

@@ -25,7 +25,7 @@ use crate::sheet::base::BaseError;
 use crate::sheet::junction::{Junction, JunctionType};
 use crate::sheet::part::{
     self, BendSpec, FlangeSpec, HoleSpec, LiftSpec, MovePick, MoveSpec, PartProblem, PlateSpec,
-    RemoveSpec, RoundSpec, SheetPart,
+    RemoveSpec, RemoveTarget, RoundSpec, SheetPart,
 };
 use crate::sheet::topology::Removal;
 use crate::syntax::Span;
@@ -199,17 +199,10 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
         let example = "a record `{ at: (x, y) }` (a face) or `{ flange: \"lip\" }` (a flange)";
         let r = record(&field.value, &what, example)?;
         // A flange by its name, or the face under a point.
-        let (at, flange) = match r.get("flange") {
+        let target = match r.get("flange") {
             Some(v) => {
                 check_record(r, field.value.span, &what, &["flange"])?;
-                let Data::Str(flange) = &v.data else {
-                    return Err(type_error(
-                        v,
-                        &format!("`flange` of {what}"),
-                        "the name of a flange, as a string such as \"lip\" (a strip of a run as \"wall.2\")",
-                    ));
-                };
-                (outline[0], Some(flange.to_string()))
+                RemoveTarget::Flange(flange_name(v, &format!("`flange` of {what}"))?)
             }
             None => {
                 let (_, at) = picked(
@@ -220,13 +213,12 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
                     "add `at: (x, y)`, a point in the outline's view over the face to remove (a lifted region's top, or a part a bend splits off), or `flange: \"NAME\"`, a flange to remove",
                     (view, block.units),
                 )?;
-                (at, None)
+                RemoveTarget::Face(at)
             }
         };
         removals.push(RemoveSpec {
             name: name.to_string(),
-            at,
-            flange,
+            target,
         });
     }
     let move_fields = block.named("move");
@@ -300,13 +292,7 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
         // name.
         let on = match r.get("on") {
             Some(v) => {
-                let Data::Str(parent) = &v.data else {
-                    return Err(type_error(
-                        v,
-                        &format!("`on` of {what}"),
-                        "the name of an earlier flange, as a string such as \"lip\"",
-                    ));
-                };
+                let parent = flange_name(v, &format!("`on` of {what}"))?;
                 if let Some(key) = ["at", "from", "to", "around", "shape"]
                     .into_iter()
                     .find(|k| r.get(k).is_some())
@@ -321,7 +307,7 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
                         "leave out `at`, `from`, `to`, `around` and `shape`: a return flange runs the whole far edge of the flange it stands on",
                     ));
                 }
-                Some(parent.to_string())
+                Some(parent)
             }
             None => None,
         };
@@ -725,6 +711,19 @@ fn problem(p: PartProblem, outline: Span, on: Option<Span>, fields: &NamedFields
             "this sheet",
             "check that the flanges do not fold onto the plate",
         ),
+    }
+}
+
+/// A flange's name given as a string (`on: "lip"`, `flange: "wall.2"`), or a
+/// diagnostic naming `what`.
+fn flange_name(v: &Value, what: &str) -> Result<String, Diagnostic> {
+    match &v.data {
+        Data::Str(name) => Ok(name.to_string()),
+        _ => Err(type_error(
+            v,
+            what,
+            "the name of a flange, as a string such as \"lip\" (a strip of a run as \"wall.2\")",
+        )),
     }
 }
 

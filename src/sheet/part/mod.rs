@@ -146,12 +146,20 @@ pub enum MovePick {
 pub struct RemoveSpec {
     /// Its name.
     pub name: String,
-    /// A point over the face, in the outline's view (on the working plane).
-    pub at: DVec3,
-    /// A flange removed instead, by name (a strip of a run of edges as `NAME.K`): once
-    /// every flange is added, its sides (on a radius, its strips from the far one in)
-    /// go, and the edge it stood on is free again.
-    pub flange: Option<String>,
+    /// What it removes.
+    pub target: RemoveTarget,
+}
+
+/// What a removal picks.
+#[derive(Debug, Clone, PartialEq)]
+pub enum RemoveTarget {
+    /// The face under a point in the outline's view (on the working plane): a lifted
+    /// region's top, or a part a bend splits off.
+    Face(DVec3),
+    /// A flange by name (a strip of a run of edges as `NAME.K`): once every flange is
+    /// added, its sides (on a radius, its strips from the far one in) go, and the edge
+    /// it stood on is free again.
+    Flange(String),
 }
 
 /// A region of the plate lifted (or pushed down) on walls: an embossment.
@@ -564,11 +572,11 @@ fn build_strips(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
     // Removals: the face under each point, in the paper's cases (section 4.4).
     let mut removals = Vec::with_capacity(spec.removals.len());
     for (index, removal) in spec.removals.iter().enumerate() {
-        if removal.flange.is_some() {
+        let RemoveTarget::Face(at) = removal.target else {
             continue;
-        }
+        };
         let bad = |why: String| PartProblem::Remove { index, why };
-        let q = frame.flat(removal.at);
+        let q = frame.flat(at);
         let top = lift_tops
             .iter()
             .position(|ring| polygon_winding(ring, q) != 0)
@@ -829,7 +837,7 @@ fn build_strips(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
     }
     // Flanges removed, by name, once every flange stands.
     for (index, removal) in spec.removals.iter().enumerate() {
-        let Some(name) = &removal.flange else {
+        let RemoveTarget::Flange(name) = &removal.target else {
             continue;
         };
         let bad = |why: String| PartProblem::Remove { index, why };
@@ -1041,7 +1049,7 @@ fn check_sizes(spec: &PlateSpec) -> Result<(), PartProblem> {
         }
     }
     for (index, r) in spec.removals.iter().enumerate() {
-        if !point(&r.at) {
+        if matches!(r.target, RemoveTarget::Face(at) if !point(&at)) {
             return Err(PartProblem::Remove {
                 index,
                 why: why("its point"),
