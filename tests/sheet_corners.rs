@@ -353,24 +353,9 @@ fn a_wall_around_an_octagon_is_the_shell_between_its_prisms() {
 /// sound.
 #[test]
 fn a_drafted_wall_around_a_filleted_outline_is_a_tray_with_round_corners() {
-    let part = script::sheet_part(
-        "units mm deg
-sheet tray {
-    outline = sketch(top) { from (0, 0); line to (160, 0); fillet 15; line to (160, 100); fillet 15; line to (0, 100); fillet 15; close; fillet 15 }
-    thickness = 1 mm
-    flange wall = { around: true, height: 25 mm, angle: 80 deg }
-}",
-    );
+    let part = script::sheet_part(&drafted_tray(""));
     assert_sound(&part.solid);
-    let rim = 25.0 * 80f64.to_radians().sin();
-    let tops: Vec<f64> = part
-        .mid_mesh
-        .positions()
-        .iter()
-        .map(|p| p.z)
-        .filter(|&z| z > 1.0)
-        .collect();
-    assert!(tops.iter().all(|&z| (z - rim).abs() < 1e-9), "{tops:?}");
+    assert_rim_level(&part);
     let strips = strips(&part);
     assert!(strips > 4 * 4, "{strips} strips");
     assert_eq!(
@@ -393,6 +378,172 @@ fn runs_that_cannot_be_made_are_refused() {
             "`flange wall`: the flange runs along several edges, so it must be sharp",
         ),
     ]);
+}
+
+/// A box tray with a level brim 10 mm wide all round its rim (a return flange on the
+/// wall run, turned 90 deg away from the inside): four sheets meet at each rim corner
+/// (two walls and two brim strips, every pair along an edge), the brim strips joined
+/// on the line halving the corner in their plane, so the brim's corner is square. The
+/// solid's corner there is where four offset planes meet, one inside and one outside.
+/// In closed form, slice by slice: the floor (100 + t)(60 + t) t, the walls' ring
+/// between z = t/2 and H - t/2, and at the rim the ring between the brim's 120 x 80
+/// outline and the walls' inside: the area times t exactly (the rim's saddle corners
+/// give back what the floor's corners add).
+#[test]
+fn a_brim_round_a_box_tray_is_four_sheets_at_each_rim_corner() {
+    let outline = [(0.0, 0.0), (100.0, 0.0), (100.0, 60.0), (0.0, 60.0)];
+    let part = script::sheet_part(&plate(
+        &outline,
+        "    flange wall = { around: true, height: 20 mm }
+    flange brim = { on: \"wall\", height: 10 mm, angle: -90 deg }
+",
+    ));
+    assert_sound(&part.solid);
+    let area = 6000.0 + 2.0 * (100.0 + 60.0) * H + (120.0 * 80.0 - 6000.0);
+    assert!((part.area - area).abs() < 1e-9 * area, "{}", part.area);
+    let rim = (120.0 * 80.0 - (100.0 - T) * (60.0 - T)) * T;
+    let exact = box_below_rim() + rim;
+    assert!((exact - area * T).abs() < 1e-9 * exact);
+    assert!(
+        (part.volume - exact).abs() < 1e-9 * exact,
+        "{} against {exact}",
+        part.volume
+    );
+    for &(x, y) in &outline {
+        let v = vertex_at(&part, DVec3::new(x, y, H));
+        assert_eq!(sheets_at(&part.sheet, v), 4, "at ({x}, {y}, {H})");
+        let (sx, sy) = (
+            if x == 0.0 { 1.0 } else { -1.0 },
+            if y == 0.0 { 1.0 } else { -1.0 },
+        );
+        let inside = DVec3::new(x + sx * T / 2.0, y + sy * T / 2.0, H + T / 2.0);
+        let outside = DVec3::new(x - sx * T / 2.0, y - sy * T / 2.0, H - T / 2.0);
+        assert!(
+            has_point(&part, inside) && has_point(&part, outside),
+            "at ({x}, {y})"
+        );
+        // The brim's square outer corner, where two strips in one plane meet on the
+        // free boundary: type 1 (the sheets are the mid-surfaces), whatever the angles.
+        let corner = DVec3::new(x - sx * 10.0, y - sy * 10.0, H);
+        let j = part
+            .junctions
+            .iter()
+            .find(|j| j.at.distance(corner) < 1e-9)
+            .unwrap_or_else(|| panic!("no junction at {corner}"));
+        assert_eq!(j.kind, JunctionType::One, "{j:?}");
+        assert!(has_point(&part, corner + DVec3::new(0.0, 0.0, T / 2.0)));
+    }
+    let names: Vec<&str> = part.solid.groups().iter().map(|g| g.name()).collect();
+    for face in ["brim.1.inside", "brim.4.outside", "wall.2.inside"] {
+        assert!(names.contains(&face), "no {face} in {names:?}");
+    }
+}
+
+/// A lip turned in 10 mm over the box tray all round (the return at +90 deg): the
+/// strips meet on the line halving each corner, so the opening left is the 80 x 40
+/// rectangle, and the solid's rim slice is the ring between the walls' outside and that
+/// opening: A t + 2 t³ in all.
+#[test]
+fn a_lip_turned_in_round_a_box_tray_leaves_a_rectangular_opening() {
+    let outline = [(0.0, 0.0), (100.0, 0.0), (100.0, 60.0), (0.0, 60.0)];
+    let part = script::sheet_part(&plate(
+        &outline,
+        "    flange wall = { around: true, height: 20 mm }
+    flange lip = { on: \"wall\", height: 10 mm, angle: 90 deg }
+",
+    ));
+    assert_sound(&part.solid);
+    let rim = ((100.0 + T) * (60.0 + T) - 80.0 * 40.0) * T;
+    let exact = box_below_rim() + rim;
+    assert!(
+        (part.volume - exact).abs() < 1e-9 * exact,
+        "{} against {exact}",
+        part.volume
+    );
+    assert!(has_point(&part, DVec3::new(10.0, 10.0, H + T / 2.0)));
+    assert!(has_point(&part, DVec3::new(90.0, 50.0, H - T / 2.0)));
+}
+
+/// A level brim round the drafted tray with round corners (walls at 80 deg, 15 mm
+/// fillets in plan): a strip on each wall strip, each joined to the next in the rim's
+/// plane, the rim flat at 25 sin 80 deg and its outer edge the walls' top offset 12 mm
+/// out. The solid is sound, and its volume is the area times t to 1e-9: round the rim
+/// the corners' saddles give back what the floor's corners add, as on the box.
+#[test]
+fn a_brim_round_a_drafted_tray_with_round_corners_lies_level() {
+    let part = script::sheet_part(&drafted_tray(
+        "    flange brim = { on: \"wall\", height: 12 mm, angle: -80 deg }\n",
+    ));
+    assert_sound(&part.solid);
+    assert_rim_level(&part);
+    assert!(
+        (part.volume - part.area * T).abs() < 1e-9 * part.volume,
+        "{} against {}",
+        part.volume,
+        part.area * T
+    );
+    assert!(part.junctions.iter().all(|j| j.kind == JunctionType::One));
+}
+
+/// Returns that cannot be joined at a corner are refused at the return: one on a wall
+/// joined to a wall with none (the corner's four sheets would not close), brim strips
+/// of different widths in one plane, and a brim on a bend radius at a joined corner.
+#[test]
+fn returns_that_cannot_be_joined_are_refused() {
+    script::assert_plate_refused(&[
+        (
+            "flange lip = { at: (100, 30), height: 20 mm }
+    flange side = { at: (50, 0), height: 20 mm }
+    flange turn = { on: \"lip\", height: 10 mm }",
+            "`flange turn`: the flange cannot end at (100, 0, 20) where flange `lip` is joined to another at a corner",
+        ),
+        (
+            "flange lip = { at: (100, 30), height: 20 mm }
+    flange side = { at: (50, 0), height: 20 mm }
+    flange a = { on: \"lip\", height: 10 mm, angle: -90 deg }
+    flange b = { on: \"side\", height: 8 mm, angle: -90 deg }",
+            "they stand in one plane and reach 10 mm and 8 mm from their edges",
+        ),
+        (
+            "flange wall = { around: true, height: 20 mm }
+    flange brim = { on: \"wall\", height: 10 mm, angle: -90 deg, radius: 2 mm }",
+            "cannot have a bend radius on flange `wall.1`, which is joined to another at a corner",
+        ),
+    ]);
+}
+
+/// The 100 x 60 box tray's solid below its rim's slice (z up to H - t/2): the floor's
+/// slice, (100 + t)(60 + t) t, and the walls' ring between z = t/2 and H - t/2.
+fn box_below_rim() -> f64 {
+    let floor = (100.0 + T) * (60.0 + T) * T;
+    floor + ((100.0 + T) * (60.0 + T) - (100.0 - T) * (60.0 - T)) * (H - T)
+}
+
+/// A 160 x 100 tray with 15 mm corner fillets in plan and a wall `around` it 25 mm up at
+/// 80 deg, 1 mm thick, with `lines` added to its block.
+fn drafted_tray(lines: &str) -> String {
+    format!(
+        "units mm deg
+sheet tray {{
+    outline = sketch(top) {{ from (0, 0); line to (160, 0); fillet 15; line to (160, 100); fillet 15; line to (0, 100); fillet 15; close; fillet 15 }}
+    thickness = 1 mm
+    flange wall = {{ around: true, height: 25 mm, angle: 80 deg }}
+{lines}}}"
+    )
+}
+
+/// Every mid-surface point of [`drafted_tray`] off the floor lies on its rim, level at
+/// 25 sin 80 deg.
+fn assert_rim_level(part: &SheetPart) {
+    let rim = 25.0 * 80f64.to_radians().sin();
+    let high: Vec<f64> = part
+        .mid_mesh
+        .positions()
+        .iter()
+        .map(|p| p.z)
+        .filter(|&z| z > 1.0)
+        .collect();
+    assert!(high.iter().all(|&z| (z - rim).abs() < 1e-9), "{high:?}");
 }
 
 /// How many strips a flange `wall` along a run of edges has: its faces `wall.K.inside`.

@@ -968,8 +968,9 @@ fn return_flanges_stand_on_a_flange_s_far_edge() {
 }
 
 /// Return flanges that cannot be made are refused at the flange: no earlier flange of
-/// that name, a flange along a run or joined at a corner (no one free far edge), and a
-/// place given besides `on`.
+/// that name, one ending where its flange is joined to another that has no return
+/// there, one on a drawn flange (no one straight far edge), and a place given besides
+/// `on`.
 #[test]
 fn return_flanges_that_cannot_be_made_are_refused() {
     let lip = "flange lip = { at: (100, 30), height: 20 mm }";
@@ -980,11 +981,11 @@ fn return_flanges_that_cannot_be_made_are_refused() {
         ),
         (
             &format!("{lip}\n    flange side = {{ at: (50, 0), height: 20 mm }}\n    flange turn = {{ on: \"lip\", height: 10 mm }}"),
-            "`flange turn`: the flange cannot stand on flange `lip`: its far edge is not one edge free at both ends",
+            "`flange turn`: the flange cannot end at (100, 0, 20) where flange `lip` is joined to another at a corner",
         ),
         (
-            "flange wall = { around: true, height: 20 mm }\n    flange turn = { on: \"wall\", height: 10 mm }",
-            "`flange turn`: the flange cannot stand on flange `wall`: it runs along several edges",
+            "flange tab = { at: (50, 0), shape: sketch(profile) { from (0, 0); line to (0, 10); line to (100, 10); line to (100, 0) } }\n    flange turn = { on: \"tab\", height: 10 mm }",
+            "`flange turn`: the flange cannot stand on flange `tab`: its far edge is drawn",
         ),
         (
             &format!("{lip}\n    flange turn = {{ on: \"lip\", height: 10 mm, at: (3, 3) }}"),

@@ -33,6 +33,10 @@ use super::topology::{EdgeId, EdgeRole, FaceId, FaceRole, Sheet, TopologyError, 
 /// Angles closer than this (radians) count as equal.
 pub const ANGLE_TOLERANCE: f64 = 1e-9;
 
+/// How near 180 deg (radians) the angle between two sheets is when they lie in one
+/// plane: a junction there is type 1 whatever the other angles.
+pub const FLAT: f64 = 1e-6;
+
 /// A junction type of paper 003 (Fig. 16-17).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum JunctionType {
@@ -265,7 +269,13 @@ fn junction(
         None => 0.0,
     };
     let phi = m1.dot(m2).abs().min(1.0).acos();
-    let kind = if beta + ANGLE_TOLERANCE >= theta {
+    // Two sheets in one plane (a level brim's corner, joined on the line halving it)
+    // are one flat sheet there: their sides' offsets are two planes, whatever the
+    // angles, so the sheets are the solid's mid-surfaces (type 1). The paper's angles
+    // are read on a fold and mean nothing without one.
+    let kind = if alpha > std::f64::consts::PI - FLAT {
+        JunctionType::One
+    } else if beta + ANGLE_TOLERANCE >= theta {
         if alpha > phi + ANGLE_TOLERANCE {
             JunctionType::One
         } else {

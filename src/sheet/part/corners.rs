@@ -1,6 +1,8 @@
 //! Closed corners: two flanges on the two outline edges at one corner of the plate,
 //! joined where their planes cross, so three sheets (the plate and the two flanges)
-//! meet at the corner's vertex (one of the paper's open problems).
+//! meet at the corner's vertex (one of the paper's open problems). Return flanges on two
+//! such flanges are joined the same way at the flanges' shared far corner, so four
+//! sheets meet there (a brim round a tray's rim).
 //!
 //! Each flange is cut on the mitre line, the line through the corner where the two
 //! flanges' planes cross; the later flange is added on a run of picked edges that goes
@@ -45,7 +47,8 @@ impl Standing {
 }
 
 /// Where the far corner of two flanges joined at the plate's corner `corner` lies: on
-/// the mitre line, at the flanges' common height. `n` is the plate's normal. Refused,
+/// the mitre line, at the flanges' common height. `n` says which way along the line is
+/// up (the plate's normal). Refused,
 /// with the reason, when the flanges stand in one plane, when the mitre line does not
 /// run up both of them, or when they stand at different heights above the plate there
 /// (their far edges would not meet).
@@ -85,4 +88,38 @@ pub(super) fn mitre_top(
         ));
     }
     Ok(corner + 0.5 * (reach_one + reach_other) * line)
+}
+
+/// Where the far corner of two return flanges joined at `corner` lies: the far corner
+/// shared by the flanges they stand on (a brim round a tray's rim, say). Returns that
+/// stand in one plane there (a level brim on two walls) meet on the line halving the
+/// angle between their rises, the brim's corner in its plane; others on the mitre line
+/// where their planes cross, as [`mitre_top`]. Refused, with the reason, when they
+/// stand back to back, when the line does not run up both, or when they reach
+/// different heights there.
+pub(super) fn return_mitre(
+    corner: DVec3,
+    one: &Standing,
+    other: &Standing,
+) -> Result<DVec3, String> {
+    let up = one.rise + other.rise;
+    if one.normal().cross(other.normal()).length() >= CROSSING {
+        return mitre_top(corner, one, other, up);
+    }
+    let line = up.normalize_or_zero();
+    let rising = line.dot(one.rise);
+    if rising < RISING {
+        return Err(
+            "they stand in one plane, back to back, so they have no corner to be joined at".into(),
+        );
+    }
+    if (one.height - other.height).abs() > SAME_HEIGHT * one.height.max(other.height).max(1.0) {
+        return Err(format!(
+            "they stand in one plane and reach {} mm and {} mm from their edges, and joined \
+             flanges in one plane must reach equally far so their far edges meet",
+            tidy(one.height),
+            tidy(other.height),
+        ));
+    }
+    Ok(corner + 0.5 * (one.height + other.height) / rising * line)
 }

@@ -715,12 +715,67 @@ fn build_strips(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
     // (the direction it rises in from its foot, and its inside's normal); `None` where
     // it has no one far edge free to stand on (a drawn shape, a closed corner).
     let mut far_edges: Vec<Option<(EdgeId, DVec3, DVec3)>> = Vec::with_capacity(spec.flanges.len());
+    // Whether each flange is joined to another at a corner (its far edge then runs on
+    // into the other's), and each return flange's foot, where later returns join it.
+    let mut corner_joined: Vec<bool> = Vec::with_capacity(spec.flanges.len());
+    let mut feet: Vec<Option<ReturnFoot>> = Vec::with_capacity(spec.flanges.len());
+    // Which of each flange's far corners (in `far_corners`' order) it shares with a
+    // flange joined to it there, and each return's foot ends on its parent's far
+    // corners: (the return, its end, the parent, the parent's far corner).
+    let mut ends_joined: Vec<[bool; 2]> = Vec::with_capacity(spec.flanges.len());
+    let mut at_corners: Vec<(usize, usize, usize, usize)> = Vec::new();
     for (index, flange) in spec.flanges.iter().enumerate() {
         let bad = |why: String| PartProblem::Flange { index, why };
         let topo = |e: TopologyError| bad(e.to_string());
         if let Some(parent) = &flange.on {
-            let added =
-                add_return(&mut sheet, &mut mid, spec, index, parent, &far_edges).map_err(bad)?;
+            let context = Earlier {
+                far_edges: &far_edges,
+                corner_joined: &corner_joined,
+                feet: &feet,
+            };
+            let added = add_return(&mut sheet, &mut mid, spec, index, parent, &context).map_err(
+                |e| match e {
+                    ReturnProblem::Alone(why) => bad(why),
+                    ReturnProblem::Meets { other, at, why } => PartProblem::FlangesMeet {
+                        index,
+                        other,
+                        at,
+                        why,
+                    },
+                },
+            )?;
+            let mut own = [false; 2];
+            for &(other, end, top) in &added.joins {
+                if let Some(foot) = &feet[other] {
+                    mid.place(&sheet, foot.far_corners[end], top)
+                        .map_err(topo)?;
+                    // Its end joined to the earlier return's: the same corner.
+                    let at = mid.point(foot.far_corners[end]);
+                    for (mine, &v) in added.far_corners.iter().enumerate() {
+                        if mid.point(v) == at {
+                            own[mine] = true;
+                        }
+                    }
+                }
+                corner_joined[other] = true;
+                ends_joined[other][end] = true;
+            }
+            // Where its foot's ends are its parent's joined far corners, it must be
+            // joined there too (checked once every flange stands).
+            if let Some(p) = spec.flanges[..index]
+                .iter()
+                .rposition(|f| Some(&f.name) == flange.on.as_ref())
+            {
+                for (e, &v) in added.foot_of.ends.iter().enumerate() {
+                    let twin = sheet.twin_vertex(v).map_err(topo)?;
+                    if let Some(j) = far_corners[p].iter().position(|&f| f == v || f == twin) {
+                        at_corners.push((index, e, p, j));
+                    }
+                }
+            }
+            corner_joined.push(!added.joins.is_empty());
+            ends_joined.push(own);
+            feet.push(Some(added.foot_of));
             flange_edges[index] = (NO_VERTEX, NO_VERTEX, added.foot.0, added.foot.1);
             far_corners.push(added.far_corners);
             far_edges.push(Some(added.far_edge));
@@ -793,8 +848,9 @@ fn build_strips(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
         far_corners.push([far_a, far_c]);
         let mut strips = vec![added.sides];
         let bends = &reaches[1..];
-        // The far edge: the second of the new curves, or the last strip's on a radius.
-        let mut far_of_strips = added.curves.get(1).copied();
+        // The far edge: the new curve between the far corners, or the last strip's on
+        // a radius.
+        let mut far_of_strips = far_curve(&sheet, &added.curves, [far_a, far_c]);
         if !bends.is_empty() {
             // A flange on a bend radius (never joined at a corner): the straight
             // flange's curve is the second, the far edge.
@@ -822,18 +878,39 @@ fn build_strips(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
                 .sheets
                 .extend(strips.iter().map(|&(side, _)| (side, t)));
         }
-        // The far edge a return flange may stand on: the straight flange's, free at
-        // both ends (not a drawn shape, not joined at a corner, either way round).
+        // The far edge a return flange may stand on: the straight flange's (not a
+        // drawn shape's); joined at a corner (either way round), it runs on into the
+        // other flange's far edge there.
         let corner = joined[index] != [None, None]
             || joined.iter().flatten().any(|&other| other == Some(index));
         let rise = flange.angle.cos() * out + flange.angle.sin() * n;
         let inside = -flange.angle.sin() * out + flange.angle.cos() * n;
         far_edges.push(
             far_of_strips
-                .filter(|_| shape.is_none() && !corner)
+                .filter(|_| shape.is_none())
                 .map(|e| (e, rise, inside)),
         );
+        corner_joined.push(corner);
+        ends_joined.push([mitred[index][0].is_some(), mitred[index][1].is_some()]);
+        feet.push(None);
         flange_sides.push(strips);
+    }
+    // A return on a flange joined at a corner meets the neighbour there: it is made
+    // only joined to a return on the neighbour (four sheets round the corner).
+    for &(index, end, p, j) in &at_corners {
+        if ends_joined[p][j] && !ends_joined[index][end] {
+            let at = mid.point(far_corners[p][j]).unwrap_or_default();
+            return Err(PartProblem::Flange {
+                index,
+                why: format!(
+                    "cannot end at {} where flange `{}` is joined to another at a corner: a \
+                     return there must be joined to a return on the other flange (give it \
+                     one, or stand this one on a flange standing alone)",
+                    show(at),
+                    spec.flanges[p].name
+                ),
+            });
+        }
     }
     // Flanges removed, by name, once every flange stands.
     for (index, removal) in spec.removals.iter().enumerate() {
@@ -1201,29 +1278,76 @@ pub const PICK_REACH: f64 = 5.0;
 const NO_VERTEX: VertexId = VertexId(u32::MAX);
 
 /// What [`add_return`] added: the edge it stands on (its ends' points), its far
-/// corners, its own far edge with its frame, and its strips' sides (on a radius, the
-/// bend's facets, then the straight return).
+/// corners (over the foot's ends, in order), its own far edge with its frame, its strips' sides (on a radius, the bend's
+/// facets, then the straight return), and its foot as later returns see it.
 struct AddedReturn {
     foot: (DVec3, DVec3),
     far_corners: [VertexId; 2],
     far_edge: (EdgeId, DVec3, DVec3),
     strips: Vec<(FaceId, FaceId)>,
+    foot_of: ReturnFoot,
+    /// The joins made: (the earlier return, which of its ends, where the two far
+    /// corners go).
+    joins: Vec<(usize, usize, DVec3)>,
+}
+
+/// A return flange as a later return on a neighbouring flange sees it: the vertices at
+/// the ends of the edge it stands on, how it stands there, and its far corners over
+/// those ends (in the same order).
+#[derive(Debug, Clone)]
+struct ReturnFoot {
+    ends: [VertexId; 2],
+    standing: Standing,
+    far_corners: [VertexId; 2],
+}
+
+/// What a return flange finds of the flanges before it: each one's far edge with its
+/// frame (see [`add_return`]), whether it is joined to another at a corner, and each
+/// return's foot.
+struct Earlier<'a> {
+    far_edges: &'a [Option<(EdgeId, DVec3, DVec3)>],
+    corner_joined: &'a [bool],
+    feet: &'a [Option<ReturnFoot>],
+}
+
+/// Why a return flange could not be added: a reason of its own, or a reason it cannot
+/// be joined to the earlier return `other` at the corner `at`.
+enum ReturnProblem {
+    Alone(String),
+    Meets {
+        other: usize,
+        at: DVec3,
+        why: String,
+    },
+}
+
+impl From<String> for ReturnProblem {
+    fn from(why: String) -> Self {
+        ReturnProblem::Alone(why)
+    }
 }
 
 /// Adds return flange `index` of `spec` on the far edge of the earlier flange named
-/// `parent` (`far_edges`: each earlier flange's far edge, the direction it rises in
-/// from its foot and its inside's normal): `Sheet::flange` on that edge (and on each
-/// strip's far edge in turn, on a radius), its far corners `height` away, rising
-/// `angle` up from the parent towards the parent's inside.
+/// `parent`, its far corners `height` away, rising `angle` up from the parent towards
+/// the parent's inside (the far edge's frame: the direction the parent rises in from
+/// its foot and its inside's normal). A return on a flange standing alone is
+/// `Sheet::flange` on that edge (and on each strip's far edge in turn, on a radius).
+/// Where the parent is joined to a neighbour at a corner and a return already stands
+/// on that neighbour, the two returns are joined there too (four sheets meet at the
+/// corner: a brim round a tray's rim), each cut on the line where they meet
+/// ([`corners::return_mitre`]): the return is added on a run of picked edges that goes
+/// up the earlier return's end and along the parent's far edge (Skze, then Smev and
+/// Smel, as a plate's flanges at a corner).
 fn add_return(
     sheet: &mut Sheet,
     mid: &mut MidSurface,
     spec: &PlateSpec,
     index: usize,
     parent: &str,
-    far_edges: &[Option<(EdgeId, DVec3, DVec3)>],
-) -> Result<AddedReturn, String> {
+    earlier: &Earlier,
+) -> Result<AddedReturn, ReturnProblem> {
     let flange = &spec.flanges[index];
+    let topo = |e: TopologyError| ReturnProblem::Alone(e.to_string());
     let Some(p) = spec.flanges[..index].iter().rposition(|f| f.name == parent) else {
         let run = spec.flanges[..index]
             .iter()
@@ -1231,29 +1355,31 @@ fn add_return(
         return Err(if run {
             format!(
                 "cannot stand on flange `{parent}`: it runs along several edges, so it has \
-                 no one far edge"
+                 no one far edge (a return named after a run runs along it all)"
             )
         } else {
             format!("stands `on` flange `{parent}`, but no flange of that name comes before it")
-        });
+        }
+        .into());
     };
-    let Some((edge, rise, inside)) = far_edges.get(p).copied().flatten() else {
+    let Some((edge, rise, inside)) = earlier.far_edges.get(p).copied().flatten() else {
         return Err(format!(
-            "cannot stand on flange `{parent}`: its far edge is not one edge free at both \
-             ends (a drawn `shape`, or a flange joined to another at a corner)"
-        ));
+            "cannot stand on flange `{parent}`: its far edge is drawn (a `shape`), not one \
+             straight edge"
+        )
+        .into());
     };
-    let (h1, _) = sheet.brep.halves_of(edge).map_err(|e| e.to_string())?;
+    let (h1, _) = sheet.brep.halves_of(edge).map_err(topo)?;
     let ends = [
-        sheet.brep.vertex(h1).map_err(|e| e.to_string())?,
+        sheet.brep.vertex(h1).map_err(topo)?,
         sheet
             .brep
-            .vertex(sheet.brep.next(h1).map_err(|e| e.to_string())?)
-            .map_err(|e| e.to_string())?,
+            .vertex(sheet.brep.next(h1).map_err(topo)?)
+            .map_err(topo)?,
     ];
     let point = |mid: &MidSurface, v: VertexId| {
         mid.point(v)
-            .ok_or_else(|| "an edge without points".to_string())
+            .ok_or_else(|| ReturnProblem::Alone("an edge without points".into()))
     };
     let foot = (point(mid, ends[0])?, point(mid, ends[1])?);
     // Its strips' reaches from the edge: on a radius, the bend's chords first (turning
@@ -1265,31 +1391,152 @@ fn add_return(
         ..flange.clone()
     };
     let reaches = flange_reaches(&turned, spec.thickness, rise, towards);
-    let mut strips = Vec::with_capacity(reaches.len());
-    let mut far = edge;
-    let mut last = DVec3::ZERO;
-    let mut far_corners = [NO_VERTEX; 2];
-    for &reach in &reaches {
-        let made = sheet.flange(far).map_err(|e| e.to_string())?;
-        for (base, end) in made.far_ends {
-            let from = point(mid, base)?;
-            mid.place(sheet, end, from + reach - last)
-                .map_err(|e| e.to_string())?;
-        }
-        let [one, other] = made.sides[..] else {
-            return Err("a return flange's strip has not two sides".into());
-        };
-        strips.push((one, other));
-        far_corners = made.far_ends.map(|(_, end)| end);
-        far = made.far_edge;
-        last = reach;
-    }
+    let standing = Standing {
+        from: foot.0,
+        to: foot.1,
+        rise: turned.angle.cos() * rise + turned.angle.sin() * towards,
+        height: flange.height,
+    };
     let (b, a) = (flange.angle.sin(), flange.angle.cos());
-    Ok(AddedReturn {
+    let frame = (a * rise + b * inside, -b * rise + a * inside);
+    // The earlier returns it meets at its ends: each (the return, its end there, the
+    // far corner over that end on this return's side of the sheet).
+    let mut meets: [Option<(usize, usize, VertexId)>; 2] = [None, None];
+    for (end, &v) in ends.iter().enumerate() {
+        let twin = sheet.twin_vertex(v).map_err(topo)?;
+        for (k, foot) in earlier.feet[..index].iter().enumerate() {
+            let Some(foot) = foot else { continue };
+            for j in 0..2 {
+                if foot.ends[j] == v {
+                    meets[end] = Some((k, j, foot.far_corners[j]));
+                } else if foot.ends[j] == twin {
+                    let far = sheet.twin_vertex(foot.far_corners[j]).map_err(topo)?;
+                    meets[end] = Some((k, j, far));
+                }
+            }
+        }
+    }
+    if meets == [None, None] && !earlier.corner_joined[p] {
+        // Standing alone on a flange standing alone: swept off its far edge.
+        let mut strips = Vec::with_capacity(reaches.len());
+        let mut far = edge;
+        let mut last = DVec3::ZERO;
+        let mut far_corners = [NO_VERTEX; 2];
+        for &reach in &reaches {
+            let made = sheet.flange(far).map_err(topo)?;
+            for (base, end) in made.far_ends {
+                let from = point(mid, base)?;
+                mid.place(sheet, end, from + reach - last).map_err(topo)?;
+            }
+            let [one, other] = made.sides[..] else {
+                return Err("a return flange's strip has not two sides"
+                    .to_string()
+                    .into());
+            };
+            strips.push((one, other));
+            far_corners = made.far_ends.map(|(_, end)| end);
+            far = made.far_edge;
+            last = reach;
+        }
+        // Its far corners in the order of its foot's ends, for later returns.
+        let mut over_ends = far_corners;
+        let first = point(mid, far_corners[0])?;
+        if first.distance(foot.1) < first.distance(foot.0) {
+            over_ends.swap(0, 1);
+        }
+        let foot_of = ReturnFoot {
+            ends,
+            standing,
+            far_corners: over_ends,
+        };
+        let added = AddedReturn {
+            foot,
+            far_corners: over_ends,
+            far_edge: (far, frame.0, frame.1),
+            strips,
+            foot_of,
+            joins: Vec::new(),
+        };
+        return Ok(added);
+    }
+    if flange.radius > 0.0 {
+        return Err(format!(
+            "cannot have a bend radius on flange `{parent}`, which is joined to another at \
+             a corner: the bends would need a curved corner between them"
+        )
+        .into());
+    }
+    // Joined: where each joined end's far corner goes, on the line the two meet on.
+    let mut joins = Vec::new();
+    let mut tops = [None, None];
+    for (end, meet) in meets.iter().enumerate() {
+        let Some((other, j, _)) = *meet else { continue };
+        let at = [foot.0, foot.1][end];
+        let fail = |why: String| ReturnProblem::Meets { other, at, why };
+        if spec.flanges[other].radius > 0.0 {
+            return Err(fail(
+                "a return flange with a bend radius cannot be joined at a corner yet: the \
+                 bends would need a curved corner between them"
+                    .into(),
+            ));
+        }
+        let Some(theirs) = &earlier.feet[other] else {
+            continue;
+        };
+        let top = corners::return_mitre(at, &theirs.standing, &standing).map_err(fail)?;
+        tops[end] = Some(top);
+        joins.push((other, j, top));
+    }
+    let (before, after) = (meets[0].map(|m| m.2), meets[1].map(|m| m.2));
+    let mut path: Vec<VertexId> = before.into_iter().collect();
+    path.extend(ends);
+    path.extend(after);
+    let curves = 3 - before.iter().count() - after.iter().count();
+    let added = sheet
+        .add_sheet(&[Piece::Picked(path.clone()), Piece::Curves(curves)])
+        .map_err(topo)?;
+    let chain = curve_chain(sheet, path[path.len() - 1], &added.curves).map_err(topo)?;
+    let k = chain.len();
+    if k != curves + 1 {
+        return Err("a new far edge is not a chain of curves".to_string().into());
+    }
+    let far_corners = [before.unwrap_or(chain[k - 2]), after.unwrap_or(chain[1])];
+    for (end, (&v, at)) in far_corners.iter().zip([foot.0, foot.1]).enumerate() {
+        let to = tops[end].unwrap_or(at + flange.height * standing.rise);
+        mid.place(sheet, v, to).map_err(topo)?;
+    }
+    let far = far_curve(sheet, &added.curves, far_corners)
+        .ok_or_else(|| ReturnProblem::Alone("a return flange has no far edge".into()))?;
+    let foot_of = ReturnFoot {
+        ends,
+        standing,
+        far_corners,
+    };
+    let added = AddedReturn {
         foot,
         far_corners,
-        far_edge: (far, a * rise + b * inside, -b * rise + a * inside),
-        strips,
+        far_edge: (far, frame.0, frame.1),
+        strips: vec![added.sides],
+        foot_of,
+        joins,
+    };
+    Ok(added)
+}
+
+/// A new sheet's far edge: of its boundary curves `curves`, the one between its far
+/// corners `far_corners` (either of a twin pair).
+fn far_curve(sheet: &Sheet, curves: &[EdgeId], far_corners: [VertexId; 2]) -> Option<EdgeId> {
+    let b = &sheet.brep;
+    let twins = |v: VertexId| [Some(v), sheet.twin_vertex(v).ok()];
+    curves.iter().copied().find(|&c| {
+        b.halves_of(c)
+            .and_then(|(x, y)| Ok([b.vertex(x)?, b.vertex(y)?]))
+            .is_ok_and(|vs| {
+                vs[0] != vs[1]
+                    && vs
+                        .iter()
+                        .all(|&v| far_corners.iter().any(|&f| twins(f).contains(&Some(v))))
+            })
     })
 }
 

@@ -3,7 +3,9 @@
 //! round the outline. Each edge of the run carries one strip, a flange of its own on
 //! (part of) that edge, and neighbouring strips are joined at the corner between them
 //! on their mitre line ([`super::corners`]), so a wall along a filleted outline is a
-//! drawn tray's wall with round corners in plan, its strips the arc's chords.
+//! drawn tray's wall with round corners in plan, its strips the arc's chords. A return
+//! flange on a run stands on each of its strips, `NAME.K` on `RUN.K`, joined at the
+//! same corners (a brim round a tray's rim).
 
 use glam::DVec3;
 
@@ -19,6 +21,29 @@ pub(super) fn expand_runs(spec: &PlateSpec) -> Result<(PlateSpec, Vec<usize>), P
     let mut origin = Vec::with_capacity(spec.flanges.len());
     for (index, flange) in spec.flanges.iter().enumerate() {
         let bad = |why: String| PartProblem::Flange { index, why };
+        if let Some(parent) = &flange.on {
+            // A return on a run: one strip on each of the run's strips, joined at the
+            // corners between them as the run's strips are.
+            let on_run: Vec<String> = (1..)
+                .map(|k| format!("{parent}.{k}"))
+                .take_while(|name| flanges.iter().any(|f: &FlangeSpec| &f.name == name))
+                .collect();
+            let named = flanges.iter().any(|f: &FlangeSpec| &f.name == parent);
+            if named || on_run.is_empty() {
+                flanges.push(flange.clone());
+                origin.push(index);
+                continue;
+            }
+            for (k, strip) in on_run.into_iter().enumerate() {
+                flanges.push(FlangeSpec {
+                    name: format!("{}.{}", flange.name, k + 1),
+                    on: Some(strip),
+                    ..flange.clone()
+                });
+                origin.push(index);
+            }
+            continue;
+        }
         let strips = if flange.around {
             (0..outline.len())
                 .map(|i| (outline[i], outline[(i + 1) % outline.len()]))
