@@ -24,8 +24,8 @@ use crate::geom::tessellate::{tessellate_curve, Tolerance};
 use crate::sheet::base::BaseError;
 use crate::sheet::junction::{Junction, JunctionType};
 use crate::sheet::part::{
-    self, BendSpec, FlangeSpec, HoleSpec, LiftSpec, MovePick, MoveSpec, PartProblem, PlateSpec,
-    RemoveSpec, RemoveTarget, RoundSpec, SheetPart,
+    self, BendSpec, CoverSpec, FlangeSpec, HoleSpec, LiftSpec, MovePick, MoveSpec, PartProblem,
+    PlateSpec, RemoveSpec, RemoveTarget, RoundSpec, SheetPart,
 };
 use crate::sheet::topology::Removal;
 use crate::syntax::Span;
@@ -405,25 +405,7 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
             Some(a) => as_angle(a, block.units, &format!("`angle` of {what}"))?,
             None => std::f64::consts::FRAC_PI_2,
         };
-        let own = match r.get("thickness") {
-            Some(t) => {
-                let t = length(t, block.units, &format!("`thickness` of {what}"))?;
-                if !(t.is_finite() && t > 0.0) {
-                    return Err(feature_error(
-                        KIND,
-                        format!(
-                            "{what}: the thickness must be above 0 mm, not {} mm",
-                            round(t)
-                        ),
-                        field.value.span,
-                        "not a thickness",
-                        "give the flange's own thickness such as `thickness: 1.2 mm`, or leave it out for the plate's",
-                    ));
-                }
-                Some(t)
-            }
-            None => None,
-        };
+        let own = own_thickness(r, block.units, &what, field.value.span, "flange")?;
         let radius = bend_radius(r, block.units, &what)?;
         flanges.push(FlangeSpec {
             name: name.to_string(),
@@ -463,6 +445,39 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
             radius: length(radius, block.units, &format!("`radius` of {what}"))?,
         });
     }
+    let cover_fields = block.named("cover");
+    let mut covers = Vec::with_capacity(cover_fields.len());
+    for (name, field) in &cover_fields {
+        let what = format!("`cover {name}`");
+        let example = "a record `{ on: [\"left\", \"right\"] }`";
+        let r = record(&field.value, &what, example)?;
+        check_record(r, field.value.span, &what, &["on", "thickness"])?;
+        let on = required(
+            r,
+            "on",
+            &what,
+            field.value.span,
+            "add `on: [\"left\", \"right\"]`, the two flanges whose far edges it stands across",
+        )?;
+        let names = match &on.data {
+            Data::List(items) if items.len() == 2 => [
+                flange_name(&items[0], &format!("`on` of {what}"))?,
+                flange_name(&items[1], &format!("`on` of {what}"))?,
+            ],
+            _ => {
+                return Err(type_error(
+                    on,
+                    &format!("`on` of {what}"),
+                    "a list of two flanges' names, such as [\"left\", \"right\"]",
+                ))
+            }
+        };
+        covers.push(CoverSpec {
+            name: name.to_string(),
+            on: names,
+            thickness: own_thickness(r, block.units, &what, field.value.span, "cover")?,
+        });
+    }
     let spec = PlateSpec {
         outline,
         normal,
@@ -473,6 +488,7 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
         removals,
         flanges,
         rounds,
+        covers,
         thickness,
         base,
     };
@@ -484,6 +500,7 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
         removals: &remove_fields,
         flanges: &flange_fields,
         rounds: &round_fields,
+        covers: &cover_fields,
     };
     let on = block.get("on").map(|f| f.value.span);
     let built =
@@ -607,6 +624,7 @@ struct NamedFields<'a> {
     removals: &'a [(&'a str, &'a Field)],
     flanges: &'a [(&'a str, &'a Field)],
     rounds: &'a [(&'a str, &'a Field)],
+    covers: &'a [(&'a str, &'a Field)],
 }
 
 /// The diagnostic of a part that could not be built, at the field at fault.
@@ -619,6 +637,7 @@ fn problem(p: PartProblem, outline: Span, on: Option<Span>, fields: &NamedFields
         removals,
         flanges,
         rounds,
+        covers,
     } = *fields;
     // The error at field `index` of the `keyword NAME = ...` fields `fields`.
     let at_field =
@@ -646,6 +665,7 @@ fn problem(p: PartProblem, outline: Span, on: Option<Span>, fields: &NamedFields
         PartProblem::Move { index, .. } => at_field("move", moves, *index, "this move", "put `at` over the top of a lifted region, and keep it on its side of the plate: `by` moves it in press coordinates, its walls following; or put `corner` within 5 mm of one corner of the part and move it in the plane of every face that meets there"),
         PartProblem::Round { index, .. } => at_field("round", rounds, *index, "this round", "put `at` on (or within 5 mm of) a flange's foot or a bend's line, nearer it than any other, or on the corner where two walls meet (alike, sharp, of the plate's gauge), and give a radius above 0 that fits; a joint takes one radius, and a flange of its own thickness none"),
         PartProblem::Flange { index, .. } => at_field("flange", flanges, *index, "this flange", "put `at` on (or within 5 mm of) a free edge of the outline, nearer it than any other, or `from` and `to` on one (one edge takes one flange); give a height above 0 (or a `shape` from the edge's left end to its right, seen from outside), an angle below 180 deg, and a bend `radius` or a `thickness` of its own, not both; or stand it `on` an earlier flange by name (a straight far edge; at a corner where that flange is joined to another, joined to a return on the other)"),
+        PartProblem::Cover { index, .. } => at_field("cover", covers, *index, "this cover", "stand the cover `on` two flanges by name, each with one straight far edge free of other flanges and not joined at a corner, the two far edges in one plane and running opposite ways round the part (as a channel's two walls do)"),
         PartProblem::FlangesMeet { index, other, .. } => feature_error(
             KIND,
             format!("`flange {}` and `flange {}`: {p}", flanges[*other].0, flanges[*index].0),
@@ -725,6 +745,31 @@ fn flange_name(v: &Value, what: &str) -> Result<String, Diagnostic> {
             "the name of a flange, as a string such as \"lip\" (a strip of a run as \"wall.2\")",
         )),
     }
+}
+
+/// The `thickness` of a flange or cover (`what`, a `kind`) when it has one of its own:
+/// a length above 0.
+fn own_thickness(
+    r: &Record,
+    units: Units,
+    what: &str,
+    at: Span,
+    kind: &str,
+) -> Result<Option<f64>, Diagnostic> {
+    let Some(t) = r.get("thickness") else {
+        return Ok(None);
+    };
+    let t = length(t, units, &format!("`thickness` of {what}"))?;
+    if !(t.is_finite() && t > 0.0) {
+        return Err(feature_error(
+            KIND,
+            format!("{what}: the thickness must be above 0 mm, not {} mm", round(t)),
+            at,
+            "not a thickness",
+            format!("give the {kind}'s own thickness such as `thickness: 1.2 mm`, or leave it out for the plate's"),
+        ));
+    }
+    Ok(Some(t))
 }
 
 /// A closed sketch value, or a diagnostic.
@@ -927,7 +972,9 @@ impl FeatureKind for SheetKind {
     fn fields(&self) -> FieldNames {
         FieldNames {
             single: vec!["outline", "thickness", "on"],
-            named: vec!["punch", "lift", "move", "remove", "bend", "flange", "round"],
+            named: vec![
+                "punch", "lift", "move", "remove", "bend", "flange", "round", "cover",
+            ],
         }
     }
     fn build(&self, block: &Block) -> Result<Value, Diagnostic> {

@@ -23,6 +23,7 @@ mod rounds;
 mod runs;
 mod strips;
 
+use std::collections::BTreeSet;
 use std::sync::Arc;
 
 use std::f64::consts::FRAC_PI_2;
@@ -36,7 +37,9 @@ use super::geometry::{
 use super::junction::{junctions, Junction};
 use super::laid::{lay_mid_surface, lay_solid, LaidError, Refiner};
 use super::thicken::{plan_solid, thicken_named, Gauge, ThickenError};
-use super::topology::{EdgeId, FaceId, FaceRole, Piece, Removal, Sheet, TopologyError, VertexId};
+use super::topology::{
+    EdgeId, EdgeRole, FaceId, FaceRole, Piece, Removal, Sheet, TopologyError, VertexId,
+};
 use crate::geom::mesh::{crossings, Mesh};
 use crate::geom::tessellate::triangulate_loops;
 use crate::geom::trimmed::polygon_winding;
@@ -76,6 +79,8 @@ pub struct PlateSpec {
     /// Joints (flange feet, bend lines) given a radius after the fact, each picked by a
     /// point.
     pub rounds: Vec<RoundSpec>,
+    /// Sheets across the far edges of two flanges, in order.
+    pub covers: Vec<CoverSpec>,
     /// The thickness (mm) of the plate, and of each flange not given its own.
     pub thickness: f64,
     /// The surface the part lies on, seen along `normal` ([`super::base`]): the part is
@@ -214,6 +219,20 @@ pub struct FlangeSpec {
     pub on: Option<String>,
 }
 
+/// A cover: a new sheet across the far edges of two flanges (paper 003, section 4.2,
+/// Fig. 6(c): a sheet on two picked edges, added by Smep then Smel), the plane quad
+/// between them, closing a channel into a box section (a passage made).
+#[derive(Debug, Clone, PartialEq)]
+pub struct CoverSpec {
+    /// Its name: the solid's faces of the cover are `NAME.inside` (the side that
+    /// continues the plate's top), `NAME.outside` and `NAME.edge_K`.
+    pub name: String,
+    /// The two flanges, by name, on whose far edges it stands.
+    pub on: [String; 2],
+    /// Its own thickness (mm), when not the plate's.
+    pub thickness: Option<f64>,
+}
+
 /// Why a plate could not be built.
 #[derive(Debug, Clone, PartialEq)]
 pub enum PartProblem {
@@ -233,6 +252,8 @@ pub enum PartProblem {
     Flange { index: usize, why: String },
     /// Round `index` cannot be made.
     Round { index: usize, why: String },
+    /// Cover `index` cannot be added.
+    Cover { index: usize, why: String },
     /// Flange `index` meets the earlier flange `other` at the corner `at` and cannot be
     /// joined to it there, for the reason `why`.
     FlangesMeet {
@@ -266,6 +287,7 @@ impl std::fmt::Display for PartProblem {
             PartProblem::Remove { why, .. } => write!(f, "the removal {why}"),
             PartProblem::Move { why, .. } => write!(f, "the move {why}"),
             PartProblem::Round { why, .. } => write!(f, "the round {why}"),
+            PartProblem::Cover { why, .. } => write!(f, "the cover {why}"),
             PartProblem::FlangesMeet { at, why, .. } => write!(
                 f,
                 "the flanges meet at the corner {} and cannot be joined there: {why}",
@@ -912,32 +934,47 @@ fn build_strips(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
             });
         }
     }
+    // Covers across two flanges' far edges, once every flange stands.
+    let mut cover_sides: Vec<(FaceId, FaceId)> = Vec::with_capacity(spec.covers.len());
+    for (index, cover) in spec.covers.iter().enumerate() {
+        let bad = |why: String| PartProblem::Cover { index, why };
+        let mut edges = Vec::with_capacity(2);
+        for name in &cover.on {
+            let k = flange_named(spec, name).map_err(bad)?;
+            if corner_joined[k] {
+                return Err(bad(format!(
+                    "cannot stand on flange `{name}`: it is joined to another at a corner, \
+                     and the cover's corner there would meet them both on the free boundary"
+                )));
+            }
+            let (edge, ..) = far_edges[k].ok_or_else(|| {
+                bad(format!(
+                    "cannot stand on flange `{name}`: its far edge is drawn (a `shape`), not \
+                     one straight edge"
+                ))
+            })?;
+            edges.push((k, edge));
+        }
+        if edges[0].0 == edges[1].0 {
+            return Err(bad(format!(
+                "names flange `{}` twice: it stands across two flanges' far edges",
+                cover.on[0]
+            )));
+        }
+        let (sides, inside) =
+            add_cover(&mut sheet, &mid, &parts, [edges[0].1, edges[1].1]).map_err(bad)?;
+        if let Some(t) = cover.thickness {
+            gauge.sheets.push((sides.0, t));
+        }
+        cover_sides.push((inside, if inside == sides.0 { sides.1 } else { sides.0 }));
+    }
     // Flanges removed, by name, once every flange stands.
     for (index, removal) in spec.removals.iter().enumerate() {
         let RemoveTarget::Flange(name) = &removal.target else {
             continue;
         };
         let bad = |why: String| PartProblem::Remove { index, why };
-        let k = spec
-            .flanges
-            .iter()
-            .position(|f| &f.name == name)
-            .ok_or_else(|| {
-                bad(
-                    if spec
-                        .flanges
-                        .iter()
-                        .any(|f| f.name.starts_with(&format!("{name}.")))
-                    {
-                        format!(
-                            "finds no one flange `{name}`: it runs along several edges; name one \
-                         of its strips, `{name}.1`, `{name}.2`, ..."
-                        )
-                    } else {
-                        format!("finds no flange `{name}`")
-                    },
-                )
-            })?;
+        let k = flange_named(spec, name).map_err(bad)?;
         let strips = std::mem::take(&mut flange_sides[k]);
         if strips.is_empty() {
             return Err(bad(format!("finds flange `{name}` removed already")));
@@ -1011,16 +1048,15 @@ fn build_strips(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
             .min_by(|x, y| x.0.total_cmp(&y.0))
             .map(|(_, i)| i)
     };
-    let names = FaceNames::new(
-        &sheet,
-        spec,
-        top,
-        &cuts,
-        &hole_rings,
-        &lifted,
-        &flange_sides,
-    )
-    .map_err(|e| PartProblem::Thicken(e.into()))?;
+    let pieces = names::Pieces {
+        cuts: &cuts,
+        hole_rings: &hole_rings,
+        lifts: &lifted,
+        flanges: &flange_sides,
+        covers: &cover_sides,
+    };
+    let names =
+        FaceNames::new(&sheet, spec, top, &pieces).map_err(|e| PartProblem::Thicken(e.into()))?;
     let mut junctions = junctions(&sheet, &mid).map_err(|e| PartProblem::Thicken(e.into()))?;
     let refused = |e: ThickenError| match e {
         ThickenError::Junction { at, .. } => PartProblem::Junction {
@@ -1521,6 +1557,154 @@ fn add_return(
         joins,
     };
     Ok(added)
+}
+
+/// The index of the flange named `name` in `spec`; refused, saying so, when there is
+/// none (or only a run's strips by that name: then one of them must be named).
+fn flange_named(spec: &PlateSpec, name: &str) -> Result<usize, String> {
+    if let Some(k) = spec.flanges.iter().position(|f| f.name == name) {
+        return Ok(k);
+    }
+    let run = spec
+        .flanges
+        .iter()
+        .any(|f| f.name.starts_with(&format!("{name}.")));
+    Err(if run {
+        format!(
+            "finds no one flange `{name}`: it runs along several edges; name one of its \
+             strips, `{name}.1`, `{name}.2`, ..."
+        )
+    } else {
+        format!("finds no flange `{name}`")
+    })
+}
+
+/// Adds a cover across the far edges `far` of two flanges: `add_sheet` on the two
+/// edges, each a picked run, with one boundary curve after each (Smep joins the two
+/// edges' zero-area loops, Smel closes the sheet). The edges are taken on the sides
+/// that continue the plate's top (`parts`, the plate's parts on its top), so the cover
+/// continues them, and its loop runs along each as that side does: the curves go from
+/// the end of one edge to the start of the other. The four corners must lie in one
+/// plane and bound a quad that does not cross itself. Returns the cover's sides and
+/// which of them continues the plate's top.
+fn add_cover(
+    sheet: &mut Sheet,
+    mid: &MidSurface,
+    parts: &[FaceId],
+    far: [EdgeId; 2],
+) -> Result<((FaceId, FaceId), FaceId), String> {
+    let topo = |e: TopologyError| e.to_string();
+    let top = top_sides(sheet, parts).map_err(topo)?;
+    // Each edge's run along the top's side: its half-edge in a face of `top`.
+    let mut runs = Vec::with_capacity(2);
+    for edge in far {
+        let EdgeRole::Side { twin } = sheet.edge_role(edge).map_err(topo)? else {
+            return Err("stands on an edge that is not a sheet's edge".into());
+        };
+        let b = &sheet.brep;
+        let mut run = None;
+        for e in [edge, twin] {
+            let (p, m) = b.halves_of(e).map_err(topo)?;
+            for h in [p, m] {
+                let face = b.face_with(b.loop_with(h).map_err(topo)?).map_err(topo)?;
+                if top.contains(&face) {
+                    run = Some([
+                        b.vertex(h).map_err(topo)?,
+                        b.vertex(b.next(h).map_err(topo)?).map_err(topo)?,
+                    ]);
+                }
+            }
+        }
+        runs.push(run.ok_or_else(|| "stands on an edge no side of the part reaches".to_string())?);
+    }
+    let point = |v: VertexId| {
+        mid.point(v)
+            .ok_or_else(|| "an edge without points".to_string())
+    };
+    let quad = [
+        point(runs[0][0])?,
+        point(runs[0][1])?,
+        point(runs[1][0])?,
+        point(runs[1][1])?,
+    ];
+    check_cover_quad(&quad)?;
+    let added = sheet
+        .add_sheet(&[
+            Piece::Picked(runs[0].to_vec()),
+            Piece::Curves(1),
+            Piece::Picked(runs[1].to_vec()),
+            Piece::Curves(1),
+        ])
+        .map_err(|e| format!("cannot be added across the two far edges: {e}"))?;
+    let top = top_sides(sheet, parts).map_err(topo)?;
+    let inside = if top.contains(&added.sides.0) {
+        added.sides.0
+    } else {
+        added.sides.1
+    };
+    Ok((added.sides, inside))
+}
+
+/// How far off one plane a cover's corners may lie (mm).
+const COVER_PLANE: f64 = 1e-6;
+
+/// A cover's quad (its corners in the order its loop runs) checked: in one plane, of
+/// an area, and not crossing itself (the two far edges running the same way round).
+fn check_cover_quad(quad: &[DVec3; 4]) -> Result<(), String> {
+    let centre = quad.iter().sum::<DVec3>() / 4.0;
+    let normal = (0..4)
+        .map(|i| quad[i].cross(quad[(i + 1) % 4]))
+        .sum::<DVec3>()
+        .normalize_or_zero();
+    if normal == DVec3::ZERO {
+        return Err("would have no area: the two far edges lie on one line".into());
+    }
+    let off = quad
+        .iter()
+        .map(|p| (*p - centre).dot(normal).abs())
+        .fold(0.0, f64::max);
+    if off > COVER_PLANE {
+        return Err(format!(
+            "would not be flat: the two far edges do not lie in one plane (a corner is {} mm \
+             off the plane of the four)",
+            tidy(off)
+        ));
+    }
+    let across = normal.any_orthonormal_vector();
+    let up = normal.cross(across);
+    let flat: Vec<DVec2> = quad
+        .iter()
+        .map(|p| DVec2::new((*p - centre).dot(across), (*p - centre).dot(up)))
+        .collect();
+    if triangulate_loops(&[flat]).is_err() {
+        return Err(
+            "would cross itself: its far edges run the same way, so joining each's end to \
+             the other's start crosses the two joins"
+                .into(),
+        );
+    }
+    Ok(())
+}
+
+/// The sides on the plate's top side of the part: the parts `parts`, and every side
+/// reached from them across an edge two sides share (the insides of flanges, the tops
+/// of lifted regions, ...), so all that face the way the plate's top does.
+fn top_sides(sheet: &Sheet, parts: &[FaceId]) -> Result<BTreeSet<FaceId>, TopologyError> {
+    let b = &sheet.brep;
+    let mut seen: BTreeSet<FaceId> = parts.iter().copied().collect();
+    let mut queue: Vec<FaceId> = parts.to_vec();
+    while let Some(f) = queue.pop() {
+        for &l in b.loops_of(f)? {
+            for h in b.loop_halves(l)? {
+                let across = b.face_with(b.loop_with(b.mate(h)?)?)?;
+                if matches!(sheet.face_role(across)?, FaceRole::Side { .. }) && seen.insert(across)
+                {
+                    queue.push(across);
+                }
+            }
+        }
+    }
+    Ok(seen)
 }
 
 /// A new sheet's far edge: of its boundary curves `curves`, the one between its far

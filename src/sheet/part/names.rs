@@ -4,11 +4,25 @@
 use super::super::topology::{EdgeRole, FaceId, FaceRole, Sheet, TopologyError, VertexId};
 use super::{Cut, PlateSpec};
 
+/// What the build made of each operation of a plate, for naming its faces: the
+/// plate's cuts along bend creases, each hole's ring of vertices, each lifted region's
+/// top with its walls, each flange's strips' sides (on a radius, the bend's facets
+/// first), and each cover's inside and outside.
+#[derive(Clone, Copy)]
+pub(super) struct Pieces<'a> {
+    pub cuts: &'a [Cut],
+    pub hole_rings: &'a [Vec<VertexId>],
+    pub lifts: &'a [(FaceId, Vec<FaceId>)],
+    pub flanges: &'a [Vec<(FaceId, FaceId)>],
+    pub covers: &'a [(FaceId, FaceId)],
+}
+
 /// The name of each face of a plate's solid, as a designer would call it: `plate.top`
 /// and `plate.bottom` (the top faces the working plane's normal), `plate.edge_K` across
 /// the outline's edges, `HOLE.wall_K` lining a hole, and per flange `NAME.inside` (the
 /// side that continues the plate's top, inside the bend), `NAME.outside` and
-/// `NAME.edge_K`, and a bend's facets `NAME.bend_K.inside` and `.outside`; K counts
+/// `NAME.edge_K`, and a bend's facets `NAME.bend_K.inside` and `.outside`, and per
+/// cover `NAME.inside`, `NAME.outside` and `NAME.edge_K`; K counts
 /// from 1 in the model's face order.
 pub(super) struct FaceNames {
     names: std::collections::BTreeMap<FaceId, String>,
@@ -18,11 +32,15 @@ impl FaceNames {
         sheet: &Sheet,
         spec: &PlateSpec,
         top: FaceId,
-        cuts: &[Cut],
-        hole_rings: &[Vec<VertexId>],
-        lifts: &[(FaceId, Vec<FaceId>)],
-        flanges: &[Vec<(FaceId, FaceId)>],
+        pieces: &Pieces,
     ) -> Result<FaceNames, TopologyError> {
+        let Pieces {
+            cuts,
+            hole_rings,
+            lifts,
+            flanges,
+            covers,
+        } = *pieces;
         let b = &sheet.brep;
         let mut names = std::collections::BTreeMap::new();
         // The plate's parts, named by the bend that turned them (the rest `plate`).
@@ -87,6 +105,12 @@ impl FaceNames {
             }
             insides.push(before.first().copied());
         }
+        // Each cover's inside (the side that continues the plate's top) and outside.
+        for (k, &(inside, outside)) in covers.iter().enumerate() {
+            let name = &spec.covers[k].name;
+            names.insert(inside, format!("{name}.inside"));
+            names.insert(outside, format!("{name}.outside"));
+        }
         let twin = |f: FaceId| -> Result<FaceId, TopologyError> {
             match sheet.face_role(f)? {
                 FaceRole::Side { twin } => Ok(twin),
@@ -119,10 +143,14 @@ impl FaceNames {
                     .iter()
                     .position(|strips| strips.iter().any(|&(a, c)| side == a || side == c))
             });
-            let prefix = match (hole, owner) {
-                (Some(i), _) => format!("{}.wall", spec.holes[i].name),
-                (None, Some(k)) => format!("{}.edge", spec.flanges[k].name),
-                (None, None) => "plate.edge".to_string(),
+            let cover = neighbours(f)?
+                .into_iter()
+                .find_map(|side| covers.iter().position(|&(a, c)| side == a || side == c));
+            let prefix = match (hole, owner, cover) {
+                (Some(i), ..) => format!("{}.wall", spec.holes[i].name),
+                (None, Some(k), _) => format!("{}.edge", spec.flanges[k].name),
+                (None, None, Some(k)) => format!("{}.edge", spec.covers[k].name),
+                (None, None, None) => "plate.edge".to_string(),
             };
             let n = counts.entry(prefix.clone()).or_insert(0);
             *n += 1;
