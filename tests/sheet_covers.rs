@@ -118,6 +118,78 @@ fn a_cover_of_its_own_gauge_is_offset_by_its_own_half() {
     assert_eq!(lid.thickness, 1.5);
 }
 
+/// The script of the tube of [`a_cover_closes_a_channel_into_a_tube`] with `lines`
+/// added to its block.
+fn tube(lines: &str) -> String {
+    script::plate_script(&format!(
+        "flange right = {{ at: (100, 30), height: 20 mm }}\n    flange left = {{ at: (0, 30), height: 20 mm }}\n    cover lid = {{ on: [\"right\", \"left\"] }}\n    {lines}"
+    ))
+}
+
+/// The paper's third case of removal (section 4.4, Fig. 11(c)): a face whose rim runs
+/// free in two runs, so taking it away loses a passage. The tube's lid taken off leaves
+/// the channel (A t: 8,400 mm³); a wall taken off instead leaves the plate, the other
+/// wall and the lid, a C section (13,200 mm³). Either way the genus falls back to 0,
+/// and `quality.removals` says so. A wall taken off and then the lid (which then stands
+/// on one wall only, free on three sides) trims the sheet and changes no passage.
+#[test]
+fn taking_a_tube_apart_loses_its_passage() {
+    for (lines, area, cases) in [
+        (
+            "remove off = { cover: \"lid\" }",
+            8400.0,
+            &["trimmed, 1 passage(s) closed"][..],
+        ),
+        (
+            "remove gone = { flange: \"left\" }",
+            13200.0,
+            &["trimmed, 1 passage(s) closed"][..],
+        ),
+        (
+            "remove gone = { flange: \"left\" }\n    remove off = { cover: \"lid\" }",
+            7200.0,
+            &[
+                "trimmed, 1 passage(s) closed",
+                "trimmed, no passage changed",
+            ][..],
+        ),
+    ] {
+        let part = script::sheet_part(&tube(lines));
+        assert_sound(&part.solid);
+        assert_eq!(part.sheet.check().expect("valid").genus, 0, "{lines}");
+        assert!(
+            (part.area - area).abs() < 1e-9 * area,
+            "{lines}: {}",
+            part.area
+        );
+        assert!(
+            (part.volume - area * T).abs() < 1e-9 * area,
+            "{lines}: {}",
+            part.volume
+        );
+        assert_eq!(part.removals.len(), cases.len(), "{lines}");
+        let shown = format!("{:?}", script::evaluate_clean("part.die", &tube(lines)));
+        for case in cases {
+            assert!(shown.contains(case), "{lines}: no {case:?} in quality");
+        }
+    }
+    // A cover by a name no cover has, or twice.
+    script::assert_plate_refused(&[(
+        "remove off = { cover: \"lid\" }",
+        "`remove off`: the removal finds no cover `lid`",
+    )]);
+    let twice = script::diagnostics_of(
+        "part.die",
+        &tube("remove a = { cover: \"lid\" }\n    remove b = { cover: \"lid\" }"),
+    );
+    assert!(
+        twice
+            .iter()
+            .any(|d| d.message.contains("finds cover `lid` removed already")),
+        "{twice:?}"
+    );
+}
+
 /// Covers that cannot be made are refused at the cover, saying why: a flange that is
 /// not there, one named twice, far edges not in one plane, a flange joined to another
 /// at a corner, and an `on` that is not two names.

@@ -196,15 +196,19 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
     let mut removals = Vec::with_capacity(remove_fields.len());
     for (name, field) in &remove_fields {
         let what = format!("`remove {name}`");
-        let example = "a record `{ at: (x, y) }` (a face) or `{ flange: \"lip\" }` (a flange)";
+        let example = "a record `{ at: (x, y) }` (a face), `{ flange: \"lip\" }` (a flange) or `{ cover: \"lid\" }` (a cover)";
         let r = record(&field.value, &what, example)?;
         // A flange by its name, or the face under a point.
-        let target = match r.get("flange") {
-            Some(v) => {
+        let target = match (r.get("flange"), r.get("cover")) {
+            (Some(v), _) => {
                 check_record(r, field.value.span, &what, &["flange"])?;
                 RemoveTarget::Flange(flange_name(v, &format!("`flange` of {what}"))?)
             }
-            None => {
+            (None, Some(v)) => {
+                check_record(r, field.value.span, &what, &["cover"])?;
+                RemoveTarget::Cover(flange_name(v, &format!("`cover` of {what}"))?)
+            }
+            (None, None) => {
                 let (_, at) = picked(
                     field,
                     &what,
@@ -661,7 +665,7 @@ fn problem(p: PartProblem, outline: Span, on: Option<Span>, fields: &NamedFields
         PartProblem::Hole { index, .. } => at_field("punch", punches, *index, "this hole", "draw each hole inside the outline, clear of its edges and of the other holes"),
         PartProblem::Lift { index, .. } => at_field("lift", lifts, *index, "this lift", "draw the region inside the outline, clear of its edges, the holes and the other lifted regions, with a height other than 0 and a draft below 90 deg that its size allows"),
         PartProblem::Bend { index, .. } => at_field("bend", bends, *index, "this bend", "draw the bend line across the plate from one edge of the outline to another, clear of the holes, the lifted regions, the other bends' lines and the flanges' edges, with an angle between -180 and 180 deg; on a `radius`, the zone of facets centred on the line (the radius plus half the thickness, times the angle in radians, wide) must fit on the plate too"),
-        PartProblem::Remove { index, .. } => at_field("remove", removals, *index, "this removal", "put `at` over the top of a lifted region (removing it leaves a collar round a hole) or over a part a bend splits off; or name a flange with `flange: \"NAME\"` that no other flange stands on"),
+        PartProblem::Remove { index, .. } => at_field("remove", removals, *index, "this removal", "put `at` over the top of a lifted region (removing it leaves a collar round a hole) or over a part a bend splits off; or name a flange with `flange: \"NAME\"` that no other flange stands on alone, or a cover with `cover: \"NAME\"`"),
         PartProblem::Move { index, .. } => at_field("move", moves, *index, "this move", "put `at` over the top of a lifted region, and keep it on its side of the plate: `by` moves it in press coordinates, its walls following; or put `corner` within 5 mm of one corner of the part and move it in the plane of every face that meets there"),
         PartProblem::Round { index, .. } => at_field("round", rounds, *index, "this round", "put `at` on (or within 5 mm of) a flange's foot or a bend's line, nearer it than any other, or on the corner where two walls meet (alike, sharp, of the plate's gauge), and give a radius above 0 that fits; a joint takes one radius, and a flange of its own thickness none"),
         PartProblem::Flange { index, .. } => at_field("flange", flanges, *index, "this flange", "put `at` on (or within 5 mm of) a free edge of the outline, nearer it than any other, or `from` and `to` on one (one edge takes one flange); give a height above 0 (or a `shape` from the edge's left end to its right, seen from outside), an angle below 180 deg, and a bend `radius` or a `thickness` of its own, not both; or stand it `on` an earlier flange by name (a straight far edge; at a corner where that flange is joined to another, joined to a return on the other)"),
@@ -734,7 +738,7 @@ fn problem(p: PartProblem, outline: Span, on: Option<Span>, fields: &NamedFields
     }
 }
 
-/// A flange's name given as a string (`on: "lip"`, `flange: "wall.2"`), or a
+/// A flange's or cover's name given as a string (`on: "lip"`, `flange: "wall.2"`), or a
 /// diagnostic naming `what`.
 fn flange_name(v: &Value, what: &str) -> Result<String, Diagnostic> {
     match &v.data {

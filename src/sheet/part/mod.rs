@@ -165,6 +165,10 @@ pub enum RemoveTarget {
     /// added, its sides (on a radius, its strips from the far one in) go, and the edge
     /// it stood on is free again.
     Flange(String),
+    /// A cover by name: once every cover is added, its sides go, and the far edges it
+    /// stood across are free again (a tube's lid taken off: the passage it closed is
+    /// lost).
+    Cover(String),
 }
 
 /// A region of the plate lifted (or pushed down) on walls: an embossment.
@@ -935,7 +939,7 @@ fn build_strips(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
         }
     }
     // Covers across two flanges' far edges, once every flange stands.
-    let mut cover_sides: Vec<(FaceId, FaceId)> = Vec::with_capacity(spec.covers.len());
+    let mut cover_sides: Vec<Option<(FaceId, FaceId)>> = Vec::with_capacity(spec.covers.len());
     for (index, cover) in spec.covers.iter().enumerate() {
         let bad = |why: String| PartProblem::Cover { index, why };
         let mut edges = Vec::with_capacity(2);
@@ -966,38 +970,52 @@ fn build_strips(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
         if let Some(t) = cover.thickness {
             gauge.sheets.push((sides.0, t));
         }
-        cover_sides.push((inside, if inside == sides.0 { sides.1 } else { sides.0 }));
+        let outside = if inside == sides.0 { sides.1 } else { sides.0 };
+        cover_sides.push(Some((inside, outside)));
     }
-    // Flanges removed, by name, once every flange stands.
+    // Flanges and covers removed, by name, once every one stands, in the paper's
+    // cases: a flange on the free boundary trims the sheet; one a cover stands on, or
+    // the cover itself, loses the passage the cover closed.
     for (index, removal) in spec.removals.iter().enumerate() {
-        let RemoveTarget::Flange(name) = &removal.target else {
-            continue;
-        };
         let bad = |why: String| PartProblem::Remove { index, why };
-        let k = flange_named(spec, name).map_err(bad)?;
-        let strips = std::mem::take(&mut flange_sides[k]);
-        if strips.is_empty() {
-            return Err(bad(format!("finds flange `{name}` removed already")));
-        }
-        // From the far strip in: each stands free but for the edge it rises from.
-        for &(side, _) in strips.iter().rev() {
+        // The sides to remove, from the far one in, with what they are.
+        let (sides, what) = match &removal.target {
+            RemoveTarget::Face(_) => continue,
+            RemoveTarget::Flange(name) => {
+                let k = flange_named(spec, name).map_err(bad)?;
+                let strips = std::mem::take(&mut flange_sides[k]);
+                if strips.is_empty() {
+                    return Err(bad(format!("finds flange `{name}` removed already")));
+                }
+                far_edges[k] = None;
+                let sides: Vec<FaceId> = strips.iter().rev().map(|&(side, _)| side).collect();
+                (sides, format!("flange `{name}`"))
+            }
+            RemoveTarget::Cover(name) => {
+                let k = spec
+                    .covers
+                    .iter()
+                    .position(|c| &c.name == name)
+                    .ok_or_else(|| bad(format!("finds no cover `{name}`")))?;
+                let (inside, _) = cover_sides[k]
+                    .take()
+                    .ok_or_else(|| bad(format!("finds cover `{name}` removed already")))?;
+                (vec![inside], format!("cover `{name}`"))
+            }
+        };
+        // Each stands free but for the edges it joins.
+        for side in sides {
             let case = sheet.remove(side).map_err(|e| bad(e.to_string()))?;
-            if let Removal::Trimmed {
-                passages_closed,
-                pieces_made,
-                ..
-            } = &case
-            {
-                if *pieces_made > 0 || *passages_closed > 0 {
+            if let Removal::Trimmed { pieces_made, .. } = &case {
+                if *pieces_made > 0 {
                     return Err(bad(format!(
-                        "would cut the part in two: another flange stands on `{name}`; \
+                        "would cut the part in two: another flange stands on {what} alone; \
                          remove that one first"
                     )));
                 }
             }
             removals.push(case);
         }
-        far_edges[k] = None;
     }
     let flange_edges: Vec<(DVec3, DVec3)> = flange_edges
         .iter()

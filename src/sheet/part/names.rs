@@ -7,14 +7,14 @@ use super::{Cut, PlateSpec};
 /// What the build made of each operation of a plate, for naming its faces: the
 /// plate's cuts along bend creases, each hole's ring of vertices, each lifted region's
 /// top with its walls, each flange's strips' sides (on a radius, the bend's facets
-/// first), and each cover's inside and outside.
+/// first), and each cover's inside and outside (`None` once removed).
 #[derive(Clone, Copy)]
 pub(super) struct Pieces<'a> {
     pub cuts: &'a [Cut],
     pub hole_rings: &'a [Vec<VertexId>],
     pub lifts: &'a [(FaceId, Vec<FaceId>)],
     pub flanges: &'a [Vec<(FaceId, FaceId)>],
-    pub covers: &'a [(FaceId, FaceId)],
+    pub covers: &'a [Option<(FaceId, FaceId)>],
 }
 
 /// The name of each face of a plate's solid, as a designer would call it: `plate.top`
@@ -106,7 +106,11 @@ impl FaceNames {
             insides.push(before.first().copied());
         }
         // Each cover's inside (the side that continues the plate's top) and outside.
-        for (k, &(inside, outside)) in covers.iter().enumerate() {
+        for (k, sides) in covers.iter().enumerate() {
+            // A cover removed has no faces.
+            let Some((inside, outside)) = *sides else {
+                continue;
+            };
             let name = &spec.covers[k].name;
             names.insert(inside, format!("{name}.inside"));
             names.insert(outside, format!("{name}.outside"));
@@ -143,9 +147,11 @@ impl FaceNames {
                     .iter()
                     .position(|strips| strips.iter().any(|&(a, c)| side == a || side == c))
             });
-            let cover = neighbours(f)?
-                .into_iter()
-                .find_map(|side| covers.iter().position(|&(a, c)| side == a || side == c));
+            let cover = neighbours(f)?.into_iter().find_map(|side| {
+                covers
+                    .iter()
+                    .position(|&sides| sides.is_some_and(|(a, c)| side == a || side == c))
+            });
             let prefix = match (hole, owner, cover) {
                 (Some(i), ..) => format!("{}.wall", spec.holes[i].name),
                 (None, Some(k), _) => format!("{}.edge", spec.flanges[k].name),
