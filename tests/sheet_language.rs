@@ -1053,7 +1053,7 @@ fn flange_removals_that_cannot_be_made_are_refused() {
         ),
         (
             "flange lip = { at: (100, 30), height: 20 mm }\n    flange turn = { on: \"lip\", height: 5 mm }\n    remove gone = { flange: \"lip\" }",
-            "`remove gone`: the removal would cut the part in two: another flange stands on `lip`",
+            "`remove gone`: the removal would cut the part in two: another flange stands on flange `lip` alone",
         ),
         (
             "flange lip = { at: (100, 30), height: 20 mm }\n    remove gone = { flange: \"lip\", at: (3, 3) }",
