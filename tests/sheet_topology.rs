@@ -376,6 +376,11 @@ enum SheetOp {
     /// the one picked by the second number (a flange joined at a closed corner, when
     /// those are a plate's edge and a flange's end), with 1 + the third number curves.
     AddRun(u32, u32, u8),
+    /// A sheet added on two picked edges apart (the free edges picked by the first two
+    /// numbers, each run one way or the other by the fourth's bits), with 1 + the
+    /// third number's halves curves after each: `Smep` joins the two edges' zero-area
+    /// loops (a cover across two flanges' far edges when one curve follows each).
+    AddTwo(u32, u32, u8, u8),
 }
 
 fn sheet_op() -> impl Strategy<Value = SheetOp> {
@@ -387,6 +392,8 @@ fn sheet_op() -> impl Strategy<Value = SheetOp> {
         any::<u32>().prop_map(SheetOp::Remove),
         (any::<u32>(), 0u8..5, any::<bool>()).prop_map(|(e, k, r)| SheetOp::Add(e, k, r)),
         (any::<u32>(), any::<u32>(), 0u8..3).prop_map(|(e, f, k)| SheetOp::AddRun(e, f, k)),
+        (any::<u32>(), any::<u32>(), 0u8..9, 0u8..4)
+            .prop_map(|(e, f, k, r)| SheetOp::AddTwo(e, f, k, r)),
     ]
 }
 
@@ -456,6 +463,30 @@ fn apply_sheet(sheet: &mut Sheet, op: SheetOp) -> bool {
                 ])
                 .is_ok()
         }
+        SheetOp::AddTwo(k, j, curves, reversed) => {
+            if free.len() < 2 {
+                return false;
+            }
+            let ends = |e, flip: bool| {
+                let (p, m) = b.halves_of(e).unwrap();
+                let (x, y) = (b.vertex(p).unwrap(), b.vertex(m).unwrap());
+                if flip {
+                    vec![y, x]
+                } else {
+                    vec![x, y]
+                }
+            };
+            let e = free[k as usize % free.len()];
+            let f = free[j as usize % free.len()];
+            sheet
+                .add_sheet(&[
+                    Piece::Picked(ends(e, reversed & 1 == 1)),
+                    Piece::Curves(1 + (curves % 3) as usize),
+                    Piece::Picked(ends(f, reversed & 2 == 2)),
+                    Piece::Curves(1 + (curves / 3) as usize),
+                ])
+                .is_ok()
+        }
         SheetOp::Punch(f, n, v) => {
             let side = pick_side(sheet, f);
             let outer = outer_vertices(sheet, side);
@@ -496,8 +527,8 @@ proptest! {
 
     /// 200 random sequences of up to 30 sheet operations (flanges on free edges,
     /// holes through sides, splits of sides, lifted regions, removed sides, sheets
-    /// added on a free edge or on a run of two, as a closed corner's flange is) from an
-    /// initial sheet, shrinking on failure: after each, the topology and every twin,
+    /// added on a free edge, on a run of two, as a closed corner's flange is, or on two
+    /// edges apart, as a cover is) from an initial sheet, shrinking on failure: after each, the topology and every twin,
     /// zero-area loop and zero-length edge is valid, the genus counts the holes punched
     /// (a removal may add one or close some), and the model stays one shell unless a
     /// removal cuts it; an operation that does not apply changes nothing.
@@ -523,6 +554,16 @@ proptest! {
                                 prop_assert!(c.genus <= genus_before + 1);
                                 holes = c.genus;
                                 prop_assert!(c.shells >= shells);
+                                shells = c.shells;
+                            }
+                            // A sheet on two picked edges joins their zero-area loops
+                            // (Smep): a passage made when they lay on one shell, the
+                            // two shells joined when not.
+                            SheetOp::AddTwo(..) => {
+                                let passage = c.genus == genus_before + 1 && c.shells == shells;
+                                let joined = c.genus == genus_before && c.shells + 1 == shells;
+                                prop_assert!(passage || joined, "{:?} after {:?}", c, op);
+                                holes = c.genus;
                                 shells = c.shells;
                             }
                             _ => {}
@@ -855,6 +896,55 @@ fn random_sheet_sequences_reach_every_removal_case() {
         cases[0], cases[1], cases[2], cases[3]
     );
     assert!(cases.iter().all(|&n| n > 0), "{cases:?}");
+}
+
+/// Seeded random sequences reach both outcomes of a sheet added on two picked edges
+/// apart (Smep, then Smel): a passage made (the two edges on one shell) and two shells
+/// joined (after a removal cut the sheet in two); picks that face opposite ways round
+/// the new sheet are refused with nothing changed, and every result is valid.
+#[test]
+fn random_sheet_sequences_reach_both_outcomes_of_a_sheet_on_two_edges() {
+    let mut seed = 777u64;
+    let mut next = || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (seed >> 33) as u32
+    };
+    // Passage made, shells joined, refused.
+    let mut outcomes = [0usize; 3];
+    for _ in 0..300 {
+        let (mut sheet, _, _) = Sheet::initial(3 + (next() % 4) as usize).unwrap();
+        for _ in 0..20 {
+            let op = match next() % 5 {
+                0 => SheetOp::Flange(next()),
+                1 => SheetOp::Punch(next(), (next() % 4) as u8, next()),
+                2 => SheetOp::Remove(next()),
+                _ => SheetOp::AddTwo(next(), next(), (next() % 9) as u8, (next() % 4) as u8),
+            };
+            let before = sheet.clone();
+            let (genus, shells) = before.check().map(|c| (c.genus, c.shells)).unwrap();
+            let applied = apply_sheet(&mut sheet, op);
+            let c = sheet.check().expect("valid");
+            if !matches!(op, SheetOp::AddTwo(..)) {
+                continue;
+            }
+            match (applied, c.genus > genus, c.shells < shells) {
+                (true, true, false) => outcomes[0] += 1,
+                (true, false, true) => outcomes[1] += 1,
+                (false, ..) => {
+                    assert_eq!(sheet, before);
+                    outcomes[2] += 1
+                }
+                other => panic!("{op:?}: {other:?}"),
+            }
+        }
+    }
+    eprintln!(
+        "sheets on two edges: {} passages made, {} shells joined, {} refused",
+        outcomes[0], outcomes[1], outcomes[2]
+    );
+    assert!(outcomes.iter().all(|&n| n > 0), "{outcomes:?}");
 }
 
 /// The counts of a sheet: vertices, edges, faces, genus, shells.

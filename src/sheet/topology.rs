@@ -1743,14 +1743,37 @@ impl Sheet {
     ///   another open loop (the two loops become one: a passage when they were on one
     ///   sheet, the sheets joined when not).
     ///
-    /// Nothing changes when a picked edge is not free, a run is not a path, or the
-    /// pieces do not alternate between picked runs and curves.
+    /// Nothing changes when a picked edge is not free, a run is not a path, the pieces
+    /// do not alternate between picked runs and curves, or (on two runs or more) the
+    /// picked edges face opposite ways round the new sheet.
     pub fn add_sheet(&mut self, pieces: &[Piece]) -> Result<AddedSheet> {
         let runs = self.picked_runs(pieces)?;
+        if runs.len() < 2 {
+            return self.add_sheet_on(&runs);
+        }
+        // On two runs or more the new sheet continues the side along each picked edge,
+        // so those sides must face one way round it: picked the other way round (one
+        // edge's other side, or run against the others), the sheet would twist
+        // through itself, a one-sided surface no solid bounds.
+        let before = self.clone();
+        let added = self.add_sheet_on(&runs)?;
+        if self.check().is_err() {
+            *self = before;
+            return Err(TopologyError::NotApplicable(
+                "the picked edges face opposite ways round the new sheet: it would twist \
+                 through itself"
+                    .into(),
+            ));
+        }
+        Ok(added)
+    }
+
+    /// [`Sheet::add_sheet`] on its checked runs.
+    fn add_sheet_on(&mut self, runs: &[PickedRun]) -> Result<AddedSheet> {
         let mut b = self.brep.clone();
         let mut made = Made::default();
         // Skze: one open loop per picked run.
-        for run in &runs {
+        for run in runs {
             for &z in &run.inner_zero {
                 b.lkef(z)?;
                 made.killed_edges.push(z);
