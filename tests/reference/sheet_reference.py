@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Thickens the bracket and tray examples with OpenCascade and compares the solids with
+"""Thickens the sheet examples with OpenCascade and compares the solids with
 dieface's (issue 15: "the same part thickened by OpenCascade ... reference volumes and
 a sampled distance between the two solids committed as reference data").
 
@@ -31,7 +31,16 @@ as exact lines and circular arcs sewn into one shell:
 * the tray: the 160 x 100 mm floor with 15 mm corner radii, a 10 mm drain hole and a
   pad 80 x 40 mm lifted 3 mm on walls drafted 30 deg, and a wall 25 mm long all round
   leaning out 10 deg: planes along the sides and exact cones round the corners, where
-  dieface has planar strips on the fillets' chords joined on their mitre lines. That mid-surface is offset by half the gauge to one
+  dieface has planar strips on the fillets' chords joined on their mitre lines;
+* the reinforcement (`examples/reinforcement`) without its 2 mm tab, its rib and its
+  rounded back corners (`trimmed_reinforcement` says why): its holes, the front
+  flange and the step-down bend on 3 mm radii, the back flange at 60 deg and the lip
+  turned in on it. Its mid-surface is dieface's own (the triangles of `reinforcement/mid`
+  made OpenCascade faces, sewn and merged where coplanar), so this part checks the
+  thickening alone: OpenCascade's offsets, intersections and junctions against
+  dieface's on the same sheets.
+
+Each mid-surface is offset by half the gauge to one
 side (`BRepOffsetAPI_MakeOffsetShape`, intersection joins) and thickened by the whole
 gauge back across it (`BRepOffset_MakeOffset` with thickening on: the algorithm under
 `BRepOffsetAPI_MakeThickSolid`), so the solid's mid-surfaces are the sheets, as
@@ -109,6 +118,8 @@ OUT = os.path.join(ROOT, "tests", "data", "sheet_reference.json")
 
 # The bracket's numbers, as examples/bracket/bracket.die gives them.
 BRACKET_GAUGE = 1.5
+# The reinforcement's plate gauge, as examples/reinforcement gives it.
+REINFORCEMENT_GAUGE = 1.2
 LENGTH, DEPTH, CORNER, FLANGE = 120.0, 70.0, 8.0, 30.0
 FOOT_LINE, FOOT_RADIUS = 14.0, 2.0  # the foot's bend line and inside radius, -90 deg
 # The tray's, as examples/tray/tray.die gives them.
@@ -586,6 +597,37 @@ def without_rear_flange(text):
     return "\n".join(kept) + "\n"
 
 
+def trimmed_reinforcement(text):
+    """The reinforcement's script without its 2 mm tab (OpenCascade thickens a shell at
+    one gauge), its rib and its rounded back corners (OpenCascade's offset fails on the
+    rib's drafted walls round its round ends, and on the step-down bend beside the
+    rounded corners, with `BRepOffset_NotConnectedShell`)."""
+    drop = ("flange tab", "lift rib", "fillet corner")
+    kept = [line for line in text.splitlines() if not line.strip().startswith(drop)]
+    if len(kept) != len(text.splitlines()) - 4:
+        raise SystemExit("the reinforcement has not one tab, one rib and two fillets")
+    return "\n".join(kept) + "\n"
+
+
+def dieface_mid_surface(example, sheet, edit):
+    """dieface's mid-surface of the example (its script changed by `edit`), its
+    triangles made OpenCascade faces, sewn into one shell and merged where coplanar
+    (`ShapeUpgrade_UnifySameDomain`). OpenCascade then thickens dieface's own sheets:
+    the offsets, the edges where they meet and the junctions are its, not dieface's."""
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
+    from OCP.ShapeUpgrade import ShapeUpgrade_UnifySameDomain
+
+    mid, triangles = read_obj_object(dieface_obj(dieface, example, edit), f"{sheet}/mid")
+    faces = [BRepBuilderAPI_MakeFace(polygon([tuple(mid[i]) for i in t]), True).Face() for t in triangles]
+    sew = BRepBuilderAPI_Sewing(1e-4)
+    for f in faces:
+        sew.Add(f)
+    sew.Perform()
+    unify = ShapeUpgrade_UnifySameDomain(sew.SewedShape(), True, True, False)
+    unify.Build()
+    return unify.Shape()
+
+
 # Each part: its mid-surface, gauge and thickening, the example and sheet it is
 # compared with (its script edited first where OpenCascade cannot make the whole
 # part), and how far dieface's vertices may lie off the exact solid: on a bend's
@@ -597,6 +639,7 @@ def without_rear_flange(text):
 PARTS = {
     "bracket": dict(build=bracket_mid_surface, gauge=BRACKET_GAUGE, sag=0.01, thicken=thicken, example="bracket", sheet="bracket", edit=None),
     "tray": dict(build=tray_mid_surface, gauge=TRAY_GAUGE, sag=OUTLINE_TOLERANCE, thicken=thicken, example="tray", sheet="tray", edit=None),
+    "reinforcement": dict(build=lambda: dieface_mid_surface("reinforcement", "reinforcement", trimmed_reinforcement), gauge=REINFORCEMENT_GAUGE, sag=1e-6, thicken=thicken, example="reinforcement", sheet="reinforcement", edit=trimmed_reinforcement),
     "hood_reinforcement": dict(build=hood_mid_surface, gauge=HOOD_GAUGE, sag=0.01, thicken=thicken_both_ways, example="hood_reinforcement", sheet="reinforcement", edit=without_rear_flange),
 }
 
