@@ -53,9 +53,10 @@ fn part_matches_opencascade(name: &str, part: &SheetPart) {
         "OpenCascade's solid is invalid"
     );
     let (occ_area, occ_volume) = (number(&occ["mid_area"]), number(&occ["volume"]));
-    // Chords of arcs within the tolerance; on a mid-surface of straight edges only (the
-    // two kernels' sheets the same), the two kernels' rounding, 1e-8 relative.
-    let chords = (tolerance * number(&occ["curved_length"])).max(1e-8 * occ_area);
+    // Chords of arcs within the tolerance. On a mid-surface of straight edges only,
+    // OpenCascade thickens dieface's own sheets as the OBJ gives them, each coordinate
+    // within 5e-7 mm, so the two agree within the area times 1e-6.
+    let chords = (tolerance * number(&occ["curved_length"])).max(1e-6 * occ_area);
     assert!(
         (part.area - occ_area).abs() < chords,
         "area {} against OpenCascade's {occ_area}",
@@ -136,6 +137,15 @@ fn the_reinforcement_thickens_as_opencascade_thickens_its_sheets() {
         4,
     );
     part_matches_opencascade("reinforcement", &script::sheet_part(&trimmed));
+}
+
+/// The pan: drafted walls closed at the corners and a level brim joined all round,
+/// four sheets at each rim corner. OpenCascade thickens its sheets (dieface's
+/// mid-surface) with its own intersection joins, so where the four offset sides meet
+/// at each rim corner is checked against an independent kernel.
+#[test]
+fn the_pan_matches_opencascade_at_its_four_sheet_corners() {
+    matches_opencascade("pan");
 }
 
 #[test]

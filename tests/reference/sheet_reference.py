@@ -40,6 +40,11 @@ as exact lines and circular arcs sewn into one shell:
   thickening alone: OpenCascade's offsets, intersections and junctions against
   dieface's on the same sheets.
 
+* the pan (`examples/pan`): four walls at 80 deg closed at the corners and a level brim
+  joined all round the rim, four sheets at each rim corner. Its mid-surface is
+  dieface's own too, so OpenCascade's intersection joins decide where the four offset
+  sides meet at each rim corner.
+
 Each mid-surface is offset by half the gauge to one
 side (`BRepOffsetAPI_MakeOffsetShape`, intersection joins) and thickened by the whole
 gauge back across it (`BRepOffset_MakeOffset` with thickening on: the algorithm under
@@ -120,6 +125,8 @@ OUT = os.path.join(ROOT, "tests", "data", "sheet_reference.json")
 BRACKET_GAUGE = 1.5
 # The reinforcement's plate gauge, as examples/reinforcement gives it.
 REINFORCEMENT_GAUGE = 1.2
+# The pan's gauge, as examples/pan gives it.
+PAN_GAUGE = 0.8
 LENGTH, DEPTH, CORNER, FLANGE = 120.0, 70.0, 8.0, 30.0
 FOOT_LINE, FOOT_RADIUS = 14.0, 2.0  # the foot's bend line and inside radius, -90 deg
 # The tray's, as examples/tray/tray.die gives them.
@@ -640,6 +647,7 @@ PARTS = {
     "bracket": dict(build=bracket_mid_surface, gauge=BRACKET_GAUGE, sag=0.01, thicken=thicken, example="bracket", sheet="bracket", edit=None),
     "tray": dict(build=tray_mid_surface, gauge=TRAY_GAUGE, sag=OUTLINE_TOLERANCE, thicken=thicken, example="tray", sheet="tray", edit=None),
     "reinforcement": dict(build=lambda: dieface_mid_surface("reinforcement", "reinforcement", trimmed_reinforcement), gauge=REINFORCEMENT_GAUGE, sag=1e-6, thicken=thicken, example="reinforcement", sheet="reinforcement", edit=trimmed_reinforcement),
+    "pan": dict(build=lambda: dieface_mid_surface("pan", "pan", None), gauge=PAN_GAUGE, sag=1e-6, thicken=thicken, example="pan", sheet="pan", edit=None),
     "hood_reinforcement": dict(build=hood_mid_surface, gauge=HOOD_GAUGE, sag=0.01, thicken=thicken_both_ways, example="hood_reinforcement", sheet="reinforcement", edit=without_rear_flange),
 }
 
