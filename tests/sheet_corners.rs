@@ -365,6 +365,37 @@ fn a_drafted_wall_around_a_filleted_outline_is_a_tray_with_round_corners() {
     );
 }
 
+/// An open corner: each wall of a box ended 2 mm short of the corners with `from` and
+/// `to` (a corner relief), so no two are joined. Each wall's end then stands on the
+/// plate's edge as a flange on part of an edge does: junction type 2 at all eight
+/// ends, the wall's outside half its thickness proud of the plate's edge with a step.
+/// The solid is sound and, the steps' corners cancelling, the area times t.
+#[test]
+fn walls_ended_short_of_the_corners_leave_them_open() {
+    let part = script::sheet_part(&script::plate_script(
+        "flange front = { from: (2, 0), to: (98, 0), height: 20 mm }\n    flange right = { from: (100, 2), to: (100, 58), height: 20 mm }\n    flange back = { from: (98, 60), to: (2, 60), height: 20 mm }\n    flange left = { from: (0, 58), to: (0, 2), height: 20 mm }",
+    ));
+    assert_sound(&part.solid);
+    let area = 6000.0 + 2.0 * (96.0 + 56.0) * H;
+    assert!((part.area - area).abs() < 1e-9 * area, "{}", part.area);
+    assert!(
+        (part.volume - area * T).abs() < 1e-9 * area,
+        "{} against {}",
+        part.volume,
+        area * T
+    );
+    assert_eq!(part.junctions.len(), 8);
+    assert!(part.junctions.iter().all(|j| j.kind == JunctionType::Two));
+    for &(x, y) in &[(0.0, 0.0), (100.0, 0.0), (100.0, 60.0), (0.0, 60.0)] {
+        let v = vertex_at(&part, DVec3::new(x, y, 0.0));
+        assert_eq!(
+            sheets_at(&part.sheet, v),
+            1,
+            "the plate alone at ({x}, {y})"
+        );
+    }
+}
+
 /// A flange `around` the outline takes no point, and a run of edges is sharp.
 #[test]
 fn runs_that_cannot_be_made_are_refused() {
