@@ -14,6 +14,8 @@
 //!   by three or more faces are represented, not rejected), vertex stars, free edges
 //!   chained into [`BoundaryLoops`], dihedral angles, orientation checks and connected
 //!   components.
+//! * [`curvature`] reads each node's curvature off a quadric fitted to its neighbours
+//!   (paper 000, section 4), to find the rounds a mesh already has.
 //!
 //! Everything is deterministic: the same input gives the same ids and the same order of
 //! every output list. Nothing panics on any mesh data; invalid input is a
@@ -21,6 +23,7 @@
 
 mod boundary;
 mod crossing;
+pub mod curvature;
 mod ids;
 mod ops;
 mod topology;
