@@ -12,26 +12,27 @@ use dieface::geom::mesh::{Face, Mesh};
 use glam::DVec3;
 
 /// A mesh of `surface` over an `nu` x `nv` grid of parameters in [0, 1]², two
-/// triangles per cell, closed round u (and round v when `closed_v`), wound so its
-/// normals point along `outward` at each point.
+/// triangles per cell, closed round u when `closed_u` and round v when `closed_v`,
+/// wound so its normals point along `outward` at each point.
 fn grid_mesh(
     nu: usize,
     nv: usize,
-    closed_v: bool,
+    (closed_u, closed_v): (bool, bool),
     surface: &dyn Fn(f64, f64) -> DVec3,
     outward: &dyn Fn(f64, f64) -> DVec3,
 ) -> (Mesh, Vec<(f64, f64)>) {
     let rows = if closed_v { nv } else { nv + 1 };
+    let columns = if closed_u { nu } else { nu + 1 };
     let mut positions = Vec::new();
     let mut params = Vec::new();
     for j in 0..rows {
-        for i in 0..nu {
+        for i in 0..columns {
             let (u, v) = (i as f64 / nu as f64, j as f64 / nv as f64);
             positions.push(surface(u, v));
             params.push((u, v));
         }
     }
-    let id = |i: usize, j: usize| ((j % rows) * nu + i % nu) as u32;
+    let id = |i: usize, j: usize| ((j % rows) * columns + i % columns) as u32;
     let mut faces = Vec::new();
     for j in 0..nv {
         for i in 0..nu {
@@ -94,7 +95,7 @@ fn a_tessellated_cylinder_has_its_radius() {
         let surface =
             |u: f64, v: f64| DVec3::new(r * (TAU * u).cos(), r * (TAU * u).sin(), 40.0 * v);
         let outward = |u: f64, _: f64| DVec3::new((TAU * u).cos(), (TAU * u).sin(), 0.0);
-        let (mesh, params) = grid_mesh(n, 8, false, &surface, &outward);
+        let (mesh, params) = grid_mesh(n, 8, (true, false), &surface, &outward);
         // Off the open ends, where a node's neighbours lie on one side only.
         let keep = |_: f64, v: f64| v > 0.01 && v < 0.99;
         let (max, min, nodes) =
@@ -118,7 +119,7 @@ fn a_tessellated_sphere_has_its_radius() {
             r * DVec3::new(lat.cos() * lon.cos(), lat.cos() * lon.sin(), lat.sin())
         };
         let outward = |u: f64, v: f64| surface(u, v) / r;
-        let (mesh, params) = grid_mesh(n, n / 2, false, &surface, &outward);
+        let (mesh, params) = grid_mesh(n, n / 2, (true, false), &surface, &outward);
         let keep = |_: f64, v: f64| (PI * (v - 0.5)).abs() < PI / 3.0;
         let (max, min, nodes) =
             worst_errors(&mesh, &params, &keep, &|_, _| (1.0 / r, 1.0 / r), 1.0 / r);
@@ -151,7 +152,7 @@ fn a_tessellated_torus_has_both_its_curvatures() {
             let (a, b) = (TAU * u, TAU * v);
             DVec3::new(b.cos() * a.cos(), b.cos() * a.sin(), b.sin())
         };
-        let (mesh, params) = grid_mesh(n, n / 2, true, &point, &outward);
+        let (mesh, params) = grid_mesh(n, n / 2, (true, true), &point, &outward);
         let exact = |_: f64, v: f64| {
             let ring = (TAU * v).cos() / (big + small * (TAU * v).cos());
             let tube = 1.0 / small;
@@ -171,11 +172,11 @@ fn a_tessellated_torus_has_both_its_curvatures() {
 #[test]
 fn a_flat_has_none_and_scale_divides_curvature() {
     let plane = |u: f64, v: f64| DVec3::new(100.0 * u, 100.0 * v, 0.0);
-    let (mesh, params) = grid_mesh(10, 10, false, &plane, &|_, _| DVec3::Z);
+    let (mesh, params) = grid_mesh(10, 10, (false, false), &plane, &|_, _| DVec3::Z);
     let found = node_curvatures(&mesh);
     for (k, c) in found.iter().enumerate() {
         let (u, v) = params[k];
-        if u > 0.0 && v > 0.0 && v < 1.0 {
+        if u > 0.0 && u < 1.0 && v > 0.0 && v < 1.0 {
             let c = c.expect("a curvature");
             assert!(c.max.abs() < 1e-12 && c.min.abs() < 1e-12, "{c:?}");
         }
@@ -185,7 +186,7 @@ fn a_flat_has_none_and_scale_divides_curvature() {
         let surface =
             |u: f64, v: f64| factor * r * DVec3::new((TAU * u).cos(), (TAU * u).sin(), 4.0 * v);
         let outward = |u: f64, _: f64| DVec3::new((TAU * u).cos(), (TAU * u).sin(), 0.0);
-        let (mesh, _) = grid_mesh(48, 8, false, &surface, &outward);
+        let (mesh, _) = grid_mesh(48, 8, (true, false), &surface, &outward);
         let c = node_curvatures(&mesh)[48 * 4].expect("a curvature");
         assert!(((c.max * factor * r) - 1.0).abs() < 0.01, "{factor}: {c:?}");
         assert!((c.radius() / (factor * r) - 1.0).abs() < 0.01);

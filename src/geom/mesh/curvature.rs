@@ -2,8 +2,9 @@
 //! rounds). A tool mesh from CAD carries its rounds only as facets; to find a round and
 //! re-round it, each node's curvature is read off a quadric fitted to its neighbours:
 //!
-//! 1. a local frame at the node, `d` along the node's normal (the area-weighted mean of
-//!    its faces' normals) and `u`, `v` across it;
+//! 1. a local frame at the node, `d` along the node's normal (the mean of its faces'
+//!    normals, each weighted by its corner angle there: `Mesh::compute_vertex_normals`)
+//!    and `u`, `v` across it;
 //! 2. the quadric `d = c20 u² + c11 uv + c02 v² + c10 u + c01 v + c00` fitted by least
 //!    squares to the node and its neighbours (the ring of nodes sharing an edge with it,
 //!    and the next ring too where that ring has fewer than 6);
@@ -27,8 +28,7 @@ pub const FIT_NEIGHBOURS: usize = 6;
 /// The curvature of a mesh at one node, read off the quadric fitted round it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct NodeCurvature {
-    /// The unit normal the frame was set up on: the area-weighted mean of the node's
-    /// faces' normals.
+    /// The unit normal the frame was set up on.
     pub normal: DVec3,
     /// The Gaussian curvature K (1/mm²): the product of the principal curvatures.
     pub gaussian: f64,
@@ -50,35 +50,15 @@ impl NodeCurvature {
     }
 }
 
-/// Each node's unit normal: the mean of the normals of the faces round it, each
-/// weighted by its area (`None` for a node on no face, or whose faces cancel).
-pub fn node_normals(mesh: &Mesh) -> Vec<Option<DVec3>> {
-    let p = mesh.positions();
-    let mut sums = vec![DVec3::ZERO; p.len()];
-    for face in mesh.faces() {
-        let ids = face.indices();
-        // Newell's normal: twice the area along the normal, for a triangle or a quad.
-        let mut n = DVec3::ZERO;
-        for (k, &i) in ids.iter().enumerate() {
-            let (a, b) = (p[i as usize], p[ids[(k + 1) % ids.len()] as usize]);
-            n += a.cross(b);
-        }
-        for &i in ids {
-            sums[i as usize] += n;
-        }
-    }
-    sums.into_iter().map(|s| s.try_normalize()).collect()
-}
-
 /// The curvature at every node of `mesh` (`None` at a node with no normal, too few
 /// neighbours, or neighbours the quadric cannot be fitted to: all on one line, say).
 pub fn node_curvatures(mesh: &Mesh) -> Vec<Option<NodeCurvature>> {
     let topology = Topology::build(mesh);
-    let normals = node_normals(mesh);
+    let normals = mesh.compute_vertex_normals();
     (0..mesh.vertex_count())
         .map(|i| {
-            let v = VertexId(i as u32);
-            node_curvature(mesh, &topology, v, normals[i]?)
+            let normal = normals[i].try_normalize()?;
+            node_curvature(mesh, &topology, VertexId(i as u32), normal)
         })
         .collect()
 }
