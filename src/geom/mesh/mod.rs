@@ -26,6 +26,7 @@ mod crossing;
 pub mod curvature;
 mod ids;
 mod ops;
+pub mod rounding;
 mod topology;
 
 pub use boundary::{BoundaryChain, BoundaryLoops};

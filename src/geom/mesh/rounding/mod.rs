@@ -1,0 +1,13 @@
+//! Rolling-ball rounding of sharp edges on a shell mesh (paper 000; issue 16, under
+//! way): a die shoulder that is sharp in a tool mesh tears the sheet in forming
+//! simulation, so the designer rounds the chain of sharp edges through a picked node
+//! directly on the mesh. Each step of the paper's method is its own tested function;
+//! so far:
+//!
+//! 1. [`chain`]: the chain of sharp edges through a picked node, followed both ways to
+//!    the mesh's boundary or back to the start (section 2, step 1).
+//!
+//! The curvature each node has, to find the rounds a mesh already has (section 4), is
+//! [`super::curvature`].
+
+pub mod chain;

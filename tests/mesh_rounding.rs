@@ -1,0 +1,191 @@
+//! Rolling-ball rounding on shell meshes (issue 16, paper 000), step by step. Step 1:
+//! the chain of sharp edges through a picked node, followed both ways to the mesh's
+//! boundary or back to the start; refused, naming the node, where it branches or the
+//! mesh is not manifold and consistently oriented.
+
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
+
+use dieface::geom::mesh::rounding::chain::{
+    chain_through, nearest_sharp_node, sharp_edges, ChainError, DEFAULT_FEATURE_ANGLE,
+};
+use dieface::geom::mesh::{Face, Mesh, Topology};
+use glam::DVec3;
+
+/// A sheet of `nx` x `ny` cells over (s, t) in [0, 1]², placed by `at`, two triangles a
+/// cell wound counter-clockwise in (s, t).
+fn sheet(nx: usize, ny: usize, at: &dyn Fn(f64, f64) -> DVec3) -> Mesh {
+    let mut positions = Vec::new();
+    for j in 0..=ny {
+        for i in 0..=nx {
+            positions.push(at(i as f64 / nx as f64, j as f64 / ny as f64));
+        }
+    }
+    let id = |i: usize, j: usize| (j * (nx + 1) + i) as u32;
+    let mut faces = Vec::new();
+    for j in 0..ny {
+        for i in 0..nx {
+            faces.push(Face::triangle(id(i, j), id(i + 1, j), id(i + 1, j + 1)));
+            faces.push(Face::triangle(id(i, j), id(i + 1, j + 1), id(i, j + 1)));
+        }
+    }
+    Mesh::new(positions, faces).expect("a valid sheet")
+}
+
+/// Sheets joined into one mesh, their shared nodes welded.
+fn joined(sheets: &[Mesh]) -> Mesh {
+    let mut all = sheets[0].clone();
+    for s in &sheets[1..] {
+        all.append(s).expect("appended");
+    }
+    all.weld(1e-9).expect("welded")
+}
+
+/// A plate 100 mm long folded along the x axis: 40 mm flat on y < 0, then 40 mm turned
+/// up by `turn` from it (90 deg: an L; 60 deg: the legs 120 deg apart), 20 cells along
+/// and 8 across each leg.
+fn folded(turn: f64) -> Mesh {
+    let flat = sheet(20, 8, &|s, t| DVec3::new(100.0 * s, -40.0 + 40.0 * t, 0.0));
+    let up = DVec3::new(0.0, turn.cos(), turn.sin());
+    let leg = sheet(20, 8, &|s, t| {
+        DVec3::new(100.0 * s, 0.0, 0.0) + 40.0 * t * up
+    });
+    joined(&[flat, leg])
+}
+
+/// A fold sharper than the feature angle is a chain from one end of the plate to the
+/// other through the picked node: 21 nodes, 100 mm, open, whatever the fold's angle
+/// (legs at 90 and 120 deg, and a shallow 20 deg turn with θ lowered to 10 deg). A
+/// fold shallower than θ has no sharp edge.
+#[test]
+fn a_fold_is_one_open_chain_end_to_end() {
+    for (turn, theta) in [
+        (FRAC_PI_2, DEFAULT_FEATURE_ANGLE),
+        (PI / 3.0, DEFAULT_FEATURE_ANGLE),
+        (20f64.to_radians(), 10f64.to_radians()),
+    ] {
+        let mesh = folded(turn);
+        let topology = Topology::build(&mesh);
+        let sharp = sharp_edges(&mesh, &topology, theta);
+        let (start, d) = nearest_sharp_node(&mesh, &topology, &sharp, DVec3::new(52.0, 1.0, 1.0))
+            .expect("a sharp node");
+        assert!(d < 2.5, "{d}");
+        let chain = chain_through(&mesh, &topology, &sharp, start, None).expect("a chain");
+        assert!(!chain.closed);
+        assert_eq!((chain.nodes.len(), chain.edges.len()), (21, 20));
+        assert!((chain.length(&mesh) - 100.0).abs() < 1e-9);
+        let ends = [chain.nodes[0], chain.nodes[20]].map(|v| mesh.position(v).unwrap().x);
+        assert!(ends.contains(&0.0) && ends.contains(&100.0), "{ends:?}");
+        assert!(chain
+            .nodes
+            .iter()
+            .all(|&v| mesh.position(v).unwrap().y == 0.0));
+    }
+    let shallow = folded(20f64.to_radians());
+    let topology = Topology::build(&shallow);
+    let sharp = sharp_edges(&shallow, &topology, DEFAULT_FEATURE_ANGLE);
+    assert!(
+        sharp.iter().all(|&s| !s),
+        "20 deg is under the 30 deg default"
+    );
+}
+
+/// A capped cylinder's rim is a closed chain: from a node on it, round and back to the
+/// node, 48 edges, its length the rim polygon's perimeter.
+#[test]
+fn a_capped_cylinders_rim_is_a_closed_chain() {
+    let (r, n) = (15.0, 48);
+    let side = sheet(n, 6, &|s, t| {
+        DVec3::new(r * (TAU * s).cos(), r * (TAU * s).sin(), 30.0 * t)
+    });
+    // The cap as a fan of rings, wound to face up, seen from above counter-clockwise.
+    let cap = sheet(n, 3, &|s, t| {
+        let rho = r * (1.0 - t) + 1e-3 * t;
+        DVec3::new(rho * (TAU * s).cos(), rho * (TAU * s).sin(), 30.0)
+    });
+    let mesh = joined(&[side, cap]);
+    let topology = Topology::build(&mesh);
+    let sharp = sharp_edges(&mesh, &topology, DEFAULT_FEATURE_ANGLE);
+    let (start, _) =
+        nearest_sharp_node(&mesh, &topology, &sharp, DVec3::new(r, 0.0, 30.0)).expect("a node");
+    let chain = chain_through(&mesh, &topology, &sharp, start, None).expect("a chain");
+    assert!(chain.closed);
+    assert_eq!((chain.nodes.len(), chain.edges.len()), (n, n));
+    let perimeter = 2.0 * n as f64 * r * (PI / n as f64).sin();
+    assert!((chain.length(&mesh) - perimeter).abs() < 1e-9);
+}
+
+/// A cube's edge runs into corners where three sharp edges meet: refused there, naming
+/// the corner, unless a direction to follow picks one of them within 60 deg; with
+/// (1, 1, 0) the chain turns the first corner and is refused at the next, where no edge
+/// runs that way.
+#[test]
+fn a_chain_that_branches_is_refused_at_the_branch() {
+    let faces: [&dyn Fn(f64, f64) -> DVec3; 6] = [
+        &|s, t| DVec3::new(10.0 * s, 10.0 * t, 0.0),
+        &|s, t| DVec3::new(10.0 * t, 10.0 * s, 10.0),
+        &|s, t| DVec3::new(10.0 * t, 0.0, 10.0 * s),
+        &|s, t| DVec3::new(10.0 * s, 10.0, 10.0 * t),
+        &|s, t| DVec3::new(0.0, 10.0 * s, 10.0 * t),
+        &|s, t| DVec3::new(10.0, 10.0 * t, 10.0 * s),
+    ];
+    let sheets: Vec<Mesh> = faces.iter().map(|f| sheet(4, 4, f)).collect();
+    let mesh = joined(&sheets);
+    let topology = Topology::build(&mesh);
+    assert!(topology.is_closed());
+    let sharp = sharp_edges(&mesh, &topology, DEFAULT_FEATURE_ANGLE);
+    let node_at = |p: DVec3| {
+        (0..mesh.vertex_count() as u32)
+            .find(|&i| mesh.positions()[i as usize].distance(p) < 1e-9)
+            .expect("a node there")
+    };
+    // The top front edge, y = 0, z = 10.
+    let start = dieface::geom::mesh::VertexId(node_at(DVec3::new(5.0, 0.0, 10.0)));
+    let corners = [
+        node_at(DVec3::new(0.0, 0.0, 10.0)),
+        node_at(DVec3::new(10.0, 0.0, 10.0)),
+    ];
+    match chain_through(&mesh, &topology, &sharp, start, None) {
+        Err(ChainError::Branch { node, edges: 3 }) => assert!(corners.contains(&node)),
+        other => panic!("{other:?}"),
+    }
+    let follow = Some(DVec3::new(1.0, 1.0, 0.0));
+    match chain_through(&mesh, &topology, &sharp, start, follow) {
+        Err(ChainError::Branch { node, edges: 3 }) => {
+            assert_eq!(
+                node,
+                node_at(DVec3::new(10.0, 10.0, 10.0)),
+                "the second corner"
+            )
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
+/// A fin on the fold (a third face on one of its edges) leaves the chain's two sides
+/// undecided there: refused, naming a node of that edge.
+#[test]
+fn a_chain_on_a_non_manifold_edge_is_refused() {
+    let mesh = folded(FRAC_PI_2);
+    let (a, b) = (DVec3::new(50.0, 0.0, 0.0), DVec3::new(55.0, 0.0, 0.0));
+    let ids: Vec<u32> = [a, b]
+        .iter()
+        .map(|p| {
+            (0..mesh.vertex_count() as u32)
+                .find(|&i| mesh.positions()[i as usize].distance(*p) < 1e-9)
+                .expect("a fold node")
+        })
+        .collect();
+    let mut positions = mesh.positions().to_vec();
+    positions.push(DVec3::new(52.5, -10.0, 10.0));
+    let mut faces = mesh.faces().to_vec();
+    faces.push(Face::triangle(ids[0], ids[1], positions.len() as u32 - 1));
+    let fin = Mesh::new(positions, faces).expect("a mesh");
+    let topology = Topology::build(&fin);
+    let sharp = sharp_edges(&fin, &topology, DEFAULT_FEATURE_ANGLE);
+    let (start, _) =
+        nearest_sharp_node(&fin, &topology, &sharp, DVec3::new(20.0, 0.0, 0.0)).expect("a node");
+    match chain_through(&fin, &topology, &sharp, start, None) {
+        Err(ChainError::NotManifold { node }) => assert!(ids.contains(&node), "{node}"),
+        other => panic!("{other:?}"),
+    }
+}
