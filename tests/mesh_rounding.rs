@@ -1,14 +1,17 @@
 //! Rolling-ball rounding on shell meshes (issue 16, paper 000), step by step. Step 1:
 //! the chain of sharp edges through a picked node, followed both ways to the mesh's
-//! boundary or back to the start; refused, naming the node, where it branches or the
-//! mesh is not manifold and consistently oriented.
+//! boundary or back to the start (refused, naming the node, where it branches or the
+//! mesh is not manifold and consistently oriented), and the base meshes beside it.
+//! Step 2: each base mesh offset by R keeping its topology.
 
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
+use dieface::geom::mesh::rounding::base::base_meshes;
 use dieface::geom::mesh::rounding::chain::{
     chain_through, nearest_sharp_node, sharp_edges, ChainError, DEFAULT_FEATURE_ANGLE,
 };
-use dieface::geom::mesh::{Face, Mesh, Topology};
+use dieface::geom::mesh::rounding::offset::offset_faces;
+use dieface::geom::mesh::{Face, FaceId, Mesh, Topology};
 use glam::DVec3;
 
 /// A sheet of `nx` x `ny` cells over (s, t) in [0, 1]², placed by `at`, two triangles a
@@ -188,4 +191,141 @@ fn a_chain_on_a_non_manifold_edge_is_refused() {
         Err(ChainError::NotManifold { node }) => assert!(ids.contains(&node), "{node}"),
         other => panic!("{other:?}"),
     }
+}
+
+/// Step 1, the base meshes: on the L fold (legs 5 mm a cell) with a 5 mm ball, the
+/// faces within 3R of the fold, split by it: the flat's faces on one side, the rising
+/// leg's on the other, none on both, and none out of reach.
+#[test]
+fn the_base_meshes_are_the_faces_within_3r_on_each_side() {
+    let mesh = folded(FRAC_PI_2);
+    let topology = Topology::build(&mesh);
+    let sharp = sharp_edges(&mesh, &topology, DEFAULT_FEATURE_ANGLE);
+    let (start, _) =
+        nearest_sharp_node(&mesh, &topology, &sharp, DVec3::new(50.0, 0.0, 0.0)).expect("a node");
+    let chain = chain_through(&mesh, &topology, &sharp, start, None).expect("a chain");
+    let r = 5.0;
+    let base = base_meshes(&mesh, &topology, &chain, r).expect("two base meshes");
+    let corners = |f: FaceId| -> Vec<DVec3> {
+        mesh.face(f)
+            .unwrap()
+            .vertices()
+            .map(|v| mesh.position(v).unwrap())
+            .collect()
+    };
+    let flat = |f: FaceId| corners(f).iter().all(|p| p.z == 0.0);
+    let upright = |f: FaceId| corners(f).iter().all(|p| p.y.abs() < 1e-12);
+    let (one, other) = if flat(base.left[0]) {
+        (&base.left, &base.right)
+    } else {
+        (&base.right, &base.left)
+    };
+    assert!(one.iter().all(|&f| flat(f)) && other.iter().all(|&f| upright(f)));
+    // 20 cells along; across, the cells with a corner within 15 mm: 3 rows of 5 mm plus
+    // the one whose near corner is at 15 mm, two triangles a cell.
+    for side in [one, other] {
+        assert_eq!(side.len(), 20 * 4 * 2, "{}", side.len());
+        for &f in side.iter() {
+            let reach = corners(f)
+                .iter()
+                .map(|p| p.y.abs().max(p.z.abs()))
+                .fold(f64::MAX, f64::min);
+            assert!(reach <= 3.0 * r + 1e-9);
+        }
+    }
+}
+
+/// Step 2, the offset keeping topology: each base mesh of a fold offset by R lies on
+/// its leg's plane moved R along the normal, exactly, its nodes on the fold included
+/// (each side's offset uses its own faces only, so the crease is kept: the two offset
+/// planes meet on the exact spine). Legs 90 and 120 deg apart; on the concave side of
+/// the fold (the side the faces' normals point to) the ball rolls at +R.
+#[test]
+fn a_base_mesh_offset_keeps_its_planes() {
+    for turn in [FRAC_PI_2, PI / 3.0] {
+        let mesh = folded(turn);
+        let topology = Topology::build(&mesh);
+        let sharp = sharp_edges(&mesh, &topology, DEFAULT_FEATURE_ANGLE);
+        let (start, _) = nearest_sharp_node(&mesh, &topology, &sharp, DVec3::new(50.0, 0.0, 0.0))
+            .expect("a node");
+        let chain = chain_through(&mesh, &topology, &sharp, start, None).expect("a chain");
+        let r = 5.0;
+        let base = base_meshes(&mesh, &topology, &chain, r).expect("two base meshes");
+        for side in [&base.left, &base.right] {
+            let offset = offset_faces(&mesh, &topology, side, r);
+            assert!(offset.folded.is_empty(), "{:?}", offset.folded);
+            let n = mesh.face_normal(side[0]).unwrap();
+            let on = mesh
+                .position(mesh.face(side[0]).unwrap().vertex(0).unwrap())
+                .unwrap();
+            for (v, q) in &offset.points {
+                assert!((n.dot(*q - on) - r).abs() < 1e-9, "{v:?} {q}");
+                // Moved straight along the normal: the node's own place in the plane.
+                let p = mesh.position(*v).unwrap();
+                assert!((q - p - r * n).length() < 1e-9);
+            }
+        }
+    }
+}
+
+/// Step 2's filter: a cylinder of radius 4 mm offset 5 mm towards its axis (inwards,
+/// against its outward normals) folds over itself: every node is marked; offset
+/// outwards, or inwards by 3 mm, none is.
+#[test]
+fn an_offset_tighter_than_the_surface_is_marked_folded() {
+    let r = 4.0;
+    let mesh = sheet(32, 4, &|s, t| {
+        DVec3::new(r * (TAU * s).cos(), r * (TAU * s).sin(), 10.0 * t)
+    });
+    let mesh = mesh.weld(1e-9).expect("welded");
+    let topology = Topology::build(&mesh);
+    let faces: Vec<FaceId> = (0..mesh.face_count() as u32).map(FaceId).collect();
+    // The sheet's winding gives normals out of the cylinder.
+    let n = mesh.face_normal(faces[0]).unwrap();
+    let c = mesh
+        .face(faces[0])
+        .unwrap()
+        .vertices()
+        .map(|v| mesh.position(v).unwrap())
+        .sum::<DVec3>()
+        / 3.0;
+    assert!(n.dot(DVec3::new(c.x, c.y, 0.0)) > 0.0, "outward normals");
+    let inward_far = offset_faces(&mesh, &topology, &faces, -5.0);
+    assert_eq!(inward_far.folded.len(), mesh.vertex_count());
+    for d in [5.0, -3.0] {
+        assert!(
+            offset_faces(&mesh, &topology, &faces, d).folded.is_empty(),
+            "{d}"
+        );
+    }
+}
+
+/// A crease that dies out inside the plate (a fold 60 deg up along y = 0 for x below
+/// 50 mm, easing flat by x = 70 mm): its chain ends short of the boundary, the faces on
+/// its two sides join round its end within reach, and the base meshes are refused.
+#[test]
+fn a_chain_ending_inside_the_mesh_has_no_two_sides() {
+    let mesh = sheet(20, 16, &|s, t| {
+        let (x, y) = (100.0 * s, -40.0 + 80.0 * t);
+        let ease = ((70.0 - x) / 20.0).clamp(0.0, 1.0);
+        DVec3::new(x, y, if y > 0.0 { y * 3f64.sqrt() * ease } else { 0.0 })
+    });
+    let topology = Topology::build(&mesh);
+    let sharp = sharp_edges(&mesh, &topology, DEFAULT_FEATURE_ANGLE);
+    let (start, _) =
+        nearest_sharp_node(&mesh, &topology, &sharp, DVec3::new(20.0, 0.0, 0.0)).expect("a node");
+    let chain = chain_through(&mesh, &topology, &sharp, start, None).expect("a chain");
+    let end = chain
+        .nodes
+        .iter()
+        .map(|&v| mesh.position(v).unwrap().x)
+        .fold(0.0, f64::max);
+    assert!(
+        end > 40.0 && end < 100.0,
+        "the crease ends inside, at x = {end}"
+    );
+    assert!(matches!(
+        base_meshes(&mesh, &topology, &chain, 10.0),
+        Err(dieface::geom::mesh::rounding::base::BaseError::NotSplit { .. })
+    ));
 }

@@ -5,9 +5,14 @@
 //! so far:
 //!
 //! 1. [`chain`]: the chain of sharp edges through a picked node, followed both ways to
-//!    the mesh's boundary or back to the start (section 2, step 1).
+//!    the mesh's boundary or back to the start (section 2, step 1); [`base`]: the faces
+//!    within 3R of it, split by it into the two base meshes;
+//! 2. [`offset`]: each base mesh offset by R keeping its topology (Fig. 7b), its nodes
+//!    marked where the surface curves tighter than R towards the ball.
 //!
 //! The curvature each node has, to find the rounds a mesh already has (section 4), is
 //! [`super::curvature`].
 
+pub mod base;
 pub mod chain;
+pub mod offset;

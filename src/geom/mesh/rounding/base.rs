@@ -1,0 +1,121 @@
+//! The base meshes of a round (paper 000, section 2, step 1): the faces within reach of
+//! the chain, split by it into the two groups the ball rolls on, one on each side.
+
+use std::collections::BTreeSet;
+
+use glam::DVec3;
+
+use super::chain::SharpChain;
+use crate::geom::mesh::{FaceId, Mesh, Topology};
+
+/// How far from the chain base faces are taken, in ball radii: the paper's 3R.
+pub const BASE_REACH: f64 = 3.0;
+
+/// The two base meshes of a chain: the faces on its left (the side of the faces whose
+/// winding runs along the chain) and on its right, each within reach of it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BaseMeshes {
+    /// The faces on the chain's left, ascending.
+    pub left: Vec<FaceId>,
+    /// The faces on its right, ascending.
+    pub right: Vec<FaceId>,
+}
+
+/// Why the base meshes could not be split.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum BaseError {
+    /// The faces on the two sides of the chain join round it within reach (an open
+    /// chain that ends inside the mesh, short of its boundary): the ball has no one
+    /// side to roll on.
+    #[error(
+        "the chain does not split the mesh near it in two: its two sides join round face {face}"
+    )]
+    NotSplit { face: u32 },
+    /// A chain edge does not have two faces.
+    #[error("a chain edge has not two faces")]
+    NotTwoFaces,
+}
+
+/// The distance from `p` to the chain's polyline.
+fn distance_to_chain(mesh: &Mesh, chain: &SharpChain, p: DVec3) -> f64 {
+    let at = |k: usize| {
+        mesh.position(chain.nodes[k % chain.nodes.len()])
+            .unwrap_or_default()
+    };
+    (0..chain.edges.len().max(1))
+        .map(|k| {
+            let (a, b) = (at(k), at(k + 1));
+            let ab = b - a;
+            let t = if ab.length_squared() > 0.0 {
+                ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            p.distance(a + t * ab)
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// The base meshes of `chain` for a ball of radius `radius` (the mean radius, for a
+/// variable one): from the faces beside each chain edge, every face reached across an
+/// edge not on the chain with a corner within [`BASE_REACH`] `radius` of the chain.
+/// Refused when the two sides meet.
+pub fn base_meshes(
+    mesh: &Mesh,
+    topology: &Topology,
+    chain: &SharpChain,
+    radius: f64,
+) -> Result<BaseMeshes, BaseError> {
+    let on_chain: BTreeSet<_> = chain.edges.iter().copied().collect();
+    let reach = BASE_REACH * radius;
+    let near = |f: FaceId| {
+        mesh.face(f).is_some_and(|face| {
+            face.vertices().any(|v| {
+                mesh.position(v)
+                    .is_some_and(|p| distance_to_chain(mesh, chain, p) <= reach)
+            })
+        })
+    };
+    // The seeds: each chain edge's face whose side runs along the chain, and the other.
+    let (mut left, mut right) = (Vec::new(), Vec::new());
+    for (k, &e) in chain.edges.iter().enumerate() {
+        let from = chain.nodes[k];
+        let halves = topology.edge_half_edges(e);
+        let [a, b] = *halves else {
+            return Err(BaseError::NotTwoFaces);
+        };
+        let (along, against) = if topology.origin(a) == from {
+            (a, b)
+        } else {
+            (b, a)
+        };
+        left.push(topology.face(along));
+        right.push(topology.face(against));
+    }
+    let flood = |seeds: &[FaceId]| -> BTreeSet<FaceId> {
+        let mut seen: BTreeSet<FaceId> = seeds.iter().copied().collect();
+        let mut queue: Vec<FaceId> = seeds.to_vec();
+        while let Some(f) = queue.pop() {
+            for h in topology.face_half_edges(f) {
+                let e = topology.edge(h);
+                if on_chain.contains(&e) {
+                    continue;
+                }
+                for g in topology.edge_faces(e) {
+                    if near(g) && seen.insert(g) {
+                        queue.push(g);
+                    }
+                }
+            }
+        }
+        seen
+    };
+    let (left, right) = (flood(&left), flood(&right));
+    if let Some(&f) = left.intersection(&right).next() {
+        return Err(BaseError::NotSplit { face: f.0 });
+    }
+    Ok(BaseMeshes {
+        left: left.into_iter().collect(),
+        right: right.into_iter().collect(),
+    })
+}
