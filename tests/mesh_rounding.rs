@@ -6,11 +6,13 @@
 
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
-use dieface::geom::mesh::rounding::base::base_meshes;
+use dieface::geom::mesh::rounding::base::{base_meshes, BaseMeshes};
 use dieface::geom::mesh::rounding::chain::{
-    chain_through, nearest_sharp_node, sharp_edges, ChainError, DEFAULT_FEATURE_ANGLE,
+    chain_through, nearest_sharp_node, sharp_edges, ChainError, SharpChain, DEFAULT_FEATURE_ANGLE,
 };
+use dieface::geom::mesh::rounding::contact::{ball_at, profile};
 use dieface::geom::mesh::rounding::offset::offset_faces;
+use dieface::geom::mesh::rounding::spine::{base_triangles, offset_triangles, spine, Region};
 use dieface::geom::mesh::{Face, FaceId, Mesh, Topology};
 use glam::DVec3;
 
@@ -193,19 +195,26 @@ fn a_chain_on_a_non_manifold_edge_is_refused() {
     }
 }
 
-/// Step 1, the base meshes: on the L fold (legs 5 mm a cell) with a 5 mm ball, the
-/// faces within 3R of the fold, split by it: the flat's faces on one side, the rising
-/// leg's on the other, none on both, and none out of reach.
-#[test]
-fn the_base_meshes_are_the_faces_within_3r_on_each_side() {
-    let mesh = folded(FRAC_PI_2);
+/// The L fold turned by `turn` (see [`folded`]), its topology, the chain along its
+/// fold (picked at its middle) and the base meshes of a ball of radius `r` on it.
+fn fold_round(turn: f64, r: f64) -> (Mesh, Topology, SharpChain, BaseMeshes) {
+    let mesh = folded(turn);
     let topology = Topology::build(&mesh);
     let sharp = sharp_edges(&mesh, &topology, DEFAULT_FEATURE_ANGLE);
     let (start, _) =
         nearest_sharp_node(&mesh, &topology, &sharp, DVec3::new(50.0, 0.0, 0.0)).expect("a node");
     let chain = chain_through(&mesh, &topology, &sharp, start, None).expect("a chain");
-    let r = 5.0;
     let base = base_meshes(&mesh, &topology, &chain, r).expect("two base meshes");
+    (mesh, topology, chain, base)
+}
+
+/// Step 1, the base meshes: on the L fold (legs 5 mm a cell) with a 5 mm ball, the
+/// faces within 3R of the fold, split by it: the flat's faces on one side, the rising
+/// leg's on the other, none on both, and none out of reach.
+#[test]
+fn the_base_meshes_are_the_faces_within_3r_on_each_side() {
+    let r = 5.0;
+    let (mesh, _, _, base) = fold_round(FRAC_PI_2, r);
     let corners = |f: FaceId| -> Vec<DVec3> {
         mesh.face(f)
             .unwrap()
@@ -243,14 +252,8 @@ fn the_base_meshes_are_the_faces_within_3r_on_each_side() {
 #[test]
 fn a_base_mesh_offset_keeps_its_planes() {
     for turn in [FRAC_PI_2, PI / 3.0] {
-        let mesh = folded(turn);
-        let topology = Topology::build(&mesh);
-        let sharp = sharp_edges(&mesh, &topology, DEFAULT_FEATURE_ANGLE);
-        let (start, _) = nearest_sharp_node(&mesh, &topology, &sharp, DVec3::new(50.0, 0.0, 0.0))
-            .expect("a node");
-        let chain = chain_through(&mesh, &topology, &sharp, start, None).expect("a chain");
         let r = 5.0;
-        let base = base_meshes(&mesh, &topology, &chain, r).expect("two base meshes");
+        let (mesh, topology, _, base) = fold_round(turn, r);
         for side in [&base.left, &base.right] {
             let offset = offset_faces(&mesh, &topology, side, r);
             assert!(offset.folded.is_empty(), "{:?}", offset.folded);
@@ -328,4 +331,64 @@ fn a_chain_ending_inside_the_mesh_has_no_two_sides() {
         base_meshes(&mesh, &topology, &chain, 10.0),
         Err(dieface::geom::mesh::rounding::base::BaseError::NotSplit { .. })
     ));
+}
+
+/// Steps 3 to 5 on two planes at 90 deg and at 120 deg (the legs of a fold, the ball
+/// in the corner their normals face, R 5 mm): the spine is where the offsets cross,
+/// exactly the analytic fillet's axis, (x, R (cos τ - 1) / sin τ, R) for a turn τ; each
+/// ball touches both legs at R in their faces; each profile is the exact arc, every
+/// sampled point R from the axis, tangent to both legs at its contacts. The worst
+/// radius error and contact normal angle are printed.
+#[test]
+fn the_round_of_a_fold_is_the_analytic_fillet() {
+    let r = 5.0;
+    for turn in [FRAC_PI_2, PI / 3.0] {
+        let (mesh, topology, chain, base) = fold_round(turn, r);
+        let offsets = [&base.left, &base.right].map(|side| offset_faces(&mesh, &topology, side, r));
+        let tri = offsets.each_ref().map(|o| offset_triangles(&mesh, o));
+        let bases = [&base.left, &base.right].map(|side| base_triangles(&mesh, side));
+        let points = spine(&mesh, &chain, (&tri[0], &tri[1]), (&bases[0], &bases[1]), r);
+        let axis = |x: f64| DVec3::new(x, r * (turn.cos() - 1.0) / turn.sin(), r);
+        assert!(points.len() >= 21, "{} spine points", points.len());
+        let xs: Vec<f64> = points.iter().map(|p| p.x).collect();
+        let rising = xs.windows(2).all(|w| w[0] < w[1]);
+        let falling = xs.windows(2).all(|w| w[0] > w[1]);
+        assert!(rising || falling, "ordered along the chain: {xs:?}");
+        let (lo, hi) = (xs[0].min(xs[xs.len() - 1]), xs[0].max(xs[xs.len() - 1]));
+        assert!(lo < 1e-9 && hi > 100.0 - 1e-9, "{lo} {hi}");
+        let (mut radius_error, mut normal_angle, mut off_axis) = (0.0f64, 0.0f64, 0.0f64);
+        let leg_normal = DVec3::new(0.0, -turn.sin(), turn.cos());
+        for p in &points {
+            off_axis = off_axis.max(p.distance(axis(p.x)));
+            let ball = ball_at(*p, (&bases[0], &bases[1]), r).expect("a ball");
+            assert!(ball
+                .regions
+                .iter()
+                .all(|g| *g != Region::Face || ball.moved < 1e-9));
+            for q in ball.contacts {
+                radius_error = radius_error.max((q.distance(ball.centre) - r).abs());
+                // The profile's normal at a contact against the leg's there.
+                let toward = (ball.centre - q).normalize();
+                let leg = if q.z.abs() < 1e-9 {
+                    DVec3::Z
+                } else {
+                    leg_normal
+                };
+                normal_angle = normal_angle.max(toward.angle_between(leg).to_degrees());
+            }
+            let arc = profile(&ball, r).expect("a profile");
+            for k in 0..=16 {
+                let s = arc.point_at(k as f64 / 16.0);
+                radius_error = radius_error.max((s.distance(axis(p.x)) - r).abs());
+                assert!((s.x - p.x).abs() < 1e-9, "the profile lies across the axis");
+            }
+        }
+        eprintln!(
+            "fold turned {:.0} deg, R {r}: {} spine points {off_axis:.1e} mm off the fillet's axis, \
+             radius error {radius_error:.1e} mm, contact normal angle {normal_angle:.1e} deg",
+            turn.to_degrees(),
+            points.len()
+        );
+        assert!(off_axis < 1e-9 && radius_error < 1e-9 && normal_angle < 1e-6);
+    }
 }
