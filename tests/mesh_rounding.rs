@@ -392,3 +392,98 @@ fn the_round_of_a_fold_is_the_analytic_fillet() {
         assert!(off_axis < 1e-9 && radius_error < 1e-9 && normal_angle < 1e-6);
     }
 }
+
+/// Steps 1 to 5 on a plane and a cylinder: a boss of radius 20 mm standing on a plate,
+/// 96 facets round, the concave foot rounded at R 4 mm. The chain is the foot's closed
+/// polygon; the analytic fillet is a torus, its axis (the spine) the circle of radius
+/// a + R at height R. The facets put the spine within the wall's chord sag (a (1 -
+/// cos(π/96)), scaled by the offset) of that circle; the balls touch both bases at R
+/// exactly, each contact in a face tangent to it (one on a facet's edge between its two
+/// faces' normals, within half the facet angle of the analytic normal); every profile
+/// point lies within the same sag of the torus. The figures are printed.
+#[test]
+fn the_round_of_a_boss_on_a_plate_follows_the_torus() {
+    let (a, r, n) = (20.0, 4.0, 96);
+    let plate = sheet(n, 6, &|s, t| {
+        let rho = a + 30.0 * (1.0 - t);
+        DVec3::new(rho * (TAU * s).cos(), rho * (TAU * s).sin(), 0.0)
+    });
+    let wall = sheet(n, 6, &|s, t| {
+        DVec3::new(a * (TAU * s).cos(), a * (TAU * s).sin(), 30.0 * t)
+    });
+    let mesh = joined(&[plate, wall]);
+    let topology = Topology::build(&mesh);
+    let sharp = sharp_edges(&mesh, &topology, DEFAULT_FEATURE_ANGLE);
+    let (start, _) =
+        nearest_sharp_node(&mesh, &topology, &sharp, DVec3::new(a, 0.0, 0.0)).expect("a node");
+    let chain = chain_through(&mesh, &topology, &sharp, start, None).expect("a chain");
+    assert!(chain.closed && chain.edges.len() == n);
+    let base = base_meshes(&mesh, &topology, &chain, r).expect("two base meshes");
+    let offsets = [&base.left, &base.right].map(|side| offset_faces(&mesh, &topology, side, r));
+    let tri = offsets.each_ref().map(|o| offset_triangles(&mesh, o));
+    let bases = [&base.left, &base.right].map(|side| base_triangles(&mesh, side));
+    let points = spine(&mesh, &chain, (&tri[0], &tri[1]), (&bases[0], &bases[1]), r);
+    assert!(points.len() >= n, "{} spine points", points.len());
+    let sag = a * (1.0 - (PI / n as f64).cos());
+    // Off the torus: the distance to its axis circle less R.
+    let torus = |p: DVec3| {
+        let rho = (p.x * p.x + p.y * p.y).sqrt();
+        ((rho - (a + r)).powi(2) + (p.z - r).powi(2)).sqrt() - r
+    };
+    let (mut off_axis, mut radius_error, mut off_torus, mut tangent) =
+        (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+    let (mut analytic_angle, mut on_edges) = (0.0f64, 0.0f64);
+    for p in &points {
+        let rho = (p.x * p.x + p.y * p.y).sqrt();
+        off_axis = off_axis.max(((rho - (a + r)).powi(2) + (p.z - r).powi(2)).sqrt());
+        let ball = ball_at(*p, (&bases[0], &bases[1]), r).expect("a ball");
+        for ((q, side), region) in ball.contacts.iter().zip(&bases).zip(ball.regions) {
+            radius_error = radius_error.max((q.distance(ball.centre) - r).abs());
+            let toward = (ball.centre - *q).normalize();
+            // Tangent to the base face the contact lies in: its normal along the
+            // centre's direction.
+            let face = side
+                .iter()
+                .min_by(|s, t| {
+                    let d = |x: &[DVec3; 3]| {
+                        dieface::geom::mesh::rounding::spine::nearest_on_triangle(*q, x)
+                            .0
+                            .distance(*q)
+                    };
+                    d(s).total_cmp(&d(t))
+                })
+                .unwrap();
+            let normal = (face[1] - face[0]).cross(face[2] - face[0]).normalize();
+            let off = toward.angle_between(normal).to_degrees();
+            if region == Region::Face {
+                tangent = tangent.max(off);
+            } else {
+                // On a facet's edge the ball's normal lies between its two faces'.
+                on_edges = on_edges.max(off);
+            }
+            let exact = if q.z.abs() < 1e-9 {
+                DVec3::Z
+            } else {
+                DVec3::new(q.x, q.y, 0.0).normalize()
+            };
+            analytic_angle = analytic_angle.max(toward.angle_between(exact).to_degrees());
+        }
+        let arc = profile(&ball, r).expect("a profile");
+        for k in 0..=16 {
+            off_torus = off_torus.max(torus(arc.point_at(k as f64 / 16.0)).abs());
+        }
+    }
+    eprintln!(
+        "boss R {a} on a plate, {n} facets (sag {sag:.3e} mm), round R {r}: {} spine points \
+         {off_axis:.3e} mm off the torus's axis, ball radius error {radius_error:.1e} mm, \
+         profiles {off_torus:.3e} mm off the torus, contacts in a face {tangent:.1e} deg off \
+         its normal, on a facet edge up to {on_edges:.2} deg off a face's (half the facet \
+         angle: {:.3}), {analytic_angle:.2} deg off the analytic normals",
+        points.len(),
+        180.0 / n as f64
+    );
+    assert!(radius_error < 1e-9 && tangent < 1e-5);
+    assert!(on_edges <= 180.0 / n as f64 + 1e-9 && analytic_angle <= 180.0 / n as f64);
+    let allowed = sag * (a + r) / a;
+    assert!(off_axis <= allowed * 1.001 && off_torus <= allowed * 1.001 + 1e-9);
+}

@@ -14,7 +14,8 @@ use crate::geom::curve::NurbsCurve;
 /// A ball placed on the spine: its centre, touching both base meshes at R.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Ball {
-    /// Its centre, re-centred to lie R from both contacts.
+    /// Its centre, re-centred to lie R from both contacts (the contacts found again
+    /// from each new centre until it stays put).
     pub centre: DVec3,
     /// Where it touches each base mesh.
     pub contacts: [DVec3; 2],
@@ -28,25 +29,41 @@ pub struct Ball {
 /// (their triangles): `None` when a base mesh is empty or the two contacts lie more
 /// than 2R apart (no circle of radius R touches both).
 pub fn ball_at(at: DVec3, bases: (&[[DVec3; 3]], &[[DVec3; 3]]), radius: f64) -> Option<Ball> {
-    let (q1, _, r1) = nearest_on(at, bases.0)?;
-    let (q2, _, r2) = nearest_on(at, bases.1)?;
-    // In the plane of the spine point and the contacts: the points R from both.
-    let half = 0.5 * q1.distance(q2);
-    if half > radius || half == 0.0 {
-        return None;
+    let mut centre = at;
+    let mut ball = None;
+    // Re-centred, the ball's nearest points move a little on a curved base: the
+    // contacts are found again from the new centre until it stays put.
+    for _ in 0..RECENTRE_STEPS {
+        let (q1, _, r1) = nearest_on(centre, bases.0)?;
+        let (q2, _, r2) = nearest_on(centre, bases.1)?;
+        // In the plane of the centre and the contacts: the point R from both.
+        let half = 0.5 * q1.distance(q2);
+        if half > radius || half == 0.0 {
+            return None;
+        }
+        let mid = 0.5 * (q1 + q2);
+        let along = (q2 - q1) / (2.0 * half);
+        let towards = (centre - mid) - along * (centre - mid).dot(along);
+        let out = towards.try_normalize()?;
+        let next = mid + out * (radius * radius - half * half).sqrt();
+        let step = next.distance(centre);
+        centre = next;
+        ball = Some(Ball {
+            centre,
+            contacts: [q1, q2],
+            regions: [r1, r2],
+            moved: centre.distance(at),
+        });
+        if step <= 1e-12 * radius {
+            break;
+        }
     }
-    let mid = 0.5 * (q1 + q2);
-    let along = (q2 - q1) / (2.0 * half);
-    let towards = (at - mid) - along * (at - mid).dot(along);
-    let out = towards.try_normalize()?;
-    let centre = mid + out * (radius * radius - half * half).sqrt();
-    Some(Ball {
-        centre,
-        contacts: [q1, q2],
-        regions: [r1, r2],
-        moved: centre.distance(at),
-    })
+    ball
 }
+
+/// How many times at most the ball is re-centred on the contacts found from its
+/// last centre.
+const RECENTRE_STEPS: usize = 16;
 
 /// The profile of `ball`: the circular arc of radius `radius` about its centre from
 /// its first contact to its second, the short way round (the arc facing the sharp
