@@ -12,6 +12,7 @@ use dieface::geom::mesh::rounding::chain::{
 };
 use dieface::geom::mesh::rounding::contact::{ball_at, profile};
 use dieface::geom::mesh::rounding::offset::offset_faces;
+use dieface::geom::mesh::rounding::round::{round_chain, Rounded};
 use dieface::geom::mesh::rounding::spine::{base_triangles, offset_triangles, spine, Region};
 use dieface::geom::mesh::{Face, FaceId, Mesh, Topology};
 use glam::DVec3;
@@ -393,17 +394,9 @@ fn the_round_of_a_fold_is_the_analytic_fillet() {
     }
 }
 
-/// Steps 1 to 5 on a plane and a cylinder: a boss of radius 20 mm standing on a plate,
-/// 96 facets round, the concave foot rounded at R 4 mm. The chain is the foot's closed
-/// polygon; the analytic fillet is a torus, its axis (the spine) the circle of radius
-/// a + R at height R. The facets put the spine within the wall's chord sag (a (1 -
-/// cos(π/96)), scaled by the offset) of that circle; the balls touch both bases at R
-/// exactly, each contact in a face tangent to it (one on a facet's edge between its two
-/// faces' normals, within half the facet angle of the analytic normal); every profile
-/// point lies within the same sag of the torus. The figures are printed.
-#[test]
-fn the_round_of_a_boss_on_a_plate_follows_the_torus() {
-    let (a, r, n) = (20.0, 4.0, 96);
+/// A boss of radius `a` standing 30 mm on a plate reaching 30 mm round it, `n` facets
+/// round (6 rows on each), its topology and the chain round its foot.
+fn boss_on_plate(a: f64, n: usize) -> (Mesh, Topology, SharpChain) {
     let plate = sheet(n, 6, &|s, t| {
         let rho = a + 30.0 * (1.0 - t);
         DVec3::new(rho * (TAU * s).cos(), rho * (TAU * s).sin(), 0.0)
@@ -417,6 +410,21 @@ fn the_round_of_a_boss_on_a_plate_follows_the_torus() {
     let (start, _) =
         nearest_sharp_node(&mesh, &topology, &sharp, DVec3::new(a, 0.0, 0.0)).expect("a node");
     let chain = chain_through(&mesh, &topology, &sharp, start, None).expect("a chain");
+    (mesh, topology, chain)
+}
+
+/// Steps 1 to 5 on a plane and a cylinder: a boss of radius 20 mm standing on a plate,
+/// 96 facets round, the concave foot rounded at R 4 mm. The chain is the foot's closed
+/// polygon; the analytic fillet is a torus, its axis (the spine) the circle of radius
+/// a + R at height R. The facets put the spine within the wall's chord sag (a (1 -
+/// cos(π/96)), scaled by the offset) of that circle; the balls touch both bases at R
+/// exactly, each contact in a face tangent to it (one on a facet's edge between its two
+/// faces' normals, within half the facet angle of the analytic normal); every profile
+/// point lies within the same sag of the torus. The figures are printed.
+#[test]
+fn the_round_of_a_boss_on_a_plate_follows_the_torus() {
+    let (a, r, n) = (20.0, 4.0, 96);
+    let (mesh, topology, chain) = boss_on_plate(a, n);
     assert!(chain.closed && chain.edges.len() == n);
     let base = base_meshes(&mesh, &topology, &chain, r).expect("two base meshes");
     let offsets = [&base.left, &base.right].map(|side| offset_faces(&mesh, &topology, side, r));
@@ -486,4 +494,110 @@ fn the_round_of_a_boss_on_a_plate_follows_the_torus() {
     assert!(on_edges <= 180.0 / n as f64 + 1e-9 && analytic_angle <= 180.0 / n as f64);
     let allowed = sag * (a + r) / a;
     assert!(off_axis <= allowed * 1.001 && off_torus <= allowed * 1.001 + 1e-9);
+}
+
+/// The rounded mesh's checks: manifold, consistently oriented, not through itself,
+/// with as many boundary loops as `before` (no new free edge), and the largest turn
+/// (deg) across an edge where a round face meets a cut face (the stitch).
+fn assert_stitched(before: &Mesh, rounded: &Rounded) -> f64 {
+    let mesh = &rounded.mesh;
+    let topology = Topology::build(mesh);
+    assert!(topology.non_manifold_edges().is_empty(), "manifold");
+    assert!(
+        topology.inconsistent_edges().is_empty(),
+        "consistently oriented"
+    );
+    assert!(
+        dieface::geom::mesh::crossings(mesh).is_empty(),
+        "not through itself"
+    );
+    let loops = |m: &Mesh| Topology::build(m).boundary_loops().loops.len();
+    assert_eq!(loops(mesh), loops(before), "no new free edge");
+    let first_round = mesh.face_count() - rounded.round_faces;
+    let mut stitch = 0.0f64;
+    for e in topology.edges() {
+        let faces: Vec<_> = topology.edge_faces(e).collect();
+        if let [f, g] = faces[..] {
+            if (f.index() < first_round) != (g.index() < first_round) {
+                let angle = topology.dihedral_angle(mesh, e).unwrap_or(0.0);
+                stitch = stitch.max(angle.to_degrees());
+            }
+        }
+    }
+    stitch
+}
+
+/// The largest `off` over the nodes of the round's strip of `rounded`.
+fn worst_round_node(rounded: &Rounded, off: &dyn Fn(DVec3) -> f64) -> f64 {
+    let round = &rounded.mesh;
+    let first_round = round.face_count() - rounded.round_faces;
+    round.faces()[first_round..]
+        .iter()
+        .flat_map(|f| {
+            f.indices()
+                .iter()
+                .map(|&i| off(round.positions()[i as usize]))
+        })
+        .fold(0.0, f64::max)
+}
+
+/// Steps 6 to 8 on the folds at 90 and 120 deg (R 5 mm, the round meshed within
+/// 0.01 mm): the rounded mesh is sound and closed where the input was, every node of
+/// the round's strip within the tolerance of the analytic fillet's cylinder and
+/// between its trim lines, and the turn at the stitch no more than one row's turn of
+/// the round itself (the 90 deg fold's trim lines fall on node rows; the 120 deg one's
+/// cut nodes are moved onto them). Figures printed.
+#[test]
+fn a_rounded_fold_is_sound_and_on_its_fillet() {
+    let r = 5.0;
+    for turn in [FRAC_PI_2, PI / 3.0] {
+        let (mesh, topology, chain, _) = fold_round(turn, r);
+        let rounded = round_chain(&mesh, &topology, &chain, r, 0.01).expect("rounded");
+        let stitch = assert_stitched(&mesh, &rounded);
+        let axis_y = r * (turn.cos() - 1.0) / turn.sin();
+        let round = &rounded.mesh;
+        let off = worst_round_node(&rounded, &|p| {
+            (((p.y - axis_y).powi(2) + (p.z - r).powi(2)).sqrt() - r).abs()
+        });
+        // The round's rows: each turning at most 15 deg and within 0.01 mm of its arc.
+        let step = (PI / 12.0).min(2.0 * (1.0 - 0.01 / r).acos());
+        let rows = (turn / step).ceil().max(2.0);
+        eprintln!(
+            "fold turned {:.0} deg rounded at R {r}: {} faces ({} in the round), nodes {off:.1e} mm \
+             off the fillet, {stitch:.2} deg turn at the stitch (a row turns {:.2})",
+            turn.to_degrees(),
+            round.face_count(),
+            rounded.round_faces,
+            turn.to_degrees() / rows
+        );
+        assert!(off < 0.01, "{off}");
+        assert!(stitch <= turn.to_degrees() / rows + 2.0, "{stitch}");
+    }
+}
+
+/// The boss's foot rounded (a closed chain round a faceted cylinder): the strip closes
+/// on itself, the mesh stays sound, the round's nodes lie within the facets' sag and
+/// the tolerance of the torus, and the turn at the stitch is within a row's turn (and
+/// 2 deg) of the round's own.
+#[test]
+fn a_rounded_boss_closes_round_its_foot() {
+    let (a, r, n) = (20.0, 4.0, 96);
+    let (mesh, topology, chain) = boss_on_plate(a, n);
+    let rounded = round_chain(&mesh, &topology, &chain, r, 0.01).expect("rounded");
+    let stitch = assert_stitched(&mesh, &rounded);
+    let round = &rounded.mesh;
+    let off = worst_round_node(&rounded, &|p| {
+        let rho = (p.x * p.x + p.y * p.y).sqrt();
+        (((rho - (a + r)).powi(2) + (p.z - r).powi(2)).sqrt() - r).abs()
+    });
+    let sag = a * (1.0 - (PI / n as f64).cos());
+    eprintln!(
+        "boss R {a} rounded at R {r}: {} faces ({} in the round), nodes {off:.2e} mm off the \
+         torus (facet sag {sag:.2e}), {stitch:.2} deg turn at the stitch",
+        round.face_count(),
+        rounded.round_faces
+    );
+    assert!(off < sag * (a + r) / a + 0.01, "{off}");
+    let step = (PI / 12.0).min(2.0 * (1.0 - 0.01 / r).acos()).to_degrees();
+    assert!(stitch <= step + 2.0, "{stitch}");
 }

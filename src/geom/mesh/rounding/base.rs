@@ -3,9 +3,8 @@
 
 use std::collections::BTreeSet;
 
-use glam::DVec3;
-
 use super::chain::SharpChain;
+use super::{chain_polyline, polyline_nearest};
 use crate::geom::mesh::{FaceId, Mesh, Topology};
 
 /// How far from the chain base faces are taken, in ball radii: the paper's 3R.
@@ -36,26 +35,6 @@ pub enum BaseError {
     NotTwoFaces,
 }
 
-/// The distance from `p` to the chain's polyline.
-fn distance_to_chain(mesh: &Mesh, chain: &SharpChain, p: DVec3) -> f64 {
-    let at = |k: usize| {
-        mesh.position(chain.nodes[k % chain.nodes.len()])
-            .unwrap_or_default()
-    };
-    (0..chain.edges.len().max(1))
-        .map(|k| {
-            let (a, b) = (at(k), at(k + 1));
-            let ab = b - a;
-            let t = if ab.length_squared() > 0.0 {
-                ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            p.distance(a + t * ab)
-        })
-        .fold(f64::INFINITY, f64::min)
-}
-
 /// The base meshes of `chain` for a ball of radius `radius` (the mean radius, for a
 /// variable one): from the faces beside each chain edge, every face reached across an
 /// edge not on the chain with a corner within [`BASE_REACH`] `radius` of the chain.
@@ -68,11 +47,12 @@ pub fn base_meshes(
 ) -> Result<BaseMeshes, BaseError> {
     let on_chain: BTreeSet<_> = chain.edges.iter().copied().collect();
     let reach = BASE_REACH * radius;
+    let line = chain_polyline(mesh, chain);
     let near = |f: FaceId| {
         mesh.face(f).is_some_and(|face| {
             face.vertices().any(|v| {
                 mesh.position(v)
-                    .is_some_and(|p| distance_to_chain(mesh, chain, p) <= reach)
+                    .is_some_and(|p| polyline_nearest(&line, p).0 <= reach)
             })
         })
     };

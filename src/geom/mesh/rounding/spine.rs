@@ -7,6 +7,7 @@ use glam::DVec3;
 
 use super::chain::SharpChain;
 use super::offset::OffsetMesh;
+use super::{chain_polyline, polyline_nearest};
 use crate::geom::mesh::{Mesh, VertexId};
 
 /// Points of the spine closer together than this, relative to the radius, are one.
@@ -191,24 +192,8 @@ pub fn spine(
         }
     }
     // Along the chain: each point by the arc length of its nearest point on the chain.
-    let node = |k: usize| {
-        mesh.position(chain.nodes[k % chain.nodes.len()])
-            .unwrap_or_default()
-    };
-    let along = |p: DVec3| -> f64 {
-        let (mut best, mut at, mut run) = (f64::INFINITY, 0.0, 0.0);
-        for k in 0..chain.edges.len() {
-            let (a, b) = (node(k), node(k + 1));
-            let ab = b - a;
-            let t = ((p - a).dot(ab) / ab.length_squared().max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
-            let d = p.distance(a + t * ab);
-            if d < best {
-                (best, at) = (d, run + t * ab.length());
-            }
-            run += ab.length();
-        }
-        at
-    };
+    let line = chain_polyline(mesh, chain);
+    let along = |p: DVec3| polyline_nearest(&line, p).1;
     let mut keyed: Vec<(f64, DVec3)> = points.into_iter().map(|p| (along(p), p)).collect();
     keyed.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.x.total_cmp(&b.1.x)));
     let same = SAME_POINT * radius.max(1.0);

@@ -1,0 +1,360 @@
+//! A chain rounded at a constant radius, steps 1 to 8 put together (paper 000, section
+//! 2): the balls along the spine, their profile arcs lofted into the rounding surface
+//! (step 6), the mesh cut back to the trim lines (step 7: the faces reaching inside a
+//! trim line removed, the nodes left on the cut snapped onto it) and the rounding
+//! surface meshed row by row and stitched to the cut with a strip of triangles (step
+//! 8), so the rounded mesh has no gap, no overlap and no new free edge.
+//!
+//! Left for later steps: open chains whose spine stops short of the mesh's boundary
+//! (the paper extends the surface and trims it there), a variable radius, and cutting
+//! faces along a trim line (the nodes next to it are moved onto it instead).
+
+use glam::DVec3;
+
+use super::base::{base_meshes, BaseError};
+use super::chain::SharpChain;
+use super::contact::{ball_at, profile, Ball};
+use super::offset::offset_faces;
+use super::spine::{base_triangles, offset_triangles, spine};
+use super::{chain_polyline, polyline_nearest};
+use crate::geom::construct::{loft, Loft};
+use crate::geom::mesh::{Face, Mesh, Topology, VertexId};
+use crate::geom::surface::NurbsSurface;
+
+/// The largest angle one row of the rounding surface's mesh turns through (radians).
+const ROW_STEP: f64 = std::f64::consts::PI / 12.0;
+
+/// A rounded mesh and what made it.
+#[derive(Debug, Clone)]
+pub struct Rounded {
+    /// The mesh with the chain rounded: the base faces cut back to the trim lines, the
+    /// rounding surface's strip stitched in.
+    pub mesh: Mesh,
+    /// The rounding surface: the profile arcs lofted, u across a profile (from the
+    /// left base mesh to the right), v along the chain.
+    pub surface: NurbsSurface,
+    /// The trim lines: the balls' contacts on the left and on the right base mesh.
+    pub trim_lines: [Vec<DVec3>; 2],
+    /// The balls the surface was lofted through.
+    pub balls: Vec<Ball>,
+    /// How many faces of the rounded mesh are the rounding surface's (its last ones).
+    pub round_faces: usize,
+}
+
+/// Why a chain could not be rounded.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum RoundError {
+    /// The mesh has faces other than triangles.
+    #[error("the mesh must be triangles only (triangulate it first)")]
+    NotTriangles,
+    /// The base meshes could not be split.
+    #[error(transparent)]
+    Base(#[from] BaseError),
+    /// Too few balls fit between the base meshes: the radius is larger than they hold.
+    #[error("the ball of radius {radius} mm finds no place between the base meshes: they do not hold it")]
+    NoRoom { radius: f64 },
+    /// The rounding surface could not be lofted, or the mesh made.
+    #[error("the rounding surface could not be made: {0}")]
+    Surface(String),
+}
+
+/// Rounds `chain` of the triangle mesh `mesh` at `radius`, the rounding surface meshed
+/// within `tolerance` (mm) of its arcs.
+pub fn round_chain(
+    mesh: &Mesh,
+    topology: &Topology,
+    chain: &SharpChain,
+    radius: f64,
+    tolerance: f64,
+) -> Result<Rounded, RoundError> {
+    if mesh.faces().iter().any(|f| !f.is_triangle()) {
+        return Err(RoundError::NotTriangles);
+    }
+    let base = base_meshes(mesh, topology, chain, radius)?;
+    // The ball rolls on the side the normals face where the edge is concave, on the
+    // other where it is convex.
+    let convex = chain
+        .edges
+        .first()
+        .and_then(|&e| topology.signed_dihedral_angle(mesh, e))
+        .is_some_and(|a| a > 0.0);
+    let side = if convex { -radius } else { radius };
+    let offsets = [&base.left, &base.right].map(|f| offset_faces(mesh, topology, f, side));
+    let tri = offsets.each_ref().map(|o| offset_triangles(mesh, o));
+    let bases = [&base.left, &base.right].map(|f| base_triangles(mesh, f));
+    let centres = spine(
+        mesh,
+        chain,
+        (&tri[0], &tri[1]),
+        (&bases[0], &bases[1]),
+        radius,
+    );
+    // The balls, a quarter radius apart at least (the spine's points crowd where the
+    // offsets' edges cross), the last kept.
+    let all: Vec<Ball> = centres
+        .into_iter()
+        .filter_map(|c| ball_at(c, (&bases[0], &bases[1]), radius))
+        .collect();
+    let mut balls: Vec<Ball> = Vec::new();
+    for (k, ball) in all.iter().enumerate() {
+        let far = balls
+            .last()
+            .is_none_or(|last| last.centre.distance(ball.centre) >= 0.25 * radius);
+        if far {
+            balls.push(ball.clone());
+        } else if k + 1 == all.len() && balls.len() > 1 {
+            // The last ball ends the surface: it takes the place of the one before.
+            balls.pop();
+            balls.push(ball.clone());
+        }
+    }
+    if balls.len() < 2 {
+        return Err(RoundError::NoRoom { radius });
+    }
+    let mut profiles = Vec::with_capacity(balls.len() + 1);
+    for b in &balls {
+        profiles.push(profile(b, radius).ok_or(RoundError::NoRoom { radius })?);
+    }
+    let mut trim_lines = [0, 1].map(|s| balls.iter().map(|b| b.contacts[s]).collect::<Vec<_>>());
+    if chain.closed {
+        profiles.push(profiles[0].clone());
+        for line in &mut trim_lines {
+            line.push(line[0]);
+        }
+    }
+    let surface =
+        loft(&profiles, &Loft::default()).map_err(|e| RoundError::Surface(e.to_string()))?;
+    let Cut {
+        mut positions,
+        mut faces,
+        rows,
+    } = cut_to_trim_lines(
+        mesh,
+        topology,
+        chain,
+        [&base.left, &base.right],
+        &trim_lines,
+    );
+    // The rows of the rounding surface's mesh between the two cut rows.
+    let sweep = balls
+        .iter()
+        .map(|b| (b.contacts[0] - b.centre).angle_between(b.contacts[1] - b.centre))
+        .fold(0.0, f64::max);
+    let by_sag = 2.0 * (1.0 - (tolerance / radius).min(1.0)).acos();
+    let steps = (sweep / ROW_STEP.min(by_sag.max(1e-3))).ceil().max(2.0) as usize;
+    let along = rows[0].len().max(rows[1].len()).max(2);
+    let (u0, u1) = surface.domain_u();
+    let (v0, v1) = surface.domain_v();
+    let mut row_ids: Vec<Vec<u32>> = vec![rows[0].clone()];
+    for k in 1..steps {
+        let u = u0 + (u1 - u0) * k as f64 / steps as f64;
+        // Round a closed chain the row's last point is its first: the same node.
+        let distinct = if chain.closed { along - 1 } else { along };
+        let mut ids: Vec<u32> = (0..distinct)
+            .map(|j| {
+                let v = v0 + (v1 - v0) * j as f64 / (along - 1) as f64;
+                positions.push(surface.point_at(u, v));
+                (positions.len() - 1) as u32
+            })
+            .collect();
+        if chain.closed {
+            ids.push(ids[0]);
+        }
+        row_ids.push(ids);
+    }
+    row_ids.push(rows[1].clone());
+    let first_round = faces.len();
+    for pair in row_ids.windows(2) {
+        zip_rows(&positions, &pair[0], &pair[1], &mut faces);
+    }
+    // Wound as the cut mesh: the first round face that holds a cut edge runs it the
+    // other way from the cut face beside it.
+    orient_round(&mut faces, first_round);
+    let round_faces = faces.len() - first_round;
+    // The nodes the cut left unused dropped, the rest kept in order.
+    let mut used = vec![false; positions.len()];
+    for t in &faces {
+        for &i in t {
+            used[i as usize] = true;
+        }
+    }
+    let mut new_id = vec![u32::MAX; positions.len()];
+    let mut kept = Vec::with_capacity(positions.len());
+    for (i, p) in positions.iter().enumerate() {
+        if used[i] {
+            new_id[i] = kept.len() as u32;
+            kept.push(*p);
+        }
+    }
+    let faces: Vec<Face> = faces
+        .into_iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|i| new_id[i as usize]);
+            Face::triangle(a, b, c)
+        })
+        .collect();
+    let mesh = Mesh::new(kept, faces).map_err(|e| RoundError::Surface(e.to_string()))?;
+    Ok(Rounded {
+        mesh,
+        surface,
+        trim_lines,
+        balls,
+        round_faces,
+    })
+}
+
+/// The mesh cut back to the trim lines: its positions and triangles (nodes inside the
+/// round's region left unused), the faces with a node inside a trim line removed and
+/// the nodes left on each cut moved onto its trim line; and each cut's nodes, ordered
+/// along the chain. A node of a base mesh is inside when it lies nearer the chain than
+/// the contact (on its side) nearest it.
+fn cut_to_trim_lines(
+    mesh: &Mesh,
+    topology: &Topology,
+    chain: &SharpChain,
+    sides: [&Vec<crate::geom::mesh::FaceId>; 2],
+    trim_lines: &[Vec<DVec3>; 2],
+) -> Cut {
+    let mut positions = mesh.positions().to_vec();
+    let chain_points = chain_polyline(mesh, chain);
+    let to_chain = |p: DVec3| polyline_nearest(&chain_points, p).0;
+    let mut inside = vec![false; positions.len()];
+    let mut side_of = vec![None; positions.len()];
+    for (s, faces) in sides.iter().enumerate() {
+        for &f in faces.iter() {
+            let Some(face) = mesh.face(f) else { continue };
+            for v in face.vertices() {
+                let p = positions[v.index()];
+                let nearest = trim_lines[s]
+                    .iter()
+                    .copied()
+                    .min_by(|a, b| a.distance(p).total_cmp(&b.distance(p)))
+                    .unwrap_or(p);
+                if to_chain(p) < to_chain(nearest) * (1.0 - 1e-9) {
+                    inside[v.index()] = true;
+                }
+                side_of[v.index()].get_or_insert(s);
+            }
+        }
+    }
+    let kept: Vec<[u32; 3]> = mesh
+        .faces()
+        .iter()
+        .filter(|f| f.vertices().all(|v| !inside[v.index()]))
+        .filter_map(|f| match f.indices() {
+            &[a, b, c] => Some([a, b, c]),
+            _ => None,
+        })
+        .collect();
+    // The cut: edges of kept faces whose other face went.
+    let removed_beside = |a: u32, b: u32| -> bool {
+        let Some(e) = topology.find_edge(VertexId(a), VertexId(b)) else {
+            return false;
+        };
+        topology.edge_faces(e).any(|g| {
+            mesh.face(g)
+                .is_some_and(|face| face.vertices().any(|v| inside[v.index()]))
+        })
+    };
+    let mut on_cut: [Vec<u32>; 2] = [Vec::new(), Vec::new()];
+    for t in &kept {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            if removed_beside(a, b) {
+                for v in [a, b] {
+                    if let Some(s) = side_of[v as usize] {
+                        if !on_cut[s].contains(&v) {
+                            on_cut[s].push(v);
+                        }
+                    }
+                }
+            }
+        }
+    }
+    // Each cut's nodes along the chain, moved onto their trim line.
+    for (s, nodes) in on_cut.iter_mut().enumerate() {
+        nodes.sort_by(|&a, &b| {
+            let (pa, pb) = (positions[a as usize], positions[b as usize]);
+            polyline_nearest(&chain_points, pa)
+                .1
+                .total_cmp(&polyline_nearest(&chain_points, pb).1)
+        });
+        for &v in nodes.iter() {
+            let p = positions[v as usize];
+            positions[v as usize] = polyline_nearest(&trim_lines[s], p).2;
+        }
+        if chain.closed {
+            if let Some(&first) = nodes.first() {
+                nodes.push(first);
+            }
+        }
+    }
+    Cut {
+        positions,
+        faces: kept,
+        rows: on_cut,
+    }
+}
+
+/// The mesh cut back to its trim lines: its positions (the cut's nodes moved onto the
+/// trim lines), the triangles kept, and each cut's nodes in order along the chain.
+struct Cut {
+    positions: Vec<DVec3>,
+    faces: Vec<[u32; 3]>,
+    rows: [Vec<u32>; 2],
+}
+
+/// Triangles between two rows of nodes running the same way (a strip), each node
+/// taken in turn by how far along its row it lies.
+fn zip_rows(positions: &[DVec3], a: &[u32], b: &[u32], faces: &mut Vec<[u32; 3]>) {
+    let fractions = |row: &[u32]| -> Vec<f64> {
+        let mut run = vec![0.0];
+        for w in row.windows(2) {
+            let d = positions[w[0] as usize].distance(positions[w[1] as usize]);
+            run.push(run[run.len() - 1] + d);
+        }
+        let total = run[run.len() - 1].max(f64::MIN_POSITIVE);
+        run.into_iter().map(|r| r / total).collect()
+    };
+    let (fa, fb) = (fractions(a), fractions(b));
+    let (mut i, mut j) = (0, 0);
+    while i + 1 < a.len() || j + 1 < b.len() {
+        let take_a = j + 1 >= b.len() || (i + 1 < a.len() && fa[i + 1] <= fb[j + 1]);
+        if take_a {
+            faces.push([a[i], a[i + 1], b[j]]);
+            i += 1;
+        } else {
+            faces.push([a[i], b[j + 1], b[j]]);
+            j += 1;
+        }
+    }
+}
+
+/// Winds the faces from `first` on (the round's strip, all wound alike) against the
+/// faces before them: where a round face shares an edge with a cut face, the two must
+/// run it opposite ways; if they run it the same way, every round face is turned.
+fn orient_round(faces: &mut [[u32; 3]], first: usize) {
+    let (cut, round) = faces.split_at_mut(first);
+    let runs = |t: &[u32; 3], a: u32, b: u32| (0..3).any(|k| t[k] == a && t[(k + 1) % 3] == b);
+    let mut same = None;
+    'search: for r in round.iter() {
+        for k in 0..3 {
+            let (a, b) = (r[k], r[(k + 1) % 3]);
+            for c in cut.iter() {
+                if runs(c, a, b) {
+                    same = Some(true);
+                    break 'search;
+                }
+                if runs(c, b, a) {
+                    same = Some(false);
+                    break 'search;
+                }
+            }
+        }
+    }
+    if same == Some(true) {
+        for r in round.iter_mut() {
+            r.swap(1, 2);
+        }
+    }
+}
