@@ -601,3 +601,30 @@ fn a_rounded_boss_closes_round_its_foot() {
     let step = (PI / 12.0).min(2.0 * (1.0 - 0.01 / r).acos()).to_degrees();
     assert!(stitch <= step + 2.0, "{stitch}");
 }
+
+/// The fold's faces turned over (normals away from the inner corner: the edge now
+/// convex, a punch's shoulder seen from its outside) round the same corner: the ball
+/// rolls against the normals, and the fillet is the same cylinder.
+#[test]
+fn a_convex_edge_is_rounded_against_its_normals() {
+    let r = 5.0;
+    let mesh = folded(FRAC_PI_2);
+    let turned: Vec<Face> = mesh.faces().iter().map(|f| f.reversed()).collect();
+    let mesh = Mesh::new(mesh.positions().to_vec(), turned).expect("a mesh");
+    let topology = Topology::build(&mesh);
+    let sharp = sharp_edges(&mesh, &topology, DEFAULT_FEATURE_ANGLE);
+    let (start, _) =
+        nearest_sharp_node(&mesh, &topology, &sharp, DVec3::new(50.0, 0.0, 0.0)).expect("a node");
+    let chain = chain_through(&mesh, &topology, &sharp, start, None).expect("a chain");
+    let edge = chain.edges[0];
+    assert!(
+        topology.signed_dihedral_angle(&mesh, edge).unwrap() > 0.0,
+        "convex"
+    );
+    let rounded = round_chain(&mesh, &topology, &chain, r, 0.01).expect("rounded");
+    assert_stitched(&mesh, &rounded);
+    let off = worst_round_node(&rounded, &|p| {
+        (((p.y + r).powi(2) + (p.z - r).powi(2)).sqrt() - r).abs()
+    });
+    assert!(off < 1e-9, "{off}");
+}
