@@ -184,18 +184,21 @@ impl Plan {
                     .map_or_else(|| "die_face".into(), |s| s.to_string_lossy().into_owned());
                 match pipeline.write_outputs(&b, &self.outputs, &stem, self.durability, &mut stage)
                 {
-                    Ok(files) => Ok(Built::Written {
-                        files,
-                        took: started.elapsed(),
-                        stages: {
-                            let cur = current.borrow();
-                            let mut t = *times.borrow();
-                            t.add(cur.0, cur.1);
-                            t
-                        },
-                        reran: b.reran,
-                        tessellated: b.tessellated,
-                    }),
+                    Ok(files) => {
+                        super::OUTPUTS_WRITTEN.store(true, std::sync::atomic::Ordering::SeqCst);
+                        Ok(Built::Written {
+                            files,
+                            took: started.elapsed(),
+                            stages: {
+                                let cur = current.borrow();
+                                let mut t = *times.borrow();
+                                t.add(cur.0, cur.1);
+                                t
+                            },
+                            reran: b.reran,
+                            tessellated: b.tessellated,
+                        })
+                    }
                     Err((path, e)) => {
                         clear();
                         eprintln!("error: cannot write `{}`: {e}", path.display());

@@ -143,6 +143,12 @@ pub(crate) const USAGE_ERROR: u8 = 2;
 /// a process ended by SIGINT).
 pub(crate) const INTERRUPTED: i32 = 130;
 
+/// Set once a build has every output in place: a Ctrl-C after that interrupts only the
+/// printing, so the process ends with success rather than [`INTERRUPTED`] (which says
+/// the outputs were left as they were).
+pub(crate) static OUTPUTS_WRITTEN: std::sync::atomic::AtomicBool =
+    std::sync::atomic::AtomicBool::new(false);
+
 /// On Ctrl-C (SIGINT) or SIGTERM, removes the temporary files of the writes under way
 /// and ends the process with `code` at once, even in the middle of an evaluation or a
 /// tessellation: the outputs stay as they were and no `.tmp` file is left. The `ctrlc`
@@ -151,6 +157,10 @@ pub(crate) const INTERRUPTED: i32 = 130;
 pub(crate) fn stop_on_interrupt(code: i32) {
     if let Err(e) = ctrlc::set_handler(move || {
         crate::export::atomic::remove_temp_files();
+        // Every output already in place: nothing was interrupted but the printing.
+        if OUTPUTS_WRITTEN.load(std::sync::atomic::Ordering::SeqCst) {
+            std::process::exit(0);
+        }
         std::process::exit(code);
     }) {
         eprintln!("warning: cannot catch Ctrl-C: {e}");
