@@ -119,7 +119,8 @@ pub struct Registry {
 }
 
 impl Registry {
-    /// The standard kinds: the die-face features, sheet parts and `die_checks`.
+    /// The standard kinds: the die-face features, sheet parts, mesh rounds and
+    /// `die_checks`.
     pub fn standard() -> Registry {
         Registry {
             kinds: vec![
@@ -128,6 +129,7 @@ impl Registry {
                 super::step_draw::KIND,
                 super::bead::KIND,
                 super::sheet::KIND,
+                super::round::KIND,
                 super::die_checks::KIND,
             ],
         }

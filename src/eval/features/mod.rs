@@ -16,6 +16,7 @@ mod die_checks;
 pub mod explain;
 pub mod kind;
 mod punch_opening;
+mod round;
 mod sheet;
 mod step_draw;
 

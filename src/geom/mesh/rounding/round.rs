@@ -50,8 +50,9 @@ pub enum RoundError {
     /// The base meshes could not be split.
     #[error(transparent)]
     Base(#[from] BaseError),
-    /// Too few balls fit between the base meshes: the radius is larger than they hold.
-    #[error("the ball of radius {radius} mm finds no place between the base meshes: they do not hold it")]
+    /// Too few balls fit between the base meshes, or one rolls off their edge: the
+    /// radius is larger than they hold.
+    #[error("the ball of radius {radius} mm does not fit between the faces beside the edge: it rolls off them")]
     NoRoom { radius: f64 },
     /// The rounding surface could not be lofted, or the mesh made.
     #[error("the rounding surface could not be made: {0}")]
@@ -109,6 +110,28 @@ pub fn round_chain(
         }
     }
     if balls.len() < 2 {
+        return Err(RoundError::NoRoom { radius });
+    }
+    // A ball touching the mesh's free boundary (but at an open chain's ends, where the
+    // chain itself meets it) has rolled off its base mesh: the radius is too large.
+    let free: Vec<(DVec3, DVec3)> = topology
+        .free_edges()
+        .into_iter()
+        .filter_map(|e| {
+            let [a, b] = topology.edge_vertices(e);
+            Some((mesh.position(a)?, mesh.position(b)?))
+        })
+        .collect();
+    let on_free = |q: DVec3| {
+        free.iter()
+            .any(|&(a, b)| polyline_nearest(&[a, b], q).0 <= 1e-9 * radius.max(1.0))
+    };
+    let inner = if chain.closed {
+        &balls[..]
+    } else {
+        &balls[1..balls.len() - 1]
+    };
+    if inner.iter().any(|b| b.contacts.iter().any(|&q| on_free(q))) {
         return Err(RoundError::NoRoom { radius });
     }
     let mut profiles = Vec::with_capacity(balls.len() + 1);
