@@ -48,13 +48,24 @@ pub fn base_meshes(
     let on_chain: BTreeSet<_> = chain.edges.iter().copied().collect();
     let reach = BASE_REACH * radius;
     let line = chain_polyline(mesh, chain);
-    let near = |f: FaceId| {
-        mesh.face(f).is_some_and(|face| {
-            face.vertices().any(|v| {
-                mesh.position(v)
-                    .is_some_and(|p| polyline_nearest(&line, p).0 <= reach)
-            })
+    // Each node's reach is worked out once: the flood asks for it from every face round
+    // the node, and each answer walks the whole chain.
+    let within: Vec<std::cell::Cell<Option<bool>>> = (0..mesh.vertex_count())
+        .map(|_| std::cell::Cell::new(None))
+        .collect();
+    let node_near = |v: crate::geom::mesh::VertexId| {
+        let slot = &within[v.index()];
+        slot.get().unwrap_or_else(|| {
+            let near = mesh
+                .position(v)
+                .is_some_and(|p| polyline_nearest(&line, p).0 <= reach);
+            slot.set(Some(near));
+            near
         })
+    };
+    let near = |f: FaceId| {
+        mesh.face(f)
+            .is_some_and(|face| face.vertices().any(node_near))
     };
     // The seeds: each chain edge's face whose side runs along the chain, and the other.
     let (mut left, mut right) = (Vec::new(), Vec::new());

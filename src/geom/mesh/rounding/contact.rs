@@ -7,7 +7,8 @@
 
 use glam::DVec3;
 
-use super::spine::{nearest_on, Region};
+use super::index::TriangleGrid;
+use super::spine::Region;
 use crate::geom::arc::circular_arc;
 use crate::geom::curve::NurbsCurve;
 
@@ -29,13 +30,39 @@ pub struct Ball {
 /// (their triangles): `None` when a base mesh is empty or the two contacts lie more
 /// than 2R apart (no circle of radius R touches both).
 pub fn ball_at(at: DVec3, bases: (&[[DVec3; 3]], &[[DVec3; 3]]), radius: f64) -> Option<Ball> {
+    let grids = (
+        TriangleGrid::new(bases.0.to_vec()),
+        TriangleGrid::new(bases.1.to_vec()),
+    );
+    ball_on(at, (&grids.0, &grids.1), radius)
+}
+
+/// The balls of radius `radius` at each spine point of `points` on the base meshes
+/// `bases` (their triangles), as [`ball_at`] finds them, the bases indexed once.
+pub fn balls_at(
+    points: &[DVec3],
+    bases: (&[[DVec3; 3]], &[[DVec3; 3]]),
+    radius: f64,
+) -> Vec<Option<Ball>> {
+    let grids = (
+        TriangleGrid::new(bases.0.to_vec()),
+        TriangleGrid::new(bases.1.to_vec()),
+    );
+    points
+        .iter()
+        .map(|&p| ball_on(p, (&grids.0, &grids.1), radius))
+        .collect()
+}
+
+/// [`ball_at`] on indexed base meshes.
+fn ball_on(at: DVec3, bases: (&TriangleGrid, &TriangleGrid), radius: f64) -> Option<Ball> {
     let mut centre = at;
     let mut ball = None;
     // Re-centred, the ball's nearest points move a little on a curved base: the
     // contacts are found again from the new centre until it stays put.
     for _ in 0..RECENTRE_STEPS {
-        let (q1, _, r1) = nearest_on(centre, bases.0)?;
-        let (q2, _, r2) = nearest_on(centre, bases.1)?;
+        let (q1, _, r1) = bases.0.nearest(centre)?;
+        let (q2, _, r2) = bases.1.nearest(centre)?;
         // In the plane of the centre and the contacts: the point R from both.
         let half = 0.5 * q1.distance(q2);
         if half > radius || half == 0.0 {

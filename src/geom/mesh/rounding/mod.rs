@@ -27,6 +27,7 @@
 pub mod base;
 pub mod chain;
 pub mod contact;
+pub mod index;
 pub mod offset;
 pub mod round;
 pub mod spine;

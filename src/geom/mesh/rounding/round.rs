@@ -13,7 +13,7 @@ use glam::DVec3;
 
 use super::base::{base_meshes, BaseError};
 use super::chain::SharpChain;
-use super::contact::{ball_at, profile, Ball};
+use super::contact::{balls_at, profile, Ball};
 use super::offset::offset_faces;
 use super::spine::{base_triangles, offset_triangles, spine};
 use super::{chain_polyline, polyline_nearest};
@@ -92,9 +92,9 @@ pub fn round_chain(
     );
     // The balls, a quarter radius apart at least (the spine's points crowd where the
     // offsets' edges cross), the last kept.
-    let all: Vec<Ball> = centres
+    let all: Vec<Ball> = balls_at(&centres, (&bases[0], &bases[1]), radius)
         .into_iter()
-        .filter_map(|c| ball_at(c, (&bases[0], &bases[1]), radius))
+        .flatten()
         .collect();
     let mut balls: Vec<Ball> = Vec::new();
     for (k, ball) in all.iter().enumerate() {
@@ -247,6 +247,9 @@ fn cut_to_trim_lines(
         for &f in faces.iter() {
             let Some(face) = mesh.face(f) else { continue };
             for v in face.vertices() {
+                if side_of[v.index()].is_some() {
+                    continue;
+                }
                 let p = positions[v.index()];
                 let nearest = trim_lines[s]
                     .iter()
@@ -280,7 +283,11 @@ fn cut_to_trim_lines(
         })
     };
     let mut on_cut: [Vec<u32>; 2] = [Vec::new(), Vec::new()];
-    for t in &kept {
+    // Only faces with a base mesh's node can lie on a cut.
+    for t in kept
+        .iter()
+        .filter(|t| t.iter().any(|&v| side_of[v as usize].is_some()))
+    {
         for k in 0..3 {
             let (a, b) = (t[k], t[(k + 1) % 3]);
             if removed_beside(a, b) {
@@ -296,12 +303,12 @@ fn cut_to_trim_lines(
     }
     // Each cut's nodes along the chain, moved onto their trim line.
     for (s, nodes) in on_cut.iter_mut().enumerate() {
-        nodes.sort_by(|&a, &b| {
-            let (pa, pb) = (positions[a as usize], positions[b as usize]);
-            polyline_nearest(&chain_points, pa)
-                .1
-                .total_cmp(&polyline_nearest(&chain_points, pb).1)
-        });
+        let mut keyed: Vec<(f64, u32)> = nodes
+            .iter()
+            .map(|&v| (polyline_nearest(&chain_points, positions[v as usize]).1, v))
+            .collect();
+        keyed.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        *nodes = keyed.into_iter().map(|(_, v)| v).collect();
         for &v in nodes.iter() {
             let p = positions[v as usize];
             positions[v as usize] = polyline_nearest(&trim_lines[s], p).2;

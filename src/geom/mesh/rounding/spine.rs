@@ -13,8 +13,7 @@ use crate::geom::mesh::{Mesh, VertexId};
 /// Points of the spine closer together than this, relative to the radius, are one.
 const SAME_POINT: f64 = 1e-9;
 
-/// A triangle's corners.
-type Triangle = [DVec3; 3];
+use super::index::{Triangle, TriangleGrid};
 
 /// The triangles of `offset`, each corner at its offset point (faces with a folded
 /// corner, or not triangles, are left out).
@@ -156,17 +155,6 @@ pub enum Region {
     Corner(usize),
 }
 
-/// The point of `triangles` nearest `p`, its distance and region.
-pub fn nearest_on(p: DVec3, triangles: &[Triangle]) -> Option<(DVec3, f64, Region)> {
-    triangles
-        .iter()
-        .map(|t| {
-            let (q, r) = nearest_on_triangle(p, t);
-            (q, q.distance(p), r)
-        })
-        .min_by(|a, b| a.1.total_cmp(&b.1))
-}
-
 /// The spine of a round of radius `radius`: the points where the offsets `one` and
 /// `other` of the two base meshes (their triangles) cross, ordered along `chain`, less
 /// those closer than the radius to either base mesh (`bases`).
@@ -178,12 +166,14 @@ pub fn spine(
     radius: f64,
 ) -> Vec<DVec3> {
     let bounds = |t: &Triangle| (t[0].min(t[1]).min(t[2]), t[0].max(t[1]).max(t[2]));
-    let other_bounds: Vec<(DVec3, DVec3)> = other.iter().map(bounds).collect();
+    let other = TriangleGrid::new(other.to_vec());
     let mut points = Vec::new();
     for s in one {
         let (lo, hi) = bounds(s);
-        for (t, (tlo, thi)) in other.iter().zip(&other_bounds) {
-            if lo.cmpgt(*thi).any() || tlo.cmpgt(hi).any() {
+        for k in other.candidates(lo, hi) {
+            let t = &other.triangles[k as usize];
+            let (tlo, thi) = bounds(t);
+            if lo.cmpgt(thi).any() || tlo.cmpgt(hi).any() {
                 continue;
             }
             if let Some((p, q)) = triangle_crossing(s, t) {
@@ -197,15 +187,20 @@ pub fn spine(
     let mut keyed: Vec<(f64, DVec3)> = points.into_iter().map(|p| (along(p), p)).collect();
     keyed.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.x.total_cmp(&b.1.x)));
     let same = SAME_POINT * radius.max(1.0);
+    let bases = (
+        TriangleGrid::new(bases.0.to_vec()),
+        TriangleGrid::new(bases.1.to_vec()),
+    );
     let mut out: Vec<DVec3> = Vec::with_capacity(keyed.len());
     for (_, p) in keyed {
         if out.last().is_some_and(|q| q.distance(p) <= same) {
             continue;
         }
-        let clear = |base: &[Triangle]| {
-            nearest_on(p, base).is_none_or(|(_, d, _)| d >= radius * (1.0 - 1e-6))
+        let clear = |base: &TriangleGrid| {
+            base.nearest(p)
+                .is_none_or(|(_, d, _)| d >= radius * (1.0 - 1e-6))
         };
-        if clear(bases.0) && clear(bases.1) {
+        if clear(&bases.0) && clear(&bases.1) {
             out.push(p);
         }
     }
