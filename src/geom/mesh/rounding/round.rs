@@ -158,6 +158,11 @@ pub fn round_chain(
         [&base.left, &base.right],
         &trim_lines,
     );
+    if rows.iter().any(|row| row.len() < 2) {
+        return Err(RoundError::Surface(
+            "cutting the mesh back to a trim line left no edge along it".into(),
+        ));
+    }
     // The rows of the rounding surface's mesh between the two cut rows.
     let sweep = balls
         .iter()
