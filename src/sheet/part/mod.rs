@@ -741,13 +741,12 @@ fn build_strips(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
     // (the direction it rises in from its foot, and its inside's normal); `None` where
     // it has no one far edge free to stand on (a drawn shape, a closed corner).
     let mut far_edges: Vec<Option<(EdgeId, DVec3, DVec3)>> = Vec::with_capacity(spec.flanges.len());
-    // Whether each flange is joined to another at a corner (its far edge then runs on
-    // into the other's), and each return flange's foot, where later returns join it.
-    let mut corner_joined: Vec<bool> = Vec::with_capacity(spec.flanges.len());
+    // Each return flange's foot, where later returns join it.
     let mut feet: Vec<Option<ReturnFoot>> = Vec::with_capacity(spec.flanges.len());
     // Which of each flange's far corners (in `far_corners`' order) it shares with a
-    // flange joined to it there, and each return's foot ends on its parent's far
-    // corners: (the return, its end, the parent, the parent's far corner).
+    // flange joined to it there (a flange joined at either is joined at a corner: its
+    // far edge runs on into the other's), and each return's foot ends on its parent's
+    // far corners: (the return, its end, the parent, the parent's far corner).
     let mut ends_joined: Vec<[bool; 2]> = Vec::with_capacity(spec.flanges.len());
     let mut at_corners: Vec<(usize, usize, usize, usize)> = Vec::new();
     for (index, flange) in spec.flanges.iter().enumerate() {
@@ -756,7 +755,7 @@ fn build_strips(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
         if let Some(parent) = &flange.on {
             let context = Earlier {
                 far_edges: &far_edges,
-                corner_joined: &corner_joined,
+                ends_joined: &ends_joined,
                 feet: &feet,
             };
             let added = add_return(&mut sheet, &mut mid, spec, index, parent, &context).map_err(
@@ -770,21 +769,12 @@ fn build_strips(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
                     },
                 },
             )?;
+            // The far corners shared with earlier returns were placed on their
+            // mitres by `add_return`; both returns are joined at those ends now.
             let mut own = [false; 2];
-            for &(other, end, top) in &added.joins {
-                if let Some(foot) = &feet[other] {
-                    mid.place(&sheet, foot.far_corners[end], top)
-                        .map_err(topo)?;
-                    // Its end joined to the earlier return's: the same corner.
-                    let at = mid.point(foot.far_corners[end]);
-                    for (mine, &v) in added.far_corners.iter().enumerate() {
-                        if mid.point(v) == at {
-                            own[mine] = true;
-                        }
-                    }
-                }
-                corner_joined[other] = true;
-                ends_joined[other][end] = true;
+            for join in &added.joins {
+                own[join.own_end] = true;
+                ends_joined[join.other][join.their_end] = true;
             }
             // Where its foot's ends are its parent's joined far corners, it must be
             // joined there too (checked once every flange stands).
@@ -799,7 +789,6 @@ fn build_strips(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
                     }
                 }
             }
-            corner_joined.push(!added.joins.is_empty());
             ends_joined.push(own);
             feet.push(Some(added.foot_of));
             flange_edges[index] = (NO_VERTEX, NO_VERTEX, added.foot.0, added.foot.1);
@@ -907,8 +896,6 @@ fn build_strips(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
         // The far edge a return flange may stand on: the straight flange's (not a
         // drawn shape's); joined at a corner (either way round), it runs on into the
         // other flange's far edge there.
-        let corner = joined[index] != [None, None]
-            || joined.iter().flatten().any(|&other| other == Some(index));
         let rise = flange.angle.cos() * out + flange.angle.sin() * n;
         let inside = -flange.angle.sin() * out + flange.angle.cos() * n;
         far_edges.push(
@@ -916,7 +903,6 @@ fn build_strips(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
                 .filter(|_| shape.is_none())
                 .map(|e| (e, rise, inside)),
         );
-        corner_joined.push(corner);
         ends_joined.push([mitred[index][0].is_some(), mitred[index][1].is_some()]);
         feet.push(None);
         flange_sides.push(strips);
@@ -945,7 +931,7 @@ fn build_strips(spec: &PlateSpec) -> Result<SheetPart, PartProblem> {
         let mut edges = Vec::with_capacity(2);
         for name in &cover.on {
             let k = flange_named(spec, name).map_err(bad)?;
-            if corner_joined[k] {
+            if ends_joined[k].contains(&true) {
                 return Err(bad(format!(
                     "cannot stand on flange `{name}`: it is joined to another at a corner, \
                      and the cover's corner there would meet them both on the free boundary"
@@ -1340,9 +1326,17 @@ struct AddedReturn {
     far_edge: (EdgeId, DVec3, DVec3),
     strips: Vec<(FaceId, FaceId)>,
     foot_of: ReturnFoot,
-    /// The joins made: (the earlier return, which of its ends, where the two far
-    /// corners go).
-    joins: Vec<(usize, usize, DVec3)>,
+    /// The joins made with earlier returns.
+    joins: Vec<ReturnJoin>,
+}
+
+/// A return joined to an earlier one at a corner: the earlier return, which end of
+/// each (in their feet's order) meets the other there.
+#[derive(Debug, Clone, Copy)]
+struct ReturnJoin {
+    other: usize,
+    their_end: usize,
+    own_end: usize,
 }
 
 /// A return flange as a later return on a neighbouring flange sees it: the vertices at
@@ -1356,11 +1350,11 @@ struct ReturnFoot {
 }
 
 /// What a return flange finds of the flanges before it: each one's far edge with its
-/// frame (see [`add_return`]), whether it is joined to another at a corner, and each
-/// return's foot.
+/// frame (see [`add_return`]), which of its far corners it shares with a flange joined
+/// to it there, and each return's foot.
 struct Earlier<'a> {
     far_edges: &'a [Option<(EdgeId, DVec3, DVec3)>],
-    corner_joined: &'a [bool],
+    ends_joined: &'a [[bool; 2]],
     feet: &'a [Option<ReturnFoot>],
 }
 
@@ -1470,7 +1464,7 @@ fn add_return(
             }
         }
     }
-    if meets == [None, None] && !earlier.corner_joined[p] {
+    if meets == [None, None] && !earlier.ends_joined[p].contains(&true) {
         // Standing alone on a flange standing alone: swept off its far edge.
         let mut strips = Vec::with_capacity(reaches.len());
         let mut far = edge;
@@ -1539,7 +1533,11 @@ fn add_return(
         };
         let top = corners::return_mitre(at, &theirs.standing, &standing).map_err(fail)?;
         tops[end] = Some(top);
-        joins.push((other, j, top));
+        joins.push(ReturnJoin {
+            other,
+            their_end: j,
+            own_end: end,
+        });
     }
     let (before, after) = (meets[0].map(|m| m.2), meets[1].map(|m| m.2));
     let mut path: Vec<VertexId> = before.into_iter().collect();
