@@ -202,8 +202,7 @@ fn build(block: &Block) -> Result<Value, Diagnostic> {
 
 /// A point as a designer reads it.
 fn show(p: DVec3) -> String {
-    let r = |x: f64| (x * 1000.0).round() / 1000.0;
-    format!("({}, {}, {})", r(p.x), r(p.y), r(p.z))
+    format!("({}, {}, {})", round(p.x), round(p.y), round(p.z))
 }
 
 /// The value of a built round: its pieces and `quality`.
