@@ -11,6 +11,7 @@ use dieface::geom::mesh::rounding::chain::{
     chain_through, nearest_sharp_node, sharp_edges, ChainError, SharpChain, DEFAULT_FEATURE_ANGLE,
 };
 use dieface::geom::mesh::rounding::contact::{ball_at, profile};
+use dieface::geom::mesh::rounding::index::TriangleGrid;
 use dieface::geom::mesh::rounding::offset::offset_faces;
 use dieface::geom::mesh::rounding::round::{round_chain, Rounded};
 use dieface::geom::mesh::rounding::spine::{base_triangles, offset_triangles, spine, Region};
@@ -348,7 +349,8 @@ fn the_round_of_a_fold_is_the_analytic_fillet() {
         let offsets = [&base.left, &base.right].map(|side| offset_faces(&mesh, &topology, side, r));
         let tri = offsets.each_ref().map(|o| offset_triangles(&mesh, o));
         let bases = [&base.left, &base.right].map(|side| base_triangles(&mesh, side));
-        let points = spine(&mesh, &chain, (&tri[0], &tri[1]), (&bases[0], &bases[1]), r);
+        let grids = bases.clone().map(TriangleGrid::new);
+        let points = spine(&mesh, &chain, (&tri[0], &tri[1]), (&grids[0], &grids[1]), r);
         let axis = |x: f64| DVec3::new(x, r * (turn.cos() - 1.0) / turn.sin(), r);
         assert!(points.len() >= 21, "{} spine points", points.len());
         let xs: Vec<f64> = points.iter().map(|p| p.x).collect();
@@ -430,7 +432,8 @@ fn the_round_of_a_boss_on_a_plate_follows_the_torus() {
     let offsets = [&base.left, &base.right].map(|side| offset_faces(&mesh, &topology, side, r));
     let tri = offsets.each_ref().map(|o| offset_triangles(&mesh, o));
     let bases = [&base.left, &base.right].map(|side| base_triangles(&mesh, side));
-    let points = spine(&mesh, &chain, (&tri[0], &tri[1]), (&bases[0], &bases[1]), r);
+    let grids = bases.clone().map(TriangleGrid::new);
+    let points = spine(&mesh, &chain, (&tri[0], &tri[1]), (&grids[0], &grids[1]), r);
     assert!(points.len() >= n, "{} spine points", points.len());
     let sag = a * (1.0 - (PI / n as f64).cos());
     // Off the torus: the distance to its axis circle less R.

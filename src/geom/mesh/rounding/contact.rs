@@ -37,21 +37,14 @@ pub fn ball_at(at: DVec3, bases: (&[[DVec3; 3]], &[[DVec3; 3]]), radius: f64) ->
     ball_on(at, (&grids.0, &grids.1), radius)
 }
 
-/// The balls of radius `radius` at each spine point of `points` on the base meshes
-/// `bases` (their triangles), as [`ball_at`] finds them, the bases indexed once.
+/// The balls of radius `radius` at each spine point of `points` on the indexed base
+/// meshes `bases`, as [`ball_at`] finds them.
 pub fn balls_at(
     points: &[DVec3],
-    bases: (&[[DVec3; 3]], &[[DVec3; 3]]),
+    bases: (&TriangleGrid, &TriangleGrid),
     radius: f64,
 ) -> Vec<Option<Ball>> {
-    let grids = (
-        TriangleGrid::new(bases.0.to_vec()),
-        TriangleGrid::new(bases.1.to_vec()),
-    );
-    points
-        .iter()
-        .map(|&p| ball_on(p, (&grids.0, &grids.1), radius))
-        .collect()
+    points.iter().map(|&p| ball_on(p, bases, radius)).collect()
 }
 
 /// [`ball_at`] on indexed base meshes.

@@ -14,6 +14,7 @@ use glam::DVec3;
 use super::base::{base_meshes, BaseError};
 use super::chain::SharpChain;
 use super::contact::{balls_at, profile, Ball};
+use super::index::TriangleGrid;
 use super::offset::offset_faces;
 use super::spine::{base_triangles, offset_triangles, spine};
 use super::{chain_polyline, polyline_nearest};
@@ -82,7 +83,7 @@ pub fn round_chain(
     let side = if convex { -radius } else { radius };
     let offsets = [&base.left, &base.right].map(|f| offset_faces(mesh, topology, f, side));
     let tri = offsets.each_ref().map(|o| offset_triangles(mesh, o));
-    let bases = [&base.left, &base.right].map(|f| base_triangles(mesh, f));
+    let bases = [&base.left, &base.right].map(|f| TriangleGrid::new(base_triangles(mesh, f)));
     let centres = spine(
         mesh,
         chain,

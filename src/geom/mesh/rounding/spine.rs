@@ -157,12 +157,12 @@ pub enum Region {
 
 /// The spine of a round of radius `radius`: the points where the offsets `one` and
 /// `other` of the two base meshes (their triangles) cross, ordered along `chain`, less
-/// those closer than the radius to either base mesh (`bases`).
+/// those closer than the radius to either base mesh (`bases`, indexed).
 pub fn spine(
     mesh: &Mesh,
     chain: &SharpChain,
     (one, other): (&[Triangle], &[Triangle]),
-    bases: (&[Triangle], &[Triangle]),
+    bases: (&TriangleGrid, &TriangleGrid),
     radius: f64,
 ) -> Vec<DVec3> {
     let bounds = |t: &Triangle| (t[0].min(t[1]).min(t[2]), t[0].max(t[1]).max(t[2]));
@@ -187,10 +187,6 @@ pub fn spine(
     let mut keyed: Vec<(f64, DVec3)> = points.into_iter().map(|p| (along(p), p)).collect();
     keyed.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.x.total_cmp(&b.1.x)));
     let same = SAME_POINT * radius.max(1.0);
-    let bases = (
-        TriangleGrid::new(bases.0.to_vec()),
-        TriangleGrid::new(bases.1.to_vec()),
-    );
     let mut out: Vec<DVec3> = Vec::with_capacity(keyed.len());
     for (_, p) in keyed {
         if out.last().is_some_and(|q| q.distance(p) <= same) {
@@ -200,7 +196,7 @@ pub fn spine(
             base.nearest(p)
                 .is_none_or(|(_, d, _)| d >= radius * (1.0 - 1e-6))
         };
-        if clear(&bases.0) && clear(&bases.1) {
+        if clear(bases.0) && clear(bases.1) {
             out.push(p);
         }
     }
