@@ -10,9 +10,11 @@ use dieface::geom::mesh::rounding::base::{base_meshes, BaseMeshes};
 use dieface::geom::mesh::rounding::chain::{
     chain_through, nearest_sharp_node, sharp_edges, ChainError, SharpChain, DEFAULT_FEATURE_ANGLE,
 };
+use dieface::geom::mesh::rounding::chain_polyline;
 use dieface::geom::mesh::rounding::contact::{ball_at, profile};
 use dieface::geom::mesh::rounding::index::TriangleGrid;
 use dieface::geom::mesh::rounding::offset::offset_faces;
+use dieface::geom::mesh::rounding::radius::RadiusLaw;
 use dieface::geom::mesh::rounding::round::{round_chain, Rounded};
 use dieface::geom::mesh::rounding::spine::{base_triangles, offset_triangles, spine, Region};
 use dieface::geom::mesh::{Face, FaceId, Mesh, Topology};
@@ -350,7 +352,12 @@ fn the_round_of_a_fold_is_the_analytic_fillet() {
         let tri = offsets.each_ref().map(|o| offset_triangles(&mesh, o));
         let bases = [&base.left, &base.right].map(|side| base_triangles(&mesh, side));
         let grids = bases.clone().map(TriangleGrid::new);
-        let points = spine(&mesh, &chain, (&tri[0], &tri[1]), (&grids[0], &grids[1]), r);
+        let points = spine(
+            &chain_polyline(&mesh, &chain),
+            (&tri[0], &tri[1]),
+            (&grids[0], &grids[1]),
+            r,
+        );
         let axis = |x: f64| DVec3::new(x, r * (turn.cos() - 1.0) / turn.sin(), r);
         assert!(points.len() >= 21, "{} spine points", points.len());
         let xs: Vec<f64> = points.iter().map(|p| p.x).collect();
@@ -379,7 +386,7 @@ fn the_round_of_a_fold_is_the_analytic_fillet() {
                 };
                 normal_angle = normal_angle.max(toward.angle_between(leg).to_degrees());
             }
-            let arc = profile(&ball, r).expect("a profile");
+            let arc = profile(&ball).expect("a profile");
             for k in 0..=16 {
                 let s = arc.point_at(k as f64 / 16.0);
                 radius_error = radius_error.max((s.distance(axis(p.x)) - r).abs());
@@ -433,7 +440,12 @@ fn the_round_of_a_boss_on_a_plate_follows_the_torus() {
     let tri = offsets.each_ref().map(|o| offset_triangles(&mesh, o));
     let bases = [&base.left, &base.right].map(|side| base_triangles(&mesh, side));
     let grids = bases.clone().map(TriangleGrid::new);
-    let points = spine(&mesh, &chain, (&tri[0], &tri[1]), (&grids[0], &grids[1]), r);
+    let points = spine(
+        &chain_polyline(&mesh, &chain),
+        (&tri[0], &tri[1]),
+        (&grids[0], &grids[1]),
+        r,
+    );
     assert!(points.len() >= n, "{} spine points", points.len());
     let sag = a * (1.0 - (PI / n as f64).cos());
     // Off the torus: the distance to its axis circle less R.
@@ -479,7 +491,7 @@ fn the_round_of_a_boss_on_a_plate_follows_the_torus() {
             };
             analytic_angle = analytic_angle.max(toward.angle_between(exact).to_degrees());
         }
-        let arc = profile(&ball, r).expect("a profile");
+        let arc = profile(&ball).expect("a profile");
         for k in 0..=16 {
             off_torus = off_torus.max(torus(arc.point_at(k as f64 / 16.0)).abs());
         }
@@ -508,7 +520,14 @@ fn assert_stitched(before: &Mesh, rounded: &Rounded) -> f64 {
     assert!(topology.non_manifold_edges().is_empty(), "manifold");
     assert!(
         topology.inconsistent_edges().is_empty(),
-        "consistently oriented"
+        "consistently oriented: {:?}",
+        topology
+            .inconsistent_edges()
+            .iter()
+            .map(|&e| topology
+                .edge_vertices(e)
+                .map(|v| mesh.positions()[v.index()]))
+            .collect::<Vec<_>>()
     );
     assert!(
         dieface::geom::mesh::crossings(mesh).is_empty(),
@@ -555,7 +574,8 @@ fn a_rounded_fold_is_sound_and_on_its_fillet() {
     let r = 5.0;
     for turn in [FRAC_PI_2, PI / 3.0] {
         let (mesh, topology, chain, _) = fold_round(turn, r);
-        let rounded = round_chain(&mesh, &topology, &chain, r, 0.01).expect("rounded");
+        let rounded =
+            round_chain(&mesh, &topology, &chain, &RadiusLaw::constant(r), 0.01).expect("rounded");
         let stitch = assert_stitched(&mesh, &rounded);
         let axis_y = r * (turn.cos() - 1.0) / turn.sin();
         let round = &rounded.mesh;
@@ -586,7 +606,8 @@ fn a_rounded_fold_is_sound_and_on_its_fillet() {
 fn a_rounded_boss_closes_round_its_foot() {
     let (a, r, n) = (20.0, 4.0, 96);
     let (mesh, topology, chain) = boss_on_plate(a, n);
-    let rounded = round_chain(&mesh, &topology, &chain, r, 0.01).expect("rounded");
+    let rounded =
+        round_chain(&mesh, &topology, &chain, &RadiusLaw::constant(r), 0.01).expect("rounded");
     let stitch = assert_stitched(&mesh, &rounded);
     let round = &rounded.mesh;
     let off = worst_round_node(&rounded, &|p| {
@@ -624,10 +645,183 @@ fn a_convex_edge_is_rounded_against_its_normals() {
         topology.signed_dihedral_angle(&mesh, edge).unwrap() > 0.0,
         "convex"
     );
-    let rounded = round_chain(&mesh, &topology, &chain, r, 0.01).expect("rounded");
+    let rounded =
+        round_chain(&mesh, &topology, &chain, &RadiusLaw::constant(r), 0.01).expect("rounded");
     assert_stitched(&mesh, &rounded);
     let off = worst_round_node(&rounded, &|p| {
         (((p.y + r).powi(2) + (p.z - r).powi(2)).sqrt() - r).abs()
     });
     assert!(off < 1e-9, "{off}");
+}
+
+/// The fold at 90 deg with its corner already rounded at `r0`: 40 mm flat, the round's
+/// quarter circle in `rows` facets, then 40 mm up, 20 cells along x.
+fn rounded_fold(r0: f64, rows: usize) -> Mesh {
+    let flat = sheet(20, 8, &|s, t| {
+        DVec3::new(100.0 * s, -40.0 + (40.0 - r0) * t, 0.0)
+    });
+    let round = sheet(20, rows, &|s, t| {
+        let phi = FRAC_PI_2 * t;
+        DVec3::new(100.0 * s, -r0 + r0 * phi.sin(), r0 - r0 * phi.cos())
+    });
+    let up = sheet(20, 8, &|s, t| {
+        DVec3::new(100.0 * s, 0.0, r0 + (40.0 - r0) * t)
+    });
+    joined(&[flat, round, up])
+}
+
+/// The largest distance of a ball's centre from where the ball of the radius `law`
+/// gives at its x (the chain running along x from 0) stands in the fold's corner,
+/// (x, -r, r), and of its contacts from their feet on the two legs.
+fn worst_corner_ball(rounded: &Rounded, law: &dyn Fn(f64) -> f64) -> f64 {
+    rounded
+        .balls
+        .iter()
+        .map(|b| {
+            let r = law(b.centre.x);
+            let at = DVec3::new(b.centre.x, -r, r);
+            let feet = [DVec3::new(at.x, -r, 0.0), DVec3::new(at.x, 0.0, r)];
+            let (c0, c1) = if b.contacts[0].z.abs() < 1e-9 {
+                (b.contacts[0], b.contacts[1])
+            } else {
+                (b.contacts[1], b.contacts[0])
+            };
+            let radius = (b.radius - r).abs();
+            b.centre
+                .distance(at)
+                .max(c0.distance(feet[0]))
+                .max(c1.distance(feet[1]))
+                .max(radius)
+        })
+        .fold(0.0, f64::max)
+}
+
+/// Step 5 with a variable radius on the fold at 90 deg: radii 4, 8 and 4 mm at x = 0,
+/// 50 and 100 (a cubic spline between). Every ball stands in its plane across the
+/// chain at the spline's radius there, touching both legs at their feet; the rounded
+/// mesh is sound; each node of the round's strip lies within the tolerance (and the
+/// loft's error between profiles, printed) of the circle of its x's radius.
+#[test]
+fn a_variable_radius_round_of_a_fold_follows_its_spline() {
+    let (mesh, topology, chain, _) = fold_round(FRAC_PI_2, 6.0);
+    let guide = chain_polyline(&mesh, &chain);
+    // The chain may run either way along x: radii placed by their points.
+    let along =
+        |x: f64| dieface::geom::mesh::rounding::polyline_nearest(&guide, DVec3::new(x, 0.0, 0.0)).1;
+    let law = RadiusLaw::through(
+        &[(along(0.0), 4.0), (along(50.0), 8.0), (along(100.0), 4.0)],
+        100.0,
+        false,
+    )
+    .expect("positive radii");
+    let rounded = round_chain(&mesh, &topology, &chain, &law, 0.01).expect("rounded");
+    let at_x = |x: f64| law.at(along(x));
+    let ball_error = worst_corner_ball(&rounded, &at_x);
+    let stitch = assert_stitched(&mesh, &rounded);
+    let off = worst_round_node(&rounded, &|p| {
+        let r = at_x(p.x);
+        (((p.y + r).powi(2) + (p.z - r).powi(2)).sqrt() - r).abs()
+    });
+    let radii: Vec<f64> = rounded.balls.iter().map(|b| b.radius).collect();
+    let (lo, hi) = radii
+        .iter()
+        .fold((f64::INFINITY, 0.0f64), |(a, b), &r| (a.min(r), b.max(r)));
+    eprintln!(
+        "fold rounded at 4-8-4 mm: {} balls, radii {lo:.3}..{hi:.3} mm, ball error {ball_error:.1e} mm, \
+         strip nodes {off:.1e} mm off their circles, stitch {stitch:.2} deg",
+        rounded.balls.len()
+    );
+    assert!(ball_error < 1e-9, "{ball_error}");
+    assert!(
+        (lo - 4.0).abs() < 0.05 && (hi - 8.0).abs() < 0.05,
+        "{lo} {hi}"
+    );
+    assert!(off < 0.02, "{off}");
+    assert!(stitch < 15.0 + 2.0, "{stitch}");
+}
+
+/// Paper 000, section 4, on the fold whose corner was rounded at 7.5 mm in 6 facets:
+/// the round through a node in its middle is its strip (its nodes off the rims, the 6
+/// rows of faces), of radius 7.5 mm within 3 % (the facets' 15 deg read it 2 % tight), 100 mm long, with the flat and the leg
+/// beside it; re-rounded at 15 mm, and at a radius rising from 7.5 to 15 mm and back,
+/// the balls stand in the corner at their radius and the mesh stays sound.
+#[test]
+fn an_existing_round_is_found_and_widened() {
+    use dieface::geom::mesh::curvature::node_curvatures;
+    use dieface::geom::mesh::rounding::existing::{find_round, reround_site, DEFAULT_BAND};
+    use dieface::geom::mesh::rounding::round::round_site;
+    let r0 = 7.5;
+    let mesh = rounded_fold(r0, 6);
+    let topology = Topology::build(&mesh);
+    let curvatures = node_curvatures(&mesh);
+    let picked = (0..mesh.vertex_count())
+        .min_by(|&a, &b| {
+            let d = |i: usize| {
+                mesh.positions()[i].distance(DVec3::new(
+                    50.0,
+                    -r0 + r0 * 0.5f64.sqrt(),
+                    r0 - r0 * 0.5f64.sqrt(),
+                ))
+            };
+            d(a).total_cmp(&d(b))
+        })
+        .expect("nodes");
+    let found = find_round(
+        &mesh,
+        &topology,
+        &curvatures,
+        dieface::geom::mesh::VertexId(picked as u32),
+        DEFAULT_BAND,
+    )
+    .expect("a round");
+    eprintln!(
+        "found round: radius {:.3} mm, {} nodes, {} faces, {:.1} mm long",
+        found.radius,
+        found.nodes.len(),
+        found.faces.len(),
+        found.length()
+    );
+    // A quadric through nodes 15 deg apart round a 7.5 mm arc reads it 2 % tighter.
+    assert!((found.radius - r0).abs() < 0.03 * r0, "{}", found.radius);
+    assert_eq!(found.nodes.len(), 21 * 5, "the nodes off the rims");
+    assert_eq!(found.faces.len(), 20 * 6 * 2, "the strip's faces");
+    assert!((found.length() - 100.0).abs() < 1e-9 && !found.closed && !found.convex);
+    let guide = found.guide.clone();
+    let along = |x: f64| {
+        dieface::geom::mesh::rounding::polyline_nearest(&guide, DVec3::new(x, -3.0, 3.0)).1
+    };
+    let constant = RadiusLaw::constant(15.0);
+    let peaked = RadiusLaw::through(
+        &[(along(0.0), 7.5), (along(50.0), 15.0), (along(100.0), 7.5)],
+        100.0,
+        false,
+    )
+    .expect("positive radii");
+    for (name, law) in [("15 mm", &constant), ("7.5-15-7.5 mm", &peaked)] {
+        let site = reround_site(&mesh, &topology, &found, law.mean(100.0)).expect("two sides");
+        let rounded = round_site(&mesh, &topology, &site, law, 0.01).expect("re-rounded");
+        let at_x = |x: f64| law.at(along(x));
+        let ball_error = worst_corner_ball(&rounded, &at_x);
+        let stitch = assert_stitched(&mesh, &rounded);
+        let off = worst_round_node(&rounded, &|p| {
+            let r = at_x(p.x);
+            (((p.y + r).powi(2) + (p.z - r).powi(2)).sqrt() - r).abs()
+        });
+        eprintln!(
+            "re-rounded at {name}: {} balls, ball error {ball_error:.1e} mm, strip nodes \
+             {off:.1e} mm off their circles, stitch {stitch:.2} deg, {} faces",
+            rounded.balls.len(),
+            rounded.mesh.face_count()
+        );
+        assert!(ball_error < 1e-9, "{ball_error}");
+        assert!(off < 0.02, "{off}");
+        // No face of the old round is left: every node off the new strip lies on a leg.
+        let first_round = rounded.mesh.face_count() - rounded.round_faces;
+        for f in &rounded.mesh.faces()[..first_round] {
+            for &i in f.indices() {
+                let p = rounded.mesh.positions()[i as usize];
+                assert!(p.z.abs() < 1e-9 || p.y.abs() < 1e-9, "{p}");
+            }
+        }
+    }
 }

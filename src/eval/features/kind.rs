@@ -130,6 +130,7 @@ impl Registry {
                 super::bead::KIND,
                 super::sheet::KIND,
                 super::round::KIND,
+                super::round::REROUND,
                 super::die_checks::KIND,
             ],
         }

@@ -3,7 +3,9 @@
 //! nearest point on an edge, or a corner), the ball re-centred where the circles of
 //! radius R about the two contacts cross in the plane of the centre and the contacts,
 //! and the profile: the exact circular arc from contact to contact about that centre
-//! (a rational quadratic).
+//! (a rational quadratic). For a variable radius, the ball found at the mean radius is
+//! moved within the plane of its centre and contacts until it touches the base meshes'
+//! sections in that plane at its true radius.
 
 use glam::DVec3;
 
@@ -22,8 +24,11 @@ pub struct Ball {
     pub contacts: [DVec3; 2],
     /// Which part of a base triangle each contact lies on.
     pub regions: [Region; 2],
-    /// How far the spine point was from the re-centred centre (mm).
+    /// How far the spine point was from the re-centred centre (mm), at the mean
+    /// radius (a variable radius's move to the ball's own is not counted).
     pub moved: f64,
+    /// Its radius (mm).
+    pub radius: f64,
 }
 
 /// The ball of radius `radius` at spine point `at`, touching the base meshes `bases`
@@ -73,6 +78,7 @@ fn ball_on(at: DVec3, bases: (&TriangleGrid, &TriangleGrid), radius: f64) -> Opt
             contacts: [q1, q2],
             regions: [r1, r2],
             moved: centre.distance(at),
+            radius,
         });
         if step <= 1e-12 * radius {
             break;
@@ -81,14 +87,110 @@ fn ball_on(at: DVec3, bases: (&TriangleGrid, &TriangleGrid), radius: f64) -> Opt
     ball
 }
 
+/// `ball` moved to touch the base meshes `bases` at `radius` instead, within the
+/// plane of its centre and contacts (paper 000, step 5 for a variable radius): the
+/// base meshes cut by that plane, the ball's contacts with the cuts found again from
+/// each new centre until it stays put. `None` when the cuts hold no such ball.
+pub fn ball_in_plane(
+    ball: &Ball,
+    radius: f64,
+    bases: (&TriangleGrid, &TriangleGrid),
+) -> Option<Ball> {
+    let c = ball.centre;
+    let normal = (ball.contacts[0] - c)
+        .cross(ball.contacts[1] - c)
+        .try_normalize()?;
+    // Far enough to hold the contacts of a ball grown from this one to `radius`,
+    // whatever the angle between the base meshes.
+    let reach = 4.0 * radius.max(ball.radius);
+    let cuts = [bases.0, bases.1].map(|grid| plane_cut(grid, c, normal, reach));
+    // Each step moves the centre so that it would stand `radius` off the planes
+    // tangent to the cuts at the contacts found from it: along the contact normals,
+    // by how far each distance falls short of the radius.
+    let mut centre = c;
+    let mut moved = None;
+    for _ in 0..RECENTRE_STEPS * 2 {
+        let (q1, r1) = nearest_on_segments(&cuts[0], centre)?;
+        let (q2, r2) = nearest_on_segments(&cuts[1], centre)?;
+        let (d1, d2) = (centre.distance(q1), centre.distance(q2));
+        let n1 = (centre - q1).try_normalize()?;
+        let n2 = (centre - q2).try_normalize()?;
+        let (e1, e2) = (radius - d1, radius - d2);
+        moved = Some(Ball {
+            centre,
+            contacts: [q1, q2],
+            regions: [r1, r2],
+            moved: ball.moved,
+            radius,
+        });
+        if e1.abs().max(e2.abs()) <= 1e-12 * radius {
+            break;
+        }
+        // delta = a n1 + b n2 with n1·delta = e1 and n2·delta = e2.
+        let cos = n1.dot(n2);
+        let det = 1.0 - cos * cos;
+        if det < 1e-12 {
+            return None;
+        }
+        let a = (e1 - cos * e2) / det;
+        let b = (e2 - cos * e1) / det;
+        centre += a * n1 + b * n2;
+    }
+    let ball = moved?;
+    // Unconverged (the cuts end before the ball touches them at its radius): none.
+    let off = ball
+        .contacts
+        .iter()
+        .map(|&q| (q.distance(ball.centre) - radius).abs())
+        .fold(0.0, f64::max);
+    (off <= 1e-6 * radius).then_some(ball)
+}
+
+/// The segments where the plane through `at` with unit `normal` cuts the triangles of
+/// `grid` within `reach` of `at`, each with the region of its triangle it lies in
+/// (a face, or an edge when the plane runs along one).
+fn plane_cut(grid: &TriangleGrid, at: DVec3, normal: DVec3, reach: f64) -> Vec<(DVec3, DVec3)> {
+    let mut segments = Vec::new();
+    for k in grid.candidates(at - DVec3::splat(reach), at + DVec3::splat(reach)) {
+        let t = &grid.triangles[k as usize];
+        let d = t.map(|p| normal.dot(p - at));
+        let mut hits: Vec<DVec3> = Vec::with_capacity(3);
+        for i in 0..3 {
+            let j = (i + 1) % 3;
+            if d[i] == 0.0 {
+                hits.push(t[i]);
+            } else if d[i] * d[j] < 0.0 {
+                hits.push(t[i] + (t[j] - t[i]) * (d[i] / (d[i] - d[j])));
+            }
+        }
+        if let [p, q, ..] = hits[..] {
+            if p != q {
+                segments.push((p, q));
+            }
+        }
+    }
+    segments
+}
+
+/// The point of `segments` nearest `p`, with the region it lies in on its triangle:
+/// where the plane crosses the triangle, so within its face.
+fn nearest_on_segments(segments: &[(DVec3, DVec3)], p: DVec3) -> Option<(DVec3, Region)> {
+    segments
+        .iter()
+        .map(|&(a, b)| super::polyline_nearest(&[a, b], p))
+        .min_by(|x, y| x.0.total_cmp(&y.0))
+        .map(|(_, _, q)| (q, Region::Face))
+}
+
 /// How many times at most the ball is re-centred on the contacts found from its
 /// last centre.
 const RECENTRE_STEPS: usize = 16;
 
-/// The profile of `ball`: the circular arc of radius `radius` about its centre from
-/// its first contact to its second, the short way round (the arc facing the sharp
-/// edge it rounds off).
-pub fn profile(ball: &Ball, radius: f64) -> Option<NurbsCurve<DVec3>> {
+/// The profile of `ball`: the circular arc of its radius about its centre from its
+/// first contact to its second, the short way round (the arc facing the sharp edge it
+/// rounds off).
+pub fn profile(ball: &Ball) -> Option<NurbsCurve<DVec3>> {
+    let radius = ball.radius;
     let x = (ball.contacts[0] - ball.centre).try_normalize()?;
     let to = (ball.contacts[1] - ball.centre).try_normalize()?;
     let y = (to - x * to.dot(x)).try_normalize()?;

@@ -2,9 +2,9 @@
 //! way): a die shoulder that is sharp in a tool mesh tears the sheet in forming
 //! simulation, so the designer rounds the chain of sharp edges through a picked node
 //! directly on the mesh. Each step of the paper's method is its own tested function.
-//! So far a constant radius on a chain whose spine reaches the mesh's boundary or
-//! closes; a variable radius, extending open chains, finding existing rounds and the
-//! language's `round` on meshes are to come.
+//! A constant or variable radius ([`radius`]), on a chain whose spine reaches the
+//! mesh's boundary or closes, or on a round the mesh already has ([`existing`]);
+//! extending open chains that stop short of the boundary is to come.
 //!
 //! The steps, numbered as the paper's:
 //!
@@ -17,18 +17,21 @@
 //!   chain, points closer than R to a base mesh dropped;
 //! - steps 4 and 5, [`contact`]: each spine point's contact on each base mesh (in a face, on an edge
 //!   or at a corner), the ball re-centred to touch both at R exactly, and the profile
-//!   arc between them (constant radius);
+//!   arc between them; for a variable radius ([`radius`]: a cubic spline in arc length
+//!   along the chain) each ball moved within its plane to its own radius;
 //! - steps 6 to 8, [`round`]: the steps put together: the profiles lofted into the rounding
 //!   surface, the mesh cut back to the trim lines and the surface's strip stitched in.
 //!
-//! The curvature each node has, to find the rounds a mesh already has (section 4), is
-//! [`super::curvature`].
+//! The curvature each node has is [`super::curvature`]; [`existing`] finds a round a
+//! mesh already has by it (section 4) and makes the site to round it again.
 
 pub mod base;
 pub mod chain;
 pub mod contact;
+pub mod existing;
 pub mod index;
 pub mod offset;
+pub mod radius;
 pub mod round;
 pub mod spine;
 

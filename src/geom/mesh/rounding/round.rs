@@ -5,22 +5,29 @@
 //! surface meshed row by row and stitched to the cut with a strip of triangles (step
 //! 8), so the rounded mesh has no gap, no overlap and no new free edge.
 //!
+//! The radius may vary along the round ([`RadiusLaw`]): the spine and balls are found at
+//! the mean radius and each ball then moved within its plane to its own (step 5).
+//!
 //! Left for later steps: open chains whose spine stops short of the mesh's boundary
-//! (the paper extends the surface and trims it there), a variable radius, and cutting
-//! faces along a trim line (the nodes next to it are moved onto it instead).
+//! (the paper extends the surface and trims it there), and cutting faces along a trim
+//! line (the nodes next to it are moved onto it instead).
 
 use glam::DVec3;
 
-use super::base::{base_meshes, BaseError};
+use super::base::{base_meshes, BaseError, BaseMeshes};
 use super::chain::SharpChain;
-use super::contact::{balls_at, profile, Ball};
+use super::contact::{ball_in_plane, balls_at, profile, Ball};
 use super::index::TriangleGrid;
 use super::offset::offset_faces;
+use super::radius::RadiusLaw;
 use super::spine::{base_triangles, offset_triangles, spine};
 use super::{chain_polyline, polyline_nearest};
 use crate::geom::construct::{loft, Loft};
-use crate::geom::mesh::{Face, Mesh, Topology, VertexId};
+use crate::geom::mesh::{Face, FaceId, Mesh, Topology, VertexId};
 use crate::geom::surface::NurbsSurface;
+
+/// How near (mm) two cut nodes moved onto a trim line must land to be merged.
+const SAME_NODE: f64 = 1e-9;
 
 /// The largest angle one row of the rounding surface's mesh turns through (radians).
 const ROW_STEP: f64 = std::f64::consts::PI / 12.0;
@@ -60,48 +67,115 @@ pub enum RoundError {
     Surface(String),
 }
 
-/// Rounds `chain` of the triangle mesh `mesh` at `radius`, the rounding surface meshed
-/// within `tolerance` (mm) of its arcs.
+/// Where a round is made: the two base meshes the ball rolls on, the line it runs
+/// along, and the faces it replaces whatever the trim lines (none for a sharp chain;
+/// an existing round's own faces when it is re-rounded).
+#[derive(Debug, Clone, PartialEq)]
+pub struct RoundSite {
+    /// The faces on either side the ball touches.
+    pub base: BaseMeshes,
+    /// The line the round runs along, in order (the sharp chain's polyline, or the
+    /// middle of an existing round), its first point again at its end when closed.
+    /// Radii are placed along it by arc length.
+    pub guide: Vec<DVec3>,
+    /// Whether the round runs back round to its start.
+    pub closed: bool,
+    /// Whether the edge is convex (the faces turn away from their normals across
+    /// it): the ball then rolls on the side the normals face away from.
+    pub convex: bool,
+    /// Faces removed whatever the trim lines: an existing round's.
+    pub replaced: Vec<FaceId>,
+}
+
+/// The length of a polyline (mm).
+pub fn polyline_length(points: &[DVec3]) -> f64 {
+    points.windows(2).map(|w| w[0].distance(w[1])).sum()
+}
+
+/// Rounds `chain` of the triangle mesh `mesh` at `radius` (constant, or varying along
+/// the chain from its first node), the rounding surface meshed within `tolerance` (mm)
+/// of its arcs.
 pub fn round_chain(
     mesh: &Mesh,
     topology: &Topology,
     chain: &SharpChain,
-    radius: f64,
+    radius: &RadiusLaw,
     tolerance: f64,
 ) -> Result<Rounded, RoundError> {
     if mesh.faces().iter().any(|f| !f.is_triangle()) {
         return Err(RoundError::NotTriangles);
     }
-    let base = base_meshes(mesh, topology, chain, radius)?;
-    // The ball rolls on the side the normals face where the edge is concave, on the
-    // other where it is convex.
+    let guide = chain_polyline(mesh, chain);
+    let mean = radius.mean(polyline_length(&guide));
+    let base = base_meshes(mesh, topology, chain, mean)?;
     let convex = chain
         .edges
         .first()
         .and_then(|&e| topology.signed_dihedral_angle(mesh, e))
         .is_some_and(|a| a > 0.0);
-    let side = if convex { -radius } else { radius };
+    let site = RoundSite {
+        base,
+        guide,
+        closed: chain.closed,
+        convex,
+        replaced: Vec::new(),
+    };
+    round_site(mesh, topology, &site, radius, tolerance)
+}
+
+/// Rounds the triangle mesh `mesh` at `site` at `radius` (paper 000, steps 2 to 8):
+/// the spine and balls found at the mean radius, each ball moved within its plane to
+/// its own radius where the radius varies, the profiles lofted, the mesh cut back to
+/// the trim lines and the round's strip stitched in.
+pub fn round_site(
+    mesh: &Mesh,
+    topology: &Topology,
+    site: &RoundSite,
+    radius: &RadiusLaw,
+    tolerance: f64,
+) -> Result<Rounded, RoundError> {
+    if mesh.faces().iter().any(|f| !f.is_triangle()) {
+        return Err(RoundError::NotTriangles);
+    }
+    let length = polyline_length(&site.guide);
+    let mean = radius.mean(length);
+    let (smallest, _) = radius.range(length);
+    let base = &site.base;
+    // The ball rolls on the side the normals face where the edge is concave, on the
+    // other where it is convex.
+    let side = if site.convex { -mean } else { mean };
     let offsets = [&base.left, &base.right].map(|f| offset_faces(mesh, topology, f, side));
     let tri = offsets.each_ref().map(|o| offset_triangles(mesh, o));
     let bases = [&base.left, &base.right].map(|f| TriangleGrid::new(base_triangles(mesh, f)));
     let centres = spine(
-        mesh,
-        chain,
+        &site.guide,
         (&tri[0], &tri[1]),
         (&bases[0], &bases[1]),
-        radius,
+        mean,
     );
-    // The balls, a quarter radius apart at least (the spine's points crowd where the
-    // offsets' edges cross), the last kept.
-    let all: Vec<Ball> = balls_at(&centres, (&bases[0], &bases[1]), radius)
+    // Each ball at the mean radius, then moved to its own where the radius varies.
+    let along = |p: DVec3| polyline_nearest(&site.guide, p).1;
+    let mut all: Vec<Ball> = Vec::new();
+    for ball in balls_at(&centres, (&bases[0], &bases[1]), mean)
         .into_iter()
         .flatten()
-        .collect();
+    {
+        let own = radius.at(along(ball.centre));
+        if (own - mean).abs() <= 1e-9 * mean {
+            all.push(ball);
+        } else {
+            let moved = ball_in_plane(&ball, own, (&bases[0], &bases[1]))
+                .ok_or(RoundError::NoRoom { radius: own })?;
+            all.push(moved);
+        }
+    }
+    // The balls, a quarter radius apart at least (the spine's points crowd where the
+    // offsets' edges cross), the last kept.
     let mut balls: Vec<Ball> = Vec::new();
     for (k, ball) in all.iter().enumerate() {
         let far = balls
             .last()
-            .is_none_or(|last| last.centre.distance(ball.centre) >= 0.25 * radius);
+            .is_none_or(|last| last.centre.distance(ball.centre) >= 0.25 * smallest);
         if far {
             balls.push(ball.clone());
         } else if k + 1 == all.len() && balls.len() > 1 {
@@ -111,10 +185,10 @@ pub fn round_chain(
         }
     }
     if balls.len() < 2 {
-        return Err(RoundError::NoRoom { radius });
+        return Err(RoundError::NoRoom { radius: mean });
     }
-    // A ball touching the mesh's free boundary (but at an open chain's ends, where the
-    // chain itself meets it) has rolled off its base mesh: the radius is too large.
+    // A ball touching the mesh's free boundary (but at an open round's ends, where the
+    // round itself meets it) has rolled off its base mesh: the radius is too large.
     let free: Vec<(DVec3, DVec3)> = topology
         .free_edges()
         .into_iter()
@@ -125,22 +199,25 @@ pub fn round_chain(
         .collect();
     let on_free = |q: DVec3| {
         free.iter()
-            .any(|&(a, b)| polyline_nearest(&[a, b], q).0 <= 1e-9 * radius.max(1.0))
+            .any(|&(a, b)| polyline_nearest(&[a, b], q).0 <= 1e-9 * mean.max(1.0))
     };
-    let inner = if chain.closed {
+    let inner = if site.closed {
         &balls[..]
     } else {
         &balls[1..balls.len() - 1]
     };
-    if inner.iter().any(|b| b.contacts.iter().any(|&q| on_free(q))) {
-        return Err(RoundError::NoRoom { radius });
+    if let Some(b) = inner
+        .iter()
+        .find(|b| b.contacts.iter().any(|&q| on_free(q)))
+    {
+        return Err(RoundError::NoRoom { radius: b.radius });
     }
     let mut profiles = Vec::with_capacity(balls.len() + 1);
     for b in &balls {
-        profiles.push(profile(b, radius).ok_or(RoundError::NoRoom { radius })?);
+        profiles.push(profile(b).ok_or(RoundError::NoRoom { radius: b.radius })?);
     }
     let mut trim_lines = [0, 1].map(|s| balls.iter().map(|b| b.contacts[s]).collect::<Vec<_>>());
-    if chain.closed {
+    if site.closed {
         profiles.push(profiles[0].clone());
         for line in &mut trim_lines {
             line.push(line[0]);
@@ -152,13 +229,7 @@ pub fn round_chain(
         mut positions,
         mut faces,
         rows,
-    } = cut_to_trim_lines(
-        mesh,
-        topology,
-        chain,
-        [&base.left, &base.right],
-        &trim_lines,
-    );
+    } = cut_to_trim_lines(mesh, topology, site, &trim_lines);
     if rows.iter().any(|row| row.len() < 2) {
         return Err(RoundError::Surface(
             "cutting the mesh back to a trim line left no edge along it".into(),
@@ -169,7 +240,7 @@ pub fn round_chain(
         .iter()
         .map(|b| (b.contacts[0] - b.centre).angle_between(b.contacts[1] - b.centre))
         .fold(0.0, f64::max);
-    let by_sag = 2.0 * (1.0 - (tolerance / radius).min(1.0)).acos();
+    let by_sag = 2.0 * (1.0 - (tolerance / smallest).min(1.0)).acos();
     let steps = (sweep / ROW_STEP.min(by_sag.max(1e-3))).ceil().max(2.0) as usize;
     let along = rows[0].len().max(rows[1].len()).max(2);
     let (u0, u1) = surface.domain_u();
@@ -178,7 +249,7 @@ pub fn round_chain(
     for k in 1..steps {
         let u = u0 + (u1 - u0) * k as f64 / steps as f64;
         // Round a closed chain the row's last point is its first: the same node.
-        let distinct = if chain.closed { along - 1 } else { along };
+        let distinct = if site.closed { along - 1 } else { along };
         let mut ids: Vec<u32> = (0..distinct)
             .map(|j| {
                 let v = v0 + (v1 - v0) * j as f64 / (along - 1) as f64;
@@ -186,7 +257,7 @@ pub fn round_chain(
                 (positions.len() - 1) as u32
             })
             .collect();
-        if chain.closed {
+        if site.closed {
             ids.push(ids[0]);
         }
         row_ids.push(ids);
@@ -233,23 +304,23 @@ pub fn round_chain(
 }
 
 /// The mesh cut back to the trim lines: its positions and triangles (nodes inside the
-/// round's region left unused), the faces with a node inside a trim line removed and
-/// the nodes left on each cut moved onto its trim line; and each cut's nodes, ordered
-/// along the chain. A node of a base mesh is inside when it lies nearer the chain than
-/// the contact (on its side) nearest it.
+/// round's region left unused), the faces replaced and those with a node inside a trim
+/// line removed, and the nodes left on each cut moved onto its trim line; and each
+/// cut's nodes, ordered along the guide. A node of a base mesh is inside when it lies
+/// nearer the guide than the contact (on its side) nearest it; a node of a replaced
+/// face on no base face is inside.
 fn cut_to_trim_lines(
     mesh: &Mesh,
     topology: &Topology,
-    chain: &SharpChain,
-    sides: [&Vec<crate::geom::mesh::FaceId>; 2],
+    site: &RoundSite,
     trim_lines: &[Vec<DVec3>; 2],
 ) -> Cut {
     let mut positions = mesh.positions().to_vec();
-    let chain_points = chain_polyline(mesh, chain);
-    let to_chain = |p: DVec3| polyline_nearest(&chain_points, p).0;
+    let guide = &site.guide;
+    let to_guide = |p: DVec3| polyline_nearest(guide, p).0;
     let mut inside = vec![false; positions.len()];
     let mut side_of = vec![None; positions.len()];
-    for (s, faces) in sides.iter().enumerate() {
+    for (s, faces) in [&site.base.left, &site.base.right].iter().enumerate() {
         for &f in faces.iter() {
             let Some(face) = mesh.face(f) else { continue };
             for v in face.vertices() {
@@ -262,18 +333,32 @@ fn cut_to_trim_lines(
                     .copied()
                     .min_by(|a, b| a.distance(p).total_cmp(&b.distance(p)))
                     .unwrap_or(p);
-                if to_chain(p) < to_chain(nearest) * (1.0 - 1e-9) {
+                if to_guide(p) < to_guide(nearest) * (1.0 - 1e-9) {
                     inside[v.index()] = true;
                 }
                 side_of[v.index()].get_or_insert(s);
             }
         }
     }
+    let mut gone = vec![false; mesh.face_count()];
+    for &f in &site.replaced {
+        gone[f.index()] = true;
+        if let Some(face) = mesh.face(f) {
+            for v in face.vertices() {
+                if side_of[v.index()].is_none() {
+                    inside[v.index()] = true;
+                }
+            }
+        }
+    }
+    let goes = |f: crate::geom::mesh::FaceId, face: &Face| {
+        gone[f.index()] || face.vertices().any(|v| inside[v.index()])
+    };
     let kept: Vec<[u32; 3]> = mesh
-        .faces()
-        .iter()
-        .filter(|f| f.vertices().all(|v| !inside[v.index()]))
-        .filter_map(|f| match f.indices() {
+        .face_ids()
+        .zip(mesh.faces())
+        .filter(|(id, f)| !goes(*id, f))
+        .filter_map(|(_, f)| match f.indices() {
             &[a, b, c] => Some([a, b, c]),
             _ => None,
         })
@@ -283,12 +368,12 @@ fn cut_to_trim_lines(
         let Some(e) = topology.find_edge(VertexId(a), VertexId(b)) else {
             return false;
         };
-        topology.edge_faces(e).any(|g| {
-            mesh.face(g)
-                .is_some_and(|face| face.vertices().any(|v| inside[v.index()]))
-        })
+        topology
+            .edge_faces(e)
+            .any(|g| mesh.face(g).is_some_and(|face| goes(g, &face)))
     };
     let mut on_cut: [Vec<u32>; 2] = [Vec::new(), Vec::new()];
+    let mut merged: Vec<u32> = (0..positions.len() as u32).collect();
     // Only faces with a base mesh's node can lie on a cut.
     for t in kept
         .iter()
@@ -307,29 +392,67 @@ fn cut_to_trim_lines(
             }
         }
     }
-    // Each cut's nodes along the chain, moved onto their trim line.
+    // Each cut's nodes along the guide, moved onto their trim line at the same place
+    // along the guide (so they keep their order, and no face beside the cut turns
+    // over where the trim line runs slant to the guide).
     for (s, nodes) in on_cut.iter_mut().enumerate() {
         let mut keyed: Vec<(f64, u32)> = nodes
             .iter()
-            .map(|&v| (polyline_nearest(&chain_points, positions[v as usize]).1, v))
+            .map(|&v| (polyline_nearest(guide, positions[v as usize]).1, v))
             .collect();
         keyed.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        *nodes = keyed.into_iter().map(|(_, v)| v).collect();
-        for &v in nodes.iter() {
+        let line = &trim_lines[s];
+        let line_along: Vec<f64> = line.iter().map(|&q| polyline_nearest(guide, q).1).collect();
+        for &(along, v) in &keyed {
             let p = positions[v as usize];
-            positions[v as usize] = polyline_nearest(&trim_lines[s], p).2;
+            positions[v as usize] =
+                trim_point_along(line, &line_along, along).unwrap_or(polyline_nearest(line, p).2);
         }
-        if chain.closed {
+        // Where the cut steps across a row of the mesh, two of its nodes lie at one
+        // place along the guide and land on one point: the later is merged into the
+        // earlier (the step's edge collapsed, the faces on it dropped below).
+        let mut row: Vec<u32> = Vec::with_capacity(keyed.len());
+        for (_, v) in keyed {
+            match row.last() {
+                Some(&u) if positions[u as usize].distance(positions[v as usize]) <= SAME_NODE => {
+                    merged[v as usize] = u;
+                }
+                _ => row.push(v),
+            }
+        }
+        *nodes = row;
+        if site.closed {
             if let Some(&first) = nodes.first() {
                 nodes.push(first);
             }
         }
     }
+    let faces = kept
+        .into_iter()
+        .map(|t| t.map(|v| merged[v as usize]))
+        .filter(|t| t[0] != t[1] && t[1] != t[2] && t[2] != t[0])
+        .collect();
     Cut {
         positions,
-        faces: kept,
+        faces,
         rows: on_cut,
     }
+}
+
+/// The point of the trim line `line` (its points at `line_along` along the guide) at
+/// `along` along the guide, between the two points either side of it; `None` outside
+/// the stretch of the guide the line runs beside, or where it doubles back.
+fn trim_point_along(line: &[DVec3], line_along: &[f64], along: f64) -> Option<DVec3> {
+    line.windows(2)
+        .zip(line_along.windows(2))
+        .find_map(|(p, s)| {
+            let (lo, hi) = (s[0].min(s[1]), s[0].max(s[1]));
+            if along < lo || along > hi || hi - lo <= 0.0 {
+                return None;
+            }
+            let t = (along - s[0]) / (s[1] - s[0]);
+            Some(p[0] + t * (p[1] - p[0]))
+        })
 }
 
 /// The mesh cut back to its trim lines: its positions (the cut's nodes moved onto the

@@ -5,9 +5,8 @@
 
 use glam::DVec3;
 
-use super::chain::SharpChain;
 use super::offset::OffsetMesh;
-use super::{chain_polyline, polyline_nearest};
+use super::polyline_nearest;
 use crate::geom::mesh::{Mesh, VertexId};
 
 /// Points of the spine closer together than this, relative to the radius, are one.
@@ -156,11 +155,11 @@ pub enum Region {
 }
 
 /// The spine of a round of radius `radius`: the points where the offsets `one` and
-/// `other` of the two base meshes (their triangles) cross, ordered along `chain`, less
-/// those closer than the radius to either base mesh (`bases`, indexed).
+/// `other` of the two base meshes (their triangles) cross, ordered along `guide` (the
+/// chain's polyline, or the line an existing round runs along), less those closer than
+/// the radius to either base mesh (`bases`, indexed).
 pub fn spine(
-    mesh: &Mesh,
-    chain: &SharpChain,
+    guide: &[DVec3],
     (one, other): (&[Triangle], &[Triangle]),
     bases: (&TriangleGrid, &TriangleGrid),
     radius: f64,
@@ -181,9 +180,8 @@ pub fn spine(
             }
         }
     }
-    // Along the chain: each point by the arc length of its nearest point on the chain.
-    let line = chain_polyline(mesh, chain);
-    let along = |p: DVec3| polyline_nearest(&line, p).1;
+    // Along the guide: each point by the arc length of its nearest point on it.
+    let along = |p: DVec3| polyline_nearest(guide, p).1;
     let mut keyed: Vec<(f64, DVec3)> = points.into_iter().map(|p| (along(p), p)).collect();
     keyed.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.x.total_cmp(&b.1.x)));
     let same = SAME_POINT * radius.max(1.0);
