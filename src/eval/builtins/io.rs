@@ -133,20 +133,7 @@ fn count_vertex_lines(bytes: &[u8]) -> usize {
 
 /// Refuses an OBJ of more than `mesh_vertices` vertices, at the path argument.
 fn check_vertex_count(call: &Call, path: &str, vertices: usize) -> Result<(), Diagnostic> {
-    let limit = call.budget.limits().get(Limit::MeshVertices);
-    if vertices as u64 <= limit {
-        return Ok(());
-    }
-    Err(Diagnostic::new(
-        "die::limit::mesh_vertices",
-        format!(
-            "`{path}` has {vertices} vertices, more than the `{}` limit allows",
-            Limit::MeshVertices
-        ),
-        span_of(call, "path"),
-        "this mesh is too large",
-    )
-    .with_help(Limit::MeshVertices.help(call.budget.limits())))
+    super::meshes::check_size(call, "path", &format!("`{path}`"), vertices)
 }
 
 /// One mesh from all the OBJ models, each model's faces forming the group of its name

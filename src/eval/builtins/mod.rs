@@ -11,6 +11,7 @@ mod checks;
 mod curves;
 mod io;
 mod math;
+mod meshes;
 mod queries;
 mod surfaces;
 mod transforms;
@@ -91,7 +92,7 @@ impl Builtin {
 }
 
 /// Every builtin module's table.
-fn tables() -> [&'static [Builtin]; 8] {
+fn tables() -> [&'static [Builtin]; 9] {
     [
         math::BUILTINS,
         checks::BUILTINS,
@@ -101,6 +102,7 @@ fn tables() -> [&'static [Builtin]; 8] {
         transforms::BUILTINS,
         queries::BUILTINS,
         io::BUILTINS,
+        meshes::BUILTINS,
     ]
 }
 

@@ -435,9 +435,7 @@ fn build_reround(block: &Block) -> Result<Value, Diagnostic> {
     let found =
         find_round(mesh, topology, &curvatures, VertexId(node.0 as u32), band).map_err(|e| {
             let help = match &e {
-                FindError::Flat { .. } | FindError::NoCurvature => {
-                    "put `at` on the round to change"
-                }
+                FindError::Flat | FindError::NoCurvature => "put `at` on the round to change",
                 FindError::NotTwoSides { .. } | FindError::NotAStrip { .. } => {
                     "narrow the `band`, or pick a round that runs from edge to edge of the mesh \
                      or round to its start"

@@ -90,7 +90,8 @@ fn ball_on(at: DVec3, bases: (&TriangleGrid, &TriangleGrid), radius: f64) -> Opt
 /// `ball` moved to touch the base meshes `bases` at `radius` instead, within the
 /// plane of its centre and contacts (paper 000, step 5 for a variable radius): the
 /// base meshes cut by that plane, the ball's contacts with the cuts found again from
-/// each new centre until it stays put. `None` when the cuts hold no such ball.
+/// each new centre until it stays put, and then re-centred in 3-D at that radius.
+/// `None` when the cuts hold no such ball.
 pub fn ball_in_plane(
     ball: &Ball,
     radius: f64,
@@ -143,7 +144,20 @@ pub fn ball_in_plane(
         .iter()
         .map(|&q| (q.distance(ball.centre) - radius).abs())
         .fold(0.0, f64::max);
-    (off <= 1e-6 * radius).then_some(ball)
+    if off > 1e-6 * radius {
+        return None;
+    }
+    // Then re-centred in 3-D at its own radius, as step 4 does at the mean: on a
+    // faceted mesh the plane through the mean ball's contacts may cross a face
+    // slantwise, and the ball's nearest points lie a little out of it; re-centred,
+    // each contact is the foot of the ball's normal on its face.
+    Some(match ball_on(ball.centre, bases, radius) {
+        Some(b) => Ball {
+            moved: ball.moved,
+            ..b
+        },
+        None => ball,
+    })
 }
 
 /// The segments where the plane through `at` with unit `normal` cuts the triangles of

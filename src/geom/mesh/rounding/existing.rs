@@ -57,9 +57,9 @@ pub enum FindError {
     /// The picked node has no curvature (too few neighbours to fit).
     #[error("the mesh's curvature cannot be found at the picked node")]
     NoCurvature,
-    /// The mesh is flat at the picked node.
-    #[error("the mesh is flat at the picked node (radius {radius} mm): no round is there")]
-    Flat { radius: f64 },
+    /// The mesh is flat at the picked node: no principal curvature radius under 10 m.
+    #[error("the mesh is flat at the picked node (it curves on no radius under 10 m): no round is there")]
+    Flat,
     /// The faces beside the round are not two groups, one on each side.
     #[error("the faces beside the round are not two groups, one on each side ({groups} found): the round does not run from edge to edge of the mesh or round to its start")]
     NotTwoSides { groups: usize },
@@ -94,9 +94,7 @@ pub fn find_round(
         .ok_or(FindError::NoCurvature)?;
     let k0 = sharper(&picked);
     if k0.abs() < FLAT {
-        return Err(FindError::Flat {
-            radius: 1.0 / k0.abs().max(f64::MIN_POSITIVE),
-        });
+        return Err(FindError::Flat);
     }
     // A node on the mesh's free edge is fitted to neighbours on one side only, and to
     // the next ring as well, which reaches across the round's rim onto the face

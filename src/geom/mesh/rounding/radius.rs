@@ -26,10 +26,10 @@ pub enum RadiusError {
     #[error("no radius is given")]
     Empty,
     /// A radius at or below zero, or not finite.
-    #[error("radius {index} is {radius} mm: a radius must be above 0 mm")]
+    #[error("radius {} (counting from 1) is {radius} mm: a radius must be above 0 mm", .index + 1)]
     NotPositive { index: usize, radius: f64 },
     /// Two radii given at one place along the chain.
-    #[error("radii {first} and {second} are given at the same place along the chain")]
+    #[error("radii {} and {} (counting from 1) are given at the same place along the chain", .first + 1, .second + 1)]
     SamePlace { first: usize, second: usize },
     /// The spline through the given radii dips to zero or below between them.
     #[error("the spline through the radii falls to {radius} mm at {at} mm along the chain")]

@@ -26,6 +26,36 @@ use crate::geom::construct::{loft, Loft};
 use crate::geom::mesh::{Face, FaceId, Mesh, Topology, VertexId};
 use crate::geom::surface::NurbsSurface;
 
+/// The farthest apart (in radii) two neighbouring balls may stand: where the spine's
+/// points are sparser (its offsets' triangles crossing in few places, as where a
+/// coarse mesh twists), balls are placed between them.
+const MAX_GAP: f64 = 0.5;
+
+/// `balls` with more placed between any two farther apart than `gap`: each at its
+/// share of the way from one centre to the next, re-centred on the base meshes
+/// `bases` (dropped where no ball fits).
+fn fill_gaps(
+    balls: Vec<Ball>,
+    bases: (&TriangleGrid, &TriangleGrid),
+    radius: f64,
+    gap: f64,
+) -> Vec<Ball> {
+    let mut out: Vec<Ball> = Vec::with_capacity(balls.len());
+    for (k, ball) in balls.iter().enumerate() {
+        if k > 0 {
+            let from = balls[k - 1].centre;
+            let d = from.distance(ball.centre);
+            let extra = (d / gap).ceil() as usize;
+            let between: Vec<DVec3> = (1..extra)
+                .map(|i| from.lerp(ball.centre, i as f64 / extra as f64))
+                .collect();
+            out.extend(balls_at(&between, bases, radius).into_iter().flatten());
+        }
+        out.push(ball.clone());
+    }
+    out
+}
+
 /// How near (mm) two cut nodes moved onto a trim line must land to be merged.
 const SAME_NODE: f64 = 1e-9;
 
@@ -155,11 +185,13 @@ pub fn round_site(
     );
     // Each ball at the mean radius, then moved to its own where the radius varies.
     let along = |p: DVec3| polyline_nearest(&site.guide, p).1;
-    let mut all: Vec<Ball> = Vec::new();
-    for ball in balls_at(&centres, (&bases[0], &bases[1]), mean)
+    let at_mean: Vec<Ball> = balls_at(&centres, (&bases[0], &bases[1]), mean)
         .into_iter()
         .flatten()
-    {
+        .collect();
+    let at_mean = fill_gaps(at_mean, (&bases[0], &bases[1]), mean, MAX_GAP * smallest);
+    let mut all: Vec<Ball> = Vec::new();
+    for ball in at_mean {
         let own = radius.at(along(ball.centre));
         if (own - mean).abs() <= 1e-9 * mean {
             all.push(ball);
