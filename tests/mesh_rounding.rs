@@ -769,7 +769,7 @@ fn an_existing_round_is_found_and_widened() {
     let found = find_round(
         &mesh,
         &topology,
-        &curvatures,
+        &|v| curvatures[v.index()],
         dieface::geom::mesh::VertexId(picked as u32),
         DEFAULT_BAND,
     )

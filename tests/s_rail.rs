@@ -230,7 +230,23 @@ fn the_s_rail_shoulder_is_rounded_and_widened() {
     );
     assert!(ends.iter().all(|r| (r - 8.0).abs() < 0.1), "{ends:?}");
     assert!((peak - 15.0).abs() < 0.1, "{peak}");
-    assert!(f.off_canal < 0.05, "{}", f.off_canal);
+    // The paper's profiles are circles in the plane across the spine; where the radius
+    // changes along it (dr/ds), the balls' envelope leaves that plane and the two part
+    // by up to about r (dr/ds)² / 2.
+    let envelope = widened
+        .balls
+        .windows(2)
+        .map(|w| {
+            let slope = (w[1].radius - w[0].radius).abs() / w[0].centre.distance(w[1].centre);
+            w[1].radius.max(w[0].radius) * slope * slope / 2.0
+        })
+        .fold(0.0, f64::max);
+    eprintln!(
+        "S-rail widened: strip nodes {:.1e} mm off the swept balls, where the in-plane \
+         profiles and the balls' envelope part by up to {envelope:.1e} mm",
+        f.off_canal
+    );
+    assert!(f.off_canal < 0.03 + envelope, "{} {envelope}", f.off_canal);
     eprintln!(
         "S-rail widened: contacts up to {:.1e} deg past their faces' normals",
         f.beyond

@@ -33,7 +33,7 @@ use glam::DVec3;
 
 use crate::diag::Diagnostic;
 use crate::geom::curve::Curve3;
-use crate::geom::mesh::curvature::node_curvatures;
+use crate::geom::mesh::curvature::CurvatureAt;
 use crate::geom::mesh::rounding::base::BaseError;
 use crate::geom::mesh::rounding::chain::{
     chain_through, nearest_sharp_node, sharp_edges, ChainError, DEFAULT_FEATURE_ANGLE,
@@ -431,24 +431,30 @@ fn build_reround(block: &Block) -> Result<Value, Diagnostic> {
                 "put `at` on the round to change",
             )
         })?;
-    let curvatures = node_curvatures(mesh);
-    let found =
-        find_round(mesh, topology, &curvatures, VertexId(node.0 as u32), band).map_err(|e| {
-            let help = match &e {
-                FindError::Flat | FindError::NoCurvature => "put `at` on the round to change",
-                FindError::NotTwoSides { .. } | FindError::NotAStrip { .. } => {
-                    "narrow the `band`, or pick a round that runs from edge to edge of the mesh \
+    let curvatures = CurvatureAt::new(mesh, topology);
+    let found = find_round(
+        mesh,
+        topology,
+        &|v| curvatures.at(v),
+        VertexId(node.0 as u32),
+        band,
+    )
+    .map_err(|e| {
+        let help = match &e {
+            FindError::Flat | FindError::NoCurvature => "put `at` on the round to change",
+            FindError::NotTwoSides { .. } | FindError::NotAStrip { .. } => {
+                "narrow the `band`, or pick a round that runs from edge to edge of the mesh \
                      or round to its start"
-                }
-            };
-            feature_error(
-                REROUND,
-                e.to_string(),
-                c.at_value.span,
-                "the round at this point",
-                help,
-            )
-        })?;
+            }
+        };
+        feature_error(
+            REROUND,
+            e.to_string(),
+            c.at_value.span,
+            "the round at this point",
+            help,
+        )
+    })?;
     let law = radius_law(
         REROUND,
         c.radius_value,

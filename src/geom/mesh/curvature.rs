@@ -16,7 +16,7 @@
 //! oriented `max` is `1 / R` and `min` 0.
 
 use glam::DVec3;
-use nalgebra::{DMatrix, DVector};
+use nalgebra::{Matrix6, SymmetricEigen, Vector6};
 
 use super::topology::Topology;
 use super::{Mesh, VertexId};
@@ -47,6 +47,37 @@ impl NodeCurvature {
     /// largest in size (infinite on a flat).
     pub fn radius(&self) -> f64 {
         1.0 / self.max.abs().max(self.min.abs())
+    }
+}
+
+/// The curvature at the nodes of a mesh, each worked out when first asked for and kept:
+/// finding one round reads the nodes round it, not the whole mesh.
+pub struct CurvatureAt<'a> {
+    mesh: &'a Mesh,
+    topology: &'a Topology,
+    normals: Vec<DVec3>,
+    known: Vec<std::cell::OnceCell<Option<NodeCurvature>>>,
+}
+
+impl<'a> CurvatureAt<'a> {
+    /// The curvatures of `mesh` (its `topology`), none yet worked out.
+    pub fn new(mesh: &'a Mesh, topology: &'a Topology) -> CurvatureAt<'a> {
+        CurvatureAt {
+            mesh,
+            topology,
+            normals: mesh.compute_vertex_normals(),
+            known: (0..mesh.vertex_count())
+                .map(|_| std::cell::OnceCell::new())
+                .collect(),
+        }
+    }
+
+    /// The curvature at node `v`, as [`node_curvatures`] gives it.
+    pub fn at(&self, v: VertexId) -> Option<NodeCurvature> {
+        *self.known.get(v.index())?.get_or_init(|| {
+            let normal = self.normals[v.index()].try_normalize()?;
+            node_curvature(self.mesh, self.topology, v, normal)
+        })
     }
 }
 
@@ -108,24 +139,30 @@ pub fn node_curvature(
     if scale <= 0.0 || !scale.is_finite() {
         return None;
     }
-    let rows = points.len();
-    let mut a = DMatrix::<f64>::zeros(rows, 6);
-    let mut d = DVector::<f64>::zeros(rows);
-    for (r, q) in points.iter().enumerate() {
+    // The normal equations (AᵀA) c = Aᵀd, summed row by row: 6 x 6 whatever the number
+    // of neighbours.
+    let mut ata = Matrix6::<f64>::zeros();
+    let mut atd = Vector6::<f64>::zeros();
+    for q in &points {
         let rel = (*q - origin) / scale;
         let (x, y) = (rel.dot(u_axis), rel.dot(v_axis));
-        for (c, value) in [x * x, x * y, y * y, x, y, 1.0].into_iter().enumerate() {
-            a[(r, c)] = value;
-        }
-        d[r] = rel.dot(normal);
+        let row = Vector6::new(x * x, x * y, y * y, x, y, 1.0);
+        ata += row * row.transpose();
+        atd += row * rel.dot(normal);
     }
-    let svd = a.svd(true, true);
-    // Neighbours that pin no quadric (on one line, or one point) leave the fit singular.
-    let largest = svd.singular_values.max();
-    if svd.singular_values.min() <= 1e-9 * largest {
+    let eigen = SymmetricEigen::new(ata);
+    // Neighbours that pin no quadric (on one line, or one point) leave the fit singular:
+    // its smallest singular value (the root of AᵀA's smallest eigenvalue) a millionth of
+    // its largest or less. The rows are scaled to within 1, so a real fit is far above.
+    let largest = eigen.eigenvalues.max();
+    if largest.is_nan() || largest <= 0.0 || eigen.eigenvalues.min() <= 1e-12 * largest {
         return None;
     }
-    let c = svd.solve(&d, 1e-12 * largest).ok()?;
+    let inverse = eigen.eigenvalues.map(|l| 1.0 / l);
+    let c = eigen.eigenvectors
+        * Matrix6::from_diagonal(&inverse)
+        * eigen.eigenvectors.transpose()
+        * atd;
     // Back to millimetres: d = scale * g(u / scale, v / scale), so each derivative of
     // order k is divided by scale^(k - 1).
     let (fu, fv) = (c[3], c[4]);

@@ -1,11 +1,15 @@
 //! The base meshes of a round (paper 000, section 2, step 1): the faces within reach of
 //! the chain, split by it into the two groups the ball rolls on, one on each side.
 
+use std::cell::Cell;
 use std::collections::BTreeSet;
 
+use glam::DVec3;
+
 use super::chain::SharpChain;
-use super::{chain_polyline, polyline_nearest};
-use crate::geom::mesh::{FaceId, Mesh, Topology};
+use super::chain_polyline;
+use super::index::PolylineIndex;
+use crate::geom::mesh::{FaceId, Mesh, Topology, VertexId};
 
 /// How far from the chain base faces are taken, in ball radii: the paper's 3R.
 pub const BASE_REACH: f64 = 3.0;
@@ -48,25 +52,8 @@ pub fn base_meshes(
     let on_chain: BTreeSet<_> = chain.edges.iter().copied().collect();
     let reach = BASE_REACH * radius;
     let line = chain_polyline(mesh, chain);
-    // Each node's reach is worked out once: the flood asks for it from every face round
-    // the node, and each answer walks the whole chain.
-    let within: Vec<std::cell::Cell<Option<bool>>> = (0..mesh.vertex_count())
-        .map(|_| std::cell::Cell::new(None))
-        .collect();
-    let node_near = |v: crate::geom::mesh::VertexId| {
-        let slot = &within[v.index()];
-        slot.get().unwrap_or_else(|| {
-            let near = mesh
-                .position(v)
-                .is_some_and(|p| polyline_nearest(&line, p).0 <= reach);
-            slot.set(Some(near));
-            near
-        })
-    };
-    let near = |f: FaceId| {
-        mesh.face(f)
-            .is_some_and(|face| face.vertices().any(node_near))
-    };
+    let within = Reach::new(mesh, &line, reach);
+    let near = |f: FaceId| within.face(f);
     // The seeds: each chain edge's face whose side runs along the chain, and the other.
     let (mut left, mut right) = (Vec::new(), Vec::new());
     for (k, &e) in chain.edges.iter().enumerate() {
@@ -109,4 +96,47 @@ pub fn base_meshes(
         left: left.into_iter().collect(),
         right: right.into_iter().collect(),
     })
+}
+
+/// Which faces of a mesh have a corner within a reach of a polyline (the chain, or an
+/// existing round's middle line): what the base meshes' flood asks of every face it
+/// meets. Each node's answer is worked out once, as the flood asks it from every face
+/// round the node and each answer walks the whole line.
+pub(super) struct Reach<'a> {
+    mesh: &'a Mesh,
+    line: PolylineIndex,
+    reach: f64,
+    within: Vec<Cell<Option<bool>>>,
+}
+
+impl<'a> Reach<'a> {
+    /// The faces of `mesh` within `reach` of `line`.
+    pub(super) fn new(mesh: &'a Mesh, line: &[DVec3], reach: f64) -> Reach<'a> {
+        Reach {
+            mesh,
+            line: PolylineIndex::new(line),
+            reach,
+            within: (0..mesh.vertex_count()).map(|_| Cell::new(None)).collect(),
+        }
+    }
+
+    /// Whether node `v` lies within reach.
+    fn node(&self, v: VertexId) -> bool {
+        let slot = &self.within[v.index()];
+        slot.get().unwrap_or_else(|| {
+            let near = self
+                .mesh
+                .position(v)
+                .is_some_and(|p| self.line.nearest(p).0 <= self.reach);
+            slot.set(Some(near));
+            near
+        })
+    }
+
+    /// Whether face `f` has a corner within reach.
+    pub(super) fn face(&self, f: FaceId) -> bool {
+        self.mesh
+            .face(f)
+            .is_some_and(|face| face.vertices().any(|v| self.node(v)))
+    }
 }

@@ -101,10 +101,24 @@ pub fn ball_in_plane(
     let normal = (ball.contacts[0] - c)
         .cross(ball.contacts[1] - c)
         .try_normalize()?;
-    // Far enough to hold the contacts of a ball grown from this one to `radius`,
-    // whatever the angle between the base meshes.
-    let reach = 4.0 * radius.max(ball.radius);
-    let cuts = [bases.0, bases.1].map(|grid| plane_cut(grid, c, normal, reach));
+    // The cuts within reach of the ball's new contacts: first near (enough where the
+    // faces meet at a wide angle, as a die shoulder's do), then, for a sharp corner
+    // where the centre moves far along it, farther.
+    let near = 2.0 * radius.max(ball.radius) + 2.0 * (radius - ball.radius).abs();
+    [near, 4.0 * near].into_iter().find_map(|reach| {
+        let cuts = [bases.0, bases.1].map(|grid| plane_cut(grid, c, normal, reach));
+        in_plane(ball, radius, &cuts, bases)
+    })
+}
+
+/// [`ball_in_plane`] on the cuts `cuts` of the base meshes.
+fn in_plane(
+    ball: &Ball,
+    radius: f64,
+    cuts: &[Vec<(DVec3, DVec3)>; 2],
+    bases: (&TriangleGrid, &TriangleGrid),
+) -> Option<Ball> {
+    let c = ball.centre;
     // Each step moves the centre so that it would stand `radius` off the planes
     // tangent to the cuts at the contacts found from it: along the contact normals,
     // by how far each distance falls short of the radius.

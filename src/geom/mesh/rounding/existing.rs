@@ -9,7 +9,7 @@ use std::collections::{BTreeMap, BTreeSet};
 
 use glam::DVec3;
 
-use super::base::{BaseError, BaseMeshes, BASE_REACH};
+use super::base::{BaseError, BaseMeshes, Reach, BASE_REACH};
 use super::polyline_nearest;
 use super::round::RoundSite;
 use crate::geom::mesh::curvature::NodeCurvature;
@@ -78,20 +78,16 @@ fn sharper(c: &NodeCurvature) -> f64 {
 }
 
 /// The round through `node` of `mesh`: its nodes are those connected to `node` whose
-/// sharper principal curvature (of `curvatures`, one per node) has the same sign and
+/// sharper principal curvature (`curvature` of a node) has the same sign and
 /// lies within `band` (a share) of `node`'s.
 pub fn find_round(
     mesh: &Mesh,
     topology: &Topology,
-    curvatures: &[Option<NodeCurvature>],
+    curvature: &dyn Fn(VertexId) -> Option<NodeCurvature>,
     node: VertexId,
     band: f64,
 ) -> Result<ExistingRound, FindError> {
-    let picked = curvatures
-        .get(node.index())
-        .copied()
-        .flatten()
-        .ok_or(FindError::NoCurvature)?;
+    let picked = curvature(node).ok_or(FindError::NoCurvature)?;
     let k0 = sharper(&picked);
     if k0.abs() < FLAT {
         return Err(FindError::Flat);
@@ -105,14 +101,10 @@ pub fn find_round(
         } else {
             band
         };
-        curvatures
-            .get(v.index())
-            .copied()
-            .flatten()
-            .is_some_and(|c| {
-                let k = sharper(&c);
-                k * k0 > 0.0 && (k - k0).abs() <= width * k0.abs()
-            })
+        curvature(v).is_some_and(|c| {
+            let k = sharper(&c);
+            k * k0 > 0.0 && (k - k0).abs() <= width * k0.abs()
+        })
     };
     let mut nodes = BTreeSet::from([node]);
     let mut queue = vec![node];
@@ -129,7 +121,7 @@ pub fn find_round(
         .collect();
     let radius = nodes
         .iter()
-        .filter_map(|v| curvatures[v.index()].map(|c| 1.0 / sharper(&c).abs()))
+        .filter_map(|&v| curvature(v).map(|c| 1.0 / sharper(&c).abs()))
         .sum::<f64>()
         / nodes.len() as f64;
     // The rim: the nodes of its faces that also lie on a face beside it.
@@ -258,14 +250,8 @@ pub fn reround_site(
 ) -> Result<RoundSite, BaseError> {
     let reach = BASE_REACH * radius;
     let round: BTreeSet<FaceId> = found.faces.iter().copied().collect();
-    let near = |f: FaceId| {
-        mesh.face(f).is_some_and(|face| {
-            face.vertices().any(|v| {
-                mesh.position(v)
-                    .is_some_and(|p| polyline_nearest(&found.guide, p).0 <= reach)
-            })
-        })
-    };
+    let within = Reach::new(mesh, &found.guide, reach);
+    let near = |f: FaceId| within.face(f);
     let flood = |seeds: &[FaceId]| -> BTreeSet<FaceId> {
         let mut seen: BTreeSet<FaceId> = seeds.iter().copied().collect();
         let mut queue = seeds.to_vec();

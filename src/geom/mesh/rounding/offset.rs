@@ -28,6 +28,10 @@ pub struct OffsetMesh {
 /// planes to pin a node's tangent position; below it they count as one plane.
 const DISTINCT: f64 = 1e-6;
 
+/// How far past the bound a node's offset step may reach before the node is taken as
+/// folded: 2 %.
+const FOLD_SLACK: f64 = 0.02;
+
 /// The faces `faces` of `mesh` offset by `distance` along their normals (below 0:
 /// against them). Each node of the faces goes to the least-squares meeting point of its
 /// faces' offset planes (those among `faces`), taking the smallest step from the node
@@ -84,8 +88,10 @@ pub fn offset_faces(
                 widest = widest.max(n.dot(*m).clamp(-1.0, 1.0).acos());
             }
         }
+        // Planes that do not meet in one point (the two triangles of a twisted cell)
+        // give a least-squares step a little past the bound; a fold, one far past it.
         let bound = distance.abs() / (0.5 * widest).cos().max(1e-9);
-        if step.length() > bound * (1.0 + 1e-9) + 1e-12 {
+        if step.length() > bound * (1.0 + FOLD_SLACK) + 1e-12 {
             folded.push(v);
         }
     }
@@ -105,14 +111,11 @@ pub fn offset_faces(
                 .dot(n)
                 < 0.0
         {
-            for v in face.vertices() {
-                if !folded.contains(&v) {
-                    folded.push(v);
-                }
-            }
+            folded.extend(face.vertices());
         }
     }
     folded.sort();
+    folded.dedup();
     OffsetMesh {
         faces: faces.to_vec(),
         points,

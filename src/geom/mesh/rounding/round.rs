@@ -17,7 +17,7 @@ use glam::DVec3;
 use super::base::{base_meshes, BaseError, BaseMeshes};
 use super::chain::SharpChain;
 use super::contact::{ball_in_plane, balls_at, profile, Ball};
-use super::index::TriangleGrid;
+use super::index::{PolylineIndex, TriangleGrid};
 use super::offset::offset_faces;
 use super::radius::RadiusLaw;
 use super::spine::{base_triangles, offset_triangles, spine};
@@ -184,7 +184,8 @@ pub fn round_site(
         mean,
     );
     // Each ball at the mean radius, then moved to its own where the radius varies.
-    let along = |p: DVec3| polyline_nearest(&site.guide, p).1;
+    let guide = PolylineIndex::new(&site.guide);
+    let along = |p: DVec3| guide.nearest(p).1;
     let at_mean: Vec<Ball> = balls_at(&centres, (&bases[0], &bases[1]), mean)
         .into_iter()
         .flatten()
@@ -261,7 +262,7 @@ pub fn round_site(
         mut positions,
         mut faces,
         rows,
-    } = cut_to_trim_lines(mesh, topology, site, &trim_lines);
+    } = cut_to_trim_lines(mesh, topology, site, &guide, &trim_lines);
     if rows.iter().any(|row| row.len() < 2) {
         return Err(RoundError::Surface(
             "cutting the mesh back to a trim line left no edge along it".into(),
@@ -345,11 +346,15 @@ fn cut_to_trim_lines(
     mesh: &Mesh,
     topology: &Topology,
     site: &RoundSite,
+    guide: &PolylineIndex,
     trim_lines: &[Vec<DVec3>; 2],
 ) -> Cut {
     let mut positions = mesh.positions().to_vec();
-    let guide = &site.guide;
-    let to_guide = |p: DVec3| polyline_nearest(guide, p).0;
+    let to_guide = |p: DVec3| guide.nearest(p).0;
+    // Each trim line's points: where along the guide they stand, and how far off it.
+    let line_along: [Vec<f64>; 2] = trim_lines
+        .each_ref()
+        .map(|line| line.iter().map(|&q| guide.nearest(q).1).collect());
     let mut inside = vec![false; positions.len()];
     let mut side_of = vec![None; positions.len()];
     for (s, faces) in [&site.base.left, &site.base.right].iter().enumerate() {
@@ -360,12 +365,13 @@ fn cut_to_trim_lines(
                     continue;
                 }
                 let p = positions[v.index()];
-                let nearest = trim_lines[s]
-                    .iter()
-                    .copied()
-                    .min_by(|a, b| a.distance(p).total_cmp(&b.distance(p)))
-                    .unwrap_or(p);
-                if to_guide(p) < to_guide(nearest) * (1.0 - 1e-9) {
+                let (off, along, _) = guide.nearest(p);
+                // The trim line beside the node: at its place along the guide, or (past
+                // the line's ends) its nearest point.
+                let line = &trim_lines[s];
+                let beside = trim_point_along(line, &line_along[s], along)
+                    .unwrap_or_else(|| polyline_nearest(line, p).2);
+                if off < to_guide(beside) * (1.0 - 1e-9) {
                     inside[v.index()] = true;
                 }
                 side_of[v.index()].get_or_insert(s);
@@ -430,15 +436,14 @@ fn cut_to_trim_lines(
     for (s, nodes) in on_cut.iter_mut().enumerate() {
         let mut keyed: Vec<(f64, u32)> = nodes
             .iter()
-            .map(|&v| (polyline_nearest(guide, positions[v as usize]).1, v))
+            .map(|&v| (guide.nearest(positions[v as usize]).1, v))
             .collect();
         keyed.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         let line = &trim_lines[s];
-        let line_along: Vec<f64> = line.iter().map(|&q| polyline_nearest(guide, q).1).collect();
         for &(along, v) in &keyed {
             let p = positions[v as usize];
-            positions[v as usize] =
-                trim_point_along(line, &line_along, along).unwrap_or(polyline_nearest(line, p).2);
+            positions[v as usize] = trim_point_along(line, &line_along[s], along)
+                .unwrap_or_else(|| polyline_nearest(line, p).2);
         }
         // Where the cut steps across a row of the mesh, two of its nodes lie at one
         // place along the guide and land on one point: the later is merged into the

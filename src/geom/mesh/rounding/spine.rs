@@ -6,13 +6,12 @@
 use glam::DVec3;
 
 use super::offset::OffsetMesh;
-use super::polyline_nearest;
 use crate::geom::mesh::{Mesh, VertexId};
 
 /// Points of the spine closer together than this, relative to the radius, are one.
 const SAME_POINT: f64 = 1e-9;
 
-use super::index::{Triangle, TriangleGrid};
+use super::index::{PolylineIndex, Triangle, TriangleGrid};
 
 /// The triangles of `offset`, each corner at its offset point (faces with a folded
 /// corner, or not triangles, are left out).
@@ -181,7 +180,8 @@ pub fn spine(
         }
     }
     // Along the guide: each point by the arc length of its nearest point on it.
-    let along = |p: DVec3| polyline_nearest(guide, p).1;
+    let guide = PolylineIndex::new(guide);
+    let along = |p: DVec3| guide.nearest(p).1;
     let mut keyed: Vec<(f64, DVec3)> = points.into_iter().map(|p| (along(p), p)).collect();
     keyed.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.x.total_cmp(&b.1.x)));
     let same = SAME_POINT * radius.max(1.0);
