@@ -825,3 +825,80 @@ fn an_existing_round_is_found_and_widened() {
         }
     }
 }
+
+/// OpenCascade's fillets of the same sharp edges (`tests/data/fillet_reference.json`,
+/// written by `tests/reference/fillet_reference.py`: each fold and the boss built as a
+/// solid and its corner edge filleted by `BRepFilletAPI_MakeFillet`), sampled on their
+/// fillet faces, against dieface's rounding surfaces of the tessellated edges. The
+/// folds' faces are planes, so the two fillets are one cylinder: every sample on
+/// dieface's surface to 1e-6 mm. The boss's 96 facets follow its cylinder within their
+/// sag, and dieface's torus follows them: within the sag scaled out to the round
+/// (`sag (a + r) / a`) and the round's tolerance. Figures printed.
+#[test]
+fn the_round_matches_opencascades_fillet() {
+    use dieface::geom::inversion::closest_point_on_surface;
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/fillet_reference.json");
+    let data: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(path).expect("the reference data"))
+            .expect("JSON");
+    let samples = |case: &str| -> Vec<DVec3> {
+        data["cases"][case]["samples"]
+            .as_array()
+            .expect("samples")
+            .iter()
+            .map(|p| {
+                let c: Vec<f64> = p
+                    .as_array()
+                    .expect("a point")
+                    .iter()
+                    .map(|x| x.as_f64().expect("a number"))
+                    .collect();
+                DVec3::new(c[0], c[1], c[2])
+            })
+            .collect()
+    };
+    let distances = |rounded: &Rounded, points: &[DVec3]| -> (f64, f64) {
+        let d: Vec<f64> = points
+            .iter()
+            .map(|&p| {
+                closest_point_on_surface(&rounded.surface, p)
+                    .expect("a closest point")
+                    .distance
+            })
+            .collect();
+        (
+            d.iter().copied().fold(0.0, f64::max),
+            d.iter().sum::<f64>() / d.len() as f64,
+        )
+    };
+    for (case, turn) in [("fold_90", FRAC_PI_2), ("fold_120", PI / 3.0)] {
+        let r = data["cases"][case]["radius"].as_f64().expect("a radius");
+        let (mesh, topology, chain, _) = fold_round(turn, r);
+        let rounded =
+            round_chain(&mesh, &topology, &chain, &RadiusLaw::constant(r), 0.01).expect("rounded");
+        let points = samples(case);
+        let (max, mean) = distances(&rounded, &points);
+        eprintln!(
+            "{case}: {} OpenCascade fillet samples, {max:.1e} mm from dieface's rounding \
+             surface at most, {mean:.1e} mm on average",
+            points.len()
+        );
+        assert!(max < 1e-6, "{case}: {max}");
+    }
+    let (a, r, n) = (20.0, 4.0, 96);
+    assert_eq!(data["cases"]["boss"]["boss_radius"].as_f64(), Some(a));
+    assert_eq!(data["cases"]["boss"]["radius"].as_f64(), Some(r));
+    let (mesh, topology, chain) = boss_on_plate(a, n);
+    let rounded =
+        round_chain(&mesh, &topology, &chain, &RadiusLaw::constant(r), 0.01).expect("rounded");
+    let points = samples("boss");
+    let (max, mean) = distances(&rounded, &points);
+    let sag = a * (1.0 - (PI / n as f64).cos());
+    eprintln!(
+        "boss: {} OpenCascade fillet samples, {max:.2e} mm from dieface's rounding surface at \
+         most, {mean:.2e} mm on average (the facets' sag {sag:.2e} mm)",
+        points.len()
+    );
+    assert!(max < sag * (a + r) / a + 0.01, "{max}");
+}
