@@ -902,3 +902,179 @@ fn the_round_matches_opencascades_fillet() {
     );
     assert!(max < sag * (a + r) / a + 0.01, "{max}");
 }
+
+/// A fold whose ends are cut slant (the mesh's boundary crossing the edge at 63 deg, not
+/// square), so the spine's last balls stop short of the boundary: the round is carried
+/// on past each end and trimmed where the boundary crosses it (paper 000, step 6). The
+/// strip runs from boundary to boundary, its end nodes on the boundary's plane, and the
+/// rounded mesh has the analytic area: the fillet cylinder between the slant planes is
+/// as long as the fold at every angle.
+#[test]
+fn a_fold_cut_slant_is_rounded_to_its_ends() {
+    let r = 5.0;
+    let slant = 0.5;
+    let flat = sheet(20, 8, &|s, t| {
+        let y = -40.0 + 40.0 * t;
+        DVec3::new(100.0 * s - slant * y, y, 0.0)
+    });
+    let leg = sheet(20, 8, &|s, t| DVec3::new(100.0 * s, 0.0, 40.0 * t));
+    let mesh = joined(&[flat, leg]);
+    let topology = Topology::build(&mesh);
+    let sharp = sharp_edges(&mesh, &topology, DEFAULT_FEATURE_ANGLE);
+    let (start, _) =
+        nearest_sharp_node(&mesh, &topology, &sharp, DVec3::new(50.0, 0.0, 0.0)).expect("a node");
+    let chain = chain_through(&mesh, &topology, &sharp, start, None).expect("a chain");
+    let tolerance = 0.01;
+    let rounded =
+        round_chain(&mesh, &topology, &chain, &RadiusLaw::constant(r), tolerance).expect("rounded");
+    let stitch = assert_stitched(&mesh, &rounded);
+    let off = worst_round_node(&rounded, &|p| {
+        (((p.y + r).powi(2) + (p.z - r).powi(2)).sqrt() - r).abs()
+    });
+    // The boundary's planes at the two ends: x + slant y = 0 and = 100.
+    let past = worst_round_node(&rounded, &|p| {
+        let c = p.x + slant * p.y;
+        (-c).max(c - 100.0).max(0.0)
+    });
+    let round = &rounded.mesh;
+    let first_round = round.face_count() - rounded.round_faces;
+    let ends = round.faces()[first_round..]
+        .iter()
+        .flat_map(|f| f.indices().iter().map(|&i| round.positions()[i as usize]))
+        .map(|p| p.x + slant * p.y)
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), c| {
+            (lo.min(c), hi.max(c))
+        });
+    // A chord of the quarter circle spans R sin(h/2) 2 for R h of arc: the strip's area
+    // falls short of the cylinder's by at most that ratio.
+    let rows = (FRAC_PI_2 / (PI / 12.0)).ceil();
+    let chord = (2.0 * r * (FRAC_PI_2 / rows / 2.0).sin() * rows) / (r * FRAC_PI_2);
+    let exact = 2.0 * 100.0 * (40.0 - r) + 100.0 * r * FRAC_PI_2;
+    let area = round.total_area();
+    eprintln!(
+        "slant fold at R {r}: {} balls, round strip from x + y/2 = {:.2e} to {:.6}, nodes \
+         {off:.1e} mm off the fillet and {past:.1e} mm past the boundary, area {area:.4} \
+         mm2 against {exact:.4} (chords {:.4} of the arc), stitch {stitch:.2} deg",
+        rounded.balls.len(),
+        ends.0,
+        ends.1,
+        chord
+    );
+    assert!(off < 1e-9, "{off}");
+    assert!(past < 1e-9, "{past}");
+    assert!(
+        ends.0.abs() < 1e-9 && (ends.1 - 100.0).abs() < 1e-9,
+        "{ends:?}"
+    );
+    let short = exact - area;
+    assert!(
+        short >= -1e-6 && short <= (1.0 - chord) * 100.0 * r * FRAC_PI_2 + 1e-6,
+        "{area} {exact}"
+    );
+    assert!(stitch < 4.0, "{stitch}");
+}
+
+/// Step 7 alone on a plate 100 mm square in 10 mm cells, the guide along its edge y = 0
+/// and the trim line at `line(x)`: the cut keeps exactly the plate's part beyond the
+/// line (its area the integral), splits the faces the line crosses (none thrown away
+/// whole that had a node outside), snaps the nodes lying within a fifth of an edge of
+/// it, and puts every node of the cut on the line, in order along the guide; the kept
+/// mesh is manifold, consistently wound, and its smallest angle is printed.
+#[test]
+fn the_cut_follows_the_trim_line_through_the_faces() {
+    use dieface::geom::mesh::rounding::cut::cut_to_trim_lines;
+    use dieface::geom::mesh::rounding::index::PolylineIndex;
+    use dieface::geom::mesh::rounding::round::RoundSite;
+    let plate = sheet(10, 10, &|s, t| DVec3::new(100.0 * s, 100.0 * t, 0.0));
+    let topology = Topology::build(&plate);
+    let guide = vec![DVec3::ZERO, DVec3::new(100.0, 0.0, 0.0)];
+    let site = RoundSite {
+        base: BaseMeshes {
+            left: plate.face_ids().collect(),
+            right: Vec::new(),
+        },
+        guide: guide.clone(),
+        closed: false,
+        convex: false,
+        replaced: Vec::new(),
+    };
+    let index = PolylineIndex::new(&guide);
+    type Line<'a> = &'a dyn Fn(f64) -> f64;
+    let cases: [(&str, Line, f64); 3] = [
+        ("between rows, at y = 23.7", &|_| 23.7, 100.0 * 76.3),
+        ("just past a row, at y = 20.5", &|_| 20.5, 100.0 * 79.5),
+        (
+            "slant, y = 21 + 0.13 x",
+            &|x| 21.0 + 0.13 * x,
+            100.0 * (79.0 - 6.5),
+        ),
+    ];
+    for (name, line, area) in cases {
+        let trim: Vec<DVec3> = (0..=200)
+            .map(|k| {
+                let x = k as f64 / 2.0;
+                DVec3::new(x, line(x), 0.0)
+            })
+            .collect();
+        let cut = cut_to_trim_lines(&plate, &topology, &site, &index, &[trim, Vec::new()]);
+        let faces: Vec<Face> = cut
+            .faces
+            .iter()
+            .map(|t| Face::triangle(t[0], t[1], t[2]))
+            .collect();
+        let kept = Mesh::new(cut.positions.clone(), faces).expect("a mesh");
+        let kept_topology = Topology::build(&kept);
+        assert!(kept_topology.non_manifold_edges().is_empty(), "{name}");
+        assert!(kept_topology.inconsistent_edges().is_empty(), "{name}");
+        let smallest = kept
+            .face_ids()
+            .filter_map(|f| kept.face(f))
+            .map(|f| {
+                let p: Vec<DVec3> = f.vertices().map(|v| kept.positions()[v.index()]).collect();
+                (0..3)
+                    .map(|k| {
+                        (p[(k + 1) % 3] - p[k])
+                            .angle_between(p[(k + 2) % 3] - p[k])
+                            .to_degrees()
+                    })
+                    .fold(180.0, f64::min)
+            })
+            .fold(180.0, f64::min);
+        let row = &cut.rows[0];
+        let on_line = row
+            .iter()
+            .map(|&v| {
+                let p = cut.positions[v as usize];
+                (p.y - line(p.x)).abs()
+            })
+            .fold(0.0, f64::max);
+        let beyond = kept
+            .positions()
+            .iter()
+            .zip(0..)
+            .filter(|(_, v)| {
+                !kept_topology
+                    .vertex_faces(dieface::geom::mesh::VertexId(*v))
+                    .is_empty()
+            })
+            .map(|(p, _)| line(p.x) - p.y)
+            .fold(f64::NEG_INFINITY, f64::max);
+        eprintln!(
+            "cut {name}: {} faces split, {} nodes snapped, area {:.9} against {area}, cut nodes \
+             {on_line:.1e} mm off the line, smallest angle {smallest:.1} deg",
+            cut.split_faces,
+            cut.snapped_nodes,
+            kept.total_area()
+        );
+        assert!((kept.total_area() - area).abs() < 1e-9 * area, "{name}");
+        assert!(
+            on_line < 1e-9 && beyond < 1e-9,
+            "{name}: {on_line} {beyond}"
+        );
+        assert!(row
+            .windows(2)
+            .all(|w| { cut.positions[w[0] as usize].x < cut.positions[w[1] as usize].x }));
+        assert!(row.len() >= 11 && cut.rows[1].is_empty(), "{name}");
+        assert!(smallest > 5.0, "{name}: {smallest}");
+    }
+}

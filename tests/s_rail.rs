@@ -110,7 +110,9 @@ fn figures(rail: &Mesh, r: &Rounded) -> Figures {
             }
         }
     }
-    let centres: Vec<DVec3> = r.balls.iter().map(|b| b.centre).collect();
+    // The balls the surface was lofted through: past the round's last balls, those
+    // carried on to the mesh's boundary.
+    let centres: Vec<DVec3> = r.lofted.iter().map(|b| b.centre).collect();
     let mut run = vec![0.0];
     for w in centres.windows(2) {
         run.push(run[run.len() - 1] + w[0].distance(w[1]));
@@ -118,7 +120,7 @@ fn figures(rail: &Mesh, r: &Rounded) -> Figures {
     let radius_at = |s: f64| {
         let k = run.partition_point(|&a| a <= s).clamp(1, run.len() - 1);
         let t = ((s - run[k - 1]) / (run[k] - run[k - 1]).max(1e-12)).clamp(0.0, 1.0);
-        r.balls[k - 1].radius + t * (r.balls[k].radius - r.balls[k - 1].radius)
+        r.lofted[k - 1].radius + t * (r.lofted[k].radius - r.lofted[k - 1].radius)
     };
     let off_canal = mesh.faces()[first..]
         .iter()

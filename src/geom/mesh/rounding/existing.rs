@@ -210,12 +210,25 @@ pub fn find_round(
                 _ => break,
             }
         }
-        let closed = links[&start].len() == 2;
         if path.len() < links.len() {
             // The rim is in pieces: not one strip.
             return Err(FindError::NotAStrip { node: start.0 });
         }
+        let closed = links[&start].len() == 2;
         let mut points: Vec<DVec3> = path.iter().filter_map(|&v| mesh.position(v)).collect();
+        // An open rim's end on the mesh's free edge is taken straight on from the step
+        // before it, as far along: the quadric there is fitted on one side only, so the
+        // band takes or leaves the free edge's nodes unlike the round's inner ones, and
+        // the rim's last step runs slant across the round.
+        let n = points.len();
+        if !closed && n > 2 && n == path.len() {
+            for [last, next, after] in [[0, 1, 2], [n - 1, n - 2, n - 3]] {
+                if topology.is_boundary_vertex(path[last]) {
+                    let on = (points[next] - points[after]).normalize_or_zero();
+                    points[last] = points[next] + on * (points[last] - points[next]).dot(on);
+                }
+            }
+        }
         if closed {
             points.push(points[0]);
         }

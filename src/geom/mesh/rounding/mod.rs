@@ -2,9 +2,9 @@
 //! way): a die shoulder that is sharp in a tool mesh tears the sheet in forming
 //! simulation, so the designer rounds the chain of sharp edges through a picked node
 //! directly on the mesh. Each step of the paper's method is its own tested function.
-//! A constant or variable radius ([`radius`]), on a chain whose spine reaches the
-//! mesh's boundary or closes, or on a round the mesh already has ([`existing`]);
-//! extending open chains that stop short of the boundary is to come.
+//! A constant or variable radius ([`radius`]), on a closed chain or an open one (its
+//! round carried on to the mesh's boundary and trimmed there), or on a round the mesh
+//! already has ([`existing`]).
 //!
 //! The steps, numbered as the paper's:
 //!
@@ -19,8 +19,11 @@
 //!   or at a corner), the ball re-centred to touch both at R exactly, and the profile
 //!   arc between them; for a variable radius ([`radius`]: a cubic spline in arc length
 //!   along the chain) each ball moved within its plane to its own radius;
+//! - step 7, [`cut`]: the mesh cut along the trim lines (faces split where a trim line
+//!   crosses them, nodes within a fifth of an edge of it snapped onto it);
 //! - steps 6 to 8, [`round`]: the steps put together: the profiles lofted into the rounding
-//!   surface, the mesh cut back to the trim lines and the surface's strip stitched in.
+//!   surface (an open round's carried on past the boundary and trimmed there), the mesh
+//!   cut and the surface's strip stitched in.
 //!
 //! The curvature each node has is [`super::curvature`]; [`existing`] finds a round a
 //! mesh already has by it (section 4) and makes the site to round it again.
@@ -28,6 +31,7 @@
 pub mod base;
 pub mod chain;
 pub mod contact;
+pub mod cut;
 pub mod existing;
 pub mod index;
 pub mod offset;

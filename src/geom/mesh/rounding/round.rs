@@ -1,35 +1,51 @@
-//! A chain rounded at a constant radius, steps 1 to 8 put together (paper 000, section
-//! 2): the balls along the spine, their profile arcs lofted into the rounding surface
-//! (step 6), the mesh cut back to the trim lines (step 7: the faces reaching inside a
-//! trim line removed, the nodes left on the cut snapped onto it) and the rounding
-//! surface meshed row by row and stitched to the cut with a strip of triangles (step
-//! 8), so the rounded mesh has no gap, no overlap and no new free edge.
+//! A chain rounded, steps 1 to 8 put together (paper 000, section 2): the balls along
+//! the spine, their profile arcs lofted into the rounding surface (step 6; an open
+//! round's surface carried on past the mesh's boundary at each end and trimmed where
+//! the boundary crosses it), the mesh cut along the trim lines (step 7, [`super::cut`])
+//! and the rounding surface meshed row by row and stitched to the cut with a strip of
+//! triangles (step 8), so the rounded mesh has no gap, no overlap and no new free edge.
 //!
 //! The radius may vary along the round ([`RadiusLaw`]): the spine and balls are found at
 //! the mean radius and each ball then moved within its plane to its own (step 5).
-//!
-//! Left for later steps: open chains whose spine stops short of the mesh's boundary
-//! (the paper extends the surface and trims it there), and cutting faces along a trim
-//! line (the nodes next to it are moved onto it instead).
 
 use glam::DVec3;
 
 use super::base::{base_meshes, BaseError, BaseMeshes};
 use super::chain::SharpChain;
 use super::contact::{ball_in_plane, balls_at, profile, Ball};
+use super::cut::{cut_to_trim_lines, Cut};
 use super::index::{PolylineIndex, TriangleGrid};
 use super::offset::offset_faces;
 use super::radius::RadiusLaw;
 use super::spine::{base_triangles, offset_triangles, spine};
 use super::{chain_polyline, polyline_nearest};
 use crate::geom::construct::{loft, Loft};
-use crate::geom::mesh::{Face, FaceId, Mesh, Topology, VertexId};
+use crate::geom::mesh::{Face, FaceId, Mesh, Topology};
 use crate::geom::surface::NurbsSurface;
 
 /// The farthest apart (in radii) two neighbouring balls may stand: where the spine's
 /// points are sparser (its offsets' triangles crossing in few places, as where a
 /// coarse mesh twists), balls are placed between them.
 const MAX_GAP: f64 = 0.5;
+
+/// `balls` with those nearer than `gap` to the last one kept dropped; the last ball
+/// always kept (it ends the surface: it takes the place of the one before).
+fn thin_out(balls: Vec<Ball>, gap: f64) -> Vec<Ball> {
+    let count = balls.len();
+    let mut out: Vec<Ball> = Vec::with_capacity(count);
+    for (k, ball) in balls.into_iter().enumerate() {
+        let far = out
+            .last()
+            .is_none_or(|last| last.centre.distance(ball.centre) >= gap);
+        if far {
+            out.push(ball);
+        } else if k + 1 == count && out.len() > 1 {
+            out.pop();
+            out.push(ball);
+        }
+    }
+    out
+}
 
 /// `balls` with more placed between any two farther apart than `gap`: each at its
 /// share of the way from one centre to the next, re-centred on the base meshes
@@ -56,8 +72,150 @@ fn fill_gaps(
     out
 }
 
-/// How near (mm) two cut nodes moved onto a trim line must land to be merged.
-const SAME_NODE: f64 = 1e-9;
+/// Where the mesh's boundary crosses an open round's end: a plane, its normal towards
+/// the round.
+#[derive(Debug, Clone, Copy)]
+struct EndPlane {
+    point: DVec3,
+    normal: DVec3,
+}
+
+impl EndPlane {
+    /// How far `p` lies on the round's side of the plane (negative past it).
+    fn side(&self, p: DVec3) -> f64 {
+        self.normal.dot(p - self.point)
+    }
+}
+
+/// The plane the mesh's boundary lies in at an open round's end `at` (the guide's end,
+/// `outward` the way the guide leaves there): fitted to the nodes of the free edges
+/// within `reach` of it that run across the round (the normal of least spread), or,
+/// where those do not span a plane, square to the guide.
+fn end_plane(mesh: &Mesh, topology: &Topology, at: DVec3, outward: DVec3, reach: f64) -> EndPlane {
+    let out = outward.normalize_or_zero();
+    let square = EndPlane {
+        point: at,
+        normal: -out,
+    };
+    // The free edges running across the round there (more across than along it): the
+    // mesh's edges beside the round, running along it, are no part of its end.
+    let mut nodes: Vec<DVec3> = topology
+        .free_edges()
+        .into_iter()
+        .filter_map(|e| {
+            let [a, b] = topology.edge_vertices(e);
+            let (p, q) = (mesh.position(a)?, mesh.position(b)?);
+            let across =
+                (q - p).normalize_or_zero().dot(out).abs() < std::f64::consts::FRAC_1_SQRT_2;
+            (across && (p.distance(at) <= reach || q.distance(at) <= reach)).then_some([p, q])
+        })
+        .flatten()
+        .collect();
+    nodes.sort_by(|a, b| {
+        a.x.total_cmp(&b.x)
+            .then(a.y.total_cmp(&b.y))
+            .then(a.z.total_cmp(&b.z))
+    });
+    nodes.dedup();
+    if nodes.len() < 3 {
+        return square;
+    }
+    let centre = nodes.iter().copied().sum::<DVec3>() / nodes.len() as f64;
+    let mut spread = nalgebra::Matrix3::<f64>::zeros();
+    for p in &nodes {
+        let d = nalgebra::Vector3::new(p.x - centre.x, p.y - centre.y, p.z - centre.z);
+        spread += d * d.transpose();
+    }
+    let eigen = nalgebra::SymmetricEigen::new(spread);
+    let order: Vec<usize> = {
+        let mut o = vec![0, 1, 2];
+        o.sort_by(|&a, &b| eigen.eigenvalues[a].total_cmp(&eigen.eigenvalues[b]));
+        o
+    };
+    // Nodes along one line (or one point) pin no plane.
+    if eigen.eigenvalues[order[1]] <= 1e-12 * eigen.eigenvalues[order[2]].max(f64::MIN_POSITIVE) {
+        return square;
+    }
+    let n = eigen.eigenvectors.column(order[0]);
+    let mut normal = DVec3::new(n[0], n[1], n[2]).normalize_or_zero();
+    if normal.dot(out) > 0.0 {
+        normal = -normal;
+    }
+    // A boundary running along the round, not across it, is no end.
+    if normal.dot(-out) < 0.25 {
+        return square;
+    }
+    EndPlane {
+        point: centre,
+        normal,
+    }
+}
+
+/// The way a round carries on past its end ball `end`, out of the round (the way
+/// `outward` points): along both faces it touches there (square to both contact
+/// directions), so carried balls keep touching the faces' planes; `outward` itself
+/// where the two contacts lie in line with the centre.
+fn carry_direction(end: &Ball, outward: DVec3) -> DVec3 {
+    let outward = outward.normalize_or_zero();
+    let along = (end.contacts[0] - end.centre)
+        .cross(end.contacts[1] - end.centre)
+        .normalize_or_zero();
+    match along.dot(outward) {
+        d if along == DVec3::ZERO || d.abs() < 0.5 => outward,
+        d if d < 0.0 => -along,
+        _ => along,
+    }
+}
+
+/// Balls carried on from `end` by `step` at a time (along the guide, out of the round),
+/// until one's profile lies wholly past `plane`; none when `end`'s already does. At
+/// most 40.
+fn carry_on(end: &Ball, step: DVec3, plane: &EndPlane) -> Vec<Ball> {
+    let past = |b: &Ball| {
+        profile(b)
+            .is_some_and(|arc| (0..=8).all(|k| plane.side(arc.point_at(k as f64 / 8.0)) < 0.0))
+    };
+    let mut out = Vec::new();
+    let mut last = end.clone();
+    while !past(&last) && out.len() < 40 {
+        last = Ball {
+            centre: last.centre + step,
+            contacts: last.contacts.map(|q| q + step),
+            ..last
+        };
+        out.push(last.clone());
+    }
+    out
+}
+
+/// The v at which row `u` of `surface` crosses `plane`, between `from` (past the plane)
+/// and `to` (on the round's side), by bisection; `None` when the two do not bracket it.
+fn plane_crossing(
+    surface: &NurbsSurface,
+    u: f64,
+    (from, to): (f64, f64),
+    plane: &EndPlane,
+) -> Option<f64> {
+    let side = |v: f64| plane.side(surface.point_at(u, v));
+    let (mut out, mut inside) = (from, to);
+    if side(out) >= 0.0 || side(inside) < 0.0 {
+        return None;
+    }
+    for _ in 0..60 {
+        let mid = 0.5 * (out + inside);
+        if side(mid) < 0.0 {
+            out = mid;
+        } else {
+            inside = mid;
+        }
+    }
+    Some(inside)
+}
+
+/// How many points of each edge of the rounding surface the cut follows between two
+/// neighbouring profiles: the chord between them then parts from the edge by 1/256 of
+/// the chord between the contacts themselves.
+const TRIM_SAMPLES: usize = 16;
 
 /// The largest angle one row of the rounding surface's mesh turns through (radians).
 const ROW_STEP: f64 = std::f64::consts::PI / 12.0;
@@ -71,12 +229,21 @@ pub struct Rounded {
     /// The rounding surface: the profile arcs lofted, u across a profile (from the
     /// left base mesh to the right), v along the chain.
     pub surface: NurbsSurface,
-    /// The trim lines: the balls' contacts on the left and on the right base mesh.
+    /// The trim lines: where the mesh was cut on the left and on the right base mesh
+    /// (the rounding surface's edges, through the balls' contacts), the cut's nodes in
+    /// order along the round.
     pub trim_lines: [Vec<DVec3>; 2],
-    /// The balls the surface was lofted through.
+    /// The balls rolled along the round, in order.
     pub balls: Vec<Ball>,
+    /// The balls the surface was lofted through: [`Rounded::balls`] and, for an open
+    /// round, the balls carried on past its ends until the mesh's boundary is passed.
+    pub lofted: Vec<Ball>,
     /// How many faces of the rounded mesh are the rounding surface's (its last ones).
     pub round_faces: usize,
+    /// How many of the mesh's faces the trim lines split (step 7).
+    pub split_faces: usize,
+    /// How many nodes lay so near a trim line that they were snapped onto it (step 7).
+    pub snapped_nodes: usize,
 }
 
 /// Why a chain could not be rounded.
@@ -186,35 +353,25 @@ pub fn round_site(
     // Each ball at the mean radius, then moved to its own where the radius varies.
     let guide = PolylineIndex::new(&site.guide);
     let along = |p: DVec3| guide.nearest(p).1;
+    // The balls at the mean radius, a quarter radius apart at least (the spine's points
+    // crowd where the offsets' edges cross), then half a radius apart at most (more
+    // placed where they are sparse), each then moved to its own radius where the
+    // radius varies.
     let at_mean: Vec<Ball> = balls_at(&centres, (&bases[0], &bases[1]), mean)
         .into_iter()
         .flatten()
         .collect();
+    let at_mean = thin_out(at_mean, 0.25 * smallest);
     let at_mean = fill_gaps(at_mean, (&bases[0], &bases[1]), mean, MAX_GAP * smallest);
-    let mut all: Vec<Ball> = Vec::new();
+    let mut balls: Vec<Ball> = Vec::with_capacity(at_mean.len());
     for ball in at_mean {
         let own = radius.at(along(ball.centre));
         if (own - mean).abs() <= 1e-9 * mean {
-            all.push(ball);
+            balls.push(ball);
         } else {
             let moved = ball_in_plane(&ball, own, (&bases[0], &bases[1]))
                 .ok_or(RoundError::NoRoom { radius: own })?;
-            all.push(moved);
-        }
-    }
-    // The balls, a quarter radius apart at least (the spine's points crowd where the
-    // offsets' edges cross), the last kept.
-    let mut balls: Vec<Ball> = Vec::new();
-    for (k, ball) in all.iter().enumerate() {
-        let far = balls
-            .last()
-            .is_none_or(|last| last.centre.distance(ball.centre) >= 0.25 * smallest);
-        if far {
-            balls.push(ball.clone());
-        } else if k + 1 == all.len() && balls.len() > 1 {
-            // The last ball ends the surface: it takes the place of the one before.
-            balls.pop();
-            balls.push(ball.clone());
+            balls.push(moved);
         }
     }
     if balls.len() < 2 {
@@ -245,29 +402,87 @@ pub fn round_site(
     {
         return Err(RoundError::NoRoom { radius: b.radius });
     }
-    let mut profiles = Vec::with_capacity(balls.len() + 1);
-    for b in &balls {
+    // Step 6 for an open round: the surface carried on past each end of the mesh (balls
+    // carried on along the guide until their profiles lie wholly past the boundary
+    // there), then trimmed where the boundary crosses it (each end's plane).
+    let n = site.guide.len();
+    let guide_out = [
+        site.guide[0] - site.guide[1],
+        site.guide[n - 1] - site.guide[n - 2],
+    ];
+    let end_balls = [&balls[0], &balls[balls.len() - 1]];
+    let outward = [0, 1].map(|k| carry_direction(end_balls[k], guide_out[k]));
+    let ends = (!site.closed).then(|| {
+        let reach = 2.0 * radius.range(length).1;
+        [
+            end_plane(mesh, topology, site.guide[0], outward[0], reach),
+            end_plane(mesh, topology, site.guide[n - 1], outward[1], reach),
+        ]
+    });
+    let mut carried: Vec<Ball> = balls.clone();
+    let mut extension = 0.0f64;
+    if let Some(planes) = &ends {
+        let step = 0.5 * smallest;
+        let before = carry_on(&balls[0], outward[0] * step, &planes[0]);
+        let after = carry_on(&balls[balls.len() - 1], outward[1] * step, &planes[1]);
+        extension = step * before.len().max(after.len()) as f64;
+        carried = before
+            .into_iter()
+            .rev()
+            .chain(balls.iter().cloned())
+            .chain(after)
+            .collect();
+    }
+    let mut profiles = Vec::with_capacity(carried.len() + 1);
+    for b in &carried {
         profiles.push(profile(b).ok_or(RoundError::NoRoom { radius: b.radius })?);
     }
-    let mut trim_lines = [0, 1].map(|s| balls.iter().map(|b| b.contacts[s]).collect::<Vec<_>>());
     if site.closed {
         profiles.push(profiles[0].clone());
-        for line in &mut trim_lines {
-            line.push(line[0]);
-        }
     }
     let surface =
         loft(&profiles, &Loft::default()).map_err(|e| RoundError::Surface(e.to_string()))?;
+    // The mesh is cut along the rounding surface's own edges (the loft through the
+    // balls' contacts, sampled finely between them), so the cut's nodes lie on the
+    // surface's edge, not on chords between contacts.
+    let (u0, u1) = surface.domain_u();
+    let (v0, v1) = surface.domain_v();
+    let samples = (profiles.len() - 1) * TRIM_SAMPLES;
+    let cut_lines = [u0, u1].map(|u| {
+        (0..=samples)
+            .map(|j| surface.point_at(u, v0 + (v1 - v0) * j as f64 / samples as f64))
+            .collect::<Vec<DVec3>>()
+    });
+    // The guide carried on as far as the surface, so the places along it of the nodes
+    // past the round's last balls fall on the carried part of the cut lines.
+    let long_guide = if site.closed || extension == 0.0 {
+        site.guide.clone()
+    } else {
+        let reach = extension + smallest;
+        std::iter::once(site.guide[0] + outward[0] * reach)
+            .chain(site.guide.iter().copied())
+            .chain(std::iter::once(site.guide[n - 1] + outward[1] * reach))
+            .collect()
+    };
+    let guide = PolylineIndex::new(&long_guide);
     let Cut {
         mut positions,
         mut faces,
         rows,
-    } = cut_to_trim_lines(mesh, topology, site, &guide, &trim_lines);
+        split_faces,
+        snapped_nodes,
+    } = cut_to_trim_lines(mesh, topology, site, &guide, &cut_lines);
     if rows.iter().any(|row| row.len() < 2) {
         return Err(RoundError::Surface(
             "cutting the mesh back to a trim line left no edge along it".into(),
         ));
     }
+    // The trim lines as cut: each cut's nodes in order along the round.
+    let trim_lines = rows.each_ref().map(|row| {
+        row.iter()
+            .map(|&v| positions[v as usize])
+            .collect::<Vec<DVec3>>()
+    });
     // The rows of the rounding surface's mesh between the two cut rows.
     let sweep = balls
         .iter()
@@ -276,16 +491,22 @@ pub fn round_site(
     let by_sag = 2.0 * (1.0 - (tolerance / smallest).min(1.0)).acos();
     let steps = (sweep / ROW_STEP.min(by_sag.max(1e-3))).ceil().max(2.0) as usize;
     let along = rows[0].len().max(rows[1].len()).max(2);
-    let (u0, u1) = surface.domain_u();
-    let (v0, v1) = surface.domain_v();
     let mut row_ids: Vec<Vec<u32>> = vec![rows[0].clone()];
     for k in 1..steps {
         let u = u0 + (u1 - u0) * k as f64 / steps as f64;
         // Round a closed chain the row's last point is its first: the same node.
         let distinct = if site.closed { along - 1 } else { along };
+        // An open round's row runs between its ends' planes.
+        let (va, vb) = match &ends {
+            Some([first, last]) => (
+                plane_crossing(&surface, u, (v0, 0.5 * (v0 + v1)), first).unwrap_or(v0),
+                plane_crossing(&surface, u, (v1, 0.5 * (v0 + v1)), last).unwrap_or(v1),
+            ),
+            None => (v0, v1),
+        };
         let mut ids: Vec<u32> = (0..distinct)
             .map(|j| {
-                let v = v0 + (v1 - v0) * j as f64 / (along - 1) as f64;
+                let v = va + (vb - va) * j as f64 / (along - 1) as f64;
                 positions.push(surface.point_at(u, v));
                 (positions.len() - 1) as u32
             })
@@ -332,172 +553,11 @@ pub fn round_site(
         surface,
         trim_lines,
         balls,
+        lofted: carried,
         round_faces,
+        split_faces,
+        snapped_nodes,
     })
-}
-
-/// The mesh cut back to the trim lines: its positions and triangles (nodes inside the
-/// round's region left unused), the faces replaced and those with a node inside a trim
-/// line removed, and the nodes left on each cut moved onto its trim line; and each
-/// cut's nodes, ordered along the guide. A node of a base mesh is inside when it lies
-/// nearer the guide than the contact (on its side) nearest it; a node of a replaced
-/// face on no base face is inside.
-fn cut_to_trim_lines(
-    mesh: &Mesh,
-    topology: &Topology,
-    site: &RoundSite,
-    guide: &PolylineIndex,
-    trim_lines: &[Vec<DVec3>; 2],
-) -> Cut {
-    let mut positions = mesh.positions().to_vec();
-    let to_guide = |p: DVec3| guide.nearest(p).0;
-    // Each trim line's points: where along the guide they stand, and how far off it.
-    let line_along: [Vec<f64>; 2] = trim_lines
-        .each_ref()
-        .map(|line| line.iter().map(|&q| guide.nearest(q).1).collect());
-    let mut inside = vec![false; positions.len()];
-    let mut side_of = vec![None; positions.len()];
-    for (s, faces) in [&site.base.left, &site.base.right].iter().enumerate() {
-        for &f in faces.iter() {
-            let Some(face) = mesh.face(f) else { continue };
-            for v in face.vertices() {
-                if side_of[v.index()].is_some() {
-                    continue;
-                }
-                let p = positions[v.index()];
-                let (off, along, _) = guide.nearest(p);
-                // The trim line beside the node: at its place along the guide, or (past
-                // the line's ends) its nearest point.
-                let line = &trim_lines[s];
-                let beside = trim_point_along(line, &line_along[s], along)
-                    .unwrap_or_else(|| polyline_nearest(line, p).2);
-                if off < to_guide(beside) * (1.0 - 1e-9) {
-                    inside[v.index()] = true;
-                }
-                side_of[v.index()].get_or_insert(s);
-            }
-        }
-    }
-    let mut gone = vec![false; mesh.face_count()];
-    for &f in &site.replaced {
-        gone[f.index()] = true;
-        if let Some(face) = mesh.face(f) {
-            for v in face.vertices() {
-                if side_of[v.index()].is_none() {
-                    inside[v.index()] = true;
-                }
-            }
-        }
-    }
-    let goes = |f: crate::geom::mesh::FaceId, face: &Face| {
-        gone[f.index()] || face.vertices().any(|v| inside[v.index()])
-    };
-    let kept: Vec<[u32; 3]> = mesh
-        .face_ids()
-        .zip(mesh.faces())
-        .filter(|(id, f)| !goes(*id, f))
-        .filter_map(|(_, f)| match f.indices() {
-            &[a, b, c] => Some([a, b, c]),
-            _ => None,
-        })
-        .collect();
-    // The cut: edges of kept faces whose other face went.
-    let removed_beside = |a: u32, b: u32| -> bool {
-        let Some(e) = topology.find_edge(VertexId(a), VertexId(b)) else {
-            return false;
-        };
-        topology
-            .edge_faces(e)
-            .any(|g| mesh.face(g).is_some_and(|face| goes(g, &face)))
-    };
-    let mut on_cut: [Vec<u32>; 2] = [Vec::new(), Vec::new()];
-    let mut merged: Vec<u32> = (0..positions.len() as u32).collect();
-    // Only faces with a base mesh's node can lie on a cut.
-    for t in kept
-        .iter()
-        .filter(|t| t.iter().any(|&v| side_of[v as usize].is_some()))
-    {
-        for k in 0..3 {
-            let (a, b) = (t[k], t[(k + 1) % 3]);
-            if removed_beside(a, b) {
-                for v in [a, b] {
-                    if let Some(s) = side_of[v as usize] {
-                        if !on_cut[s].contains(&v) {
-                            on_cut[s].push(v);
-                        }
-                    }
-                }
-            }
-        }
-    }
-    // Each cut's nodes along the guide, moved onto their trim line at the same place
-    // along the guide (so they keep their order, and no face beside the cut turns
-    // over where the trim line runs slant to the guide).
-    for (s, nodes) in on_cut.iter_mut().enumerate() {
-        let mut keyed: Vec<(f64, u32)> = nodes
-            .iter()
-            .map(|&v| (guide.nearest(positions[v as usize]).1, v))
-            .collect();
-        keyed.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        let line = &trim_lines[s];
-        for &(along, v) in &keyed {
-            let p = positions[v as usize];
-            positions[v as usize] = trim_point_along(line, &line_along[s], along)
-                .unwrap_or_else(|| polyline_nearest(line, p).2);
-        }
-        // Where the cut steps across a row of the mesh, two of its nodes lie at one
-        // place along the guide and land on one point: the later is merged into the
-        // earlier (the step's edge collapsed, the faces on it dropped below).
-        let mut row: Vec<u32> = Vec::with_capacity(keyed.len());
-        for (_, v) in keyed {
-            match row.last() {
-                Some(&u) if positions[u as usize].distance(positions[v as usize]) <= SAME_NODE => {
-                    merged[v as usize] = u;
-                }
-                _ => row.push(v),
-            }
-        }
-        *nodes = row;
-        if site.closed {
-            if let Some(&first) = nodes.first() {
-                nodes.push(first);
-            }
-        }
-    }
-    let faces = kept
-        .into_iter()
-        .map(|t| t.map(|v| merged[v as usize]))
-        .filter(|t| t[0] != t[1] && t[1] != t[2] && t[2] != t[0])
-        .collect();
-    Cut {
-        positions,
-        faces,
-        rows: on_cut,
-    }
-}
-
-/// The point of the trim line `line` (its points at `line_along` along the guide) at
-/// `along` along the guide, between the two points either side of it; `None` outside
-/// the stretch of the guide the line runs beside, or where it doubles back.
-fn trim_point_along(line: &[DVec3], line_along: &[f64], along: f64) -> Option<DVec3> {
-    line.windows(2)
-        .zip(line_along.windows(2))
-        .find_map(|(p, s)| {
-            let (lo, hi) = (s[0].min(s[1]), s[0].max(s[1]));
-            if along < lo || along > hi || hi - lo <= 0.0 {
-                return None;
-            }
-            let t = (along - s[0]) / (s[1] - s[0]);
-            Some(p[0] + t * (p[1] - p[0]))
-        })
-}
-
-/// The mesh cut back to its trim lines: its positions (the cut's nodes moved onto the
-/// trim lines), the triangles kept, and each cut's nodes in order along the chain.
-struct Cut {
-    positions: Vec<DVec3>,
-    faces: Vec<[u32; 3]>,
-    rows: [Vec<u32>; 2],
 }
 
 /// Triangles between two rows of nodes running the same way (a strip), each node
