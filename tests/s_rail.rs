@@ -281,3 +281,36 @@ fn the_s_rail_shoulder_is_rounded_and_widened() {
         .fold(0.0, f64::max);
     assert!(off_both < 1e-9, "{off_both}");
 }
+
+/// The example at finer meshes, built by the real binary: at 2 and 3 cells per 5 mm the
+/// first round's strip and cut are finer too, and the re-round must still find that
+/// round (its rim nodes' quadrics reach across the cut, so a face can fall outside the
+/// band ringed by the round's faces: it is taken into the round) and widen it.
+#[test]
+fn the_s_rail_rounds_and_widens_at_finer_meshes() {
+    let script =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/s_rail/s_rail.die");
+    for density in [2, 3] {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_dieface"))
+            .arg("inspect")
+            .arg(&script)
+            .arg("-D")
+            .arg(format!("density={density}"))
+            .output()
+            .expect("dieface runs");
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            out.status.success(),
+            "density {density}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let found: f64 = text
+            .split("found_radius ")
+            .nth(1)
+            .and_then(|rest| rest.split(" mm").next())
+            .and_then(|n| n.parse().ok())
+            .expect("the re-round's found radius");
+        eprintln!("S-rail at density {density}: the round found again at {found:.4} mm");
+        assert!((found - 7.5).abs() < 0.02 * 7.5, "{found}");
+    }
+}

@@ -300,16 +300,29 @@ fn radius_law(
 
 /// A kernel failure of a round, at the field it is about.
 fn round_error(kind: &'static dyn FeatureKind, c: &Common, e: RoundError) -> Diagnostic {
+    if let RoundError::Base(BaseError::NotSplit { face }) = &e {
+        // Where the two sides join, as the designer finds it: the face's middle.
+        let at = c
+            .mesh
+            .face_centroid(crate::geom::mesh::FaceId(*face))
+            .map(show)
+            .unwrap_or_else(|| format!("face {face}"));
+        return feature_error(
+            kind,
+            format!(
+                "the edge does not split the mesh near it in two: its two sides join round \
+                 the face at {at}, where it ends inside the mesh, short of the mesh's edge"
+            ),
+            c.at_value.span,
+            "the edge through this point",
+            "round an edge that runs to the mesh's edge or round to its start",
+        );
+    }
     let (span, label, help) = match &e {
         RoundError::NoRoom { .. } => (
             c.radius_value.span,
             "this radius",
             "give a smaller radius: the ball must fit between the faces beside the edge",
-        ),
-        RoundError::Base(BaseError::NotSplit { .. }) => (
-            c.at_value.span,
-            "the edge through this point",
-            "round an edge that runs to the mesh's edge or round to its start",
         ),
         _ => (
             c.mesh_value.span,
@@ -381,6 +394,29 @@ fn build_round(block: &Block) -> Result<Value, Diagnostic> {
             ),
         }
     })?;
+    // An open chain must run to the mesh's edge at both ends: where it stops inside,
+    // the faces on its two sides join round its end and no ball has one side to roll on.
+    if !chain.closed {
+        let ends = [chain.nodes.first(), chain.nodes.last()];
+        if let Some(&end) = ends
+            .into_iter()
+            .flatten()
+            .find(|&&v| !topology.is_boundary_vertex(v))
+        {
+            return Err(feature_error(
+                KIND,
+                format!(
+                    "the chain of sharp edges ends inside the mesh at {}, where the edges go \
+                     on turning by less than the feature angle",
+                    show(mesh.positions()[end.index()])
+                ),
+                c.at_value.span,
+                "the edge through this point",
+                "round an edge that runs to the mesh's edge or round to its start, or lower \
+                 the feature `angle` if the edge fades out",
+            ));
+        }
+    }
     let guide = chain_polyline(mesh, &chain);
     let law = radius_law(KIND, c.radius_value, block.units, &guide, chain.closed)?;
     let rounded = round_chain(mesh, topology, &chain, &law, c.tolerance)
@@ -513,7 +549,8 @@ fn show(p: DVec3) -> String {
 }
 
 /// The value of a built round: its pieces and `quality` (the balls, the round's faces,
-/// how far the balls were re-centred, and `extra`).
+/// how far the balls were re-centred, the faces the trim lines split and the nodes
+/// snapped onto them, and `extra`).
 fn output(
     kind: &'static dyn FeatureKind,
     block: &Block,
@@ -554,6 +591,11 @@ fn output(
         ("balls".to_string(), count(rounded.balls.len(), span)),
         ("round_faces".to_string(), count(rounded.round_faces, span)),
         ("recentred".to_string(), mm(moved, span)),
+        ("split_faces".to_string(), count(rounded.split_faces, span)),
+        (
+            "snapped_nodes".to_string(),
+            count(rounded.snapped_nodes, span),
+        ),
     ];
     quality.extend(extra);
     feature_value(kind, span, fields, quality, rounded)

@@ -57,14 +57,17 @@ pub enum ChainError {
 }
 
 /// Which edges of `mesh` are sharp: joining two faces whose normals turn by more than
-/// `theta` (radians). Free and non-manifold edges are not sharp.
+/// `theta` (radians), or more than two faces (a fin or a seam welded three ways is a
+/// feature line too, so a chain reaches it and is refused there, naming the node).
+/// Free edges are not sharp.
 pub fn sharp_edges(mesh: &Mesh, topology: &Topology, theta: f64) -> Vec<bool> {
     topology
         .edges()
         .map(|e| {
-            topology
-                .dihedral_angle(mesh, e)
-                .is_some_and(|angle| angle > theta)
+            topology.edge_faces(e).count() > 2
+                || topology
+                    .dihedral_angle(mesh, e)
+                    .is_some_and(|angle| angle > theta)
         })
         .collect()
 }

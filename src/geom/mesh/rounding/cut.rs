@@ -23,8 +23,46 @@ pub const SAME_NODE: f64 = 1e-9;
 /// line crossing it, rather than the edge split there (which would leave a sliver).
 pub const SNAP: f64 = 0.2;
 
-/// How many halvings place a crossing on its edge: to 2^-40 of the edge.
-const HALVINGS: usize = 40;
+/// How near (a share of the edge) a crossing is placed to where the trim line crosses
+/// its edge, and in how many steps at most.
+const CROSSING_TOLERANCE: f64 = 1e-10;
+const CROSSING_STEPS: usize = 30;
+
+/// Where along an edge (0 at its outside end, 1 at its inside end) `outside`, how far
+/// outside the trim line a point of the edge lies, falls to nothing, given its values
+/// `(at_out, at_in)` at the ends (positive, negative): regula falsi with the Illinois
+/// halving, so a nearly straight `outside` takes two or three steps.
+fn crossing_on_edge(outside: impl Fn(f64) -> f64, (at_out, at_in): (f64, f64)) -> f64 {
+    let (mut a, mut fa, mut b, mut fb) = (0.0f64, at_out, 1.0f64, at_in);
+    let mut t = fa / (fa - fb);
+    let mut last_side = 0i8;
+    for _ in 0..CROSSING_STEPS {
+        t = (a * fb - b * fa) / (fb - fa);
+        if !(t > a && t < b) {
+            t = 0.5 * (a + b);
+        }
+        let ft = outside(t);
+        if ft >= 0.0 {
+            a = t;
+            fa = ft;
+            if last_side == 1 {
+                fb *= 0.5;
+            }
+            last_side = 1;
+        } else {
+            b = t;
+            fb = ft;
+            if last_side == -1 {
+                fa *= 0.5;
+            }
+            last_side = -1;
+        }
+        if b - a <= CROSSING_TOLERANCE || ft.abs() <= CROSSING_TOLERANCE * (at_out - at_in) {
+            break;
+        }
+    }
+    t
+}
 
 /// The mesh cut back to its trim lines: its positions (the original nodes, then the
 /// crossings; the cut's nodes on the trim lines), the triangles kept, and each cut's
@@ -132,29 +170,27 @@ pub fn cut_to_trim_lines(
         .map(|points| TrimLine::new(points, guide));
     let n = mesh.vertex_count();
     let mut positions = mesh.positions().to_vec();
-    // Each base node's side and how far outside its trim line it lies.
+    // Each base node's side and how far outside its trim line it lies; those inside
+    // (by more than rounding: a node on its trim line stays) go with the round's region.
     let mut side_of: Vec<Option<usize>> = vec![None; n];
     let mut outside: Vec<f64> = vec![f64::INFINITY; n];
+    let mut place: Vec<Place> = vec![Place::Outside; n];
     for (s, faces) in [&site.base.left, &site.base.right].iter().enumerate() {
         for face in faces.iter().filter_map(|&f| mesh.face(f)) {
             for v in face.vertices() {
-                if side_of[v.index()].is_none() {
-                    side_of[v.index()] = Some(s);
-                    outside[v.index()] = outside_by(guide, &lines[s], positions[v.index()]);
+                let v = v.index();
+                if side_of[v].is_none() {
+                    side_of[v] = Some(s);
+                    let p = positions[v];
+                    let (off, along, _) = guide.nearest(p);
+                    outside[v] = off - guide.nearest(lines[s].beside(p, along)).0;
+                    if outside[v] < -1e-9 * off {
+                        place[v] = Place::Inside;
+                    }
                 }
             }
         }
     }
-    let mut place: Vec<Place> = (0..n)
-        .map(|v| {
-            // A node on its trim line (to rounding) stays.
-            if outside[v] < -1e-9 * guide.nearest(positions[v]).0 {
-                Place::Inside
-            } else {
-                Place::Outside
-            }
-        })
-        .collect();
     let mut gone = vec![false; mesh.face_count()];
     for &f in &site.replaced {
         gone[f.index()] = true;
@@ -216,16 +252,11 @@ pub fn cut_to_trim_lines(
         // Both ends have a side: a crossing is only made between two base nodes.
         let s = side_of[out as usize].unwrap_or(0);
         let (p, q) = (positions[out as usize], positions[inn as usize]);
-        let (mut lo, mut hi) = (0.0f64, 1.0f64);
-        for _ in 0..HALVINGS {
-            let mid = 0.5 * (lo + hi);
-            if outside_by(guide, &lines[s], p.lerp(q, mid)) >= 0.0 {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
-        }
-        positions.push(p.lerp(q, 0.5 * (lo + hi)));
+        let t = crossing_on_edge(
+            |t| outside_by(guide, &lines[s], p.lerp(q, t)),
+            (outside[out as usize], outside[inn as usize]),
+        );
+        positions.push(p.lerp(q, t));
         let v = (positions.len() - 1) as u32;
         crossing.insert(key, v);
         crossing_side.push(s);

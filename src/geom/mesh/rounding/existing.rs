@@ -77,6 +77,52 @@ fn sharper(c: &NodeCurvature) -> f64 {
     }
 }
 
+/// The faces beside the round whose faces are `faces`, grouped by side: connected
+/// through faces off the round that touch its rim (the nodes of its faces that also
+/// lie on a face off it).
+fn beside_groups(mesh: &Mesh, topology: &Topology, faces: &BTreeSet<FaceId>) -> Vec<Vec<FaceId>> {
+    let rim: BTreeSet<VertexId> = faces
+        .iter()
+        .filter_map(|&f| mesh.face(f))
+        .flat_map(|face| face.vertices().collect::<Vec<_>>())
+        .filter(|&v| topology.vertex_faces(v).iter().any(|g| !faces.contains(g)))
+        .collect();
+    let touches_rim = |f: FaceId| {
+        mesh.face(f)
+            .is_some_and(|face| face.vertices().any(|v| rim.contains(&v)))
+    };
+    let beside: BTreeSet<FaceId> = faces
+        .iter()
+        .flat_map(|&f| topology.face_neighbors(f))
+        .filter(|g| !faces.contains(g))
+        .collect();
+    let mut group_of: BTreeMap<FaceId, usize> = BTreeMap::new();
+    let mut groups: Vec<Vec<FaceId>> = Vec::new();
+    for &seed in &beside {
+        if group_of.contains_key(&seed) {
+            continue;
+        }
+        let g = groups.len();
+        let mut members = Vec::new();
+        let mut queue = vec![seed];
+        group_of.insert(seed, g);
+        while let Some(f) = queue.pop() {
+            if beside.contains(&f) {
+                members.push(f);
+            }
+            for n in topology.face_neighbors(f) {
+                if !faces.contains(&n) && touches_rim(n) && !group_of.contains_key(&n) {
+                    group_of.insert(n, g);
+                    queue.push(n);
+                }
+            }
+        }
+        members.sort();
+        groups.push(members);
+    }
+    groups
+}
+
 /// The round through `node` of `mesh`: its nodes are those connected to `node` whose
 /// sharper principal curvature (`curvature` of a node) has the same sign and
 /// lies within `band` (a share) of `node`'s.
@@ -115,57 +161,36 @@ pub fn find_round(
             }
         }
     }
-    let faces: BTreeSet<FaceId> = nodes
+    let mut faces: BTreeSet<FaceId> = nodes
         .iter()
         .flat_map(|&v| topology.vertex_faces(v).iter().copied())
         .collect();
+    // A face whose every node lies on the round's faces is ringed by the round: its
+    // nodes fell just outside the band (a node's quadric there reaches across the
+    // round's rim), and it is the round's own.
+    loop {
+        let ringed: Vec<FaceId> = faces
+            .iter()
+            .flat_map(|&f| topology.face_neighbors(f))
+            .filter(|g| !faces.contains(g))
+            .filter(|&g| {
+                mesh.face(g).is_some_and(|face| {
+                    face.vertices()
+                        .all(|v| topology.vertex_faces(v).iter().any(|h| faces.contains(h)))
+                })
+            })
+            .collect();
+        if ringed.is_empty() {
+            break;
+        }
+        faces.extend(ringed);
+    }
     let radius = nodes
         .iter()
         .filter_map(|&v| curvature(v).map(|c| 1.0 / sharper(&c).abs()))
         .sum::<f64>()
         / nodes.len() as f64;
-    // The rim: the nodes of its faces that also lie on a face beside it.
-    let rim: BTreeSet<VertexId> = faces
-        .iter()
-        .filter_map(|&f| mesh.face(f))
-        .flat_map(|face| face.vertices().collect::<Vec<_>>())
-        .filter(|&v| topology.vertex_faces(v).iter().any(|g| !faces.contains(g)))
-        .collect();
-    // The faces beside it, grouped by side: connected through faces beside it that
-    // touch the rim.
-    let touches_rim = |f: FaceId| {
-        mesh.face(f)
-            .is_some_and(|face| face.vertices().any(|v| rim.contains(&v)))
-    };
-    let beside: BTreeSet<FaceId> = faces
-        .iter()
-        .flat_map(|&f| topology.face_neighbors(f))
-        .filter(|g| !faces.contains(g))
-        .collect();
-    let mut group_of: BTreeMap<FaceId, usize> = BTreeMap::new();
-    let mut groups: Vec<Vec<FaceId>> = Vec::new();
-    for &seed in &beside {
-        if group_of.contains_key(&seed) {
-            continue;
-        }
-        let g = groups.len();
-        let mut members = Vec::new();
-        let mut queue = vec![seed];
-        group_of.insert(seed, g);
-        while let Some(f) = queue.pop() {
-            if beside.contains(&f) {
-                members.push(f);
-            }
-            for n in topology.face_neighbors(f) {
-                if !faces.contains(&n) && touches_rim(n) && !group_of.contains_key(&n) {
-                    group_of.insert(n, g);
-                    queue.push(n);
-                }
-            }
-        }
-        members.sort();
-        groups.push(members);
-    }
+    let groups = beside_groups(mesh, topology, &faces);
     let [one, other] =
         <[Vec<FaceId>; 2]>::try_from(groups).map_err(|groups| FindError::NotTwoSides {
             groups: groups.len(),
