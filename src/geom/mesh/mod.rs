@@ -24,6 +24,7 @@
 mod boundary;
 mod crossing;
 pub mod curvature;
+pub mod holes;
 mod ids;
 mod ops;
 pub mod rounding;

@@ -1,0 +1,239 @@
+//! The base surface a hole is filled from (paper 002, section 3): an initial grid on
+//! the hole's projection plane covering the loop with a margin, each node projected
+//! along the plane's normal onto the mesh round the hole (its height there, where it
+//! meets a face), the thin plate through those heights (`thin_plate`), and the bicubic
+//! Ferguson patches through the plate's nodes (`ferguson`). A loop whose nodes and
+//! first ring of faces lie in one plane gets that plane directly (eq. 5).
+
+use std::collections::BTreeSet;
+
+use glam::{DVec2, DVec3};
+
+use super::ferguson::ferguson_surface;
+use super::plane::ProjectionPlane;
+use super::thin_plate::{solve_plate, HeightGrid, PlateError};
+use crate::geom::mesh::{FaceId, Mesh, Topology, VertexId};
+use crate::geom::surface::NurbsSurface;
+
+/// The fewest and the most grid cells across a hole's longest spread.
+const CELLS_ACROSS: (usize, usize) = (8, 24);
+
+/// Grid cells of margin round the loop's box: two rings of nodes on the mesh fix the
+/// plate's position and slope at the loop, and a third keeps the grid's free edge
+/// away from them.
+const MARGIN_CELLS: usize = 3;
+
+/// How far (a share of the loop's span) the loop's nodes and ring may lie off one
+/// plane for the hole to be taken as planar.
+const PLANAR: f64 = 1e-9;
+
+/// A hole's base surface and the grid it was made on.
+#[derive(Debug, Clone)]
+pub struct BaseSurface {
+    /// The projection plane.
+    pub plane: ProjectionPlane,
+    /// The grid's first node, in the plane's coordinates: the surface's `(u, v)` is
+    /// the plane position less this.
+    pub corner: DVec2,
+    /// The grid's step (mm), the same along both axes.
+    pub step: f64,
+    /// The surface: Ferguson patches over the grid, or the plane itself (a planar
+    /// loop), parametrised by plane position less `corner`.
+    pub surface: NurbsSurface,
+    /// Whether the loop was planar and the plane taken directly.
+    pub planar: bool,
+    /// How many grid nodes lay on the mesh (known) and how many the plate found.
+    pub known_nodes: usize,
+    pub solved_nodes: usize,
+}
+
+impl BaseSurface {
+    /// The surface parameters straight above (along the plane's normal) `p`.
+    pub fn uv_above(&self, p: DVec3) -> DVec2 {
+        self.plane.to_plane(p).0 - self.corner
+    }
+}
+
+/// Why a base surface could not be made.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum BaseError {
+    #[error(transparent)]
+    Plate(#[from] PlateError),
+    #[error("the base surface could not be made: {0}")]
+    Surface(String),
+}
+
+/// The faces round the hole whose heights the grid reads: from the faces at the loop's
+/// nodes, flooded across edges while a face faces the plane (its normal within 85 deg
+/// of the plane's) and lies over the grid's box. A face far off in the mesh that only
+/// overlaps the box in projection (a flange folded under) is never reached.
+fn faces_round(
+    mesh: &Mesh,
+    topology: &Topology,
+    loop_nodes: &[VertexId],
+    plane: &ProjectionPlane,
+    (lo, hi): (DVec2, DVec2),
+) -> Vec<FaceId> {
+    let over = |f: FaceId| -> bool {
+        let Some(face) = mesh.face(f) else {
+            return false;
+        };
+        let facing = mesh
+            .face_normal(f)
+            .is_some_and(|n| n.dot(plane.normal) > 0.087);
+        let (mut flo, mut fhi) = (DVec2::INFINITY, DVec2::NEG_INFINITY);
+        for v in face.vertices() {
+            let q = plane.to_plane(mesh.positions()[v.index()]).0;
+            flo = flo.min(q);
+            fhi = fhi.max(q);
+        }
+        facing && flo.cmple(hi).all() && fhi.cmpge(lo).all()
+    };
+    let mut seen: BTreeSet<FaceId> = BTreeSet::new();
+    let mut queue: Vec<FaceId> = loop_nodes
+        .iter()
+        .flat_map(|&v| topology.vertex_faces(v).iter().copied())
+        .filter(|&f| over(f))
+        .collect();
+    seen.extend(queue.iter().copied());
+    while let Some(f) = queue.pop() {
+        for g in topology.face_neighbors(f) {
+            if !seen.contains(&g) && over(g) {
+                seen.insert(g);
+                queue.push(g);
+            }
+        }
+    }
+    seen.into_iter().collect()
+}
+
+/// The base surface of the hole whose loop runs through `loop_nodes` (in order), on
+/// `plane`, its interior sized for elements about `size` long.
+pub fn base_surface(
+    mesh: &Mesh,
+    topology: &Topology,
+    loop_nodes: &[VertexId],
+    plane: &ProjectionPlane,
+    size: f64,
+) -> Result<BaseSurface, BaseError> {
+    let flat: Vec<(DVec2, f64)> = loop_nodes
+        .iter()
+        .map(|&v| plane.to_plane(mesh.positions()[v.index()]))
+        .collect();
+    let (lo, hi) = flat.iter().fold(
+        (DVec2::INFINITY, DVec2::NEG_INFINITY),
+        |(lo, hi), (q, _)| (lo.min(*q), hi.max(*q)),
+    );
+    let span = (hi - lo).max_element().max(f64::MIN_POSITIVE);
+    let cells = ((span / size.max(f64::MIN_POSITIVE)).ceil() as usize)
+        .clamp(CELLS_ACROSS.0, CELLS_ACROSS.1);
+    let step = span / cells as f64;
+    let corner = lo - DVec2::splat(MARGIN_CELLS as f64 * step);
+    let far = hi + DVec2::splat(MARGIN_CELLS as f64 * step);
+    let nx = ((far.x - corner.x) / step).ceil() as usize;
+    let ny = ((far.y - corner.y) / step).ceil() as usize;
+    let faces = faces_round(mesh, topology, loop_nodes, plane, (corner, far));
+
+    // Planar: the loop and the faces at its nodes all on the plane.
+    let ring: BTreeSet<VertexId> = loop_nodes
+        .iter()
+        .flat_map(|&v| topology.vertex_faces(v).iter().copied())
+        .filter_map(|f| mesh.face(f))
+        .flat_map(|f| f.vertices().collect::<Vec<_>>())
+        .collect();
+    let planar = ring
+        .iter()
+        .all(|&v| plane.to_plane(mesh.positions()[v.index()]).1.abs() <= PLANAR * span);
+    if planar {
+        let corners = |i: f64, j: f64| plane.from_plane(corner + DVec2::new(i, j), 0.0);
+        let (w, h) = (nx as f64 * step, ny as f64 * step);
+        let surface = NurbsSurface::new(
+            1,
+            1,
+            vec![0.0, 0.0, w, w],
+            vec![0.0, 0.0, h, h],
+            vec![
+                vec![corners(0.0, 0.0), corners(0.0, h)],
+                vec![corners(w, 0.0), corners(w, h)],
+            ],
+        )
+        .map_err(|e| BaseError::Surface(e.to_string()))?;
+        return Ok(BaseSurface {
+            plane: *plane,
+            corner,
+            step,
+            surface,
+            planar: true,
+            known_nodes: 0,
+            solved_nodes: 0,
+        });
+    }
+
+    // Each grid node's height where it meets a face round the hole, straight along the
+    // plane's normal.
+    let mut known: Vec<Option<f64>> = vec![None; (nx + 1) * (ny + 1)];
+    for &f in &faces {
+        let Some(face) = mesh.face(f) else { continue };
+        let corners: Vec<(DVec2, f64)> = face
+            .vertices()
+            .map(|v| plane.to_plane(mesh.positions()[v.index()]))
+            .collect();
+        // Triangles only reach here (the mesh is triangulated before filling); a
+        // quad is read as its two triangles.
+        for k in 1..corners.len().saturating_sub(1) {
+            let tri = [corners[0], corners[k], corners[k + 1]];
+            let (tlo, thi) = tri.iter().fold(
+                (DVec2::INFINITY, DVec2::NEG_INFINITY),
+                |(lo, hi), (q, _)| (lo.min(*q), hi.max(*q)),
+            );
+            let i0 = (((tlo.x - corner.x) / step).ceil().max(0.0)) as usize;
+            let j0 = (((tlo.y - corner.y) / step).ceil().max(0.0)) as usize;
+            let i1 = (((thi.x - corner.x) / step).floor()).min(nx as f64);
+            let j1 = (((thi.y - corner.y) / step).floor()).min(ny as f64);
+            if i1 < 0.0 || j1 < 0.0 {
+                continue;
+            }
+            let (a, b, c) = (tri[0].0, tri[1].0, tri[2].0);
+            let area = (b - a).perp_dot(c - a);
+            if area.abs() <= f64::MIN_POSITIVE {
+                continue;
+            }
+            for j in j0..=j1 as usize {
+                for i in i0..=i1 as usize {
+                    let q = corner + DVec2::new(i as f64, j as f64) * step;
+                    let wa = (b - q).perp_dot(c - q) / area;
+                    let wb = (c - q).perp_dot(a - q) / area;
+                    let wc = 1.0 - wa - wb;
+                    let eps = -1e-12;
+                    if wa >= eps && wb >= eps && wc >= eps {
+                        let k = j * (nx + 1) + i;
+                        known[k].get_or_insert(wa * tri[0].1 + wb * tri[1].1 + wc * tri[2].1);
+                    }
+                }
+            }
+        }
+    }
+    let known_nodes = known.iter().filter(|h| h.is_some()).count();
+    let grid = HeightGrid { nx, ny, known };
+    let heights = solve_plate(&grid)?;
+    let points: Vec<Vec<DVec3>> = (0..=nx)
+        .map(|i| {
+            (0..=ny)
+                .map(|j| {
+                    let q = corner + DVec2::new(i as f64, j as f64) * step;
+                    plane.from_plane(q, heights[j * (nx + 1) + i])
+                })
+                .collect()
+        })
+        .collect();
+    let surface = ferguson_surface(&points, step).map_err(|e| BaseError::Surface(e.to_string()))?;
+    Ok(BaseSurface {
+        plane: *plane,
+        corner,
+        step,
+        surface,
+        planar: false,
+        known_nodes,
+        solved_nodes: (nx + 1) * (ny + 1) - known_nodes,
+    })
+}

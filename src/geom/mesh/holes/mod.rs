@@ -1,0 +1,356 @@
+//! Free edges and hole filling on FE meshes (paper 002; issue 17): a tool mesh from CAD
+//! arrives with holes and free edges, which break forming simulation's contact search
+//! and tool offsetting. Each hole is filled from a smooth base surface, so the fill
+//! follows the panel round it; the panel's outer boundary is kept.
+//!
+//! The steps, each its own module and tested function:
+//!
+//! - [`cracks`]: pairs of free-edge chains closer than a tolerance (CAD patches exported
+//!   apart) stitched by merging nodes, nodes on the opposite chain's edges splitting
+//!   them first so no T-junction is left;
+//! - [`loops`]: the loops of free half-edges on the existing half-edge topology, their
+//!   length and span, each piece's outer boundary (the loop enclosing the others in the
+//!   piece's projection), and the checks on the mesh round a loop;
+//! - [`plane`]: a hole's projection plane, square to the mean of its nodes' normals;
+//! - [`base`]: the initial grid on that plane projected onto the mesh round the hole,
+//!   and the base surface through it ([`thin_plate`]: the thin plate of least bending
+//!   energy, held at the mesh's positions and so its slopes; a planar loop's plane
+//!   directly), as bicubic Ferguson patches ([`ferguson`]);
+//! - [`trim`]: the loop projected onto the base surface by Newton-Raphson, its trim loop
+//!   in `(u, v)`;
+//! - [`patch`]: the trimmed region meshed by a constrained Delaunay triangulation in
+//!   `(u, v)`, its interior points sized from the loop's own edges;
+//! - [`fill_holes`] (here): the steps put together, each fill joined to its loop's own
+//!   nodes and wound as the faces beside it; all holes or none.
+
+pub mod base;
+pub mod cracks;
+pub mod ferguson;
+pub mod loops;
+pub mod patch;
+pub mod plane;
+pub mod thin_plate;
+pub mod trim;
+
+use std::collections::BTreeSet;
+
+use glam::{DVec2, DVec3};
+
+use self::base::{base_surface, BaseError, BaseSurface};
+use self::loops::{check_loop, free_edges, signed_area, FreeEdges, FreeLoop, LoopProblem};
+use self::patch::{mesh_region, RegionError};
+use self::plane::loop_plane;
+use self::trim::trim_loop;
+use super::{Face, Mesh, Topology};
+
+/// The least cosine between a face at a loop and the loop's plane normal: a face turned
+/// more than 75 deg from the plane (a hole wrapping round a hairpin or a sharp feature)
+/// makes the loop not single-valued over its plane.
+const FACING: f64 = 0.26;
+
+/// Which holes to fill.
+#[derive(Debug, Clone, PartialEq)]
+pub enum HoleChoice {
+    /// Every loop but the outer boundaries.
+    All,
+    /// The loops (but the outer boundaries) at most this far across (mm).
+    UpTo(f64),
+    /// The loop nearest each point (an outer boundary too, when picked).
+    At(Vec<DVec3>),
+}
+
+/// How holes are filled.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FillOptions {
+    /// Which holes.
+    pub holes: HoleChoice,
+    /// A point nearest the outer boundary, where the designer decides it.
+    pub outer: Option<DVec3>,
+    /// The element size inside the fills (mm); the loop's mean edge length if `None`.
+    pub size: Option<f64>,
+}
+
+/// One hole filled, and how well.
+#[derive(Debug, Clone)]
+pub struct FilledHole {
+    /// The loop it filled (its index in [`Filled::free`]).
+    pub loop_index: usize,
+    /// The fill alone: the loop's nodes and the new ones inside it, and its triangles.
+    pub patch: Mesh,
+    /// Its base surface.
+    pub base: BaseSurface,
+    /// How far the loop's nodes lie from the base surface, at the most (mm): how well
+    /// the base surface meets the hole's rim.
+    pub rim_gap: f64,
+    /// The largest angle between a fill triangle and the mesh face across a loop edge
+    /// from it (deg).
+    pub normal_jump: f64,
+    /// The smallest angle of a fill triangle (deg).
+    pub min_angle: f64,
+}
+
+/// A mesh with holes filled.
+#[derive(Debug, Clone)]
+pub struct Filled {
+    /// The mesh with every chosen hole filled: its own faces first, then each fill's.
+    pub mesh: Mesh,
+    /// The holes filled, in loop order.
+    pub holes: Vec<FilledHole>,
+    /// The free edges before filling.
+    pub free: FreeEdges,
+}
+
+/// Why holes could not be filled. Nothing is filled when any chosen hole fails.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum HoleError {
+    /// No loop lies near a picked point.
+    #[error("the mesh has no hole")]
+    NoHole,
+    /// The mesh round a loop is not sound.
+    #[error("the hole at {centre} cannot be filled: {problem}")]
+    Loop {
+        loop_index: usize,
+        centre: DVec3,
+        problem: LoopProblem,
+    },
+    /// A loop is not single-valued over its projection plane (it wraps round a sharp
+    /// feature): a fill over it would fold.
+    #[error("the hole at {centre} is not single-valued over its plane: {reason}")]
+    NotSingleValued {
+        loop_index: usize,
+        centre: DVec3,
+        reason: String,
+    },
+    /// The base surface could not be made.
+    #[error("the hole at {centre} has no base surface: {problem}")]
+    Base {
+        loop_index: usize,
+        centre: DVec3,
+        problem: BaseError,
+    },
+}
+
+/// The loops `options` choose among `free`'s.
+fn chosen(mesh: &Mesh, free: &FreeEdges, options: &FillOptions) -> Result<Vec<usize>, HoleError> {
+    let ids: Vec<usize> = match &options.holes {
+        HoleChoice::All => (0..free.loops.len())
+            .filter(|&k| !free.loops[k].outer)
+            .collect(),
+        HoleChoice::UpTo(size) => (0..free.loops.len())
+            .filter(|&k| !free.loops[k].outer && free.loops[k].span <= *size)
+            .collect(),
+        HoleChoice::At(points) => {
+            let mut picked = BTreeSet::new();
+            for &p in points {
+                let nearest = (0..free.loops.len()).min_by(|&a, &b| {
+                    let d = |k: usize| {
+                        free.loops[k]
+                            .nodes
+                            .iter()
+                            .map(|v| mesh.positions()[v.index()].distance(p))
+                            .fold(f64::INFINITY, f64::min)
+                    };
+                    d(a).total_cmp(&d(b))
+                });
+                picked.insert(nearest.ok_or(HoleError::NoHole)?);
+            }
+            picked.into_iter().collect()
+        }
+    };
+    Ok(ids)
+}
+
+/// Fills the holes of the triangle mesh `mesh` that `options` choose (paper 002).
+pub fn fill_holes(mesh: &Mesh, options: &FillOptions) -> Result<Filled, HoleError> {
+    let topology = Topology::build(mesh);
+    let free = free_edges(mesh, &topology, options.outer);
+    let ids = chosen(mesh, &free, options)?;
+    let inconsistent: BTreeSet<_> = topology.inconsistent_edges().into_iter().collect();
+    let normals = mesh.compute_vertex_normals();
+    let mut holes = Vec::with_capacity(ids.len());
+    for k in ids {
+        let l = &free.loops[k];
+        check_loop(mesh, &topology, &inconsistent, l).map_err(|problem| HoleError::Loop {
+            loop_index: k,
+            centre: l.centre,
+            problem,
+        })?;
+        holes.push(fill_one(mesh, &topology, &normals, k, l, options.size)?);
+    }
+    // Every hole is filled: the fills' nodes and faces after the mesh's own.
+    let mut positions = mesh.positions().to_vec();
+    let mut faces: Vec<Face> = mesh.faces().to_vec();
+    for hole in &holes {
+        let l = &free.loops[hole.loop_index];
+        let n = l.nodes.len();
+        let first_new = positions.len() as u32;
+        positions.extend_from_slice(&hole.patch.positions()[n..]);
+        let id = |i: u32| -> u32 {
+            if (i as usize) < n {
+                l.nodes[i as usize].0
+            } else {
+                first_new + i - n as u32
+            }
+        };
+        for f in hole.patch.faces() {
+            let t = f.indices();
+            faces.push(Face::triangle(id(t[0]), id(t[1]), id(t[2])));
+        }
+    }
+    let filled = Mesh::new(positions, faces).map_err(|e| HoleError::Base {
+        loop_index: 0,
+        centre: DVec3::ZERO,
+        problem: BaseError::Surface(e.to_string()),
+    })?;
+    Ok(Filled {
+        mesh: filled,
+        holes,
+        free,
+    })
+}
+
+/// The smallest angle of the triangle `a b c` (deg).
+fn smallest_angle(a: DVec3, b: DVec3, c: DVec3) -> f64 {
+    [(a, b, c), (b, c, a), (c, a, b)]
+        .iter()
+        .map(|&(p, q, r)| (q - p).angle_between(r - p).to_degrees())
+        .fold(180.0, f64::min)
+}
+
+/// Fills hole `k`, loop `l`, of `mesh`: its plane, base surface, trim loop and region
+/// meshed, as a patch over the loop's own nodes (patch node `i < n` is the loop's
+/// node `i`).
+fn fill_one(
+    mesh: &Mesh,
+    topology: &Topology,
+    normals: &[DVec3],
+    k: usize,
+    l: &FreeLoop,
+    size: Option<f64>,
+) -> Result<FilledHole, HoleError> {
+    let refuse = |reason: String| HoleError::NotSingleValued {
+        loop_index: k,
+        centre: l.centre,
+        reason,
+    };
+    let points: Vec<DVec3> = l
+        .nodes
+        .iter()
+        .map(|v| mesh.positions()[v.index()])
+        .collect();
+    let node_normals: Vec<DVec3> = l.nodes.iter().map(|v| normals[v.index()]).collect();
+    let plane = loop_plane(&points, &node_normals)
+        .ok_or_else(|| refuse("its nodes' normals cancel out".into()))?;
+    // Single-valued over the plane: every face at the loop faces the plane, and the loop
+    // runs round the hole clockwise seen from it (as a hole's free edges do).
+    for &v in &l.nodes {
+        for &f in topology.vertex_faces(v) {
+            let facing = mesh.face_normal(f).map_or(0.0, |n| n.dot(plane.normal));
+            if facing <= FACING {
+                let at = mesh.face_centroid(f).unwrap_or(points[0]);
+                return Err(refuse(format!(
+                    "the faces round it turn away from its plane near ({:.3}, {:.3}, {:.3}): it wraps round a sharp feature",
+                    at.x, at.y, at.z
+                )));
+            }
+        }
+    }
+    let above: Vec<DVec2> = points.iter().map(|&p| plane.to_plane(p).0).collect();
+    if signed_area(&above) >= 0.0 {
+        return Err(refuse(
+            "it runs the wrong way round over its plane (an outer boundary, or the faces round it fold over)"
+                .into(),
+        ));
+    }
+    let mean_edge = l.length / points.len() as f64;
+    let size = size.unwrap_or(mean_edge).max(1e-6);
+    let base = base_surface(mesh, topology, &l.nodes, &plane, size).map_err(|problem| {
+        HoleError::Base {
+            loop_index: k,
+            centre: l.centre,
+            problem,
+        }
+    })?;
+    // The trim loop by normal projection (eq. 7-9). Where that loop crosses itself or a
+    // fill triangle over it would fold (a loop far off its base surface: across a
+    // crease, the base surface rounds the crease and the nodes on it project well
+    // inside), the points straight above the nodes, which lie in the plane's order.
+    let trimmed = trim_loop(&base, &points);
+    let rim_gap = trimmed.iter().map(|t| t.1).fold(0.0, f64::max);
+    let normal_uv: Vec<DVec2> = trimmed.iter().map(|t| t.0).collect();
+    let straight_uv: Vec<DVec2> = points.iter().map(|&p| base.uv_above(p)).collect();
+    let n = points.len();
+    let attempt = |loop_uv: &[DVec2]| -> Result<(Vec<DVec3>, Vec<[usize; 3]>), String> {
+        // The region is meshed counter-clockwise: the loop reversed, so it runs round
+        // the region the way a boundary does; region point i < n is loop node n - 1 - i.
+        let reversed: Vec<DVec2> = loop_uv.iter().rev().copied().collect();
+        let meshed = mesh_region(&reversed, size).map_err(|e: RegionError| e.to_string())?;
+        let node_of = |i: usize| if i < n { n - 1 - i } else { i };
+        let mut positions: Vec<DVec3> = points.clone();
+        positions.extend(
+            meshed.uv[n..]
+                .iter()
+                .map(|q| base.surface.point_at(q.x, q.y)),
+        );
+        let triangles: Vec<[usize; 3]> = meshed.triangles.iter().map(|t| t.map(node_of)).collect();
+        // No fold: every fill triangle faces the plane.
+        for t in &triangles {
+            let [a, b, c] = t.map(|i| positions[i]);
+            if (b - a).cross(c - a).dot(plane.normal) <= 0.0 {
+                return Err(format!(
+                    "a fill triangle would fold over near ({:.3}, {:.3}, {:.3})",
+                    a.x, a.y, a.z
+                ));
+            }
+        }
+        Ok((positions, triangles))
+    };
+    let (positions, triangles) = match attempt(&normal_uv) {
+        Ok(done) => done,
+        Err(_) => attempt(&straight_uv).map_err(refuse)?,
+    };
+    let min_angle = triangles
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|i| positions[i]);
+            smallest_angle(a, b, c)
+        })
+        .fold(180.0, f64::min);
+    // The normal jump across each loop edge: the fill triangle on it against the mesh
+    // face its free half-edge bounds.
+    let mut on_edge = std::collections::BTreeMap::new();
+    for t in &triangles {
+        for e in 0..3 {
+            on_edge.insert((t[e], t[(e + 1) % 3]), *t);
+        }
+    }
+    let mut normal_jump = 0.0f64;
+    for (i, &h) in l.half_edges.iter().enumerate() {
+        let j = (i + 1) % n;
+        // The fill runs the loop edge the other way from the mesh's free half-edge.
+        let Some(t) = on_edge.get(&(j, i)) else {
+            return Err(refuse(format!(
+                "the fill does not meet the loop's edge at ({:.3}, {:.3}, {:.3})",
+                points[i].x, points[i].y, points[i].z
+            )));
+        };
+        let [a, b, c] = t.map(|v| positions[v]);
+        let fill_normal = (b - a).cross(c - a).normalize_or_zero();
+        if let Some(mesh_normal) = mesh.face_normal(topology.face(h)) {
+            normal_jump = normal_jump.max(fill_normal.angle_between(mesh_normal).to_degrees());
+        }
+    }
+    let faces: Vec<Face> = triangles
+        .iter()
+        .map(|t| Face::triangle(t[0] as u32, t[1] as u32, t[2] as u32))
+        .collect();
+    let patch = Mesh::new(positions, faces).map_err(|e| refuse(e.to_string()))?;
+    Ok(FilledHole {
+        loop_index: k,
+        patch,
+        base,
+        rim_gap,
+        normal_jump,
+        min_angle,
+    })
+}

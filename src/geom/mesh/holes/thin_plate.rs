@@ -1,0 +1,118 @@
+//! The thin elastic plate over a hole (paper 002, section 3): the base surface bends as
+//! little as it can while it keeps the heights, and so the slopes, of the mesh round
+//! the hole. On a grid of heights above the projection plane the bending energy is the
+//! sum over the nodes of the squared discrete Laplacian (each node's neighbours'
+//! heights less its own, four neighbours inside the grid and fewer at its edge); the
+//! nodes that lie on the mesh keep their heights, and the rest (the hole, and the grid
+//! beyond the panel's edge) take the heights that make the energy least: the discrete
+//! biharmonic equation, a least-squares problem solved by its normal equations, which
+//! are banded in the grid's row order.
+//!
+//! Two rings of known nodes round the hole fix the position and the slope the plate
+//! starts from there: the paper's position and slope conditions. A plane (every known
+//! height on one plane) is reproduced exactly, and so is any quadratic height field
+//! away from the grid's edge, its Laplacian being constant.
+
+use crate::geom::banded::BandMatrix;
+
+/// A grid of heights, `nx + 1` nodes along x by `ny + 1` along y, row by row (`x`
+/// fastest): the known ones given, the others to be found.
+#[derive(Debug, Clone, PartialEq)]
+pub struct HeightGrid {
+    /// Cells along x.
+    pub nx: usize,
+    /// Cells along y.
+    pub ny: usize,
+    /// Each node's height, where the mesh gives it.
+    pub known: Vec<Option<f64>>,
+}
+
+/// Why a plate could not be solved.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum PlateError {
+    /// No node of the grid lies on the mesh: nothing holds the plate.
+    #[error("no node of the grid lies on the mesh round the hole")]
+    NothingKnown,
+    /// The normal equations were singular (cannot happen with a known node; kept so a
+    /// numerical breakdown is reported, not unwrapped).
+    #[error("the plate's equations could not be solved")]
+    Singular,
+}
+
+impl HeightGrid {
+    fn index(&self, i: usize, j: usize) -> usize {
+        j * (self.nx + 1) + i
+    }
+
+    /// The grid neighbours of node `(i, j)`.
+    fn neighbours(&self, i: usize, j: usize) -> impl Iterator<Item = usize> + '_ {
+        let (nx, ny) = (self.nx, self.ny);
+        [
+            (i > 0).then(|| (i - 1, j)),
+            (i < nx).then(|| (i + 1, j)),
+            (j > 0).then(|| (i, j - 1)),
+            (j < ny).then(|| (i, j + 1)),
+        ]
+        .into_iter()
+        .flatten()
+        .map(move |(a, b)| b * (nx + 1) + a)
+    }
+}
+
+/// Every node's height: the known ones as given, the others those of least bending.
+pub fn solve_plate(grid: &HeightGrid) -> Result<Vec<f64>, PlateError> {
+    let nodes = (grid.nx + 1) * (grid.ny + 1);
+    if grid.known.iter().all(Option::is_none) {
+        return Err(PlateError::NothingKnown);
+    }
+    // The unknown nodes numbered in the grid's row order.
+    let mut unknown = vec![usize::MAX; nodes];
+    let mut count = 0;
+    for (k, h) in grid.known.iter().enumerate() {
+        if h.is_none() {
+            unknown[k] = count;
+            count += 1;
+        }
+    }
+    let mut heights: Vec<f64> = grid.known.iter().map(|h| h.unwrap_or(0.0)).collect();
+    if count == 0 {
+        return Ok(heights);
+    }
+    // A Laplacian row touches nodes a grid row apart on either side, so two rows of
+    // the normal equations' product reach two grid rows.
+    let band = 2 * (grid.nx + 1);
+    let mut a = BandMatrix::zeros(count, band, band);
+    let mut rhs = vec![0.0; count];
+    for j in 0..=grid.ny {
+        for i in 0..=grid.nx {
+            // The Laplacian at (i, j): +1 at each neighbour, -(neighbours) at itself.
+            let centre = grid.index(i, j);
+            let mut row: Vec<(usize, f64)> = grid.neighbours(i, j).map(|n| (n, 1.0)).collect();
+            let degree = row.len() as f64;
+            row.push((centre, -degree));
+            if row.iter().all(|&(n, _)| grid.known[n].is_some()) {
+                continue;
+            }
+            let fixed: f64 = row
+                .iter()
+                .filter_map(|&(n, w)| grid.known[n].map(|h| w * h))
+                .sum();
+            for &(p, wp) in row.iter().filter(|(n, _)| grid.known[*n].is_none()) {
+                let r = unknown[p];
+                rhs[r] -= wp * fixed;
+                for &(q, wq) in row.iter().filter(|(n, _)| grid.known[*n].is_none()) {
+                    let c = unknown[q];
+                    let value = a.get(r, c) + wp * wq;
+                    a.set(r, c, value);
+                }
+            }
+        }
+    }
+    a.solve(&mut rhs, 1).ok_or(PlateError::Singular)?;
+    for (k, h) in heights.iter_mut().enumerate() {
+        if unknown[k] != usize::MAX {
+            *h = rhs[unknown[k]];
+        }
+    }
+    Ok(heights)
+}
