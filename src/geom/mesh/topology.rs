@@ -483,11 +483,13 @@ fn link_faces(mesh: &Mesh) -> (Vec<HalfEdge>, Vec<u32>) {
 fn collect_edges(
     mut half_edges: Vec<HalfEdge>,
 ) -> (Vec<[VertexId; 2]>, Rows<HalfEdgeId>, Vec<HalfEdge>) {
-    let mut keyed: Vec<([VertexId; 2], u32)> = (0..half_edges.len())
+    // Each half-edge keyed by its unordered vertex pair packed in one word (the smaller
+    // id high) and its own id: one integer comparison orders them by pair, then by id.
+    let mut keyed: Vec<(u64, u32)> = (0..half_edges.len())
         .map(|h| {
-            let a = half_edges[h].origin;
-            let b = half_edges[half_edges[h].next.index()].origin;
-            ([a.min(b), a.max(b)], to_u32(h))
+            let a = half_edges[h].origin.0;
+            let b = half_edges[half_edges[h].next.index()].origin.0;
+            ((u64::from(a.min(b)) << 32) | u64::from(a.max(b)), to_u32(h))
         })
         .collect();
     // Keys are unique (the half-edge id breaks ties), so unstable sorting is deterministic.
@@ -495,9 +497,11 @@ fn collect_edges(
 
     let mut edge_vertices: Vec<[VertexId; 2]> = Vec::new();
     let mut radial: Vec<(usize, HalfEdgeId)> = Vec::with_capacity(keyed.len());
-    for (pair, h) in keyed {
-        if edge_vertices.last() != Some(&pair) {
-            edge_vertices.push(pair);
+    let mut last_key = None;
+    for (key, h) in keyed {
+        if last_key != Some(key) {
+            last_key = Some(key);
+            edge_vertices.push([VertexId((key >> 32) as u32), VertexId(key as u32)]);
         }
         let e = edge_vertices.len() - 1;
         half_edges[h as usize].edge = EdgeId(to_u32(e));

@@ -89,22 +89,30 @@ fn faces_round(
         }
         facing && flo.cmple(hi).all() && fhi.cmpge(lo).all()
     };
-    let mut seen: BTreeSet<FaceId> = BTreeSet::new();
-    let mut queue: Vec<FaceId> = loop_nodes
-        .iter()
-        .flat_map(|&v| topology.vertex_faces(v).iter().copied())
-        .filter(|&f| over(f))
-        .collect();
-    seen.extend(queue.iter().copied());
+    // Visited faces marked in a table over the mesh's faces; the faces kept in the
+    // order the flood reaches them (so every build reads the same face first).
+    let mut seen = vec![false; mesh.face_count()];
+    let mut found: Vec<FaceId> = Vec::new();
+    let mut queue: Vec<FaceId> = Vec::new();
+    for &v in loop_nodes {
+        for &f in topology.vertex_faces(v) {
+            if !seen[f.index()] && over(f) {
+                seen[f.index()] = true;
+                found.push(f);
+                queue.push(f);
+            }
+        }
+    }
     while let Some(f) = queue.pop() {
         for g in topology.face_neighbors(f) {
-            if !seen.contains(&g) && over(g) {
-                seen.insert(g);
+            if !seen[g.index()] && over(g) {
+                seen[g.index()] = true;
+                found.push(g);
                 queue.push(g);
             }
         }
     }
-    seen.into_iter().collect()
+    found
 }
 
 /// The base surface of the hole whose loop runs through `loop_nodes` (in order), on

@@ -11,8 +11,9 @@
 use glam::{DVec2, DVec3};
 
 use super::plane::ProjectionPlane;
-use crate::geom::mesh::{FaceId, HalfEdgeId, Mesh, Topology, VertexId};
+use crate::geom::mesh::{HalfEdgeId, Mesh, Topology, VertexId};
 use crate::geom::trimmed::polygon_winding;
+use crate::geom::union_find::UnionFind;
 
 /// A closed loop of free edges.
 #[derive(Debug, Clone, PartialEq)]
@@ -73,12 +74,29 @@ pub fn signed_area(points: &[DVec2]) -> f64 {
 /// loop nearest `outer`'s point instead, for the piece holding it, where given).
 pub fn free_edges(mesh: &Mesh, topology: &Topology, outer: Option<DVec3>) -> FreeEdges {
     let chains = topology.boundary_loops();
-    let pieces = topology.connected_components();
-    let mut piece_of = vec![0usize; mesh.face_count()];
-    for (k, faces) in pieces.iter().enumerate() {
-        for f in faces {
-            piece_of[f.index()] = k;
+    // The mesh's pieces: faces joined across edges, each piece numbered by its first
+    // face, with its faces' summed vector area (its mean normal).
+    let mut sets = UnionFind::new(mesh.face_count());
+    for e in topology.edges() {
+        let mut faces = topology.edge_faces(e);
+        if let Some(first) = faces.next() {
+            for other in faces {
+                sets.union(first.index(), other.index());
+            }
         }
+    }
+    let mut piece_of = vec![usize::MAX; mesh.face_count()];
+    let mut piece_of_root = vec![usize::MAX; mesh.face_count()];
+    let mut normals: Vec<DVec3> = Vec::new();
+    for f in mesh.face_ids() {
+        let root = sets.find(f.index());
+        if piece_of_root[root] == usize::MAX {
+            piece_of_root[root] = normals.len();
+            normals.push(DVec3::ZERO);
+        }
+        let piece = piece_of_root[root];
+        piece_of[f.index()] = piece;
+        normals[piece] += mesh.face_vector_area(f).unwrap_or(DVec3::ZERO);
     }
     let mut loops: Vec<FreeLoop> = chains
         .loops
@@ -107,11 +125,11 @@ pub fn free_edges(mesh: &Mesh, topology: &Topology, outer: Option<DVec3>) -> Fre
             }
         })
         .collect();
-    for (piece, faces) in pieces.iter().enumerate() {
+    for (piece, area) in normals.iter().enumerate() {
         let members: Vec<usize> = (0..loops.len())
             .filter(|&k| loops[k].piece == piece)
             .collect();
-        if let Some(k) = enclosing_loop(mesh, faces, &loops, &members) {
+        if let Some(k) = enclosing_loop(mesh, *area, &loops, &members) {
             loops[k].outer = true;
         }
     }
@@ -137,7 +155,7 @@ pub fn free_edges(mesh: &Mesh, topology: &Topology, outer: Option<DVec3>) -> Fre
             .iter()
             .map(|c| c.vertices.clone())
             .collect(),
-        pieces: pieces.len(),
+        pieces: normals.len(),
     }
 }
 
@@ -149,21 +167,16 @@ fn nearest_node(mesh: &Mesh, l: &FreeLoop, at: DVec3) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
-/// Of the loops `members` of the piece made of `faces`, the one that encloses the
-/// most others in the piece's projection (square to its mean face normal); among
-/// equals, the largest by projected area.
+/// Of the loops `members` of a piece whose faces' vector areas sum to `area`, the one
+/// that encloses the most others in the piece's projection (square to its mean face
+/// normal); among equals, the largest by projected area.
 fn enclosing_loop(
     mesh: &Mesh,
-    faces: &[FaceId],
+    area: DVec3,
     loops: &[FreeLoop],
     members: &[usize],
 ) -> Option<usize> {
-    let normal = faces
-        .iter()
-        .filter_map(|&f| mesh.face_vector_area(f))
-        .sum::<DVec3>()
-        .try_normalize()
-        .unwrap_or(DVec3::Z);
+    let normal = area.try_normalize().unwrap_or(DVec3::Z);
     let e1 = normal.any_orthonormal_vector();
     let plane = ProjectionPlane {
         origin: DVec3::ZERO,
@@ -215,15 +228,8 @@ pub enum LoopProblem {
 }
 
 /// Checks the mesh round `l`: at least three distinct nodes enclosing some area, and
-/// every edge at its nodes manifold and wound alike on both sides (`inconsistent`: the
-/// mesh's edges wound the same way by both their faces, as
-/// [`Topology::inconsistent_edges`] gives them).
-pub fn check_loop(
-    mesh: &Mesh,
-    topology: &Topology,
-    inconsistent: &std::collections::BTreeSet<crate::geom::mesh::EdgeId>,
-    l: &FreeLoop,
-) -> Result<(), LoopProblem> {
+/// every edge at its nodes manifold and wound alike on both sides.
+pub fn check_loop(mesh: &Mesh, topology: &Topology, l: &FreeLoop) -> Result<(), LoopProblem> {
     let mut distinct: Vec<DVec3> = Vec::new();
     for v in &l.nodes {
         let p = mesh.positions()[v.index()];
@@ -251,7 +257,11 @@ pub fn check_loop(
             if topology.is_non_manifold_edge(e) {
                 return Err(LoopProblem::NotManifold { node: v.0 });
             }
-            if inconsistent.contains(&e) {
+            let wound_alike = match *topology.edge_half_edges(e) {
+                [a, b] => topology.origin(a) == topology.origin(b),
+                _ => false,
+            };
+            if wound_alike {
                 return Err(LoopProblem::Inconsistent { node: v.0 });
             }
         }

@@ -165,17 +165,15 @@ pub fn fill_holes(mesh: &Mesh, options: &FillOptions) -> Result<Filled, HoleErro
     let topology = Topology::build(mesh);
     let free = free_edges(mesh, &topology, options.outer);
     let ids = chosen(mesh, &free, options)?;
-    let inconsistent: BTreeSet<_> = topology.inconsistent_edges().into_iter().collect();
-    let normals = mesh.compute_vertex_normals();
     let mut holes = Vec::with_capacity(ids.len());
     for k in ids {
         let l = &free.loops[k];
-        check_loop(mesh, &topology, &inconsistent, l).map_err(|problem| HoleError::Loop {
+        check_loop(mesh, &topology, l).map_err(|problem| HoleError::Loop {
             loop_index: k,
             centre: l.centre,
             problem,
         })?;
-        holes.push(fill_one(mesh, &topology, &normals, k, l, options.size)?);
+        holes.push(fill_one(mesh, &topology, k, l, options.size)?);
     }
     // Every hole is filled: the fills' nodes and faces after the mesh's own.
     let mut positions = mesh.positions().to_vec();
@@ -209,6 +207,27 @@ pub fn fill_holes(mesh: &Mesh, options: &FillOptions) -> Result<Filled, HoleErro
     })
 }
 
+/// The normal at node `v`: its faces' normals weighted by their corner angles there
+/// (as [`Mesh::compute_vertex_normals`] weights them, for one node).
+fn node_normal(mesh: &Mesh, topology: &Topology, v: super::VertexId) -> DVec3 {
+    let here = mesh.positions()[v.index()];
+    let mut sum = DVec3::ZERO;
+    for &f in topology.vertex_faces(v) {
+        let (Some(face), Some(normal)) = (mesh.face(f), mesh.face_normal(f)) else {
+            continue;
+        };
+        let ids = face.indices();
+        let n = ids.len();
+        let Some(i) = ids.iter().position(|&w| w == v.0) else {
+            continue;
+        };
+        let to_next = mesh.positions()[ids[(i + 1) % n] as usize] - here;
+        let to_prev = mesh.positions()[ids[(i + n - 1) % n] as usize] - here;
+        sum += normal * to_next.cross(to_prev).length().atan2(to_next.dot(to_prev));
+    }
+    sum.normalize_or_zero()
+}
+
 /// The smallest angle of the triangle `a b c` (deg).
 fn smallest_angle(a: DVec3, b: DVec3, c: DVec3) -> f64 {
     [(a, b, c), (b, c, a), (c, a, b)]
@@ -223,7 +242,6 @@ fn smallest_angle(a: DVec3, b: DVec3, c: DVec3) -> f64 {
 fn fill_one(
     mesh: &Mesh,
     topology: &Topology,
-    normals: &[DVec3],
     k: usize,
     l: &FreeLoop,
     size: Option<f64>,
@@ -238,7 +256,11 @@ fn fill_one(
         .iter()
         .map(|v| mesh.positions()[v.index()])
         .collect();
-    let node_normals: Vec<DVec3> = l.nodes.iter().map(|v| normals[v.index()]).collect();
+    let node_normals: Vec<DVec3> = l
+        .nodes
+        .iter()
+        .map(|&v| node_normal(mesh, topology, v))
+        .collect();
     let plane = loop_plane(&points, &node_normals)
         .ok_or_else(|| refuse("its nodes' normals cancel out".into()))?;
     // Single-valued over the plane: every face at the loop faces the plane, and the loop

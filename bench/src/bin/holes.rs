@@ -1,0 +1,255 @@
+//! Hole filling (issue 17) timed side by side with MeshLab's "close holes", on the same
+//! panel in the same run, both results measured the same way.
+//!
+//! `cargo run -p dieface-bench --release --bin holes` (needs `pip install pymeshlab`)
+//!
+//! The panel is the hole-filling tests' (`tests/common/panel.rs`): 1000 x 600 mm over
+//! an analytic surface, about 53k triangles, 14 holes of 10 to 80 mm. dieface's whole
+//! job (topology, loops and the outer boundary, base surfaces, meshing, joining) is one
+//! call of `fill_holes`; MeshLab's is `meshing_close_holes` through pymeshlab, timed
+//! inside Python around the filter alone (the mesh loaded before). Each is the median
+//! of 7 runs. Both results are then read the same way: the faces each added, their
+//! largest distance from the analytic surface (nodes, middles and edge midpoints), the
+//! largest normal jump between an added face and the panel's face across a loop edge,
+//! the smallest angle of an added face, and the free loops left. Prints markdown for
+//! BENCHMARKS.md.
+
+#[path = "../../../tests/common/panel.rs"]
+mod panel;
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::Path;
+use std::process::Command;
+use std::time::{Duration, Instant};
+
+use dieface::geom::mesh::holes::{fill_holes, FillOptions, HoleChoice};
+use dieface::geom::mesh::{Face, Mesh, Topology};
+use glam::DVec3;
+
+/// Runs per figure; the median is reported.
+const RUNS: usize = 7;
+
+fn median(mut f: impl FnMut()) -> Duration {
+    let mut times: Vec<Duration> = (0..RUNS)
+        .map(|_| {
+            let start = Instant::now();
+            f();
+            start.elapsed()
+        })
+        .collect();
+    times.sort();
+    times[RUNS / 2]
+}
+
+fn write_obj(mesh: &Mesh, path: &Path) {
+    let mut text = String::new();
+    for p in mesh.positions() {
+        text.push_str(&format!("v {:.12} {:.12} {:.12}\n", p.x, p.y, p.z));
+    }
+    for f in mesh.faces() {
+        let i = f.indices();
+        text.push_str(&format!("f {} {} {}\n", i[0] + 1, i[1] + 1, i[2] + 1));
+    }
+    std::fs::write(path, text).expect("the OBJ written");
+}
+
+fn read_obj(path: &Path) -> Mesh {
+    let text = std::fs::read_to_string(path).expect("the OBJ read");
+    let mut positions = Vec::new();
+    let mut faces = Vec::new();
+    for line in text.lines() {
+        let mut words = line.split_whitespace();
+        match words.next() {
+            Some("v") => {
+                let c: Vec<f64> = words
+                    .take(3)
+                    .map(|w| w.parse().expect("a number"))
+                    .collect();
+                positions.push(DVec3::new(c[0], c[1], c[2]));
+            }
+            Some("f") => {
+                let ids: Vec<u32> = words
+                    .map(|w| {
+                        w.split('/')
+                            .next()
+                            .expect("an index")
+                            .parse::<u32>()
+                            .expect("an index")
+                            - 1
+                    })
+                    .collect();
+                faces.push(Face::from_slice(&ids).expect("a face"));
+            }
+            _ => {}
+        }
+    }
+    Mesh::new(positions, faces).expect("a mesh")
+}
+
+/// What a fill added and how good it is: (faces added, deviation mm, normal jump deg,
+/// smallest angle deg, free loops left).
+fn measure(before: &Mesh, after: &Mesh) -> (usize, f64, f64, f64, usize) {
+    // The panel's own faces, by their corners' positions (a peer may renumber nodes).
+    let key = |p: DVec3| {
+        (
+            (p.x * 1e4).round() as i64,
+            (p.y * 1e4).round() as i64,
+            (p.z * 1e4).round() as i64,
+        )
+    };
+    let face_key = |m: &Mesh, f: &Face| {
+        let mut k: Vec<_> = f
+            .indices()
+            .iter()
+            .map(|&i| key(m.positions()[i as usize]))
+            .collect();
+        k.sort();
+        k
+    };
+    let own: BTreeSet<_> = before.faces().iter().map(|f| face_key(before, f)).collect();
+    let added: Vec<usize> = (0..after.face_count())
+        .filter(|&k| !own.contains(&face_key(after, &after.faces()[k])))
+        .collect();
+    let corners = |k: usize| {
+        let i = after.faces()[k].indices();
+        [0, 1, 2].map(|c| after.positions()[i[c] as usize])
+    };
+    let (mut deviation, mut smallest) = (0.0f64, 180.0f64);
+    for &k in &added {
+        let [a, b, c] = corners(k);
+        for p in [
+            a,
+            b,
+            c,
+            (a + b + c) / 3.0,
+            (a + b) / 2.0,
+            (b + c) / 2.0,
+            (c + a) / 2.0,
+        ] {
+            deviation = deviation.max(panel::distance_to_surface(p));
+        }
+        for (p, q, r) in [(a, b, c), (b, c, a), (c, a, b)] {
+            smallest = smallest.min((q - p).angle_between(r - p).to_degrees());
+        }
+    }
+    let is_added: BTreeSet<usize> = added.iter().copied().collect();
+    let topology = Topology::build(after);
+    let mut jump = 0.0f64;
+    let mut edges: BTreeMap<(u32, u32), Vec<usize>> = BTreeMap::new();
+    for k in 0..after.face_count() {
+        let i = after.faces()[k].indices();
+        for e in 0..3 {
+            let (a, b) = (i[e], i[(e + 1) % 3]);
+            edges.entry((a.min(b), a.max(b))).or_default().push(k);
+        }
+    }
+    let normal = |k: usize| {
+        let [a, b, c] = corners(k);
+        (b - a).cross(c - a).normalize_or_zero()
+    };
+    for faces in edges.values() {
+        if let [f, g] = faces[..] {
+            if is_added.contains(&f) != is_added.contains(&g) {
+                jump = jump.max(normal(f).angle_between(normal(g)).to_degrees());
+            }
+        }
+    }
+    let loops = topology.boundary_loops().loops.len();
+    (added.len(), deviation, jump, smallest, loops)
+}
+
+fn main() {
+    let dir = std::env::temp_dir().join("dieface-bench-holes");
+    std::fs::create_dir_all(&dir).expect("a temporary folder");
+    let holes = panel::standard_holes();
+    let mesh = panel::panel(5.0, &holes);
+    let input = dir.join("panel.obj");
+    write_obj(&mesh, &input);
+    let options = FillOptions {
+        holes: HoleChoice::All,
+        outer: None,
+        size: None,
+    };
+    let ours = median(|| {
+        fill_holes(&mesh, &options).expect("filled");
+    });
+    let filled = fill_holes(&mesh, &options).expect("filled");
+    let ours_out = dir.join("dieface.obj");
+    write_obj(&filled.mesh, &ours_out);
+    // MeshLab closes loops of up to so many edges: every hole's, not the outer edge's.
+    let largest = filled
+        .holes
+        .iter()
+        .map(|h| filled.free.loops[h.loop_index].nodes.len())
+        .max()
+        .unwrap_or(0)
+        + 1;
+    let outer_edges = filled
+        .free
+        .loops
+        .iter()
+        .filter(|l| l.outer)
+        .map(|l| l.nodes.len())
+        .min()
+        .unwrap_or(0);
+    assert!(
+        largest < outer_edges,
+        "the outer edge has more edges than any hole"
+    );
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("reference/meshlab_close_holes.py");
+    let mut rows = vec![(
+        "dieface `fill_holes`".to_string(),
+        ours.as_secs_f64() * 1e3,
+        measure(&mesh, &read_obj(&ours_out)),
+    )];
+    for refine in [false, true] {
+        let out = dir.join(if refine {
+            "meshlab_refined.obj"
+        } else {
+            "meshlab.obj"
+        });
+        let mut command = Command::new("python3");
+        command
+            .arg(&script)
+            .arg(&input)
+            .arg(&out)
+            .arg(RUNS.to_string())
+            .arg(largest.to_string());
+        if refine {
+            command.arg("refine");
+        }
+        let result = command.output().expect("python3 runs");
+        assert!(
+            result.status.success(),
+            "MeshLab: {}",
+            String::from_utf8_lossy(&result.stderr)
+        );
+        let text = String::from_utf8_lossy(&result.stdout);
+        let ms: f64 = text
+            .split_whitespace()
+            .next()
+            .and_then(|w| w.parse().ok())
+            .expect("MeshLab's time");
+        let name = if refine {
+            "MeshLab `meshing_close_holes`, `refinehole`"
+        } else {
+            "MeshLab `meshing_close_holes`"
+        };
+        rows.push((name.to_string(), ms, measure(&mesh, &read_obj(&out))));
+    }
+    println!(
+        "panel: {} triangles, {} nodes, {} holes (the outer edge kept)\n",
+        mesh.face_count(),
+        mesh.vertex_count(),
+        holes.len()
+    );
+    println!("| filler | time (median of {RUNS}) | vs dieface | faces added | largest deviation | largest normal jump at a loop | smallest angle | free loops left |");
+    println!("|---|---:|---:|---:|---:|---:|---:|---:|");
+    let base = rows[0].1;
+    for (name, ms, (added, deviation, jump, angle, loops)) in rows {
+        println!(
+            "| {name} | {ms:.1} ms | {:.1}x | {added} | {deviation:.3} mm | {jump:.2} deg | {angle:.1} deg | {loops} |",
+            ms / base
+        );
+    }
+}
