@@ -200,6 +200,16 @@ pub fn standard_holes() -> Vec<Hole> {
     ]
 }
 
+/// The closed outline `outline` added to `points`, its sides to `edges`.
+fn add_loop(outline: Vec<DVec2>, points: &mut Vec<DVec2>, edges: &mut Vec<[usize; 2]>) {
+    let first = points.len();
+    let n = outline.len();
+    points.extend(outline);
+    for k in 0..n {
+        edges.push([first + k, first + (k + 1) % n]);
+    }
+}
+
 /// The outer edge, points about `spacing` apart, counter-clockwise.
 fn outer_outline(spacing: f64) -> Vec<DVec2> {
     let corners = [
@@ -221,19 +231,42 @@ fn outer_outline(spacing: f64) -> Vec<DVec2> {
 
 /// The panel meshed with elements about `spacing` long, its `holes` cut out.
 pub fn panel(spacing: f64, holes: &[Hole]) -> Mesh {
+    panel_with_crack(spacing, holes, None)
+}
+
+/// [`panel`], and where `crack` is `Some((x, gap))`, cut along the line `x` into two
+/// patches as CAD exports them: the faces past the line on nodes of their own, moved
+/// `gap` mm along x (a crack that width, node for node).
+pub fn panel_with_crack(spacing: f64, holes: &[Hole], crack: Option<(f64, f64)>) -> Mesh {
+    // The seam on a node of the outer edge's bottom and top.
+    let step = WIDTH / (WIDTH / spacing).round();
+    let crack = crack.map(|(x, gap)| ((x / step).round() * step, gap));
     let mut points: Vec<DVec2> = Vec::new();
     let mut edges: Vec<[usize; 2]> = Vec::new();
-    let mut add_loop = |outline: Vec<DVec2>, points: &mut Vec<DVec2>| {
+    add_loop(outer_outline(spacing), &mut points, &mut edges);
+    if let Some((x, _)) = crack {
+        // The seam: a constraint line across the panel, so no face straddles it.
+        let steps = (DEPTH / spacing).round() as usize;
         let first = points.len();
-        let n = outline.len();
-        points.extend(outline);
-        for k in 0..n {
-            edges.push([first + k, first + (k + 1) % n]);
+        for s in 1..steps {
+            points.push(DVec2::new(x, DEPTH * s as f64 / steps as f64));
         }
-    };
-    add_loop(outer_outline(spacing), &mut points);
+        let seam_end = |t: f64| {
+            points
+                .iter()
+                .position(|q| (q.x - x).abs() < 1e-6 && (q.y - t).abs() < 1e-9)
+                .expect("the outer edge has a node where the seam meets it")
+        };
+        let (bottom, top) = (seam_end(0.0), seam_end(DEPTH));
+        let last = points.len() - 1;
+        edges.push([bottom, first]);
+        for k in first..last {
+            edges.push([k, k + 1]);
+        }
+        edges.push([last, top]);
+    }
     for h in holes {
-        add_loop(h.outline(spacing), &mut points);
+        add_loop(h.outline(spacing), &mut points, &mut edges);
     }
     let clear = 0.5 * spacing;
     let row = spacing * 3f64.sqrt() / 2.0;
@@ -246,7 +279,8 @@ pub fn panel(spacing: f64, holes: &[Hole]) -> Mesh {
             x += spacing;
             let inside_edge =
                 q.x > clear && q.x < WIDTH - clear && q.y > clear && q.y < DEPTH - clear;
-            if inside_edge && holes.iter().all(|h| h.signed_distance(q) > clear) {
+            let off_seam = crack.is_none_or(|(x, _)| (q.x - x).abs() > clear);
+            if inside_edge && off_seam && holes.iter().all(|h| h.signed_distance(q) > clear) {
                 points.push(q);
             }
         }
@@ -264,6 +298,39 @@ pub fn panel(spacing: f64, holes: &[Hole]) -> Mesh {
             faces.push(Face::triangle(ids[0] as u32, ids[1] as u32, ids[2] as u32));
         }
     }
-    let positions: Vec<DVec3> = points.iter().map(|q| point(q.x, q.y)).collect();
+    let mut positions: Vec<DVec3> = points.iter().map(|q| point(q.x, q.y)).collect();
+    if let Some((x, gap)) = crack {
+        // The faces past the seam take copies of their nodes on it, moved by the gap
+        // with every node past the seam.
+        let mut copy: Vec<Option<u32>> = vec![None; positions.len()];
+        for f in faces.iter_mut() {
+            let ids: Vec<u32> = f.indices().to_vec();
+            let centre = ids.iter().map(|&i| points[i as usize]).sum::<DVec2>() / 3.0;
+            if centre.x <= x {
+                continue;
+            }
+            let moved: Vec<u32> = ids
+                .iter()
+                .map(|&i| {
+                    if (points[i as usize].x - x).abs() > 1e-9 {
+                        return i;
+                    }
+                    *copy[i as usize].get_or_insert_with(|| {
+                        positions.push(positions[i as usize]);
+                        (positions.len() - 1) as u32
+                    })
+                })
+                .collect();
+            *f = Face::triangle(moved[0], moved[1], moved[2]);
+        }
+        let on_right: Vec<bool> = (0..positions.len())
+            .map(|i| i >= points.len() || points[i].x > x + 1e-9)
+            .collect();
+        for (i, p) in positions.iter_mut().enumerate() {
+            if on_right[i] {
+                p.x += gap;
+            }
+        }
+    }
     Mesh::new(positions, faces).expect("a valid panel")
 }

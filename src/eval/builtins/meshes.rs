@@ -27,10 +27,20 @@ pub static BUILTINS: &[Builtin] = &[
     Builtin {
         name: "tessellate",
         params: &[req("surface"), opt("tolerance")],
-        doc: "the triangle mesh of a surface or trimmed surface, within a chordal tolerance (default 0.05 mm)",
+        doc: "the triangle mesh of a surface or trimmed surface (or a list of them, joined where their nodes meet), within a chordal tolerance (default 0.05 mm)",
         run: tessellate,
     },
+    Builtin {
+        name: "free_edges",
+        params: &[req("mesh"), opt("outer")],
+        doc: "a mesh's free edges: `count`, `loops` (each `{ nodes, length, span, at, outer }`), `holes` and `outer_length`; the outer boundary is the loop enclosing the others, or the loop nearest the point `outer`",
+        run: free_edges,
+    },
 ];
+
+/// How near (mm) the nodes of neighbouring surfaces' meshes must lie to be joined when
+/// a list of surfaces is tessellated.
+const JOIN: f64 = 1e-6;
 
 /// The chordal tolerance `tessellate` keeps when none is given (mm).
 const DEFAULT_TOLERANCE: f64 = 0.05;
@@ -142,15 +152,103 @@ fn tessellate(call: &Call) -> Result<Data, Diagnostic> {
     };
     let tol = Tolerance::new(tolerance).map_err(|e| call.kernel_error(e, Some("tolerance")))?;
     let surface = call.required("surface")?;
-    let meshed = match &surface.data {
-        Data::Surface(s) => tessellate_surface(s, &tol),
-        Data::Trimmed(t) => tessellate_trimmed(t, &tol),
-        _ => return Err(call.bad(surface, "surface", "a surface or a trimmed surface")),
-    }
-    .map_err(|e| call.kernel_error(e, Some("surface")))?;
-    check_size(call, "surface", "the mesh", meshed.positions.len())?;
-    let mesh = meshed
-        .to_mesh()
+    let one = |value: &super::super::value::Value| -> Result<Mesh, Diagnostic> {
+        let meshed = match &value.data {
+            Data::Surface(s) => tessellate_surface(s, &tol),
+            Data::Trimmed(t) => tessellate_trimmed(t, &tol),
+            _ => {
+                return Err(call.bad(
+                    value,
+                    "surface",
+                    "a surface or a trimmed surface, or a list of them",
+                ))
+            }
+        }
         .map_err(|e| call.kernel_error(e, Some("surface")))?;
+        check_size(call, "surface", "the mesh", meshed.positions.len())?;
+        meshed
+            .to_mesh()
+            .map_err(|e| call.kernel_error(e, Some("surface")))
+    };
+    let mesh = match &surface.data {
+        Data::List(items) => {
+            // Each surface's mesh, joined where their nodes meet: where neighbouring
+            // surfaces' tessellations do not share nodes, free edges stay between them,
+            // for `free_edges` to find.
+            let mut all = Mesh::new(Vec::new(), Vec::new())
+                .map_err(|e| call.kernel_error(e, Some("surface")))?;
+            for item in items.iter() {
+                all.append(&one(item)?)
+                    .map_err(|e| call.kernel_error(e, Some("surface")))?;
+                check_size(call, "surface", "the mesh", all.vertex_count())?;
+            }
+            all.weld(JOIN)
+                .map_err(|e| call.kernel_error(e, Some("surface")))?
+        }
+        _ => one(surface)?,
+    };
     Ok(Data::Mesh(Arc::new(mesh)))
+}
+
+/// `free_edges(mesh, outer?)`.
+fn free_edges(call: &Call) -> Result<Data, Diagnostic> {
+    use super::super::value::{Quantity, Record, Value};
+    use crate::geom::mesh::holes::loops;
+    use crate::geom::mesh::Topology;
+    let value = call.required("mesh")?;
+    let Data::Mesh(mesh) = &value.data else {
+        return Err(call.bad(value, "mesh", "a mesh"));
+    };
+    let outer = match call.arg("outer") {
+        Some(v) => Some(as_point3(v, call.units, &what(call, "outer"))?),
+        None => None,
+    };
+    let mesh = mesh.triangulated();
+    let topology = Topology::build(&mesh);
+    let found = loops::free_edges(&mesh, &topology, outer);
+    let span = call.span;
+    let number = |v: f64| Value::new(Data::Number(Quantity::bare(v)), span);
+    let length = |v: f64| Value::new(Data::Number(Quantity::length(v)), span);
+    let record = |fields: Vec<(&str, Value)>| {
+        Value::new(
+            Data::Record(Arc::new(Record {
+                kind: None,
+                fields: fields
+                    .into_iter()
+                    .map(|(n, v)| (n.to_string(), v))
+                    .collect(),
+                feature: None,
+            })),
+            span,
+        )
+    };
+    let loop_values: Vec<Value> = found
+        .loops
+        .iter()
+        .map(|l| {
+            record(vec![
+                ("nodes", number(l.nodes.len() as f64)),
+                ("length", length(l.length)),
+                ("span", length(l.span)),
+                ("at", Value::point3(l.centre, span)),
+                ("outer", Value::new(Data::Bool(l.outer), span)),
+            ])
+        })
+        .collect();
+    let outer_length: f64 = found
+        .loops
+        .iter()
+        .filter(|l| l.outer)
+        .map(|l| l.length)
+        .sum();
+    let holes = found.loops.iter().filter(|l| !l.outer).count();
+    let result = record(vec![
+        ("count", number(found.count as f64)),
+        ("loops", Value::new(Data::List(Arc::new(loop_values)), span)),
+        ("holes", number(holes as f64)),
+        ("outer_length", length(outer_length)),
+        ("open_chains", number(found.open_chains.len() as f64)),
+        ("pieces", number(found.pieces as f64)),
+    ]);
+    Ok(result.data)
 }

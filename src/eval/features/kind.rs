@@ -131,6 +131,7 @@ impl Registry {
                 super::sheet::KIND,
                 super::round::KIND,
                 super::round::REROUND,
+                super::fill::KIND,
                 super::die_checks::KIND,
             ],
         }

@@ -14,6 +14,7 @@ mod bead;
 mod blankholder;
 mod die_checks;
 pub mod explain;
+mod fill;
 pub mod kind;
 mod punch_opening;
 mod round;

@@ -150,8 +150,18 @@ fn split_at_free_nodes(mesh: &Mesh, tolerance: f64, report: &mut Stitched) -> Re
         .iter()
         .flat_map(|&e| topology.edge_vertices(e).map(|v| v.0))
         .collect();
+    // Cells as wide as the free edges are long (at least the tolerance): each edge is
+    // filed in the few cells its box meets, and a node's search reaches one cell round.
+    let mean_length = free_edges
+        .iter()
+        .map(|&e| {
+            let [a, b] = topology.edge_vertices(e);
+            positions[a.index()].distance(positions[b.index()])
+        })
+        .sum::<f64>()
+        / free_edges.len().max(1) as f64;
     let cells = Cells::new(
-        tolerance,
+        tolerance.max(mean_length),
         free_edges.iter().enumerate().map(|(k, &e)| {
             let [a, b] = topology.edge_vertices(e).map(|v| positions[v.index()]);
             (k, a.min(b), a.max(b))

@@ -1,0 +1,318 @@
+//! The `fill_holes` block (paper 002; issue 17): a mesh's holes filled from smooth base
+//! surfaces, its cracks stitched first, its outer boundary kept.
+//!
+//! ```text
+//! fill_holes closed {
+//!     mesh = read_obj("inner.obj")    // any mesh value
+//!     holes = "all"                   // or a size: those up to 40 mm across (`40 mm`),
+//!                                     // or points: the hole nearest each
+//!     outer = (0, -300, 0)            // the panel's outer boundary is the loop nearest
+//!                                     // this point (optional: found otherwise)
+//!     stitch = 0.05 mm                // cracks narrower than this closed first (optional)
+//!     size = 5 mm                     // element size inside the fills (optional: the
+//!                                     // loop's own edges)
+//! }
+//! ```
+//!
+//! Its pieces: `mesh` (the filled mesh, kind `fill`), and for each hole filled
+//! `patch_K` (the fill's own triangles, `fill_patch`) and `base_K` (its base surface,
+//! `fill_base`), children of the block's node, so a reviewer sees what was added.
+
+use std::sync::Arc;
+
+use glam::DVec3;
+
+use crate::diag::Diagnostic;
+use crate::geom::mesh::holes::cracks::stitch_cracks;
+use crate::geom::mesh::holes::loops::LoopProblem;
+use crate::geom::mesh::holes::{fill_holes, FillOptions, Filled, HoleChoice, HoleError};
+use crate::geom::mesh::Mesh;
+
+use super::super::builtins::{as_point3, type_error};
+use super::super::summary::round;
+use super::super::value::{Data, Record, Value};
+use super::kind::{FeatureKind, FieldNames};
+use super::{count, deg, feature_error, feature_value, items, length, mm, Block};
+
+/// The `fill_holes` kind.
+pub(super) static KIND: &dyn FeatureKind = &FillKind;
+
+struct FillKind;
+
+/// A filled hole-filling: the kernel's result and what stitching did first.
+#[derive(Debug, Clone)]
+pub struct FilledMesh {
+    /// The holes filled.
+    pub filled: Filled,
+    /// Free nodes merged and edges split closing cracks.
+    pub stitched: (usize, usize),
+}
+
+impl FeatureKind for FillKind {
+    fn name(&self) -> &'static str {
+        "fill_holes"
+    }
+    fn code(&self) -> &'static str {
+        "die::fill_holes"
+    }
+    fn fields(&self) -> FieldNames {
+        FieldNames {
+            single: vec!["mesh", "holes", "outer", "stitch", "size"],
+            named: Vec::new(),
+        }
+    }
+    fn build(&self, block: &Block) -> Result<Value, Diagnostic> {
+        build_fill(block)
+    }
+    fn piece_kind(&self, field: &str) -> Option<&'static str> {
+        match field {
+            "mesh" => Some("fill"),
+            f if f.starts_with("patch_") => Some("fill_patch"),
+            f if f.starts_with("base_") => Some("fill_base"),
+            _ => None,
+        }
+    }
+    fn summary(&self, record: &Record) -> String {
+        let Some(m) = record.model::<FilledMesh>() else {
+            return String::new();
+        };
+        let f = &m.filled;
+        let added: usize = f.holes.iter().map(|h| h.patch.face_count()).sum();
+        format!(
+            "filled mesh, {} faces ({added} in {} fills), {} free loops before",
+            f.mesh.face_count(),
+            f.holes.len(),
+            f.free.loops.len()
+        )
+    }
+}
+
+/// A positive length in field `name`, or `None` when the field is absent.
+fn positive(block: &Block, name: &str, help: &str) -> Result<Option<f64>, Diagnostic> {
+    let Some(f) = block.get(name) else {
+        return Ok(None);
+    };
+    let v = length(&f.value, block.units, &format!("`{name}`"))?;
+    if !(v.is_finite() && v > 0.0) {
+        return Err(feature_error(
+            KIND,
+            format!("`{name}` must be above 0 mm, not {} mm", round(v)),
+            f.value.span,
+            "not a length above 0",
+            help,
+        ));
+    }
+    Ok(Some(v))
+}
+
+/// Which holes the `holes` field chooses.
+fn choice(block: &Block) -> Result<HoleChoice, Diagnostic> {
+    let Some(f) = block.get("holes") else {
+        return Ok(HoleChoice::All);
+    };
+    let help = "give `holes = \"all\"`, a size (`holes = 40 mm`: those up to 40 mm across), \
+                or points (`holes = [(x, y, z), ...]`: the hole nearest each)";
+    match &f.value.data {
+        Data::Str(s) if &**s == "all" => Ok(HoleChoice::All),
+        Data::Number(_) => {
+            let size = length(&f.value, block.units, "`holes`")?;
+            if !(size.is_finite() && size > 0.0) {
+                return Err(feature_error(
+                    KIND,
+                    format!("a hole size must be above 0 mm, not {} mm", round(size)),
+                    f.value.span,
+                    "not a size",
+                    help,
+                ));
+            }
+            Ok(HoleChoice::UpTo(size))
+        }
+        Data::List(_) | Data::Tuple(_) => {
+            let points = if matches!(f.value.data, Data::Tuple(_)) {
+                vec![f.value.clone()]
+            } else {
+                items(&f.value)
+            };
+            let mut at = Vec::with_capacity(points.len());
+            for p in &points {
+                at.push(as_point3(p, block.units, "a hole's point")?);
+            }
+            Ok(HoleChoice::At(at))
+        }
+        _ => Err(type_error(
+            &f.value,
+            "`holes`",
+            "\"all\", a size or a list of points",
+        )),
+    }
+}
+
+/// Builds the block.
+fn build_fill(block: &Block) -> Result<Value, Diagnostic> {
+    let mesh_field = block.get("mesh").ok_or_else(|| {
+        block.missing(
+            "mesh",
+            "give the mesh to fill: `mesh = read_obj(\"inner.obj\")`",
+        )
+    })?;
+    let Data::Mesh(mesh) = &mesh_field.value.data else {
+        return Err(type_error(&mesh_field.value, "`mesh`", "a mesh"));
+    };
+    let holes = choice(block)?;
+    let outer = match block.get("outer") {
+        Some(f) => Some(as_point3(&f.value, block.units, "`outer`")?),
+        None => None,
+    };
+    let stitch = positive(
+        block,
+        "stitch",
+        "give the widest crack to close, such as `stitch = 0.05 mm`",
+    )?;
+    let size = positive(
+        block,
+        "size",
+        "give the element size inside the fills, such as `size = 5 mm`",
+    )?;
+    let mesh: Mesh = mesh.triangulated();
+    let (mesh, stitched) = match stitch {
+        Some(t) => {
+            let (m, s) = stitch_cracks(&mesh, t).map_err(|e| {
+                feature_error(
+                    KIND,
+                    format!("the cracks could not be stitched: {e}"),
+                    block.get("stitch").map_or(block.head(), |f| f.value.span),
+                    "this tolerance",
+                    "give a smaller tolerance than the mesh's shortest edges",
+                )
+            })?;
+            (m, (s.merged_nodes, s.split_edges))
+        }
+        None => (mesh, (0, 0)),
+    };
+    let options = FillOptions { holes, outer, size };
+    let filled =
+        fill_holes(&mesh, &options).map_err(|e| hole_error(block, &mesh_field.value, e))?;
+    Ok(output(block, FilledMesh { filled, stitched }))
+}
+
+/// A point as a designer reads it.
+fn show(p: DVec3) -> String {
+    format!("({}, {}, {})", round(p.x), round(p.y), round(p.z))
+}
+
+/// A kernel refusal, at the field it is about; it names the hole by where it is.
+fn hole_error(block: &Block, mesh_value: &Value, e: HoleError) -> Diagnostic {
+    let holes_span = block.get("holes").map_or(mesh_value.span, |f| f.value.span);
+    match e {
+        HoleError::NoHole => feature_error(
+            KIND,
+            "the mesh has no hole to fill: no loop of free edges",
+            holes_span,
+            "no hole near here",
+            "check the mesh's free edges with `free_edges(mesh)`",
+        ),
+        HoleError::Loop {
+            centre, problem, ..
+        } => {
+            let (what, help) = match problem {
+                LoopProblem::Degenerate(why) => (
+                    format!("the hole at {} is degenerate: {why}", show(centre)),
+                    "remove the loop's repeated nodes, or merge them (`stitch`)",
+                ),
+                LoopProblem::NotManifold { .. } => (
+                    format!(
+                        "the hole at {} has an edge joining more than two faces at one of its nodes",
+                        show(centre)
+                    ),
+                    "repair the mesh round the hole so each edge joins at most two faces",
+                ),
+                LoopProblem::Inconsistent { .. } => (
+                    format!(
+                        "the faces round the hole at {} are not wound alike",
+                        show(centre)
+                    ),
+                    "turn the faces round the hole so they face the same side",
+                ),
+            };
+            feature_error(KIND, what, mesh_value.span, "this mesh", help)
+        }
+        HoleError::NotSingleValued { centre, reason, .. } => feature_error(
+            KIND,
+            format!(
+                "the hole at {} cannot be filled without folding: {reason}",
+                show(centre)
+            ),
+            holes_span,
+            "the holes to fill",
+            "leave this hole out (`holes` by points or by size), or split it at the sharp \
+             feature it wraps round",
+        ),
+        HoleError::Base {
+            centre, problem, ..
+        } => feature_error(
+            KIND,
+            format!(
+                "the hole at {} has no base surface: {problem}",
+                show(centre)
+            ),
+            mesh_value.span,
+            "this mesh",
+            "check the mesh round the hole",
+        ),
+    }
+}
+
+/// The block's value: the filled mesh, each fill and its base surface, and `quality`.
+fn output(block: &Block, model: FilledMesh) -> Value {
+    let span = block.span;
+    let f = &model.filled;
+    let mut fields = vec![(
+        "mesh".to_string(),
+        Value::new(Data::Mesh(Arc::new(f.mesh.clone())), span),
+    )];
+    for (k, hole) in f.holes.iter().enumerate() {
+        fields.push((
+            format!("patch_{}", k + 1),
+            Value::new(Data::Mesh(Arc::new(hole.patch.clone())), span),
+        ));
+        fields.push((
+            format!("base_{}", k + 1),
+            Value::new(Data::Surface(Arc::new(hole.base.surface.clone())), span),
+        ));
+    }
+    let after = f.free.loops.len() - f.holes.len();
+    let worst =
+        |g: &dyn Fn(&crate::geom::mesh::holes::FilledHole) -> f64, start: f64, max: bool| {
+            f.holes
+                .iter()
+                .map(g)
+                .fold(start, |a, b| if max { a.max(b) } else { a.min(b) })
+        };
+    let quality = vec![
+        ("holes_filled".to_string(), count(f.holes.len(), span)),
+        (
+            "fill_faces".to_string(),
+            count(f.holes.iter().map(|h| h.patch.face_count()).sum(), span),
+        ),
+        (
+            "free_loops_before".to_string(),
+            count(f.free.loops.len(), span),
+        ),
+        ("free_loops_after".to_string(), count(after, span)),
+        ("cracks_merged".to_string(), count(model.stitched.0, span)),
+        ("cracks_split".to_string(), count(model.stitched.1, span)),
+        (
+            "rim_gap".to_string(),
+            mm(worst(&|h| h.rim_gap, 0.0, true), span),
+        ),
+        (
+            "normal_jump".to_string(),
+            deg(worst(&|h| h.normal_jump, 0.0, true), span),
+        ),
+        (
+            "min_angle".to_string(),
+            deg(worst(&|h| h.min_angle, 180.0, false), span),
+        ),
+    ];
+    feature_value(KIND, span, fields, quality, model)
+}
