@@ -1,8 +1,8 @@
-//! The `fill_holes` block (paper 002; issue 17): a mesh's holes filled from smooth base
+//! The `fill` block (paper 002; issue 17): a mesh's holes filled from smooth base
 //! surfaces, its cracks stitched first, its outer boundary kept.
 //!
 //! ```text
-//! fill_holes closed {
+//! fill closed {
 //!     mesh = read_obj("inner.obj")    // any mesh value
 //!     holes = "all"                   // or a size: those up to 40 mm across (`40 mm`),
 //!                                     // or points: the hole nearest each
@@ -34,7 +34,7 @@ use super::super::value::{Data, Record, Value};
 use super::kind::{FeatureKind, FieldNames};
 use super::{count, deg, feature_error, feature_value, items, length, mm, Block};
 
-/// The `fill_holes` kind.
+/// The `fill` kind.
 pub(super) static KIND: &dyn FeatureKind = &FillKind;
 
 struct FillKind;
@@ -50,10 +50,10 @@ pub struct FilledMesh {
 
 impl FeatureKind for FillKind {
     fn name(&self) -> &'static str {
-        "fill_holes"
+        "fill"
     }
     fn code(&self) -> &'static str {
-        "die::fill_holes"
+        "die::fill"
     }
     fn fields(&self) -> FieldNames {
         FieldNames {
@@ -114,6 +114,13 @@ fn choice(block: &Block) -> Result<HoleChoice, Diagnostic> {
                 or points (`holes = [(x, y, z), ...]`: the hole nearest each)";
     match &f.value.data {
         Data::Str(s) if &**s == "all" => Ok(HoleChoice::All),
+        Data::Str(s) => Err(feature_error(
+            KIND,
+            format!("`holes` takes the word \"all\", not \"{s}\""),
+            f.value.span,
+            "not a choice of holes",
+            help,
+        )),
         Data::Number(_) => {
             let size = length(&f.value, block.units, "`holes`")?;
             if !(size.is_finite() && size > 0.0) {
@@ -155,8 +162,18 @@ fn build_fill(block: &Block) -> Result<Value, Diagnostic> {
             "give the mesh to fill: `mesh = read_obj(\"inner.obj\")`",
         )
     })?;
-    let Data::Mesh(mesh) = &mesh_field.value.data else {
-        return Err(type_error(&mesh_field.value, "`mesh`", "a mesh"));
+    let mesh = match &mesh_field.value.data {
+        Data::Mesh(mesh) => mesh,
+        Data::Str(file) => {
+            return Err(feature_error(
+                KIND,
+                format!("`mesh` must be a mesh, not the file name \"{file}\""),
+                mesh_field.value.span,
+                "a file name",
+                format!("read the mesh from the file: `mesh = read_obj(\"{file}\")`"),
+            ))
+        }
+        _ => return Err(type_error(&mesh_field.value, "`mesh`", "a mesh")),
     };
     let holes = choice(block)?;
     let outer = match block.get("outer") {
@@ -211,27 +228,50 @@ fn hole_error(block: &Block, mesh_value: &Value, e: HoleError) -> Diagnostic {
             "no hole near here",
             "check the mesh's free edges with `free_edges(mesh)`",
         ),
+        HoleError::NothingNear { point, distance } => feature_error(
+            KIND,
+            format!(
+                "no hole near {}: the nearest hole's rim is {} mm away, farther than the hole is across",
+                show(point),
+                round(distance)
+            ),
+            holes_span,
+            "this point picks no hole",
+            "pick a point inside the hole or on its rim; `free_edges(mesh)` lists where \
+             each loop is (`at`)",
+        ),
         HoleError::Loop {
             centre, problem, ..
         } => {
             let (what, help) = match problem {
                 LoopProblem::Degenerate(why) => (
                     format!("the hole at {} is degenerate: {why}", show(centre)),
-                    "remove the loop's repeated nodes, or merge them (`stitch`)",
+                    "a loop with no area is a crack or a T-junction: close it with `stitch`, \
+                     or repair the mesh there",
                 ),
-                LoopProblem::NotManifold { .. } => (
+                LoopProblem::NotManifold { at, .. } => (
                     format!(
-                        "the hole at {} has an edge joining more than two faces at one of its nodes",
-                        show(centre)
+                        "the hole at {} has an edge joining more than two faces at its node {}",
+                        show(centre),
+                        show(at)
                     ),
                     "repair the mesh round the hole so each edge joins at most two faces",
                 ),
-                LoopProblem::Inconsistent { .. } => (
+                LoopProblem::Inconsistent { at, .. } => (
                     format!(
-                        "the faces round the hole at {} are not wound alike",
-                        show(centre)
+                        "the faces round the hole at {} are not wound alike at its node {}",
+                        show(centre),
+                        show(at)
                     ),
                     "turn the faces round the hole so they face the same side",
+                ),
+                LoopProblem::Open => (
+                    format!(
+                        "the free edges round the hole at {} do not close a loop",
+                        show(centre)
+                    ),
+                    "check the faces round the hole: each edge joins at most two faces, \
+                     wound alike",
                 ),
             };
             feature_error(KIND, what, mesh_value.span, "this mesh", help)

@@ -52,7 +52,7 @@ pub struct FreeEdges {
 
 /// The largest distance between two of `points` (exact for up to a few thousand: the
 /// loops of one mesh).
-fn span_of(points: &[DVec3]) -> f64 {
+pub fn span_of(points: &[DVec3]) -> f64 {
     let mut best = 0.0f64;
     for (i, p) in points.iter().enumerate() {
         for q in &points[i + 1..] {
@@ -220,11 +220,15 @@ pub enum LoopProblem {
     #[error("the loop is degenerate: {0}")]
     Degenerate(&'static str),
     /// An edge at one of its nodes joins more than two faces.
-    #[error("an edge at the loop's node {node} joins more than two faces")]
-    NotManifold { node: u32 },
+    #[error("an edge at the loop's node {node} (at {at}) joins more than two faces")]
+    NotManifold { node: u32, at: DVec3 },
     /// Two faces at one of its nodes are wound opposite ways across their edge.
-    #[error("the faces at the loop's node {node} are not wound alike")]
-    Inconsistent { node: u32 },
+    #[error("the faces at the loop's node {node} (at {at}) are not wound alike")]
+    Inconsistent { node: u32, at: DVec3 },
+    /// Its free edges do not close: they run into each other the wrong way (a fault
+    /// the checks at its nodes did not find).
+    #[error("its free edges do not close a loop")]
+    Open,
 }
 
 /// Checks the mesh round `l`: at least three distinct nodes enclosing some area, and
@@ -252,17 +256,33 @@ pub fn check_loop(mesh: &Mesh, topology: &Topology, l: &FreeLoop) -> Result<(), 
     if area <= 1e-9 * l.length * l.length {
         return Err(LoopProblem::Degenerate("its nodes enclose no area"));
     }
-    for &v in &l.nodes {
+    check_nodes(mesh, topology, &l.nodes)
+}
+
+/// Checks every edge at `nodes`: manifold, and its two faces wound alike. An open chain
+/// of free edges (one that does not close a loop) comes from one of these faults.
+pub fn check_nodes(
+    mesh: &Mesh,
+    topology: &Topology,
+    nodes: &[VertexId],
+) -> Result<(), LoopProblem> {
+    for &v in nodes {
         for &e in topology.vertex_edges(v) {
             if topology.is_non_manifold_edge(e) {
-                return Err(LoopProblem::NotManifold { node: v.0 });
+                return Err(LoopProblem::NotManifold {
+                    node: v.0,
+                    at: mesh.positions()[v.index()],
+                });
             }
             let wound_alike = match *topology.edge_half_edges(e) {
                 [a, b] => topology.origin(a) == topology.origin(b),
                 _ => false,
             };
             if wound_alike {
-                return Err(LoopProblem::Inconsistent { node: v.0 });
+                return Err(LoopProblem::Inconsistent {
+                    node: v.0,
+                    at: mesh.positions()[v.index()],
+                });
             }
         }
     }

@@ -37,7 +37,9 @@ use std::collections::BTreeSet;
 use glam::{DVec2, DVec3};
 
 use self::base::{base_surface, BaseError, BaseSurface};
-use self::loops::{check_loop, free_edges, signed_area, FreeEdges, FreeLoop, LoopProblem};
+use self::loops::{
+    check_loop, check_nodes, free_edges, signed_area, FreeEdges, FreeLoop, LoopProblem,
+};
 use self::patch::{mesh_region, RegionError};
 use self::plane::loop_plane;
 use self::trim::trim_loop;
@@ -103,13 +105,17 @@ pub struct Filled {
 /// Why holes could not be filled. Nothing is filled when any chosen hole fails.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum HoleError {
-    /// No loop lies near a picked point.
+    /// Holes were picked by points on a mesh with no loop of free edges.
     #[error("the mesh has no hole")]
     NoHole,
-    /// The mesh round a loop is not sound.
+    /// A picked point is farther from every loop than the nearest loop is across.
+    #[error("no hole near {point}: the nearest is {distance} mm away")]
+    NothingNear { point: DVec3, distance: f64 },
+    /// The mesh round a loop is not sound (`loop_index` is `None` for a chain of free
+    /// edges that does not close).
     #[error("the hole at {centre} cannot be filled: {problem}")]
     Loop {
-        loop_index: usize,
+        loop_index: Option<usize>,
         centre: DVec3,
         problem: LoopProblem,
     },
@@ -130,6 +136,53 @@ pub enum HoleError {
     },
 }
 
+/// Refuses a chain of free edges that does not close when `options` would fill it:
+/// every chain for all holes, those up to the size by size, and one nearer a picked
+/// point than any loop. The chain is where a face is wound the wrong way or an edge
+/// has more than two faces, and the diagnostic says which.
+fn refuse_open_chains(
+    mesh: &Mesh,
+    topology: &Topology,
+    free: &FreeEdges,
+    options: &FillOptions,
+) -> Result<(), HoleError> {
+    for chain in &free.open_chains {
+        let points: Vec<DVec3> = chain.iter().map(|v| mesh.positions()[v.index()]).collect();
+        let near = |p: DVec3| {
+            points
+                .iter()
+                .map(|q| q.distance(p))
+                .fold(f64::INFINITY, f64::min)
+        };
+        let chosen = match &options.holes {
+            HoleChoice::All => true,
+            HoleChoice::UpTo(size) => loops::span_of(&points) <= *size,
+            HoleChoice::At(picks) => picks.iter().any(|&p| {
+                let to_loops = free
+                    .loops
+                    .iter()
+                    .flat_map(|l| l.nodes.iter())
+                    .map(|v| mesh.positions()[v.index()].distance(p))
+                    .fold(f64::INFINITY, f64::min);
+                near(p) < to_loops
+            }),
+        };
+        if chosen {
+            let centre = points.iter().copied().sum::<DVec3>() / points.len().max(1) as f64;
+            let problem = match check_nodes(mesh, topology, chain) {
+                Err(problem) => problem,
+                Ok(()) => LoopProblem::Open,
+            };
+            return Err(HoleError::Loop {
+                loop_index: None,
+                centre,
+                problem,
+            });
+        }
+    }
+    Ok(())
+}
+
 /// The loops `options` choose among `free`'s.
 fn chosen(mesh: &Mesh, free: &FreeEdges, options: &FillOptions) -> Result<Vec<usize>, HoleError> {
     let ids: Vec<usize> = match &options.holes {
@@ -142,17 +195,27 @@ fn chosen(mesh: &Mesh, free: &FreeEdges, options: &FillOptions) -> Result<Vec<us
         HoleChoice::At(points) => {
             let mut picked = BTreeSet::new();
             for &p in points {
-                let nearest = (0..free.loops.len()).min_by(|&a, &b| {
-                    let d = |k: usize| {
-                        free.loops[k]
-                            .nodes
-                            .iter()
-                            .map(|v| mesh.positions()[v.index()].distance(p))
-                            .fold(f64::INFINITY, f64::min)
-                    };
-                    d(a).total_cmp(&d(b))
-                });
-                picked.insert(nearest.ok_or(HoleError::NoHole)?);
+                let distance = |k: usize| {
+                    free.loops[k]
+                        .nodes
+                        .iter()
+                        .map(|v| mesh.positions()[v.index()].distance(p))
+                        .fold(f64::INFINITY, f64::min)
+                };
+                let nearest = (0..free.loops.len())
+                    .min_by(|&a, &b| distance(a).total_cmp(&distance(b)))
+                    .ok_or(HoleError::NoHole)?;
+                // A point picks a hole when it lies within the hole's own span of its
+                // rim (inside it, or on the panel next to it); farther off it is a
+                // mistake, not a choice.
+                let d = distance(nearest);
+                if d > free.loops[nearest].span {
+                    return Err(HoleError::NothingNear {
+                        point: p,
+                        distance: d,
+                    });
+                }
+                picked.insert(nearest);
             }
             picked.into_iter().collect()
         }
@@ -164,12 +227,13 @@ fn chosen(mesh: &Mesh, free: &FreeEdges, options: &FillOptions) -> Result<Vec<us
 pub fn fill_holes(mesh: &Mesh, options: &FillOptions) -> Result<Filled, HoleError> {
     let topology = Topology::build(mesh);
     let free = free_edges(mesh, &topology, options.outer);
+    refuse_open_chains(mesh, &topology, &free, options)?;
     let ids = chosen(mesh, &free, options)?;
     let mut holes = Vec::with_capacity(ids.len());
     for k in ids {
         let l = &free.loops[k];
         check_loop(mesh, &topology, l).map_err(|problem| HoleError::Loop {
-            loop_index: k,
+            loop_index: Some(k),
             centre: l.centre,
             problem,
         })?;
