@@ -2,7 +2,7 @@
 //! resampling, each checked against an independent computation: nalgebra's dense LU,
 //! and the curve's own integrate-from-the-start arc length.
 
-use dieface::geom::banded::BandMatrix;
+use dieface::geom::banded::{BandMatrix, SymmetricBand};
 use dieface::geom::curve::ArcLengths;
 use dieface::geom::interpolate::{interpolate, Interpolation};
 use glam::DVec3;
@@ -56,6 +56,57 @@ proptest! {
                 prop_assert!(d <= 1e-12 * condition * scale, "({i}, {c}) off by {d}");
             }
         }
+    }
+
+    /// The symmetric band solve (banded Cholesky) gives nalgebra's dense Cholesky
+    /// solution on a positive definite band matrix B Bᵀ + I (B banded), and refuses a
+    /// singular one.
+    #[test]
+    fn symmetric_band_solve_matches_dense_cholesky(
+        (n, band, values, rhs) in (2..40usize, 0..5usize).prop_flat_map(|(n, band)| (
+            Just(n),
+            Just(band),
+            prop::collection::vec(-3.0..3.0f64, n * n),
+            prop::collection::vec(-100.0..100.0f64, n),
+        ))
+    ) {
+        // B with `band / 2` sub-diagonals and `band - band / 2` super-diagonals, so
+        // B Bᵀ has `band` on either side.
+        let mut b = DMatrix::<f64>::zeros(n, n);
+        for i in 0..n {
+            for j in i.saturating_sub(band / 2)..=(i + band - band / 2).min(n - 1) {
+                b[(i, j)] = values[i * n + j];
+            }
+        }
+        let dense = &b * b.transpose() + DMatrix::<f64>::identity(n, n);
+        let mut sym = SymmetricBand::zeros(n, band);
+        for i in 0..n {
+            for j in 0..=i {
+                if dense[(i, j)] != 0.0 {
+                    prop_assert!(sym.add(i, j, dense[(i, j)]), "({i}, {j}) inside the band");
+                }
+            }
+        }
+        for i in 0..n {
+            for j in 0..n {
+                prop_assert_eq!(sym.get(i, j), dense[(i, j)]);
+            }
+        }
+        let expected = dense.clone().cholesky().expect("B Bᵀ + I is positive definite")
+            .solve(&DMatrix::from_column_slice(n, 1, &rhs));
+        let mut x = rhs.clone();
+        prop_assert!(sym.solve(&mut x).is_some());
+        let scale = expected.amax().max(1.0);
+        for i in 0..n {
+            let d = (x[i] - expected[(i, 0)]).abs();
+            prop_assert!(d <= 1e-10 * scale, "{i} off by {d}");
+        }
+        // A zero row makes it singular: refused, not divided by zero.
+        let mut singular = SymmetricBand::zeros(n, band);
+        for i in 1..n {
+            singular.add(i, i, 1.0);
+        }
+        prop_assert!(singular.solve(&mut rhs.clone()).is_none());
     }
 
     /// The tabulated arc-length inverse agrees with integrating from the start.

@@ -1058,6 +1058,35 @@ proptest! {
         check_chains(&welded.topology(), &welded.topology().boundary_loops());
         let merged = mesh.merged(&welded).unwrap();
         prop_assert_eq!(merged.face_count(), mesh.face_count() + welded.face_count());
+        // The edges against the plain definition: each unordered vertex pair its
+        // half-edges run between is one edge, the edges numbered in pair order, each
+        // one's half-edges (its radial list) in id order, and each vertex's edges in
+        // id order.
+        let mut by_pair: std::collections::BTreeMap<(VertexId, VertexId), Vec<HalfEdgeId>> =
+            std::collections::BTreeMap::new();
+        for h in topo.half_edges() {
+            let (a, b) = (topo.origin(h), topo.destination(h));
+            by_pair.entry((a.min(b), a.max(b))).or_default().push(h);
+        }
+        prop_assert_eq!(topo.edge_count(), by_pair.len());
+        for (e, ((a, b), radial)) in topo.edges().zip(&by_pair) {
+            prop_assert_eq!(topo.edge_vertices(e), [*a, *b]);
+            prop_assert_eq!(topo.edge_half_edges(e), radial.as_slice());
+            for &h in radial {
+                prop_assert_eq!(topo.edge(h), e);
+            }
+        }
+        for v in mesh.vertex_ids() {
+            let touching: Vec<EdgeId> = topo
+                .edges()
+                .filter(|&e| topo.edge_vertices(e).contains(&v))
+                .collect();
+            prop_assert_eq!(topo.vertex_edges(v), touching.as_slice());
+            let leaving: Vec<HalfEdgeId> = topo.half_edges().filter(|&h| topo.origin(h) == v).collect();
+            prop_assert_eq!(topo.vertex_half_edges(v), leaving.as_slice());
+            let faces: Vec<FaceId> = leaving.iter().map(|&h| topo.face(h)).collect();
+            prop_assert_eq!(topo.vertex_faces(v), faces.as_slice());
+        }
         // Determinism: building twice gives identical results.
         prop_assert_eq!(mesh.topology(), topo);
     }

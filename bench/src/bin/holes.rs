@@ -86,9 +86,28 @@ fn read_obj(path: &Path) -> Mesh {
     Mesh::new(positions, faces).expect("a mesh")
 }
 
-/// What a fill added and how good it is: (faces added, deviation mm, normal jump deg,
-/// smallest angle deg, free loops left).
-fn measure(before: &Mesh, after: &Mesh) -> (usize, f64, f64, f64, usize) {
+/// What a fill added and how good it is.
+struct Measured {
+    added: usize,
+    /// The largest distance of an added face from the analytic surface (mm): all, and
+    /// where the surface's smallest radius of curvature is 500 mm or more.
+    deviation: f64,
+    deviation_gentle: f64,
+    /// The largest normal jump between an added face and the panel's face across a
+    /// loop edge (deg): all, and where R >= 500 mm.
+    jump: f64,
+    jump_gentle: f64,
+    smallest_angle: f64,
+    loops_left: usize,
+}
+
+/// Whether the surface under `p` is gentle: its smallest radius of curvature at least
+/// 500 mm (the goals hold there).
+fn gentle(p: DVec3) -> bool {
+    panel::smallest_radius(p.x, p.y) >= 500.0
+}
+
+fn measure(before: &Mesh, after: &Mesh) -> Measured {
     // The panel's own faces, by their corners' positions (a peer may renumber nodes).
     let key = |p: DVec3| {
         (
@@ -114,9 +133,10 @@ fn measure(before: &Mesh, after: &Mesh) -> (usize, f64, f64, f64, usize) {
         let i = after.faces()[k].indices();
         [0, 1, 2].map(|c| after.positions()[i[c] as usize])
     };
-    let (mut deviation, mut smallest) = (0.0f64, 180.0f64);
+    let (mut deviation, mut deviation_gentle, mut smallest) = (0.0f64, 0.0f64, 180.0f64);
     for &k in &added {
         let [a, b, c] = corners(k);
+        let here_gentle = gentle((a + b + c) / 3.0);
         for p in [
             a,
             b,
@@ -126,7 +146,11 @@ fn measure(before: &Mesh, after: &Mesh) -> (usize, f64, f64, f64, usize) {
             (b + c) / 2.0,
             (c + a) / 2.0,
         ] {
-            deviation = deviation.max(panel::distance_to_surface(p));
+            let off = panel::distance_to_surface(p);
+            deviation = deviation.max(off);
+            if here_gentle {
+                deviation_gentle = deviation_gentle.max(off);
+            }
         }
         for (p, q, r) in [(a, b, c), (b, c, a), (c, a, b)] {
             smallest = smallest.min((q - p).angle_between(r - p).to_degrees());
@@ -134,7 +158,7 @@ fn measure(before: &Mesh, after: &Mesh) -> (usize, f64, f64, f64, usize) {
     }
     let is_added: BTreeSet<usize> = added.iter().copied().collect();
     let topology = Topology::build(after);
-    let mut jump = 0.0f64;
+    let (mut jump, mut jump_gentle) = (0.0f64, 0.0f64);
     let mut edges: BTreeMap<(u32, u32), Vec<usize>> = BTreeMap::new();
     for k in 0..after.face_count() {
         let i = after.faces()[k].indices();
@@ -150,12 +174,24 @@ fn measure(before: &Mesh, after: &Mesh) -> (usize, f64, f64, f64, usize) {
     for faces in edges.values() {
         if let [f, g] = faces[..] {
             if is_added.contains(&f) != is_added.contains(&g) {
-                jump = jump.max(normal(f).angle_between(normal(g)).to_degrees());
+                let angle = normal(f).angle_between(normal(g)).to_degrees();
+                jump = jump.max(angle);
+                let [a, b, c] = corners(f);
+                if gentle((a + b + c) / 3.0) {
+                    jump_gentle = jump_gentle.max(angle);
+                }
             }
         }
     }
-    let loops = topology.boundary_loops().loops.len();
-    (added.len(), deviation, jump, smallest, loops)
+    Measured {
+        added: added.len(),
+        deviation,
+        deviation_gentle,
+        jump,
+        jump_gentle,
+        smallest_angle: smallest,
+        loops_left: topology.boundary_loops().loops.len(),
+    }
 }
 
 fn main() {
@@ -243,13 +279,20 @@ fn main() {
         mesh.vertex_count(),
         holes.len()
     );
-    println!("| filler | time (median of {RUNS}) | vs dieface | faces added | largest deviation | largest normal jump at a loop | smallest angle | free loops left |");
+    println!("| filler | time (median of {RUNS}) | vs dieface | faces added | largest deviation, R >= 500 mm / all | largest normal jump at a loop, R >= 500 mm / all | smallest angle | free loops left |");
     println!("|---|---:|---:|---:|---:|---:|---:|---:|");
     let base = rows[0].1;
-    for (name, ms, (added, deviation, jump, angle, loops)) in rows {
+    for (name, ms, m) in rows {
         println!(
-            "| {name} | {ms:.1} ms | {:.1}x | {added} | {deviation:.3} mm | {jump:.2} deg | {angle:.1} deg | {loops} |",
-            ms / base
+            "| {name} | {ms:.1} ms | {:.2}x | {} | {:.3} / {:.3} mm | {:.2} / {:.2} deg | {:.1} deg | {} |",
+            ms / base,
+            m.added,
+            m.deviation_gentle,
+            m.deviation,
+            m.jump_gentle,
+            m.jump,
+            m.smallest_angle,
+            m.loops_left
         );
     }
 }

@@ -45,26 +45,26 @@ struct Rows<T> {
 }
 
 impl<T: Copy> Rows<T> {
-    /// Groups `(row, item)` pairs into `rows` rows, keeping the pairs' order within a
-    /// row. Every `row` must be below `rows`.
-    fn from_pairs(rows: usize, pairs: &[(usize, T)]) -> Rows<T> {
+    /// Groups the `count` items that `each` emits as `(row, item)` into `rows` rows,
+    /// keeping their order within a row. `each` is called twice (a counting sort: the
+    /// rows' sizes, then each item in its slot), so no list of pairs is held. Every
+    /// `row` must be below `rows`, and both calls must emit the same pairs.
+    fn grouped(rows: usize, count: usize, each: impl Fn(&mut dyn FnMut(usize, T))) -> Rows<T> {
         let mut offsets = vec![0usize; rows + 1];
-        for &(row, _) in pairs {
-            offsets[row + 1] += 1;
-        }
+        each(&mut |row, _| offsets[row + 1] += 1);
         for i in 0..rows {
             offsets[i + 1] += offsets[i];
         }
-        // Counting sort: the slot of each pair, then the items in slot order.
         let mut next_slot = offsets.clone();
-        let mut source = vec![0usize; pairs.len()];
-        for (k, &(row, _)) in pairs.iter().enumerate() {
-            source[next_slot[row]] = k;
+        let mut items: Vec<Option<T>> = vec![None; count];
+        each(&mut |row, item| {
+            items[next_slot[row]] = Some(item);
             next_slot[row] += 1;
-        }
+        });
         Rows {
             offsets,
-            items: source.into_iter().map(|k| pairs[k].1).collect(),
+            // Every slot is filled: the second pass emits exactly the counted pairs.
+            items: items.into_iter().flatten().collect(),
         }
     }
 
@@ -111,36 +111,38 @@ impl Topology {
     pub fn build(mesh: &Mesh) -> Topology {
         let vertex_count = mesh.vertex_count();
         let (half_edges, face_start) = link_faces(mesh);
-        let (edge_vertices, edge_half_edges, half_edges) = collect_edges(half_edges);
+        let (edge_vertices, edge_half_edges, half_edges) = collect_edges(vertex_count, half_edges);
 
-        let outgoing: Vec<(usize, HalfEdgeId)> = half_edges
-            .iter()
-            .enumerate()
-            .map(|(h, he)| (he.origin.index(), HalfEdgeId(to_u32(h))))
-            .collect();
-        // A face uses a vertex once, so its outgoing half-edges name each face once.
-        let faces: Vec<(usize, FaceId)> = half_edges
-            .iter()
-            .map(|he| (he.origin.index(), he.face))
-            .collect();
-        let edges: Vec<(usize, EdgeId)> = edge_vertices
-            .iter()
-            .enumerate()
-            .flat_map(|(e, [a, b])| {
-                let id = EdgeId(to_u32(e));
-                [(a.index(), id), (b.index(), id)]
-            })
-            .collect();
-
+        // A face uses a vertex once, so the half-edges leaving a vertex name each of its
+        // faces once, in the same (id) order: the two stars share their rows.
+        let vertex_half_edges = Rows::grouped(vertex_count, half_edges.len(), |emit| {
+            for (h, he) in half_edges.iter().enumerate() {
+                emit(he.origin.index(), HalfEdgeId(to_u32(h)));
+            }
+        });
+        let vertex_faces = Rows {
+            offsets: vertex_half_edges.offsets.clone(),
+            items: vertex_half_edges
+                .items
+                .iter()
+                .map(|&h| half_edges[h.index()].face)
+                .collect(),
+        };
+        let vertex_edges = Rows::grouped(vertex_count, 2 * edge_vertices.len(), |emit| {
+            for (e, [a, b]) in edge_vertices.iter().enumerate() {
+                emit(a.index(), EdgeId(to_u32(e)));
+                emit(b.index(), EdgeId(to_u32(e)));
+            }
+        });
         Topology {
             vertex_count,
             half_edges,
             face_start,
             edge_vertices,
             edge_half_edges,
-            vertex_half_edges: Rows::from_pairs(vertex_count, &outgoing),
-            vertex_faces: Rows::from_pairs(vertex_count, &faces),
-            vertex_edges: Rows::from_pairs(vertex_count, &edges),
+            vertex_half_edges,
+            vertex_faces,
+            vertex_edges,
         }
     }
 
@@ -458,7 +460,8 @@ impl Topology {
 /// The half-edges of every face, linked in winding order (edges still unset), and
 /// the face start offsets.
 fn link_faces(mesh: &Mesh) -> (Vec<HalfEdge>, Vec<u32>) {
-    let mut half_edges = Vec::new();
+    let corners = mesh.faces().iter().map(|f| f.vertex_count()).sum();
+    let mut half_edges = Vec::with_capacity(corners);
     let mut face_start = Vec::with_capacity(mesh.face_count() + 1);
     for (f, face) in mesh.faces().iter().enumerate() {
         let base = half_edges.len();
@@ -480,33 +483,54 @@ fn link_faces(mesh: &Mesh) -> (Vec<HalfEdge>, Vec<u32>) {
 
 /// Groups the half-edges by unordered vertex pair into edges numbered in pair order,
 /// sets each half-edge's `edge`, and returns the edges' vertices and radial lists.
+///
+/// No global sort: the half-edges are filed under the smaller vertex of their pair by
+/// a counting sort (vertex order, then id order), and each vertex's few half-edges are
+/// ordered by the other vertex, then id. Walking the vertices in order then meets the
+/// edges in pair order and each edge's half-edges in id order: its radial list.
 fn collect_edges(
+    vertex_count: usize,
     mut half_edges: Vec<HalfEdge>,
 ) -> (Vec<[VertexId; 2]>, Rows<HalfEdgeId>, Vec<HalfEdge>) {
-    // Each half-edge keyed by its unordered vertex pair packed in one word (the smaller
-    // id high) and its own id: one integer comparison orders them by pair, then by id.
-    let mut keyed: Vec<(u64, u32)> = (0..half_edges.len())
-        .map(|h| {
-            let a = half_edges[h].origin.0;
-            let b = half_edges[half_edges[h].next.index()].origin.0;
-            ((u64::from(a.min(b)) << 32) | u64::from(a.max(b)), to_u32(h))
-        })
-        .collect();
-    // Keys are unique (the half-edge id breaks ties), so unstable sorting is deterministic.
-    keyed.sort_unstable();
-
-    let mut edge_vertices: Vec<[VertexId; 2]> = Vec::new();
-    let mut radial: Vec<(usize, HalfEdgeId)> = Vec::with_capacity(keyed.len());
-    let mut last_key = None;
-    for (key, h) in keyed {
-        if last_key != Some(key) {
-            last_key = Some(key);
-            edge_vertices.push([VertexId((key >> 32) as u32), VertexId(key as u32)]);
-        }
-        let e = edge_vertices.len() - 1;
-        half_edges[h as usize].edge = EdgeId(to_u32(e));
-        radial.push((e, HalfEdgeId(h)));
+    let ends = |h: usize| -> (u32, u32) {
+        let a = half_edges[h].origin.0;
+        let b = half_edges[half_edges[h].next.index()].origin.0;
+        (a.min(b), a.max(b))
+    };
+    let mut start = vec![0usize; vertex_count + 1];
+    for h in 0..half_edges.len() {
+        start[ends(h).0 as usize + 1] += 1;
     }
-    let rows = Rows::from_pairs(edge_vertices.len(), &radial);
-    (edge_vertices, rows, half_edges)
+    for v in 0..vertex_count {
+        start[v + 1] += start[v];
+    }
+    // Each half-edge as (other vertex, id), filed under its smaller vertex.
+    let mut filed: Vec<(u32, u32)> = vec![(0, 0); half_edges.len()];
+    let mut slot = start.clone();
+    for h in 0..half_edges.len() {
+        let (low, high) = ends(h);
+        filed[slot[low as usize]] = (high, to_u32(h));
+        slot[low as usize] += 1;
+    }
+    let mut edge_vertices: Vec<[VertexId; 2]> = Vec::new();
+    let mut offsets: Vec<usize> = Vec::with_capacity(half_edges.len() / 2 + 1);
+    let mut items: Vec<HalfEdgeId> = Vec::with_capacity(half_edges.len());
+    for low in 0..vertex_count {
+        let here = &mut filed[start[low]..start[low + 1]];
+        // A vertex has a handful of half-edges: an insertion sort (in the standard
+        // library's small-slice path) orders them at once.
+        here.sort_unstable();
+        let mut last = None;
+        for &(high, h) in here.iter() {
+            if last != Some(high) {
+                last = Some(high);
+                offsets.push(items.len());
+                edge_vertices.push([VertexId(to_u32(low)), VertexId(high)]);
+            }
+            half_edges[h as usize].edge = EdgeId(to_u32(edge_vertices.len() - 1));
+            items.push(HalfEdgeId(h));
+        }
+    }
+    offsets.push(items.len());
+    (edge_vertices, Rows { offsets, items }, half_edges)
 }

@@ -13,7 +13,7 @@
 //! height on one plane) is reproduced exactly, and so is any quadratic height field
 //! away from the grid's edge, its Laplacian being constant.
 
-use crate::geom::banded::BandMatrix;
+use crate::geom::banded::SymmetricBand;
 
 /// A grid of heights, `nx + 1` nodes along x by `ny + 1` along y, row by row (`x`
 /// fastest): the known ones given, the others to be found.
@@ -81,7 +81,7 @@ pub fn solve_plate(grid: &HeightGrid) -> Result<Vec<f64>, PlateError> {
     // A Laplacian row touches nodes a grid row apart on either side, so two rows of
     // the normal equations' product reach two grid rows.
     let band = 2 * (grid.nx + 1);
-    let mut a = BandMatrix::zeros(count, band, band);
+    let mut a = SymmetricBand::zeros(count, band);
     let mut rhs = vec![0.0; count];
     for j in 0..=grid.ny {
         for i in 0..=grid.nx {
@@ -100,15 +100,17 @@ pub fn solve_plate(grid: &HeightGrid) -> Result<Vec<f64>, PlateError> {
             for &(p, wp) in row.iter().filter(|(n, _)| grid.known[*n].is_none()) {
                 let r = unknown[p];
                 rhs[r] -= wp * fixed;
+                // The lower triangle only: the matrix is symmetric.
                 for &(q, wq) in row.iter().filter(|(n, _)| grid.known[*n].is_none()) {
                     let c = unknown[q];
-                    let value = a.get(r, c) + wp * wq;
-                    a.set(r, c, value);
+                    if c <= r {
+                        a.add(r, c, wp * wq);
+                    }
                 }
             }
         }
     }
-    a.solve(&mut rhs, 1).ok_or(PlateError::Singular)?;
+    a.solve(&mut rhs).ok_or(PlateError::Singular)?;
     for (k, h) in heights.iter_mut().enumerate() {
         if unknown[k] != usize::MAX {
             *h = rhs[unknown[k]];
