@@ -2,6 +2,7 @@
 //! surface, the thin plate, the loops and the outer boundary, the trim loop, the region
 //! meshed, cracks stitched, and whole fills on a panel over an analytic surface.
 
+mod common;
 #[path = "common/panel.rs"]
 mod panel;
 
@@ -16,7 +17,7 @@ use dieface::geom::mesh::holes::plane::loop_plane;
 use dieface::geom::mesh::holes::thin_plate::{solve_plate, HeightGrid};
 use dieface::geom::mesh::holes::trim::trim_loop;
 use dieface::geom::mesh::holes::{fill_holes, FillOptions, HoleChoice, HoleError};
-use dieface::geom::mesh::{Face, Mesh, Topology};
+use dieface::geom::mesh::{Face, FaceId, Mesh, Topology};
 use panel::{Hole, DEPTH, WIDTH};
 
 /// Eq. 3's tangents: the natural spline through points on a cubic has the cubic's own
@@ -300,29 +301,22 @@ fn the_region_is_meshed_up_to_its_loop() {
 #[test]
 fn a_crack_between_patches_is_stitched() {
     let sheet = |x0: f64, y0: f64, nx: usize, ny: usize, w: f64, h: f64| -> Mesh {
-        let mut positions = Vec::new();
-        for j in 0..=ny {
-            for i in 0..=nx {
-                positions.push(DVec3::new(
-                    x0 + w * i as f64 / nx as f64,
-                    y0 + h * j as f64 / ny as f64,
-                    0.0,
-                ));
-            }
-        }
-        let id = |i: usize, j: usize| (j * (nx + 1) + i) as u32;
-        let mut faces = Vec::new();
-        for j in 0..ny {
-            for i in 0..nx {
-                faces.push(Face::triangle(id(i, j), id(i + 1, j), id(i + 1, j + 1)));
-                faces.push(Face::triangle(id(i, j), id(i + 1, j + 1), id(i, j + 1)));
-            }
-        }
-        Mesh::new(positions, faces).expect("a sheet")
+        common::grid_sheet(nx, ny, &|s, t| DVec3::new(x0 + w * s, y0 + h * t, 0.0))
     };
-    let mut both = sheet(0.0, 0.0, 10, 4, 100.0, 40.0);
-    both.append(&sheet(0.0, 40.02, 7, 3, 100.0, 30.0))
-        .expect("appended");
+    // Each patch in a group of its own, as CAD names them: the stitch keeps them.
+    let lower = sheet(0.0, 0.0, 10, 4, 100.0, 40.0);
+    let upper = sheet(0.0, 40.02, 7, 3, 100.0, 30.0);
+    let mut both = lower
+        .clone()
+        .with_group("lower", lower.face_ids())
+        .expect("a group");
+    both.append(
+        &upper
+            .clone()
+            .with_group("upper", upper.face_ids())
+            .expect("a group"),
+    )
+    .expect("appended");
     let before = Topology::build(&both).boundary_loops().loops.len();
     let (stitched, report) = stitch_cracks(&both, 0.05).expect("stitched");
     let t = Topology::build(&stitched);
@@ -336,6 +330,18 @@ fn a_crack_between_patches_is_stitched() {
     assert_eq!(t.boundary_loops().loops.len(), 1);
     assert!(t.non_manifold_edges().is_empty() && t.inconsistent_edges().is_empty());
     assert!(report.merged_nodes == 2 && report.split_edges > 0);
+    // Every face in the group of the patch it came from (a split face's pieces too).
+    for (name, below) in [("lower", true), ("upper", false)] {
+        let group = stitched.group(name).expect("the group kept");
+        let on_side = |f: &FaceId| {
+            stitched
+                .face_centroid(*f)
+                .is_some_and(|c| (c.y < 40.01) == below)
+        };
+        assert!(group.faces().iter().all(on_side), "{name}");
+    }
+    let grouped: usize = stitched.groups().iter().map(|g| g.faces().len()).sum();
+    assert_eq!(grouped, stitched.face_count(), "every face in one group");
     // The crack's own area (100 x 0.02 mm) is taken in as its sides are merged.
     let gained = stitched.total_area() - both.total_area();
     assert!(gained > 0.0 && gained <= 100.0 * 0.02 + 1e-9, "{gained}");
@@ -375,7 +381,13 @@ fn fill_figures(patch: &Mesh) -> (f64, f64) {
 #[test]
 fn every_hole_of_the_panel_is_filled_on_its_surface() {
     let holes = panel::standard_holes();
+    // The panel's faces in a named group (as an OBJ's `g` line gives them), which the
+    // filled mesh must keep; the fills join no group.
     let mesh = panel::panel(5.0, &holes);
+    let mesh = mesh
+        .clone()
+        .with_group("skin", mesh.face_ids())
+        .expect("a group");
     let filled = fill_holes(
         &mesh,
         &FillOptions {
@@ -394,6 +406,12 @@ fn every_hole_of_the_panel_is_filled_on_its_surface() {
     assert!(t.non_manifold_edges().is_empty());
     assert!(t.inconsistent_edges().is_empty());
     assert_eq!(filled.holes.len(), holes.len());
+    assert_eq!(filled.mesh.groups().len(), 1);
+    assert_eq!(
+        filled.mesh.group("skin").map(|g| g.faces().to_vec()),
+        Some(mesh.face_ids().collect::<Vec<_>>()),
+        "the panel's group kept, the fills outside it"
+    );
     eprintln!(
         "panel: {} triangles, {} holes",
         mesh.face_count(),

@@ -62,3 +62,68 @@ pub fn run_dieface(dir: &Path, args: &[&str]) -> (Option<i32>, String, String) {
         String::from_utf8_lossy(&out.stderr).into_owned(),
     )
 }
+
+/// A sheet of `nx` x `ny` cells over (s, t) in [0, 1]², placed by `at`, two triangles a
+/// cell wound counter-clockwise in (s, t) (split along the cell's diagonal from (i, j)
+/// to (i + 1, j + 1)).
+#[allow(dead_code)] // only the mesh tests build sheets
+pub fn grid_sheet(
+    nx: usize,
+    ny: usize,
+    at: &dyn Fn(f64, f64) -> glam::DVec3,
+) -> dieface::geom::mesh::Mesh {
+    use dieface::geom::mesh::{Face, Mesh};
+    let mut positions = Vec::new();
+    for j in 0..=ny {
+        for i in 0..=nx {
+            positions.push(at(i as f64 / nx as f64, j as f64 / ny as f64));
+        }
+    }
+    let id = |i: usize, j: usize| (j * (nx + 1) + i) as u32;
+    let mut faces = Vec::new();
+    for j in 0..ny {
+        for i in 0..nx {
+            faces.push(Face::triangle(id(i, j), id(i + 1, j), id(i + 1, j + 1)));
+            faces.push(Face::triangle(id(i, j), id(i + 1, j + 1), id(i, j + 1)));
+        }
+    }
+    Mesh::new(positions, faces).expect("a valid sheet")
+}
+
+/// The vertices and triangles of object `name` (an `o` line) of an OBJ file that
+/// `dieface build` wrote: the file's vertices are numbered across objects, so each
+/// triangle's corners are taken into the object's own list.
+#[allow(dead_code)] // only the tests that read the OBJ back use it
+pub fn obj_object(path: &Path, name: &str) -> (Vec<glam::DVec3>, Vec<[u32; 3]>) {
+    let text = std::fs::read_to_string(path).expect("the OBJ");
+    let (mut all, mut positions, mut faces) = (Vec::new(), Vec::new(), Vec::new());
+    let mut inside = false;
+    let mut taken = std::collections::BTreeMap::new();
+    for line in text.lines() {
+        let mut words = line.split_whitespace();
+        match words.next() {
+            Some("v") => {
+                let c: Vec<f64> = words.map(|w| w.parse().expect("a number")).collect();
+                all.push(glam::DVec3::new(c[0], c[1], c[2]));
+            }
+            Some("o") => inside = words.next() == Some(name),
+            Some("f") if inside => {
+                let mut corner = |w: &str| -> u32 {
+                    let i: usize = w
+                        .split('/')
+                        .next()
+                        .and_then(|s| s.parse().ok())
+                        .expect("an index");
+                    *taken.entry(i).or_insert_with(|| {
+                        positions.push(all[i - 1]);
+                        positions.len() as u32 - 1
+                    })
+                };
+                let c: Vec<u32> = words.map(&mut corner).collect();
+                faces.push([c[0], c[1], c[2]]);
+            }
+            _ => {}
+        }
+    }
+    (positions, faces)
+}

@@ -299,6 +299,13 @@ fn hole_error(block: &Block, mesh_value: &Value, e: HoleError) -> Diagnostic {
             "this mesh",
             "check the mesh round the hole",
         ),
+        HoleError::Mesh(why) => feature_error(
+            KIND,
+            format!("the filled mesh could not be made: {why}"),
+            mesh_value.span,
+            "this mesh",
+            "fill fewer holes at once, or give a larger `size` inside the fills",
+        ),
     }
 }
 

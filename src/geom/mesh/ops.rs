@@ -119,6 +119,16 @@ impl Mesh {
         Ok(())
     }
 
+    /// This mesh with `from`'s face groups carried over, for a mesh derived from
+    /// `from` whose face `i` came from `from`'s face `origin[i]` (ascending; a face
+    /// split into several repeats its origin). Faces that came from nowhere (`origin`
+    /// shorter than the face list: faces added at the end, such as fills) join no
+    /// group. Replaces any groups this mesh had.
+    pub fn with_groups_of(mut self, from: &Mesh, origin: &[FaceId]) -> Mesh {
+        self.groups = remap_groups(&from.groups, from.faces.len(), origin);
+        self
+    }
+
     /// This mesh followed by `other`, as [`Mesh::append`] describes.
     pub fn merged(&self, other: &Mesh) -> Result<Mesh> {
         let mut mesh = self.clone();

@@ -11,7 +11,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use glam::DVec3;
 
 use crate::geom::error::Result;
-use crate::geom::mesh::{Face, Mesh, Topology, VertexId};
+use crate::geom::mesh::{Face, FaceId, Mesh, Topology, VertexId};
 use crate::geom::union_find::UnionFind;
 
 /// What stitching did.
@@ -126,18 +126,20 @@ fn merge_free_nodes(mesh: &Mesh, tolerance: f64, report: &mut Stitched) -> Resul
         lowest.entry(*r).or_insert(v as u32);
     }
     let to = |v: u32| lowest[&root[v as usize]];
-    let faces: Vec<Face> = mesh
+    let faces: Vec<(Face, FaceId)> = mesh
         .faces()
         .iter()
-        .filter_map(|f| {
+        .zip(mesh.face_ids())
+        .filter_map(|(f, id)| {
             let ids: Vec<u32> = f.indices().iter().map(|&v| to(v)).collect();
             let distinct: BTreeSet<u32> = ids.iter().copied().collect();
             (distinct.len() == ids.len())
                 .then(|| Face::from_slice(&ids))
                 .and_then(|r| r.ok())
+                .map(|face| (face, id))
         })
         .collect();
-    compacted(positions.to_vec(), faces)
+    compacted(mesh, positions.to_vec(), faces)
 }
 
 /// Each free edge with free nodes of the other side lying on it (within `tolerance`,
@@ -206,10 +208,10 @@ fn split_at_free_nodes(mesh: &Mesh, tolerance: f64, report: &mut Stitched) -> Re
             .insert((a.0, b.0), nodes);
     }
     let mut positions = positions;
-    let mut faces: Vec<Face> = Vec::with_capacity(mesh.face_count() + 2 * on_face.len());
-    for (fi, face) in mesh.faces().iter().enumerate() {
+    let mut faces: Vec<(Face, FaceId)> = Vec::with_capacity(mesh.face_count() + 2 * on_face.len());
+    for ((fi, face), id) in mesh.faces().iter().enumerate().zip(mesh.face_ids()) {
         let Some(sides) = on_face.get(&fi) else {
-            faces.push(*face);
+            faces.push((*face, id));
             continue;
         };
         // The face's outline with the splitting nodes in order along each side.
@@ -233,7 +235,7 @@ fn split_at_free_nodes(mesh: &Mesh, tolerance: f64, report: &mut Stitched) -> Re
                 .unwrap_or(0);
             outline.rotate_left(corner_at);
             for w in outline[1..].windows(2) {
-                faces.push(Face::triangle(outline[0], w[0], w[1]));
+                faces.push((Face::triangle(outline[0], w[0], w[1]), id));
             }
         } else {
             // Several sides split: a fan from a new node at the face's middle.
@@ -245,20 +247,21 @@ fn split_at_free_nodes(mesh: &Mesh, tolerance: f64, report: &mut Stitched) -> Re
             positions.push(middle);
             let c = (positions.len() - 1) as u32;
             for s in 0..outline.len() {
-                faces.push(Face::triangle(
-                    c,
-                    outline[s],
-                    outline[(s + 1) % outline.len()],
+                faces.push((
+                    Face::triangle(c, outline[s], outline[(s + 1) % outline.len()]),
+                    id,
                 ));
             }
         }
     }
-    compacted(positions, faces)
+    compacted(mesh, positions, faces)
 }
 
 /// The mesh of `faces` over `positions`, nodes no face uses dropped (numbers kept in
-/// order).
-fn compacted(positions: Vec<DVec3>, faces: Vec<Face>) -> Result<Mesh> {
+/// order), each face paired with the face of `source` it came from, whose groups it
+/// joins.
+fn compacted(source: &Mesh, positions: Vec<DVec3>, faces: Vec<(Face, FaceId)>) -> Result<Mesh> {
+    let (faces, origin): (Vec<Face>, Vec<FaceId>) = faces.into_iter().unzip();
     let mut used = vec![false; positions.len()];
     for f in &faces {
         for &v in f.indices() {
@@ -273,12 +276,14 @@ fn compacted(positions: Vec<DVec3>, faces: Vec<Face>) -> Result<Mesh> {
             kept.push(p);
         }
     }
+    // Renumbering keeps every face's corners distinct, so no face is lost here and
+    // `origin` still lines up with the faces.
     let faces: Vec<Face> = faces
         .iter()
-        .filter_map(|f| {
+        .map(|f| {
             let ids: Vec<u32> = f.indices().iter().map(|&v| id[v as usize]).collect();
-            Face::from_slice(&ids).ok()
+            Face::from_slice(&ids)
         })
-        .collect();
-    Mesh::new(kept, faces)
+        .collect::<Result<_>>()?;
+    Ok(Mesh::new(kept, faces)?.with_groups_of(source, &origin))
 }

@@ -43,7 +43,7 @@ use self::loops::{
 use self::patch::{mesh_region, RegionError};
 use self::plane::loop_plane;
 use self::trim::trim_loop;
-use super::{Face, Mesh, Topology};
+use super::{Face, FaceId, Mesh, Topology};
 
 /// The least cosine between a face at a loop and the loop's plane normal: a face turned
 /// more than 75 deg from the plane (a hole wrapping round a hairpin or a sharp feature)
@@ -134,6 +134,10 @@ pub enum HoleError {
         centre: DVec3,
         problem: BaseError,
     },
+    /// The filled mesh could not be made (too large for a mesh, or a point of a fill
+    /// not finite).
+    #[error("the filled mesh could not be made: {0}")]
+    Mesh(String),
 }
 
 /// Refuses a chain of free edges that does not close when `options` would fill it:
@@ -259,11 +263,12 @@ pub fn fill_holes(mesh: &Mesh, options: &FillOptions) -> Result<Filled, HoleErro
             faces.push(Face::triangle(id(t[0]), id(t[1]), id(t[2])));
         }
     }
-    let filled = Mesh::new(positions, faces).map_err(|e| HoleError::Base {
-        loop_index: 0,
-        centre: DVec3::ZERO,
-        problem: BaseError::Surface(e.to_string()),
-    })?;
+    // The mesh's own faces keep their numbers, so its face groups carry over as they
+    // are; the fills join none.
+    let own: Vec<FaceId> = mesh.face_ids().collect();
+    let filled = Mesh::new(positions, faces)
+        .map_err(|e| HoleError::Mesh(e.to_string()))?
+        .with_groups_of(mesh, &own);
     Ok(Filled {
         mesh: filled,
         holes,
@@ -430,7 +435,7 @@ fn fill_one(
         .iter()
         .map(|t| Face::triangle(t[0] as u32, t[1] as u32, t[2] as u32))
         .collect();
-    let patch = Mesh::new(positions, faces).map_err(|e| refuse(e.to_string()))?;
+    let patch = Mesh::new(positions, faces).map_err(|e| HoleError::Mesh(e.to_string()))?;
     Ok(FilledHole {
         loop_index: k,
         patch,
