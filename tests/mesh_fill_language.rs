@@ -55,7 +55,7 @@ fn the_inner_panel_is_stitched_and_filled_by_the_real_binary() {
     );
 
     // The filled mesh as the OBJ gives it (welded at the OBJ's precision).
-    let (positions, faces) = obj_object(&dir.join("a.obj"), "closed/mesh");
+    let (positions, faces) = common::obj_object(&dir.join("a.obj"), "closed/mesh");
     let faces: Vec<Face> = faces
         .iter()
         .map(|&[a, b, c]| Face::triangle(a, b, c))
@@ -83,7 +83,7 @@ fn the_inner_panel_is_stitched_and_filled_by_the_real_binary() {
     let mut worst_gentle = 0.0f64;
     let mut worst = 0.0f64;
     for k in 1..=14 {
-        let (points, _) = obj_object(&dir.join("a.obj"), &format!("closed/patch_{k}"));
+        let (points, _) = common::obj_object(&dir.join("a.obj"), &format!("closed/patch_{k}"));
         for p in points {
             let off = panel::distance_to_surface(p);
             worst = worst.max(off);
@@ -103,40 +103,4 @@ fn the_inner_panel_is_stitched_and_filled_by_the_real_binary() {
         std::fs::read(dir.join("b.gltf")).expect("b"),
         "the same script gives the same bytes"
     );
-}
-
-/// The vertices and triangles of object `name` (an `o` line) of an OBJ file, the
-/// triangles' corners numbered in the object's own list.
-fn obj_object(path: &Path, name: &str) -> (Vec<glam::DVec3>, Vec<[u32; 3]>) {
-    let text = std::fs::read_to_string(path).expect("the OBJ");
-    let (mut all, mut positions, mut faces) = (Vec::new(), Vec::new(), Vec::new());
-    let mut inside = false;
-    let mut taken = std::collections::BTreeMap::new();
-    for line in text.lines() {
-        let mut words = line.split_whitespace();
-        match words.next() {
-            Some("v") => {
-                let c: Vec<f64> = words.map(|w| w.parse().expect("a number")).collect();
-                all.push(glam::DVec3::new(c[0], c[1], c[2]));
-            }
-            Some("o") => inside = words.next() == Some(name),
-            Some("f") if inside => {
-                let mut corner = |w: &str| -> u32 {
-                    let i: usize = w
-                        .split('/')
-                        .next()
-                        .and_then(|s| s.parse().ok())
-                        .expect("an index");
-                    *taken.entry(i).or_insert_with(|| {
-                        positions.push(all[i - 1]);
-                        positions.len() as u32 - 1
-                    })
-                };
-                let c: Vec<u32> = words.map(&mut corner).collect();
-                faces.push([c[0], c[1], c[2]]);
-            }
-            _ => {}
-        }
-    }
-    (positions, faces)
 }

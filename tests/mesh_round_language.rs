@@ -52,7 +52,7 @@ fn a_fold_rounded_from_a_script_exports_its_round() {
     assert_eq!(round["children"].as_array().map(Vec::len), Some(4));
     // The rounded mesh as the OBJ gives it: sound, and its nodes off the legs on the
     // fillet's cylinder (axis (x, -5, 5), radius 5) to the OBJ's 1e-6 mm.
-    let (positions, faces) = obj_object(&dir.join("a.obj"), "shoulder/mesh");
+    let (positions, faces) = common::obj_object(&dir.join("a.obj"), "shoulder/mesh");
     let mesh = dieface::geom::mesh::Mesh::new(
         positions,
         faces
@@ -81,37 +81,4 @@ fn a_fold_rounded_from_a_script_exports_its_round() {
         std::fs::read(dir.join("b.gltf")).expect("b"),
         "the same script gives the same bytes"
     );
-}
-
-/// The vertices and triangles of object `name` (an `o` line) of an OBJ file: the
-/// file's vertices are numbered across objects, so each triangle's corners are taken
-/// into the object's own list.
-fn obj_object(path: &Path, name: &str) -> (Vec<glam::DVec3>, Vec<[u32; 3]>) {
-    let text = std::fs::read_to_string(path).expect("the OBJ");
-    let (mut all, mut positions, mut faces) = (Vec::new(), Vec::new(), Vec::new());
-    let mut inside = false;
-    let mut taken = std::collections::BTreeMap::new();
-    for line in text.lines() {
-        let mut words = line.split_whitespace();
-        match words.next() {
-            Some("v") => {
-                let c: Vec<f64> = words.map(|w| w.parse().expect("a number")).collect();
-                all.push(glam::DVec3::new(c[0], c[1], c[2]));
-            }
-            Some("o") => inside = words.next() == Some(name),
-            Some("f") if inside => {
-                let corner = |w: &str| -> u32 {
-                    let i: usize = w.split('/').next().unwrap().parse().expect("an index");
-                    *taken.entry(i).or_insert_with(|| {
-                        positions.push(all[i - 1]);
-                        positions.len() as u32 - 1
-                    })
-                };
-                let c: Vec<u32> = words.map(corner).collect();
-                faces.push([c[0], c[1], c[2]]);
-            }
-            _ => {}
-        }
-    }
-    (positions, faces)
 }

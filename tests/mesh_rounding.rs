@@ -4,8 +4,11 @@
 //! mesh is not manifold and consistently oriented), and the base meshes beside it.
 //! Step 2: each base mesh offset by R keeping its topology.
 
+mod common;
+
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
+use common::grid_sheet as sheet;
 use dieface::geom::mesh::rounding::base::{base_meshes, BaseMeshes};
 use dieface::geom::mesh::rounding::chain::{
     chain_through, nearest_sharp_node, sharp_edges, ChainError, SharpChain, DEFAULT_FEATURE_ANGLE,
@@ -19,26 +22,6 @@ use dieface::geom::mesh::rounding::round::{round_chain, Rounded};
 use dieface::geom::mesh::rounding::spine::{base_triangles, offset_triangles, spine, Region};
 use dieface::geom::mesh::{Face, FaceId, Mesh, Topology};
 use glam::DVec3;
-
-/// A sheet of `nx` x `ny` cells over (s, t) in [0, 1]², placed by `at`, two triangles a
-/// cell wound counter-clockwise in (s, t).
-fn sheet(nx: usize, ny: usize, at: &dyn Fn(f64, f64) -> DVec3) -> Mesh {
-    let mut positions = Vec::new();
-    for j in 0..=ny {
-        for i in 0..=nx {
-            positions.push(at(i as f64 / nx as f64, j as f64 / ny as f64));
-        }
-    }
-    let id = |i: usize, j: usize| (j * (nx + 1) + i) as u32;
-    let mut faces = Vec::new();
-    for j in 0..ny {
-        for i in 0..nx {
-            faces.push(Face::triangle(id(i, j), id(i + 1, j), id(i + 1, j + 1)));
-            faces.push(Face::triangle(id(i, j), id(i + 1, j + 1), id(i, j + 1)));
-        }
-    }
-    Mesh::new(positions, faces).expect("a valid sheet")
-}
 
 /// Sheets joined into one mesh, their shared nodes welded.
 fn joined(sheets: &[Mesh]) -> Mesh {
