@@ -581,6 +581,44 @@ fn a_rounded_fold_is_sound_and_on_its_fillet() {
     }
 }
 
+/// The mesh's face groups survive the round: on the 120 deg fold with its flat and its
+/// rising leg in groups of their own, every face the cut kept (whole or split) stays
+/// in its leg's group, and the round's own faces join none.
+#[test]
+fn a_round_keeps_the_mesh_s_face_groups() {
+    let r = 5.0;
+    let (mesh, topology, chain, _) = fold_round(PI / 3.0, r);
+    let flat = |m: &Mesh, f: FaceId| {
+        m.face(f).is_some_and(|face| {
+            face.vertices()
+                .all(|v| m.positions()[v.index()].z.abs() < 1e-9)
+        })
+    };
+    let (flats, legs): (Vec<FaceId>, Vec<FaceId>) = mesh.face_ids().partition(|&f| flat(&mesh, f));
+    let grouped = mesh
+        .clone()
+        .with_group("flat", flats)
+        .and_then(|m| m.with_group("leg", legs))
+        .expect("two groups");
+    let rounded =
+        round_chain(&grouped, &topology, &chain, &RadiusLaw::constant(r), 0.01).expect("rounded");
+    let round = &rounded.mesh;
+    let kept = round.face_count() - rounded.round_faces;
+    let in_flat = round.group("flat").expect("the flat's group").faces();
+    let in_leg = round.group("leg").expect("the leg's group").faces();
+    assert!(in_flat.iter().all(|&f| flat(round, f)));
+    assert!(in_leg.iter().all(|&f| !flat(round, f)));
+    assert_eq!(
+        in_flat.len() + in_leg.len(),
+        kept,
+        "every kept face grouped"
+    );
+    assert!(
+        in_flat.iter().chain(in_leg).all(|f| f.index() < kept),
+        "the round's faces in no group"
+    );
+}
+
 /// The boss's foot rounded (a closed chain round a faceted cylinder): the strip closes
 /// on itself, the mesh stays sound, the round's nodes lie within the facets' sag and
 /// the tolerance of the torus, and the turn at the stitch is within a row's turn (and

@@ -14,7 +14,7 @@ use glam::DVec3;
 use super::index::PolylineIndex;
 use super::polyline_nearest;
 use super::round::RoundSite;
-use crate::geom::mesh::{Mesh, Topology, VertexId};
+use crate::geom::mesh::{FaceId, Mesh, Topology, VertexId};
 
 /// How near (mm) two cut nodes placed on a trim line must land to be merged.
 pub const SAME_NODE: f64 = 1e-9;
@@ -74,6 +74,9 @@ pub struct Cut {
     /// The triangles kept: the faces outside the trim lines and the outside parts of
     /// the faces they cross.
     pub faces: Vec<[u32; 3]>,
+    /// Per triangle kept, the mesh's face it is (part of), ascending: the mesh's face
+    /// groups follow it.
+    pub origin: Vec<FaceId>,
     /// Each trim line's cut, its nodes ordered along the guide.
     pub rows: [Vec<u32>; 2],
     /// How many of the mesh's faces the trim lines split.
@@ -266,6 +269,7 @@ pub fn cut_to_trim_lines(
     // The faces kept: whole where no node is inside, their outside part where the trim
     // line crosses them, none where no node is outside.
     let mut faces: Vec<[u32; 3]> = Vec::with_capacity(mesh.face_count());
+    let mut from_face: Vec<FaceId> = Vec::with_capacity(mesh.face_count());
     let mut split_faces = 0;
     for (f, face) in mesh.face_ids().zip(mesh.faces()) {
         let &[a, b, c] = face.indices() else { continue };
@@ -276,6 +280,7 @@ pub fn cut_to_trim_lines(
         let at = |v: u32| place[v as usize];
         if t.iter().all(|&v| at(v) != Place::Inside) {
             faces.push(t);
+            from_face.push(f);
             continue;
         }
         if !t.iter().any(|&v| at(v) == Place::Outside) {
@@ -309,6 +314,7 @@ pub fn cut_to_trim_lines(
             }
         }
         split_faces += 1;
+        let before = faces.len();
         match part[..] {
             [p, q, r] => faces.push([p, q, r]),
             [p, q, r, s] => {
@@ -322,6 +328,7 @@ pub fn cut_to_trim_lines(
             }
             _ => {}
         }
+        from_face.resize(from_face.len() + faces.len() - before, f);
     }
     // The cut: the kept faces' edges with no kept face on their other side that are
     // not (part of) the mesh's own free edges.
@@ -401,14 +408,16 @@ pub fn cut_to_trim_lines(
             }
         }
     }
-    let faces = faces
+    let (faces, origin) = faces
         .into_iter()
-        .map(|t| t.map(|v| merged[v as usize]))
-        .filter(|t| t[0] != t[1] && t[1] != t[2] && t[2] != t[0])
-        .collect();
+        .zip(from_face)
+        .map(|(t, f)| (t.map(|v| merged[v as usize]), f))
+        .filter(|(t, _)| t[0] != t[1] && t[1] != t[2] && t[2] != t[0])
+        .unzip();
     Cut {
         positions,
         faces,
+        origin,
         rows: on_cut,
         split_faces,
         snapped_nodes,

@@ -468,6 +468,7 @@ pub fn round_site(
     let Cut {
         mut positions,
         mut faces,
+        origin,
         rows,
         split_faces,
         snapped_nodes,
@@ -547,9 +548,13 @@ pub fn round_site(
             Face::triangle(a, b, c)
         })
         .collect();
-    let mesh = Mesh::new(kept, faces).map_err(|e| RoundError::Surface(e.to_string()))?;
+    // The cut faces keep the groups of the faces they came from; the round's own
+    // faces (after them) join none.
+    let rounded = Mesh::new(kept, faces)
+        .map_err(|e| RoundError::Surface(e.to_string()))?
+        .with_groups_of(mesh, &origin);
     Ok(Rounded {
-        mesh,
+        mesh: rounded,
         surface,
         trim_lines,
         balls,
