@@ -821,6 +821,32 @@ fn read_obj_keeps_quads_and_groups() {
     .is_ok());
 }
 
+/// Positions are read in f64: a die's coordinates run to metres with micrometre
+/// detail, which single precision loses (1000.123456789 read as 1000.123474).
+#[test]
+fn read_obj_keeps_positions_in_double_precision() {
+    let root = Path::new(env!("CARGO_TARGET_TMPDIR")).join("builtins_read_obj_f64");
+    std::fs::create_dir_all(&root).unwrap();
+    std::fs::write(
+        root.join("far.obj"),
+        "v 1000.123456789 -1500.987654321 250.000000001\nv 1001 0 0\nv 1000 1 0\nf 1 2 3\n",
+    )
+    .unwrap();
+    let d = call_with(
+        "read_obj",
+        vec![Some(text("far.obj"))],
+        Some(&root),
+        Some(&root),
+    )
+    .unwrap();
+    let Data::Mesh(m) = &d else {
+        panic!("not a mesh")
+    };
+    let p = m.positions()[0];
+    let expected = DVec3::new(1000.123456789, -1500.987654321, 250.000000001);
+    assert!((p - expected).abs().max_element() < 1e-12, "{p}");
+}
+
 #[test]
 fn read_obj_errors() {
     let root = project();

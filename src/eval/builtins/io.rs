@@ -153,13 +153,13 @@ fn to_mesh(models: &[tobj::Model]) -> Result<Mesh, GeomError> {
         positions.extend(
             m.positions
                 .chunks_exact(3)
-                .map(|c| DVec3::new(f64::from(c[0]), f64::from(c[1]), f64::from(c[2]))),
+                .map(|c| DVec3::new(c[0], c[1], c[2])),
         );
         if m.normals.len() == m.positions.len() {
             normals.extend(
                 m.normals
                     .chunks_exact(3)
-                    .map(|c| DVec3::new(f64::from(c[0]), f64::from(c[1]), f64::from(c[2]))),
+                    .map(|c| DVec3::new(c[0], c[1], c[2])),
             );
         } else {
             all_normals = false;
