@@ -833,3 +833,67 @@ pub fn median_time(mut f: impl FnMut(), reps: usize, samples: usize) -> Duration
     times.sort();
     times[times.len() / 2]
 }
+
+/// Writes `mesh` as an OBJ file (`header` first, as comment lines), positions with
+/// `decimals` places: how the mesh benches hand a mesh to a peer (MeshLab, at 12 places)
+/// and how the examples' meshes are written (as CAD exports them, at 6).
+pub fn write_obj(
+    mesh: &dieface::geom::mesh::Mesh,
+    path: &std::path::Path,
+    header: &str,
+    decimals: usize,
+) {
+    let mut text = String::new();
+    for line in header.lines() {
+        text.push_str(&format!("# {line}\n"));
+    }
+    for p in mesh.positions() {
+        text.push_str(&format!(
+            "v {:.d$} {:.d$} {:.d$}\n",
+            p.x,
+            p.y,
+            p.z,
+            d = decimals
+        ));
+    }
+    for f in mesh.faces() {
+        let ids: Vec<String> = f.indices().iter().map(|i| (i + 1).to_string()).collect();
+        text.push_str(&format!("f {}\n", ids.join(" ")));
+    }
+    if let Some(folder) = path.parent() {
+        std::fs::create_dir_all(folder).expect("the OBJ's folder made");
+    }
+    std::fs::write(path, text).expect("the OBJ written");
+}
+
+/// Reads an OBJ file (a peer's result) as one mesh, with `tobj`, dieface's own OBJ
+/// reader: every object's faces over one list of positions.
+pub fn read_obj(path: &std::path::Path) -> dieface::geom::mesh::Mesh {
+    use dieface::geom::mesh::{Face, Mesh};
+    let (models, _) = tobj::load_obj(path, &tobj::LoadOptions::default()).expect("the OBJ read");
+    let (mut positions, mut faces) = (Vec::new(), Vec::new());
+    for model in &models {
+        let m = &model.mesh;
+        let base = positions.len() as u32;
+        positions.extend(
+            m.positions
+                .chunks_exact(3)
+                .map(|c| DVec3::new(c[0], c[1], c[2])),
+        );
+        let mut start = 0;
+        let arities: Vec<usize> = if m.face_arities.is_empty() {
+            vec![3; m.indices.len() / 3]
+        } else {
+            m.face_arities.iter().map(|&n| n as usize).collect()
+        };
+        for n in arities {
+            let ids: Vec<u32> = m.indices[start..start + n]
+                .iter()
+                .map(|&i| base + i)
+                .collect();
+            faces.push(Face::from_slice(&ids).expect("a triangle or a quad"));
+            start += n;
+        }
+    }
+    Mesh::new(positions, faces).expect("a mesh")
+}

@@ -20,71 +20,14 @@ mod panel;
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 use std::process::Command;
-use std::time::{Duration, Instant};
 
 use dieface::geom::mesh::holes::{fill_holes, FillOptions, HoleChoice};
 use dieface::geom::mesh::{Face, Mesh, Topology};
+use dieface_bench::{median_time, read_obj, write_obj};
 use glam::DVec3;
 
 /// Runs per figure; the median is reported.
 const RUNS: usize = 7;
-
-fn median(mut f: impl FnMut()) -> Duration {
-    let mut times: Vec<Duration> = (0..RUNS)
-        .map(|_| {
-            let start = Instant::now();
-            f();
-            start.elapsed()
-        })
-        .collect();
-    times.sort();
-    times[RUNS / 2]
-}
-
-fn write_obj(mesh: &Mesh, path: &Path) {
-    let mut text = String::new();
-    for p in mesh.positions() {
-        text.push_str(&format!("v {:.12} {:.12} {:.12}\n", p.x, p.y, p.z));
-    }
-    for f in mesh.faces() {
-        let i = f.indices();
-        text.push_str(&format!("f {} {} {}\n", i[0] + 1, i[1] + 1, i[2] + 1));
-    }
-    std::fs::write(path, text).expect("the OBJ written");
-}
-
-fn read_obj(path: &Path) -> Mesh {
-    let text = std::fs::read_to_string(path).expect("the OBJ read");
-    let mut positions = Vec::new();
-    let mut faces = Vec::new();
-    for line in text.lines() {
-        let mut words = line.split_whitespace();
-        match words.next() {
-            Some("v") => {
-                let c: Vec<f64> = words
-                    .take(3)
-                    .map(|w| w.parse().expect("a number"))
-                    .collect();
-                positions.push(DVec3::new(c[0], c[1], c[2]));
-            }
-            Some("f") => {
-                let ids: Vec<u32> = words
-                    .map(|w| {
-                        w.split('/')
-                            .next()
-                            .expect("an index")
-                            .parse::<u32>()
-                            .expect("an index")
-                            - 1
-                    })
-                    .collect();
-                faces.push(Face::from_slice(&ids).expect("a face"));
-            }
-            _ => {}
-        }
-    }
-    Mesh::new(positions, faces).expect("a mesh")
-}
 
 /// What a fill added and how good it is.
 struct Measured {
@@ -200,18 +143,22 @@ fn main() {
     let holes = panel::standard_holes();
     let mesh = panel::panel(5.0, &holes);
     let input = dir.join("panel.obj");
-    write_obj(&mesh, &input);
+    write_obj(&mesh, &input, "", 12);
     let options = FillOptions {
         holes: HoleChoice::All,
         outer: None,
         size: None,
     };
-    let ours = median(|| {
-        fill_holes(&mesh, &options).expect("filled");
-    });
+    let ours = median_time(
+        || {
+            fill_holes(&mesh, &options).expect("filled");
+        },
+        1,
+        RUNS,
+    );
     let filled = fill_holes(&mesh, &options).expect("filled");
     let ours_out = dir.join("dieface.obj");
-    write_obj(&filled.mesh, &ours_out);
+    write_obj(&filled.mesh, &ours_out, "", 12);
     // MeshLab closes loops of up to so many edges: every hole's, not the outer edge's.
     let largest = filled
         .holes

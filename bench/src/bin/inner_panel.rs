@@ -9,24 +9,20 @@ mod panel;
 
 use std::path::Path;
 
+use dieface_bench::write_obj;
+
 fn main() {
     let mesh = panel::panel_with_crack(12.0, &panel::standard_holes(), Some((740.0, 0.02)));
-    let mut text = String::from(
-        "# An inner panel's FE mesh as CAD hands it over: 1000 x 600 mm over a domed \
-         surface with a ridge,\n# 14 holes, and a 0.02 mm crack where two patches were \
-         exported apart (x = 740).\n# Written by `cargo run -p dieface-bench --release --bin inner_panel`.\n",
-    );
-    for p in mesh.positions() {
-        text.push_str(&format!("v {:.6} {:.6} {:.6}\n", p.x, p.y, p.z));
-    }
-    for f in mesh.faces() {
-        let i = f.indices();
-        text.push_str(&format!("f {} {} {}\n", i[0] + 1, i[1] + 1, i[2] + 1));
-    }
     let path =
         Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/inner_panel/inner_panel.obj");
-    std::fs::create_dir_all(path.parent().expect("a folder")).expect("the folder made");
-    std::fs::write(&path, text).expect("the OBJ written");
+    write_obj(
+        &mesh,
+        &path,
+        "An inner panel's FE mesh as CAD hands it over: 1000 x 600 mm over a domed surface with a ridge,\n\
+         14 holes, and a 0.02 mm crack where two patches were exported apart (x = 740).\n\
+         Written by `cargo run -p dieface-bench --release --bin inner_panel`.",
+        6,
+    );
     println!(
         "wrote {} ({} nodes, {} triangles)",
         path.display(),
