@@ -25,7 +25,9 @@ use glam::DVec3;
 use crate::diag::Diagnostic;
 use crate::geom::mesh::holes::cracks::stitch_cracks;
 use crate::geom::mesh::holes::loops::LoopProblem;
-use crate::geom::mesh::holes::{fill_holes, FillOptions, Filled, HoleChoice, HoleError};
+use crate::geom::mesh::holes::{
+    fill_holes, FillOptions, Filled, FilledHole, HoleChoice, HoleError,
+};
 use crate::geom::mesh::Mesh;
 
 use super::super::builtins::{as_point3, type_error};
@@ -39,13 +41,18 @@ pub(super) static KIND: &dyn FeatureKind = &FillKind;
 
 struct FillKind;
 
-/// A filled hole-filling: the kernel's result and what stitching did first.
+/// What a fill block did, as `inspect` summarises it (the meshes themselves are the
+/// record's fields).
 #[derive(Debug, Clone)]
-pub struct FilledMesh {
-    /// The holes filled.
-    pub filled: Filled,
-    /// Free nodes merged and edges split closing cracks.
-    pub stitched: (usize, usize),
+pub struct FillSummary {
+    /// Faces of the filled mesh.
+    pub faces: usize,
+    /// Faces the fills added.
+    pub fill_faces: usize,
+    /// Holes filled.
+    pub holes: usize,
+    /// Free loops before filling (after stitching).
+    pub loops_before: usize,
 }
 
 impl FeatureKind for FillKind {
@@ -73,16 +80,12 @@ impl FeatureKind for FillKind {
         }
     }
     fn summary(&self, record: &Record) -> String {
-        let Some(m) = record.model::<FilledMesh>() else {
+        let Some(m) = record.model::<FillSummary>() else {
             return String::new();
         };
-        let f = &m.filled;
-        let added: usize = f.holes.iter().map(|h| h.patch.face_count()).sum();
         format!(
-            "filled mesh, {} faces ({added} in {} fills), {} free loops before",
-            f.mesh.face_count(),
-            f.holes.len(),
-            f.free.loops.len()
+            "filled mesh, {} faces ({} in {} fills), {} free loops before",
+            m.faces, m.fill_faces, m.holes, m.loops_before
         )
     }
 }
@@ -209,7 +212,7 @@ fn build_fill(block: &Block) -> Result<Value, Diagnostic> {
     let options = FillOptions { holes, outer, size };
     let filled =
         fill_holes(&mesh, &options).map_err(|e| hole_error(block, &mesh_field.value, e))?;
-    Ok(output(block, FilledMesh { filled, stitched }))
+    Ok(output(block, filled, stitched))
 }
 
 /// A point as a designer reads it.
@@ -309,45 +312,31 @@ fn hole_error(block: &Block, mesh_value: &Value, e: HoleError) -> Diagnostic {
     }
 }
 
-/// The block's value: the filled mesh, each fill and its base surface, and `quality`.
-fn output(block: &Block, model: FilledMesh) -> Value {
+/// The block's value: the filled mesh, each fill and its base surface (moved into the
+/// record, not copied), and `quality`; `stitched` is the nodes merged and edges split
+/// closing cracks first.
+fn output(block: &Block, f: Filled, stitched: (usize, usize)) -> Value {
     let span = block.span;
-    let f = &model.filled;
-    let mut fields = vec![(
-        "mesh".to_string(),
-        Value::new(Data::Mesh(Arc::new(f.mesh.clone())), span),
-    )];
-    for (k, hole) in f.holes.iter().enumerate() {
-        fields.push((
-            format!("patch_{}", k + 1),
-            Value::new(Data::Mesh(Arc::new(hole.patch.clone())), span),
-        ));
-        fields.push((
-            format!("base_{}", k + 1),
-            Value::new(Data::Surface(Arc::new(hole.base.surface.clone())), span),
-        ));
-    }
-    let after = f.free.loops.len() - f.holes.len();
-    let worst =
-        |g: &dyn Fn(&crate::geom::mesh::holes::FilledHole) -> f64, start: f64, max: bool| {
-            f.holes
-                .iter()
-                .map(g)
-                .fold(start, |a, b| if max { a.max(b) } else { a.min(b) })
-        };
+    let fill_faces: usize = f.holes.iter().map(|h| h.patch.face_count()).sum();
+    let worst = |g: &dyn Fn(&FilledHole) -> f64, start: f64, max: bool| {
+        f.holes
+            .iter()
+            .map(g)
+            .fold(start, |a, b| if max { a.max(b) } else { a.min(b) })
+    };
     let quality = vec![
         ("holes_filled".to_string(), count(f.holes.len(), span)),
-        (
-            "fill_faces".to_string(),
-            count(f.holes.iter().map(|h| h.patch.face_count()).sum(), span),
-        ),
+        ("fill_faces".to_string(), count(fill_faces, span)),
         (
             "free_loops_before".to_string(),
             count(f.free.loops.len(), span),
         ),
-        ("free_loops_after".to_string(), count(after, span)),
-        ("cracks_merged".to_string(), count(model.stitched.0, span)),
-        ("cracks_split".to_string(), count(model.stitched.1, span)),
+        (
+            "free_loops_after".to_string(),
+            count(f.free.loops.len() - f.holes.len(), span),
+        ),
+        ("cracks_merged".to_string(), count(stitched.0, span)),
+        ("cracks_split".to_string(), count(stitched.1, span)),
         (
             "rim_gap".to_string(),
             mm(worst(&|h| h.rim_gap, 0.0, true), span),
@@ -361,5 +350,25 @@ fn output(block: &Block, model: FilledMesh) -> Value {
             deg(worst(&|h| h.min_angle, 180.0, false), span),
         ),
     ];
-    feature_value(KIND, span, fields, quality, model)
+    let summary = FillSummary {
+        faces: f.mesh.face_count(),
+        fill_faces,
+        holes: f.holes.len(),
+        loops_before: f.free.loops.len(),
+    };
+    let mut fields = vec![(
+        "mesh".to_string(),
+        Value::new(Data::Mesh(Arc::new(f.mesh)), span),
+    )];
+    for (k, hole) in f.holes.into_iter().enumerate() {
+        fields.push((
+            format!("patch_{}", k + 1),
+            Value::new(Data::Mesh(Arc::new(hole.patch)), span),
+        ));
+        fields.push((
+            format!("base_{}", k + 1),
+            Value::new(Data::Surface(Arc::new(hole.base.surface)), span),
+        ));
+    }
+    feature_value(KIND, span, fields, quality, summary)
 }
