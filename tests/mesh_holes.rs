@@ -251,6 +251,80 @@ fn the_base_surface_follows_the_panel_round_a_hole() {
     assert!(signed_area(&uv) < 0.0);
 }
 
+/// Eq. 7-9 on a known surface: the paraboloid z = r² / 2R (R = 500 mm) about the axis
+/// x = y = 100, written exactly as a biquadratic patch over the plane's coordinates
+/// (as a base surface is), and a loop of points 2 mm above and below it. Each trim-loop
+/// point is the closest point of the surface to its node, to 1e-9 mm: against the
+/// closest point found independently (by symmetry it lies in the vertical plane through
+/// the axis and the node, where bisection on the one-variable condition finds it).
+#[test]
+fn the_trim_loop_is_each_node_s_closest_point_on_the_surface() {
+    use dieface::geom::mesh::holes::base::BaseSurface;
+    use dieface::geom::mesh::holes::plane::ProjectionPlane;
+    use dieface::geom::NurbsSurface;
+    let (r, w) = (500.0, 200.0);
+    let c = w / 2.0;
+    // (x - c)² / 2R on [0, w] in Bernstein form: c²/2R, -c²/2R, c²/2R.
+    let a = [c * c / (2.0 * r), -c * c / (2.0 * r), c * c / (2.0 * r)];
+    let net: Vec<Vec<DVec3>> = (0..3)
+        .map(|i| {
+            (0..3)
+                .map(|j| DVec3::new(w * i as f64 / 2.0, w * j as f64 / 2.0, a[i] + a[j]))
+                .collect()
+        })
+        .collect();
+    let knots = vec![0.0, 0.0, 0.0, w, w, w];
+    let surface = NurbsSurface::new(2, 2, knots.clone(), knots, net).expect("a patch");
+    let base = BaseSurface {
+        plane: ProjectionPlane {
+            origin: DVec3::ZERO,
+            e1: DVec3::X,
+            e2: DVec3::Y,
+            normal: DVec3::Z,
+        },
+        corner: DVec2::ZERO,
+        step: w / 2.0,
+        surface,
+        planar: false,
+        known_nodes: 0,
+        solved_nodes: 0,
+    };
+    let height = |rho: f64| rho * rho / (2.0 * r);
+    let points: Vec<DVec3> = (0..24)
+        .map(|k| {
+            let t = std::f64::consts::TAU * k as f64 / 24.0;
+            let rho = 40.0 + 10.0 * (3.0 * t).cos();
+            let off = if k % 2 == 0 { 2.0 } else { -2.0 };
+            DVec3::new(c + rho * t.cos(), c + rho * t.sin(), height(rho) + off)
+        })
+        .collect();
+    let trimmed = trim_loop(&base, &points);
+    let mut worst = 0.0f64;
+    for (p, (uv, distance)) in points.iter().zip(&trimmed) {
+        // In the plane through the axis and p: the foot at radius s solves
+        // (s - rho) + (s² / 2R - h) s / R = 0, increasing in s for h < R.
+        let (rho, h) = (DVec2::new(p.x - c, p.y - c).length(), p.z);
+        let g = |s: f64| (s - rho) + (height(s) - h) * s / r;
+        let (mut lo, mut hi) = (0.0, 2.0 * rho + 10.0);
+        for _ in 0..200 {
+            let mid = 0.5 * (lo + hi);
+            if g(mid) < 0.0 {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        let s = 0.5 * (lo + hi);
+        let dir = DVec2::new(p.x - c, p.y - c) / rho;
+        let foot = DVec3::new(c + s * dir.x, c + s * dir.y, height(s));
+        let found = base.surface.point_at(uv.x, uv.y);
+        worst = worst.max(found.distance(foot));
+        assert!((distance - p.distance(foot)).abs() < 1e-9, "{distance}");
+    }
+    eprintln!("trim loop on the paraboloid: feet {worst:.1e} mm from the closest points");
+    assert!(worst < 1e-9, "{worst}");
+}
+
 /// The trimmed region meshed: every loop edge in exactly one triangle (so the fill
 /// meets the loop edge for edge), no interior point on the loop, triangles
 /// counter-clockwise and well shaped, the region's area covered exactly.
