@@ -1086,6 +1086,11 @@ proptest! {
             prop_assert_eq!(topo.vertex_half_edges(v), leaving.as_slice());
             let faces: Vec<FaceId> = leaving.iter().map(|&h| topo.face(h)).collect();
             prop_assert_eq!(topo.vertex_faces(v), faces.as_slice());
+            // One node's normal is the one every node's pass gives it, bit for bit.
+            prop_assert_eq!(
+                mesh.vertex_normal(v, topo.vertex_faces(v)),
+                mesh.compute_vertex_normals()[v.index()]
+            );
         }
         // Determinism: building twice gives identical results.
         prop_assert_eq!(mesh.topology(), topo);

@@ -58,17 +58,39 @@ impl Mesh {
                 continue;
             };
             let v = face.indices();
-            let n = v.len();
-            for i in 0..n {
-                // Mesh::new checked every face index against the positions.
-                let here = self.positions[v[i] as usize];
-                let to_next = self.positions[v[(i + 1) % n] as usize] - here;
-                let to_prev = self.positions[v[(i + n - 1) % n] as usize] - here;
-                let angle = to_next.cross(to_prev).length().atan2(to_next.dot(to_prev));
-                sums[v[i] as usize] += normal * angle;
+            for i in 0..v.len() {
+                sums[v[i] as usize] += normal * self.corner_angle(face, i);
             }
         }
         sums.into_iter().map(DVec3::normalize_or_zero).collect()
+    }
+
+    /// The normal at vertex `v` alone, as [`Mesh::compute_vertex_normals`] gives it,
+    /// from `faces`, the faces using `v` in id order ([`super::Topology::vertex_faces`]):
+    /// for a few nodes (a hole's rim) without working out every node's.
+    pub fn vertex_normal(&self, v: VertexId, faces: &[FaceId]) -> DVec3 {
+        let mut sum = DVec3::ZERO;
+        for &f in faces {
+            let (Some(face), Some(normal)) = (self.faces.get(f.index()), self.face_normal(f))
+            else {
+                continue;
+            };
+            if let Some(i) = face.indices().iter().position(|&w| w == v.0) {
+                sum += normal * self.corner_angle(face, i);
+            }
+        }
+        sum.normalize_or_zero()
+    }
+
+    /// The angle of `face` at its corner `i` (rad).
+    fn corner_angle(&self, face: &Face, i: usize) -> f64 {
+        let v = face.indices();
+        let n = v.len();
+        // Mesh::new checked every face index against the positions.
+        let here = self.positions[v[i] as usize];
+        let to_next = self.positions[v[(i + 1) % n] as usize] - here;
+        let to_prev = self.positions[v[(i + n - 1) % n] as usize] - here;
+        to_next.cross(to_prev).length().atan2(to_next.dot(to_prev))
     }
 
     /// Appends `other` to this mesh: its vertices and faces come after this mesh's,

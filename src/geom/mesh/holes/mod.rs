@@ -276,27 +276,6 @@ pub fn fill_holes(mesh: &Mesh, options: &FillOptions) -> Result<Filled, HoleErro
     })
 }
 
-/// The normal at node `v`: its faces' normals weighted by their corner angles there
-/// (as [`Mesh::compute_vertex_normals`] weights them, for one node).
-fn node_normal(mesh: &Mesh, topology: &Topology, v: super::VertexId) -> DVec3 {
-    let here = mesh.positions()[v.index()];
-    let mut sum = DVec3::ZERO;
-    for &f in topology.vertex_faces(v) {
-        let (Some(face), Some(normal)) = (mesh.face(f), mesh.face_normal(f)) else {
-            continue;
-        };
-        let ids = face.indices();
-        let n = ids.len();
-        let Some(i) = ids.iter().position(|&w| w == v.0) else {
-            continue;
-        };
-        let to_next = mesh.positions()[ids[(i + 1) % n] as usize] - here;
-        let to_prev = mesh.positions()[ids[(i + n - 1) % n] as usize] - here;
-        sum += normal * to_next.cross(to_prev).length().atan2(to_next.dot(to_prev));
-    }
-    sum.normalize_or_zero()
-}
-
 /// The smallest angle of the triangle `a b c` (deg).
 fn smallest_angle(a: DVec3, b: DVec3, c: DVec3) -> f64 {
     [(a, b, c), (b, c, a), (c, a, b)]
@@ -328,7 +307,7 @@ fn fill_one(
     let node_normals: Vec<DVec3> = l
         .nodes
         .iter()
-        .map(|&v| node_normal(mesh, topology, v))
+        .map(|&v| mesh.vertex_normal(v, topology.vertex_faces(v)))
         .collect();
     let plane = loop_plane(&points, &node_normals)
         .ok_or_else(|| refuse("its nodes' normals cancel out".into()))?;
