@@ -11,13 +11,14 @@ use glam::{DVec2, DVec3};
 use dieface::geom::mesh::holes::base::base_surface;
 use dieface::geom::mesh::holes::cracks::stitch_cracks;
 use dieface::geom::mesh::holes::ferguson::{ferguson_surface, spline_tangents};
-use dieface::geom::mesh::holes::loops::{free_edges, signed_area};
+use dieface::geom::mesh::holes::loops::free_edges;
 use dieface::geom::mesh::holes::patch::mesh_region;
 use dieface::geom::mesh::holes::plane::loop_plane;
 use dieface::geom::mesh::holes::thin_plate::{solve_plate, HeightGrid};
 use dieface::geom::mesh::holes::trim::trim_loop;
 use dieface::geom::mesh::holes::{fill_holes, FillOptions, HoleChoice, HoleError};
 use dieface::geom::mesh::{Face, FaceId, Mesh, Topology};
+use dieface::geom::trimmed::polygon_area;
 use panel::{Hole, DEPTH, WIDTH};
 
 /// Eq. 3's tangents: the natural spline through points on a cubic has the cubic's own
@@ -248,7 +249,7 @@ fn the_base_surface_follows_the_panel_round_a_hole() {
     assert!(rim < 0.01, "{rim}");
     // The trim loop runs the same way as the loop over the plane.
     let uv: Vec<DVec2> = trimmed.iter().map(|t| t.0).collect();
-    assert!(signed_area(&uv) < 0.0);
+    assert!(polygon_area(uv.iter().copied()) < 0.0);
 }
 
 /// Eq. 7-9 on a known surface: the paraboloid z = r² / 2R (R = 500 mm) about the axis
@@ -358,7 +359,7 @@ fn the_region_is_meshed_up_to_its_loop() {
         let key = (k.min((k + 1) % n), k.max((k + 1) % n));
         assert_eq!(uses.get(&key), Some(&1), "loop edge {k}");
     }
-    let polygon = signed_area(&circle);
+    let polygon = polygon_area(circle.iter().copied());
     eprintln!(
         "region of {n} loop points: {} interior points, {} triangles, smallest angle {smallest:.1} deg",
         region.uv.len() - n,

@@ -314,7 +314,7 @@ pub(crate) fn foot_near(s: &NurbsSurface, p: DVec3, start: DVec2) -> Option<(DVe
 }
 
 /// Signed area of a closed polygon (shoelace), positive counter-clockwise.
-fn polygon_area(points: impl Iterator<Item = DVec2>) -> f64 {
+pub fn polygon_area(points: impl Iterator<Item = DVec2>) -> f64 {
     let pts: Vec<DVec2> = points.collect();
     let n = pts.len();
     let mut a = 0.0;

@@ -12,7 +12,7 @@ use glam::{DVec2, DVec3};
 
 use super::plane::ProjectionPlane;
 use crate::geom::mesh::{HalfEdgeId, Mesh, Topology, VertexId};
-use crate::geom::trimmed::polygon_winding;
+use crate::geom::trimmed::{polygon_area, polygon_winding};
 use crate::geom::union_find::UnionFind;
 
 /// A closed loop of free edges.
@@ -60,14 +60,6 @@ pub fn span_of(points: &[DVec3]) -> f64 {
         }
     }
     best.sqrt()
-}
-
-/// The signed area of a closed polygon (counter-clockwise positive).
-pub fn signed_area(points: &[DVec2]) -> f64 {
-    let n = points.len();
-    0.5 * (0..n)
-        .map(|k| points[k].perp_dot(points[(k + 1) % n]))
-        .sum::<f64>()
 }
 
 /// The free edges of `mesh` and their loops, each piece's outer boundary marked (the
@@ -220,7 +212,7 @@ fn enclosing_loop(
             let count = (0..members.len())
                 .filter(|&b| b != a && encloses(a, b))
                 .count();
-            (count, signed_area(&flat[a]).abs(), a)
+            (count, polygon_area(flat[a].iter().copied()).abs(), a)
         })
         .max_by(|x, y| x.0.cmp(&y.0).then(x.1.total_cmp(&y.1)).then(y.2.cmp(&x.2)))
         .map(|(_, _, a)| members[a])

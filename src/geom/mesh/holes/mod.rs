@@ -37,13 +37,12 @@ use std::collections::BTreeSet;
 use glam::{DVec2, DVec3};
 
 use self::base::{base_surface, BaseError, BaseSurface};
-use self::loops::{
-    check_loop, check_nodes, free_edges, signed_area, FreeEdges, FreeLoop, LoopProblem,
-};
+use self::loops::{check_loop, check_nodes, free_edges, FreeEdges, FreeLoop, LoopProblem};
 use self::patch::{mesh_region, RegionError};
 use self::plane::loop_plane;
 use self::trim::trim_loop;
 use super::{Face, FaceId, Mesh, Topology};
+use crate::geom::trimmed::polygon_area;
 
 /// The least cosine between a face at a loop and the loop's plane normal: a face turned
 /// more than 75 deg from the plane (a hole wrapping round a hairpin or a sharp feature)
@@ -326,7 +325,7 @@ fn fill_one(
         }
     }
     let above: Vec<DVec2> = points.iter().map(|&p| plane.to_plane(p).0).collect();
-    if signed_area(&above) >= 0.0 {
+    if polygon_area(above.iter().copied()) >= 0.0 {
         return Err(refuse(
             "it runs the wrong way round over its plane (an outer boundary, or the faces round it fold over)"
                 .into(),
