@@ -22,6 +22,7 @@
 //! [`GeomError`].
 
 mod boundary;
+pub mod box_grid;
 mod crossing;
 pub mod curvature;
 pub mod holes;

@@ -11,6 +11,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use glam::DVec3;
 
 use crate::geom::error::Result;
+use crate::geom::mesh::box_grid::BoxGrid;
 use crate::geom::mesh::{Face, FaceId, Mesh, Topology, VertexId};
 use crate::geom::union_find::UnionFind;
 
@@ -21,53 +22,6 @@ pub struct Stitched {
     pub merged_nodes: usize,
     /// Free edges split at a node of the other side.
     pub split_edges: usize,
-}
-
-/// A grid of cells `cell` wide over points, for the near-node and near-edge searches.
-struct Cells {
-    cell: f64,
-    map: BTreeMap<(i64, i64, i64), Vec<usize>>,
-}
-
-impl Cells {
-    fn key(&self, p: DVec3) -> (i64, i64, i64) {
-        let k = (p / self.cell).floor();
-        (k.x as i64, k.y as i64, k.z as i64)
-    }
-
-    fn new(cell: f64, items: impl Iterator<Item = (usize, DVec3, DVec3)>) -> Cells {
-        let mut cells = Cells {
-            cell,
-            map: BTreeMap::new(),
-        };
-        for (id, lo, hi) in items {
-            let (a, b) = (cells.key(lo), cells.key(hi));
-            for x in a.0..=b.0 {
-                for y in a.1..=b.1 {
-                    for z in a.2..=b.2 {
-                        cells.map.entry((x, y, z)).or_default().push(id);
-                    }
-                }
-            }
-        }
-        cells
-    }
-
-    /// The items filed in the cells round `p` (within one cell).
-    fn near(&self, p: DVec3) -> BTreeSet<usize> {
-        let k = self.key(p);
-        let mut out = BTreeSet::new();
-        for x in k.0 - 1..=k.0 + 1 {
-            for y in k.1 - 1..=k.1 + 1 {
-                for z in k.2 - 1..=k.2 + 1 {
-                    if let Some(items) = self.map.get(&(x, y, z)) {
-                        out.extend(items.iter().copied());
-                    }
-                }
-            }
-        }
-        out
-    }
 }
 
 /// The nodes splitting a face's sides: per side (its two nodes, in the face's order),
@@ -89,16 +43,20 @@ pub fn stitch_cracks(mesh: &Mesh, tolerance: f64) -> Result<(Mesh, Stitched)> {
 /// own faces' nodes), each group at its lowest-numbered node's position.
 fn merge_free_nodes(mesh: &Mesh, tolerance: f64, report: &mut Stitched) -> Result<Mesh> {
     let topology = Topology::build(mesh);
-    let free: BTreeSet<u32> = topology
+    let free: Vec<u32> = topology
         .free_edges()
         .into_iter()
         .flat_map(|e| topology.edge_vertices(e).map(|v| v.0))
+        .collect::<BTreeSet<u32>>()
+        .into_iter()
         .collect();
     let positions = mesh.positions();
-    let cells = Cells::new(
-        tolerance,
-        free.iter()
-            .map(|&v| (v as usize, positions[v as usize], positions[v as usize])),
+    let reach = DVec3::splat(tolerance);
+    let grid = BoxGrid::new(
+        &free
+            .iter()
+            .map(|&v| (positions[v as usize], positions[v as usize]))
+            .collect::<Vec<_>>(),
     );
     let mut sets = UnionFind::new(mesh.vertex_count());
     let shares_face = |a: u32, b: u32| {
@@ -109,8 +67,8 @@ fn merge_free_nodes(mesh: &Mesh, tolerance: f64, report: &mut Stitched) -> Resul
     };
     for &v in &free {
         let p = positions[v as usize];
-        for w in cells.near(p) {
-            let w = w as u32;
+        for k in grid.candidates(p - reach, p + reach) {
+            let w = free[k as usize];
             if w > v && positions[w as usize].distance(p) <= tolerance && !shares_face(v, w) {
                 if sets.find(v as usize) != sets.find(w as usize) {
                     report.merged_nodes += 1;
@@ -152,28 +110,22 @@ fn split_at_free_nodes(mesh: &Mesh, tolerance: f64, report: &mut Stitched) -> Re
         .iter()
         .flat_map(|&e| topology.edge_vertices(e).map(|v| v.0))
         .collect();
-    // Cells as wide as the free edges are long (at least the tolerance): each edge is
-    // filed in the few cells its box meets, and a node's search reaches one cell round.
-    let mean_length = free_edges
-        .iter()
-        .map(|&e| {
-            let [a, b] = topology.edge_vertices(e);
-            positions[a.index()].distance(positions[b.index()])
-        })
-        .sum::<f64>()
-        / free_edges.len().max(1) as f64;
-    let cells = Cells::new(
-        tolerance.max(mean_length),
-        free_edges.iter().enumerate().map(|(k, &e)| {
-            let [a, b] = topology.edge_vertices(e).map(|v| positions[v.index()]);
-            (k, a.min(b), a.max(b))
-        }),
+    let reach = DVec3::splat(tolerance);
+    let grid = BoxGrid::new(
+        &free_edges
+            .iter()
+            .map(|&e| {
+                let [a, b] = topology.edge_vertices(e).map(|v| positions[v.index()]);
+                (a.min(b), a.max(b))
+            })
+            .collect::<Vec<_>>(),
     );
     // Per free edge, the nodes splitting it and where along it.
     let mut splits: BTreeMap<usize, Vec<(f64, u32)>> = BTreeMap::new();
     for &v in &free_nodes {
         let p = positions[v as usize];
-        for k in cells.near(p) {
+        for k in grid.candidates(p - reach, p + reach) {
+            let k = k as usize;
             let [a, b] = topology.edge_vertices(free_edges[k]);
             if a.0 == v || b.0 == v {
                 continue;
