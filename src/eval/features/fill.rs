@@ -125,17 +125,7 @@ fn choice(block: &Block) -> Result<HoleChoice, Diagnostic> {
             help,
         )),
         Data::Number(_) => {
-            let size = length(&f.value, block.units, "`holes`")?;
-            if !(size.is_finite() && size > 0.0) {
-                return Err(feature_error(
-                    KIND,
-                    format!("a hole size must be above 0 mm, not {} mm", round(size)),
-                    f.value.span,
-                    "not a size",
-                    help,
-                ));
-            }
-            Ok(HoleChoice::UpTo(size))
+            Ok(positive(block, "holes", help)?.map_or(HoleChoice::All, HoleChoice::UpTo))
         }
         Data::List(_) | Data::Tuple(_) => {
             let points = if matches!(f.value.data, Data::Tuple(_)) {
