@@ -53,8 +53,14 @@ impl BoxGrid {
             let d = ((hi - lo) / cell).floor();
             [d.x as usize + 1, d.y as usize + 1, d.z as usize + 1]
         };
-        let most = CELLS_PER_ITEM * boxes.len().max(8);
-        while dims_for(cell).iter().product::<usize>() > most {
+        // Counted in f64: for items of no size (points) the first cell is tiny and the
+        // count of cells it would take overflows any integer.
+        let most = (CELLS_PER_ITEM * boxes.len().max(8)) as f64;
+        let cells_for = |cell: f64| {
+            let d = ((hi - lo) / cell).floor() + DVec3::ONE;
+            d.x * d.y * d.z
+        };
+        while cells_for(cell) > most {
             cell *= 1.5;
         }
         let dims = dims_for(cell);
