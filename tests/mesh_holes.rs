@@ -11,7 +11,7 @@ use glam::{DVec2, DVec3};
 use dieface::geom::mesh::holes::base::base_surface;
 use dieface::geom::mesh::holes::cracks::stitch_cracks;
 use dieface::geom::mesh::holes::ferguson::{ferguson_surface, spline_tangents};
-use dieface::geom::mesh::holes::loops::free_edges;
+use dieface::geom::mesh::holes::loops::{free_edges, scan};
 use dieface::geom::mesh::holes::patch::mesh_region;
 use dieface::geom::mesh::holes::plane::loop_plane;
 use dieface::geom::mesh::holes::thin_plate::{solve_plate, HeightGrid};
@@ -119,8 +119,7 @@ fn the_thin_plate_reproduces_planes_and_quadratics() {
 #[test]
 fn loops_are_found_and_the_outer_boundary_encloses_the_others() {
     let mesh = panel::panel(20.0, &panel::standard_holes());
-    let topology = Topology::build(&mesh);
-    let free = free_edges(&mesh, &topology, None);
+    let free = free_edges(&mesh, None);
     assert_eq!(free.loops.len(), 15);
     assert!(free.open_chains.is_empty());
     let outer: Vec<_> = free.loops.iter().filter(|l| l.outer).collect();
@@ -146,8 +145,7 @@ fn loops_are_found_and_the_outer_boundary_encloses_the_others() {
         )
         .collect();
     let strip = strip_with_hole(&zig);
-    let t = Topology::build(&strip);
-    let free = free_edges(&strip, &t, None);
+    let free = free_edges(&strip, None);
     let (outer, hole): (Vec<_>, Vec<_>) = free.loops.iter().partition(|l| l.outer);
     assert_eq!((outer.len(), hole.len()), (1, 1));
     assert!(
@@ -158,8 +156,76 @@ fn loops_are_found_and_the_outer_boundary_encloses_the_others() {
     );
     assert!((outer[0].length - 448.0).abs() < 1e-9);
     // Overridden: the designer names the zigzag as the outer boundary.
-    let free = free_edges(&strip, &t, Some(DVec3::new(100.0, 12.0, 0.0)));
+    let free = free_edges(&strip, Some(DVec3::new(100.0, 12.0, 0.0)));
     assert!(free.loops.iter().any(|l| l.outer && l.length > 448.0));
+}
+
+/// The free-edge scan (each node's star, and the whole half-edge topology only where
+/// a node on a free edge is not simple) finds the loops that
+/// `Topology::boundary_loops` traces on the whole mesh, node for node and face for
+/// face, in the same order: on the panel (every node simple), on two squares touching
+/// at a corner (a bowtie: two loops, two pieces) and at a fin (three faces on an edge:
+/// open chains).
+#[test]
+fn the_free_edge_scan_finds_the_loops_the_half_edge_topology_traces() {
+    let p = |x: f64, y: f64| DVec3::new(x, y, 0.0);
+    let squares = Mesh::new(
+        vec![
+            p(0.0, 0.0),
+            p(1.0, 0.0),
+            p(1.0, 1.0),
+            p(0.0, 1.0),
+            p(2.0, 1.0),
+            p(2.0, 2.0),
+            p(1.0, 2.0),
+        ],
+        vec![
+            Face::triangle(0, 1, 2),
+            Face::triangle(0, 2, 3),
+            Face::triangle(2, 4, 5),
+            Face::triangle(2, 5, 6),
+        ],
+    )
+    .expect("two squares");
+    let fin = Mesh::new(
+        vec![
+            p(0.0, 0.0),
+            p(1.0, 0.0),
+            p(0.5, 1.0),
+            p(0.5, -1.0),
+            DVec3::new(0.5, 0.0, 1.0),
+        ],
+        vec![
+            Face::triangle(0, 1, 2),
+            Face::triangle(1, 0, 3),
+            Face::triangle(0, 1, 4),
+        ],
+    )
+    .expect("a fin");
+    let cases = [
+        ("panel", panel::panel(5.0, &panel::standard_holes()), 1),
+        ("squares at a corner", squares, 2),
+        ("fin", fin, 1),
+    ];
+    for (name, mesh, pieces) in cases {
+        let free = free_edges(&mesh, None);
+        let topology = Topology::build(&mesh);
+        let traced = topology.boundary_loops();
+        assert_eq!(free.loops.len(), traced.loops.len(), "{name}");
+        for (l, chain) in free.loops.iter().zip(&traced.loops) {
+            assert_eq!(l.nodes, chain.vertices, "{name}");
+            let faces: Vec<FaceId> = chain.half_edges.iter().map(|&h| topology.face(h)).collect();
+            assert_eq!(l.faces, faces, "{name}");
+        }
+        let open: Vec<_> = traced
+            .open_chains
+            .iter()
+            .map(|c| c.vertices.clone())
+            .collect();
+        assert_eq!(free.open_chains, open, "{name}");
+        assert_eq!(free.count, topology.free_edges().len(), "{name}");
+        assert_eq!(free.pieces, pieces, "{name}");
+    }
 }
 
 /// A strip 200 x 24 (z = 0) with the hole `hole` (counter-clockwise in xy).
@@ -213,8 +279,8 @@ fn strip_with_hole(hole: &[DVec2]) -> Mesh {
 fn the_base_surface_follows_the_panel_round_a_hole() {
     let holes = [Hole::circle(500.0, 250.0, 80.0)];
     let mesh = panel::panel(5.0, &holes);
-    let topology = Topology::build(&mesh);
-    let free = free_edges(&mesh, &topology, None);
+    let found = scan(&mesh, None);
+    let free = &found.free;
     let hole = free.loops.iter().find(|l| !l.outer).expect("the hole");
     let normals = mesh.compute_vertex_normals();
     let points: Vec<DVec3> = hole
@@ -224,7 +290,7 @@ fn the_base_surface_follows_the_panel_round_a_hole() {
         .collect();
     let node_normals: Vec<DVec3> = hole.nodes.iter().map(|v| normals[v.index()]).collect();
     let plane = loop_plane(&points, &node_normals).expect("a plane");
-    let base = base_surface(&mesh, &topology, &hole.nodes, &plane, 5.0).expect("a base surface");
+    let base = base_surface(&found.stars, &hole.nodes, &plane, 5.0).expect("a base surface");
     assert!(!base.planar);
     let (u1, v1) = (base.surface.domain_u().1, base.surface.domain_v().1);
     let mut worst = 0.0f64;

@@ -194,7 +194,6 @@ fn tessellate(call: &Call) -> Result<Data, Diagnostic> {
 fn free_edges(call: &Call) -> Result<Data, Diagnostic> {
     use super::super::value::{Quantity, Record, Value};
     use crate::geom::mesh::holes::loops;
-    use crate::geom::mesh::Topology;
     let value = call.required("mesh")?;
     let Data::Mesh(mesh) = &value.data else {
         return Err(call.bad(value, "mesh", "a mesh"));
@@ -204,8 +203,7 @@ fn free_edges(call: &Call) -> Result<Data, Diagnostic> {
         None => None,
     };
     let mesh = mesh.triangulated();
-    let topology = Topology::build(&mesh);
-    let found = loops::free_edges(&mesh, &topology, outer);
+    let found = loops::free_edges(&mesh, outer);
     let span = call.span;
     let number = |v: f64| Value::new(Data::Number(Quantity::bare(v)), span);
     let length = |v: f64| Value::new(Data::Number(Quantity::length(v)), span);

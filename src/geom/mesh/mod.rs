@@ -29,6 +29,7 @@ pub mod holes;
 mod ids;
 mod ops;
 pub mod rounding;
+pub mod stars;
 mod topology;
 
 pub use boundary::{BoundaryChain, BoundaryLoops};

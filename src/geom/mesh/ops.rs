@@ -2,7 +2,7 @@
 //! triangulation, vertex normals, concatenation and welding.
 
 use super::ids::to_u32;
-use super::{check_counts, Face, FaceId, Group, Mesh, VertexId};
+use super::{check_counts, check_face, check_finite, Face, FaceId, Group, Mesh, VertexId};
 use crate::geom::error::{GeomError, Result};
 use glam::DVec3;
 use std::collections::HashMap;
@@ -155,6 +155,40 @@ impl Mesh {
     pub fn merged(&self, other: &Mesh) -> Result<Mesh> {
         let mut mesh = self.clone();
         mesh.append(other)?;
+        Ok(mesh)
+    }
+
+    /// Adds `positions` after this mesh's nodes and `faces` after its faces, the faces
+    /// indexing the mesh's own nodes and the new ones: what a fill joined to a hole's
+    /// rim adds. Only the new items are checked (finite, in range, no node repeated);
+    /// the mesh's faces keep their numbers and so their groups. Its normals, if any,
+    /// are dropped (the new faces would have none). Fails, leaving the mesh unchanged,
+    /// where a new item is bad or the mesh would grow too large.
+    pub fn add(&mut self, positions: &[DVec3], faces: &[Face]) -> Result<()> {
+        let vertices = self.positions.len().saturating_add(positions.len());
+        check_counts(vertices, self.faces.len().saturating_add(faces.len()))?;
+        check_finite(positions, "mesh vertex position")?;
+        for (k, face) in faces.iter().enumerate() {
+            check_face(self.faces.len() + k, face, vertices)?;
+        }
+        self.normals = None;
+        self.positions.extend_from_slice(positions);
+        self.faces.extend_from_slice(faces);
+        Ok(())
+    }
+
+    /// This mesh with `positions` and `faces` added, as [`Mesh::add`] adds them, its
+    /// own items copied once into room for all.
+    pub fn with_added(&self, positions: &[DVec3], faces: &[Face]) -> Result<Mesh> {
+        let mut mesh = Mesh {
+            positions: Vec::with_capacity(self.positions.len() + positions.len()),
+            faces: Vec::with_capacity(self.faces.len() + faces.len()),
+            normals: None,
+            groups: self.groups.clone(),
+        };
+        mesh.positions.extend_from_slice(&self.positions);
+        mesh.faces.extend_from_slice(&self.faces);
+        mesh.add(positions, faces)?;
         Ok(mesh)
     }
 

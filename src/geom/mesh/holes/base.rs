@@ -12,7 +12,8 @@ use glam::{DVec2, DVec3};
 use super::ferguson::ferguson_surface;
 use super::plane::ProjectionPlane;
 use super::thin_plate::{solve_plate, HeightGrid, PlateError};
-use crate::geom::mesh::{FaceId, Mesh, Topology, VertexId};
+use crate::geom::mesh::stars::VertexStars;
+use crate::geom::mesh::{FaceId, VertexId};
 use crate::geom::surface::NurbsSurface;
 
 /// The fewest and the most grid cells across a hole's longest spread.
@@ -68,12 +69,12 @@ pub enum BaseError {
 /// of the plane's) and lies over the grid's box. A face far off in the mesh that only
 /// overlaps the box in projection (a flange folded under) is never reached.
 fn faces_round(
-    mesh: &Mesh,
-    topology: &Topology,
+    stars: &VertexStars,
     loop_nodes: &[VertexId],
     plane: &ProjectionPlane,
     (lo, hi): (DVec2, DVec2),
 ) -> Vec<FaceId> {
+    let mesh = stars.mesh();
     let over = |f: FaceId| -> bool {
         let Some(face) = mesh.face(f) else {
             return false;
@@ -95,7 +96,7 @@ fn faces_round(
     let mut found: Vec<FaceId> = Vec::new();
     let mut queue: Vec<FaceId> = Vec::new();
     for &v in loop_nodes {
-        for &f in topology.vertex_faces(v) {
+        for &f in stars.faces(v) {
             if !seen[f.index()] && over(f) {
                 seen[f.index()] = true;
                 found.push(f);
@@ -103,8 +104,10 @@ fn faces_round(
             }
         }
     }
+    let mut neighbours = Vec::new();
     while let Some(f) = queue.pop() {
-        for g in topology.face_neighbors(f) {
+        stars.face_neighbors(f, &mut neighbours);
+        for &g in &neighbours {
             if !seen[g.index()] && over(g) {
                 seen[g.index()] = true;
                 found.push(g);
@@ -118,12 +121,12 @@ fn faces_round(
 /// The base surface of the hole whose loop runs through `loop_nodes` (in order), on
 /// `plane`, its interior sized for elements about `size` long.
 pub fn base_surface(
-    mesh: &Mesh,
-    topology: &Topology,
+    stars: &VertexStars,
     loop_nodes: &[VertexId],
     plane: &ProjectionPlane,
     size: f64,
 ) -> Result<BaseSurface, BaseError> {
+    let mesh = stars.mesh();
     let flat: Vec<(DVec2, f64)> = loop_nodes
         .iter()
         .map(|&v| plane.to_plane(mesh.positions()[v.index()]))
@@ -140,12 +143,12 @@ pub fn base_surface(
     let far = hi + DVec2::splat(MARGIN_CELLS as f64 * step);
     let nx = ((far.x - corner.x) / step).ceil() as usize;
     let ny = ((far.y - corner.y) / step).ceil() as usize;
-    let faces = faces_round(mesh, topology, loop_nodes, plane, (corner, far));
+    let faces = faces_round(stars, loop_nodes, plane, (corner, far));
 
     // Planar: the loop and the faces at its nodes all on the plane.
     let ring: BTreeSet<VertexId> = loop_nodes
         .iter()
-        .flat_map(|&v| topology.vertex_faces(v).iter().copied())
+        .flat_map(|&v| stars.faces(v).iter().copied())
         .filter_map(|f| mesh.face(f))
         .flat_map(|f| f.vertices().collect::<Vec<_>>())
         .collect();

@@ -11,26 +11,28 @@
 use glam::{DVec2, DVec3};
 
 use super::plane::ProjectionPlane;
-use crate::geom::mesh::{HalfEdgeId, Mesh, Topology, VertexId};
+use crate::geom::mesh::stars::VertexStars;
+use crate::geom::mesh::{FaceId, HalfEdgeId, Mesh, Topology, VertexId};
 use crate::geom::trimmed::{polygon_area, polygon_winding};
 use crate::geom::union_find::UnionFind;
 
 /// A closed loop of free edges.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FreeLoop {
-    /// Its nodes in the order its free half-edges run (the faces' winding: round a
-    /// hole clockwise, seen from the side the normals face).
+    /// Its nodes in the order its free edges run (the faces' winding: round a hole
+    /// clockwise, seen from the side the normals face).
     pub nodes: Vec<VertexId>,
-    /// Its free half-edges, `half_edges[k]` from `nodes[k]` to the next node.
-    pub half_edges: Vec<HalfEdgeId>,
+    /// The face on each of its edges, `faces[k]` on the edge from `nodes[k]` to the
+    /// next node.
+    pub faces: Vec<FaceId>,
     /// Its length (mm).
     pub length: f64,
     /// The largest distance between two of its nodes (mm): how far across it is.
     pub span: f64,
     /// The mean of its nodes: where it is.
     pub centre: DVec3,
-    /// The connected piece of the mesh it bounds (an index into
-    /// [`FreeEdges::pieces`]).
+    /// The connected piece of the mesh it bounds (numbered from 0 in the order the
+    /// loops first meet the pieces; [`FreeEdges::pieces`] counts them all).
     pub piece: usize,
     /// Whether it is its piece's outer boundary.
     pub outer: bool,
@@ -42,35 +44,217 @@ pub struct FreeLoop {
 pub struct FreeEdges {
     /// How many edges have one face.
     pub count: usize,
-    /// The closed loops.
+    /// The closed loops, each starting at its first free edge in face order, and in
+    /// that order.
     pub loops: Vec<FreeLoop>,
     /// Chains of free edges that do not close, as node lists.
     pub open_chains: Vec<Vec<VertexId>>,
-    /// The mesh's connected pieces (faces joined across edges).
+    /// The mesh's connected pieces.
     pub pieces: usize,
 }
 
-/// The largest distance between two of `points` (exact for up to a few thousand: the
-/// loops of one mesh).
+/// The largest distance between two of `points`, exactly. Pairs are compared from the
+/// point farthest from the points' middle inwards, and the search stops where no pair
+/// left can beat the best found (two points `r1` and `r2` from the middle are at most
+/// `r1 + r2` apart): a loop's few far points decide its span, not all its pairs.
 pub fn span_of(points: &[DVec3]) -> f64 {
+    if points.len() < 2 {
+        return 0.0;
+    }
+    let middle = points.iter().copied().sum::<DVec3>() / points.len() as f64;
+    let mut order: Vec<(f64, usize)> = points
+        .iter()
+        .enumerate()
+        .map(|(i, p)| (p.distance(middle), i))
+        .collect();
+    order.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+    let farthest = order[0].0;
     let mut best = 0.0f64;
-    for (i, p) in points.iter().enumerate() {
-        for q in &points[i + 1..] {
-            best = best.max(p.distance_squared(*q));
+    for (k, &(r, i)) in order.iter().enumerate() {
+        // The bound is widened by a part in 1e12 so rounding of the distances to the
+        // middle never stops the search early.
+        if (r + farthest) * (1.0 + 1e-12) < best.sqrt() {
+            break;
+        }
+        for &(_, j) in &order[k + 1..] {
+            best = best.max(points[i].distance_squared(points[j]));
         }
     }
     best.sqrt()
 }
 
+/// A mesh's free edges with the stars they were found from: what hole filling works
+/// from.
+#[derive(Debug, Clone)]
+pub struct Scan<'m> {
+    /// Every node's faces.
+    pub stars: VertexStars<'m>,
+    /// The free edges and their loops.
+    pub free: FreeEdges,
+}
+
 /// The free edges of `mesh` and their loops, each piece's outer boundary marked (the
 /// loop nearest `outer`'s point instead, for the piece holding it, where given).
-pub fn free_edges(mesh: &Mesh, topology: &Topology, outer: Option<DVec3>) -> FreeEdges {
+pub fn free_edges(mesh: &Mesh, outer: Option<DVec3>) -> FreeEdges {
+    scan(mesh, outer).free
+}
+
+/// [`free_edges`], with the stars it found them from.
+///
+/// Two passes over the faces, run side by side: the stars, which flag the nodes whose
+/// faces do not close round them, and the connected pieces (a union of each face's
+/// nodes). Only the flagged nodes are then looked at. Where each has one free edge
+/// in and one out and sound edges (a panel with holes), the loops are those edges
+/// chained; anywhere else (a bowtie node, an edge of three faces, faces wound both
+/// ways) the mesh's whole half-edge topology traces them, as
+/// [`Topology::boundary_loops`] does for every mesh.
+pub fn scan(mesh: &Mesh, outer: Option<DVec3>) -> Scan<'_> {
+    let (stars, mut node_sets) = rayon::join(
+        || VertexStars::build(mesh),
+        || {
+            let mut sets = UnionFind::new(mesh.vertex_count());
+            for face in mesh.faces() {
+                let v = face.indices();
+                for k in 1..v.len() {
+                    sets.union(v[0] as usize, v[k] as usize);
+                }
+            }
+            sets
+        },
+    );
+    let mut free = match simple_loops(&stars) {
+        Some((count, chains)) => {
+            // Pieces by shared nodes: the same as by shared edges here, every node on a
+            // free edge having one fan of faces.
+            let mut root_piece: Vec<(usize, usize)> = Vec::new();
+            let mut piece_of = |v: VertexId| {
+                let root = node_sets.find(v.index());
+                match root_piece.iter().find(|(r, _)| *r == root) {
+                    Some(&(_, p)) => p,
+                    None => {
+                        root_piece.push((root, root_piece.len()));
+                        root_piece.len() - 1
+                    }
+                }
+            };
+            let loops = chains
+                .into_iter()
+                .map(|(nodes, faces)| {
+                    let piece = piece_of(nodes[0]);
+                    measured(mesh, nodes, faces, piece)
+                })
+                .collect();
+            let pieces = (0..mesh.vertex_count())
+                .filter(|&v| !stars.faces(VertexId(v as u32)).is_empty() && node_sets.find(v) == v)
+                .count();
+            FreeEdges {
+                count,
+                loops,
+                open_chains: Vec::new(),
+                pieces,
+            }
+        }
+        None => traced_on_topology(mesh),
+    };
+    mark_outer(mesh, &mut free.loops, outer);
+    Scan { stars, free }
+}
+
+/// The loops of free edges where every node on one is simple: one free edge in, one
+/// out, and every edge at it with one or two faces wound alike. `None` where a node is
+/// not. The free-edge count and each loop's nodes and faces, from its first free edge
+/// in face order, in that order.
+#[allow(clippy::type_complexity)]
+fn simple_loops(stars: &VertexStars) -> Option<(usize, Vec<(Vec<VertexId>, Vec<FaceId>)>)> {
+    let open: Vec<VertexId> = stars.open_nodes().collect();
+    // Per open node, its free edge out: (face, the node's corner in it, the next node).
+    let mut out: Vec<(FaceId, usize, VertexId)> = Vec::with_capacity(open.len());
+    for &v in &open {
+        let corners: Vec<_> = stars.corners(v).collect();
+        let (mut free_out, mut free_in) = (None, 0usize);
+        for c in &corners {
+            for w in [c.to, c.from] {
+                let to = corners.iter().filter(|d| d.to == w).count();
+                let from = corners.iter().filter(|d| d.from == w).count();
+                if to + from > 2 || to == 2 || from == 2 {
+                    return None;
+                }
+                if to + from == 1 {
+                    if w == c.to {
+                        if free_out.replace(c.face).is_some() {
+                            return None;
+                        }
+                    } else {
+                        free_in += 1;
+                    }
+                }
+            }
+        }
+        let face = free_out?;
+        if free_in != 1 {
+            return None;
+        }
+        let corner = stars
+            .mesh()
+            .faces()
+            .get(face.index())?
+            .indices()
+            .iter()
+            .position(|&w| w == v.0)?;
+        let next = corners.iter().find(|c| c.face == face)?.to;
+        out.push((face, corner, next));
+    }
+    // Each loop from its lowest free edge, in face order (a half-edge's number).
+    let mut starts: Vec<usize> = (0..open.len()).collect();
+    starts.sort_by_key(|&i| (out[i].0, out[i].1));
+    let mut used = vec![false; open.len()];
+    let mut loops = Vec::new();
+    for start in starts {
+        if used[start] {
+            continue;
+        }
+        let (mut nodes, mut faces) = (Vec::new(), Vec::new());
+        let mut at = start;
+        while !used[at] {
+            used[at] = true;
+            nodes.push(open[at]);
+            faces.push(out[at].0);
+            at = open.binary_search(&out[at].2).ok()?;
+        }
+        // A simple node has one edge in, so the walk can only close where it began.
+        if at != start {
+            return None;
+        }
+        loops.push((nodes, faces));
+    }
+    Some((open.len(), loops))
+}
+
+/// A loop's figures from its nodes.
+fn measured(mesh: &Mesh, nodes: Vec<VertexId>, faces: Vec<FaceId>, piece: usize) -> FreeLoop {
+    let points: Vec<DVec3> = nodes.iter().map(|v| mesh.positions()[v.index()]).collect();
+    let n = points.len();
+    let length = (0..n)
+        .map(|k| points[k].distance(points[(k + 1) % n]))
+        .sum();
+    FreeLoop {
+        nodes,
+        faces,
+        length,
+        span: span_of(&points),
+        centre: points.iter().copied().sum::<DVec3>() / n.max(1) as f64,
+        piece,
+        outer: false,
+    }
+}
+
+/// The free edges traced on the mesh's whole half-edge topology, pieces joined across
+/// edges: for meshes with a node that is not simple.
+fn traced_on_topology(mesh: &Mesh) -> FreeEdges {
+    let topology = Topology::build(mesh);
     let chains = topology.boundary_loops();
-    // The mesh's pieces: faces joined across edges, each piece numbered by its first
-    // face, with its faces' summed vector area (its mean normal). Half-edges are
-    // numbered face by face in winding order, so in a mesh of triangles alone the face
-    // of half-edge h is h / 3: the radial lists are read in order and no half-edge
-    // record is fetched (the pass over a 50k-triangle mesh is bound by memory).
+    // Half-edges are numbered face by face in winding order, so in a mesh of triangles
+    // alone the face of half-edge h is h / 3 and no half-edge record is fetched.
     let triangles = topology.half_edge_count() == 3 * topology.face_count();
     let face_of = |h: HalfEdgeId| {
         if triangles {
@@ -87,51 +271,69 @@ pub fn free_edges(mesh: &Mesh, topology: &Topology, outer: Option<DVec3>) -> Fre
             }
         }
     }
-    let mut piece_of = vec![usize::MAX; mesh.face_count()];
-    let mut piece_of_root = vec![usize::MAX; mesh.face_count()];
-    let mut normals: Vec<DVec3> = Vec::new();
-    for f in mesh.face_ids() {
-        let root = sets.find(f.index());
-        if piece_of_root[root] == usize::MAX {
-            piece_of_root[root] = normals.len();
-            normals.push(DVec3::ZERO);
+    let mut roots: Vec<usize> = Vec::new();
+    let mut piece_of = |h: HalfEdgeId| {
+        let root = sets.find(face_of(h));
+        match roots.iter().position(|&r| r == root) {
+            Some(p) => p,
+            None => {
+                roots.push(root);
+                roots.len() - 1
+            }
         }
-        let piece = piece_of_root[root];
-        piece_of[f.index()] = piece;
-        normals[piece] += mesh.face_vector_area(f).unwrap_or(DVec3::ZERO);
-    }
-    let mut loops: Vec<FreeLoop> = chains
+    };
+    let loops = chains
         .loops
         .iter()
         .map(|chain| {
-            let points: Vec<DVec3> = chain
-                .vertices
-                .iter()
-                .map(|v| mesh.positions()[v.index()])
-                .collect();
-            let n = points.len();
-            let length = (0..n)
-                .map(|k| points[k].distance(points[(k + 1) % n]))
-                .sum();
-            FreeLoop {
-                nodes: chain.vertices.clone(),
-                half_edges: chain.half_edges.clone(),
-                length,
-                span: span_of(&points),
-                centre: points.iter().copied().sum::<DVec3>() / n.max(1) as f64,
-                piece: chain
-                    .half_edges
-                    .first()
-                    .map_or(0, |&h| piece_of[topology.face(h).index()]),
-                outer: false,
-            }
+            let piece = chain.half_edges.first().map_or(0, |&h| piece_of(h));
+            let faces = chain.half_edges.iter().map(|&h| topology.face(h)).collect();
+            measured(mesh, chain.vertices.clone(), faces, piece)
         })
         .collect();
-    for (piece, area) in normals.iter().enumerate() {
+    let pieces = (0..mesh.face_count())
+        .filter(|&f| sets.find(f) == f)
+        .count();
+    FreeEdges {
+        count: topology
+            .edges()
+            .filter(|&e| topology.edge_face_count(e) == 1)
+            .count(),
+        loops,
+        open_chains: chains
+            .open_chains
+            .iter()
+            .map(|c| c.vertices.clone())
+            .collect(),
+        pieces,
+    }
+}
+
+/// Marks each piece's outer boundary among `loops`: the loop enclosing the most others
+/// of its piece, seen along the piece's mean normal, or the loop nearest `outer` for the
+/// piece holding it.
+///
+/// A piece's mean normal is its faces' summed vector area, read off its loops: the
+/// vector area of a surface is half the sum of `p x q` over its boundary's edges `p-q`
+/// (the faces' inner edges cancel in pairs), so no face need be visited.
+fn mark_outer(mesh: &Mesh, loops: &mut [FreeLoop], outer: Option<DVec3>) {
+    let pieces = loops.iter().map(|l| l.piece + 1).max().unwrap_or(0);
+    for piece in 0..pieces {
         let members: Vec<usize> = (0..loops.len())
             .filter(|&k| loops[k].piece == piece)
             .collect();
-        if let Some(k) = enclosing_loop(mesh, *area, &loops, &members) {
+        let area: DVec3 = members
+            .iter()
+            .flat_map(|&k| {
+                let nodes = &loops[k].nodes;
+                (0..nodes.len()).map(move |i| {
+                    let p = mesh.positions()[nodes[i].index()];
+                    let q = mesh.positions()[nodes[(i + 1) % nodes.len()].index()];
+                    0.5 * p.cross(q)
+                })
+            })
+            .sum();
+        if let Some(k) = enclosing_loop(mesh, area, loops, &members) {
             loops[k].outer = true;
         }
     }
@@ -148,19 +350,6 @@ pub fn free_edges(mesh: &Mesh, topology: &Topology, outer: Option<DVec3>) -> Fre
                 }
             }
         }
-    }
-    FreeEdges {
-        count: topology
-            .edges()
-            .filter(|&e| topology.edge_face_count(e) == 1)
-            .count(),
-        loops,
-        open_chains: chains
-            .open_chains
-            .iter()
-            .map(|c| c.vertices.clone())
-            .collect(),
-        pieces: normals.len(),
     }
 }
 
@@ -199,13 +388,35 @@ fn enclosing_loop(
                 .collect()
         })
         .collect();
+    let boxes: Vec<(DVec2, DVec2)> = flat
+        .iter()
+        .map(|f| {
+            f.iter()
+                .fold((DVec2::INFINITY, DVec2::NEG_INFINITY), |(lo, hi), &q| {
+                    (lo.min(q), hi.max(q))
+                })
+        })
+        .collect();
     let encloses = |a: usize, b: usize| -> bool {
-        // Most of b's nodes inside a: a loop touching another at a node still counts.
-        let inside = flat[b]
+        // Only a loop whose box holds most of b's can hold most of b.
+        let ((alo, ahi), (blo, bhi)) = (boxes[a], boxes[b]);
+        let middle = (blo + bhi) / 2.0;
+        if middle.cmplt(alo).any() || middle.cmpgt(ahi).any() {
+            return false;
+        }
+        // Most of b's nodes inside a (a loop touching another at a node still counts),
+        // judged on up to SAMPLES of them spread evenly along b.
+        let step = flat[b].len().div_ceil(SAMPLES).max(1);
+        let (inside, tried) = flat[b]
             .iter()
-            .filter(|&&q| polygon_winding(&flat[a], q) != 0)
-            .count();
-        2 * inside > flat[b].len()
+            .step_by(step)
+            .fold((0, 0), |(inside, tried), &q| {
+                (
+                    inside + usize::from(polygon_winding(&flat[a], q) != 0),
+                    tried + 1,
+                )
+            });
+        2 * inside > tried
     };
     (0..members.len())
         .map(|a| {
@@ -217,6 +428,9 @@ fn enclosing_loop(
         .max_by(|x, y| x.0.cmp(&y.0).then(x.1.total_cmp(&y.1)).then(y.2.cmp(&x.2)))
         .map(|(_, _, a)| members[a])
 }
+
+/// How many of a loop's nodes are tried for lying inside another loop.
+const SAMPLES: usize = 15;
 
 /// Why a loop cannot be filled as it is.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -238,7 +452,8 @@ pub enum LoopProblem {
 
 /// Checks the mesh round `l`: at least three distinct nodes enclosing some area, and
 /// every edge at its nodes manifold and wound alike on both sides.
-pub fn check_loop(mesh: &Mesh, topology: &Topology, l: &FreeLoop) -> Result<(), LoopProblem> {
+pub fn check_loop(stars: &VertexStars, l: &FreeLoop) -> Result<(), LoopProblem> {
+    let mesh = stars.mesh();
     let mut distinct: Vec<DVec3> = Vec::new();
     for v in &l.nodes {
         let p = mesh.positions()[v.index()];
@@ -261,32 +476,32 @@ pub fn check_loop(mesh: &Mesh, topology: &Topology, l: &FreeLoop) -> Result<(), 
     if area <= 1e-9 * l.length * l.length {
         return Err(LoopProblem::Degenerate("its nodes enclose no area"));
     }
-    check_nodes(mesh, topology, &l.nodes)
+    check_nodes(stars, &l.nodes)
 }
 
 /// Checks every edge at `nodes`: manifold, and its two faces wound alike. An open chain
 /// of free edges (one that does not close a loop) comes from one of these faults.
-pub fn check_nodes(
-    mesh: &Mesh,
-    topology: &Topology,
-    nodes: &[VertexId],
-) -> Result<(), LoopProblem> {
+pub fn check_nodes(stars: &VertexStars, nodes: &[VertexId]) -> Result<(), LoopProblem> {
+    let at = |v: VertexId| stars.mesh().positions()[v.index()];
     for &v in nodes {
-        for &e in topology.vertex_edges(v) {
-            if topology.is_non_manifold_edge(e) {
+        let corners: Vec<_> = stars.corners(v).collect();
+        // The node's edges, by the neighbour at their other end, in its order.
+        let mut neighbours: Vec<VertexId> = corners.iter().flat_map(|c| [c.to, c.from]).collect();
+        neighbours.sort_unstable();
+        neighbours.dedup();
+        for w in neighbours {
+            let out = corners.iter().filter(|c| c.to == w).count();
+            let back = corners.iter().filter(|c| c.from == w).count();
+            if out + back > 2 {
                 return Err(LoopProblem::NotManifold {
                     node: v.0,
-                    at: mesh.positions()[v.index()],
+                    at: at(v),
                 });
             }
-            let wound_alike = match *topology.edge_half_edges(e) {
-                [a, b] => topology.origin(a) == topology.origin(b),
-                _ => false,
-            };
-            if wound_alike {
+            if out == 2 || back == 2 {
                 return Err(LoopProblem::Inconsistent {
                     node: v.0,
-                    at: mesh.positions()[v.index()],
+                    at: at(v),
                 });
             }
         }

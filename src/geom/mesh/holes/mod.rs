@@ -35,13 +35,15 @@ pub mod trim;
 use std::collections::BTreeSet;
 
 use glam::{DVec2, DVec3};
+use rayon::prelude::*;
 
 use self::base::{base_surface, BaseError, BaseSurface};
-use self::loops::{check_loop, check_nodes, free_edges, FreeEdges, FreeLoop, LoopProblem};
+use self::loops::{check_loop, check_nodes, scan, FreeEdges, FreeLoop, LoopProblem, Scan};
 use self::patch::{mesh_region, RegionError};
 use self::plane::loop_plane;
 use self::trim::trim_loop;
-use super::{Face, FaceId, Mesh, Topology};
+use super::stars::VertexStars;
+use super::{Face, Mesh};
 use crate::geom::trimmed::polygon_area;
 
 /// The least cosine between a face at a loop and the loop's plane normal: a face turned
@@ -144,11 +146,11 @@ pub enum HoleError {
 /// point than any loop. The chain is where a face is wound the wrong way or an edge
 /// has more than two faces, and the diagnostic says which.
 fn refuse_open_chains(
-    mesh: &Mesh,
-    topology: &Topology,
+    stars: &VertexStars,
     free: &FreeEdges,
     options: &FillOptions,
 ) -> Result<(), HoleError> {
+    let mesh = stars.mesh();
     for chain in &free.open_chains {
         let points: Vec<DVec3> = chain.iter().map(|v| mesh.positions()[v.index()]).collect();
         let near = |p: DVec3| {
@@ -172,7 +174,7 @@ fn refuse_open_chains(
         };
         if chosen {
             let centre = points.iter().copied().sum::<DVec3>() / points.len().max(1) as f64;
-            let problem = match check_nodes(mesh, topology, chain) {
+            let problem = match check_nodes(stars, chain) {
                 Err(problem) => problem,
                 Ok(()) => LoopProblem::Open,
             };
@@ -226,29 +228,63 @@ fn chosen(mesh: &Mesh, free: &FreeEdges, options: &FillOptions) -> Result<Vec<us
     Ok(ids)
 }
 
-/// Fills the holes of the triangle mesh `mesh` that `options` choose (paper 002).
+/// Fills the holes of the triangle mesh `mesh` that `options` choose (paper 002): the
+/// filled mesh is a copy of `mesh` with the fills added.
 pub fn fill_holes(mesh: &Mesh, options: &FillOptions) -> Result<Filled, HoleError> {
-    let topology = Topology::build(mesh);
-    let free = free_edges(mesh, &topology, options.outer);
-    refuse_open_chains(mesh, &topology, &free, options)?;
+    let (holes, free) = fills(mesh, options)?;
+    let (positions, faces) = joined(&free, &holes, mesh.vertex_count());
+    let filled = mesh
+        .with_added(&positions, &faces)
+        .map_err(|e| HoleError::Mesh(e.to_string()))?;
+    Ok(Filled {
+        mesh: filled,
+        holes,
+        free,
+    })
+}
+
+/// [`fill_holes`] on a mesh handed over: the fills are added to it in place, as a mesh
+/// editor's "close holes" does, and its own nodes and faces are not copied. When a hole
+/// cannot be filled the mesh is dropped with the error.
+pub fn fill_holes_in(mut mesh: Mesh, options: &FillOptions) -> Result<Filled, HoleError> {
+    let (holes, free) = fills(&mesh, options)?;
+    let (positions, faces) = joined(&free, &holes, mesh.vertex_count());
+    mesh.add(&positions, &faces)
+        .map_err(|e| HoleError::Mesh(e.to_string()))?;
+    Ok(Filled { mesh, holes, free })
+}
+
+/// Every chosen hole of `mesh` filled, in loop order, with the free edges they were
+/// found among; the first hole (in loop order) that cannot be filled is the error.
+/// The holes are filled side by side: each reads the mesh and writes only its patch.
+fn fills(mesh: &Mesh, options: &FillOptions) -> Result<(Vec<FilledHole>, FreeEdges), HoleError> {
+    let Scan { stars, free } = scan(mesh, options.outer);
+    refuse_open_chains(&stars, &free, options)?;
     let ids = chosen(mesh, &free, options)?;
-    let mut holes = Vec::with_capacity(ids.len());
-    for k in ids {
-        let l = &free.loops[k];
-        check_loop(mesh, &topology, l).map_err(|problem| HoleError::Loop {
-            loop_index: Some(k),
-            centre: l.centre,
-            problem,
-        })?;
-        holes.push(fill_one(mesh, &topology, k, l, options.size)?);
-    }
-    // Every hole is filled: the fills' nodes and faces after the mesh's own.
-    let mut positions = mesh.positions().to_vec();
-    let mut faces: Vec<Face> = mesh.faces().to_vec();
-    for hole in &holes {
+    let holes = ids
+        .par_iter()
+        .map(|&k| {
+            let l = &free.loops[k];
+            check_loop(&stars, l).map_err(|problem| HoleError::Loop {
+                loop_index: Some(k),
+                centre: l.centre,
+                problem,
+            })?;
+            fill_one(&stars, k, l, options.size)
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok((holes, free))
+}
+
+/// The nodes and faces the fills add to a mesh of `own_nodes` nodes: each fill's new
+/// nodes after the mesh's, its faces on the loop's own nodes and the new ones.
+fn joined(free: &FreeEdges, holes: &[FilledHole], own_nodes: usize) -> (Vec<DVec3>, Vec<Face>) {
+    let mut positions: Vec<DVec3> = Vec::new();
+    let mut faces: Vec<Face> = Vec::new();
+    for hole in holes {
         let l = &free.loops[hole.loop_index];
         let n = l.nodes.len();
-        let first_new = positions.len() as u32;
+        let first_new = (own_nodes + positions.len()) as u32;
         positions.extend_from_slice(&hole.patch.positions()[n..]);
         let id = |i: u32| -> u32 {
             if (i as usize) < n {
@@ -262,17 +298,7 @@ pub fn fill_holes(mesh: &Mesh, options: &FillOptions) -> Result<Filled, HoleErro
             faces.push(Face::triangle(id(t[0]), id(t[1]), id(t[2])));
         }
     }
-    // The mesh's own faces keep their numbers, so its face groups carry over as they
-    // are; the fills join none.
-    let own: Vec<FaceId> = mesh.face_ids().collect();
-    let filled = Mesh::new(positions, faces)
-        .map_err(|e| HoleError::Mesh(e.to_string()))?
-        .with_groups_of(mesh, &own);
-    Ok(Filled {
-        mesh: filled,
-        holes,
-        free,
-    })
+    (positions, faces)
 }
 
 /// The smallest angle of the triangle `a b c` (deg).
@@ -287,12 +313,12 @@ fn smallest_angle(a: DVec3, b: DVec3, c: DVec3) -> f64 {
 /// meshed, as a patch over the loop's own nodes (patch node `i < n` is the loop's
 /// node `i`).
 fn fill_one(
-    mesh: &Mesh,
-    topology: &Topology,
+    stars: &VertexStars,
     k: usize,
     l: &FreeLoop,
     size: Option<f64>,
 ) -> Result<FilledHole, HoleError> {
+    let mesh = stars.mesh();
     let refuse = |reason: String| HoleError::NotSingleValued {
         loop_index: k,
         centre: l.centre,
@@ -306,14 +332,14 @@ fn fill_one(
     let node_normals: Vec<DVec3> = l
         .nodes
         .iter()
-        .map(|&v| mesh.vertex_normal(v, topology.vertex_faces(v)))
+        .map(|&v| mesh.vertex_normal(v, stars.faces(v)))
         .collect();
     let plane = loop_plane(&points, &node_normals)
         .ok_or_else(|| refuse("its nodes' normals cancel out".into()))?;
     // Single-valued over the plane: every face at the loop faces the plane, and the loop
     // runs round the hole clockwise seen from it (as a hole's free edges do).
     for &v in &l.nodes {
-        for &f in topology.vertex_faces(v) {
+        for &f in stars.faces(v) {
             let facing = mesh.face_normal(f).map_or(0.0, |n| n.dot(plane.normal));
             if facing <= FACING {
                 let at = mesh.face_centroid(f).unwrap_or(points[0]);
@@ -333,12 +359,10 @@ fn fill_one(
     }
     let mean_edge = l.length / points.len() as f64;
     let size = size.unwrap_or(mean_edge).max(1e-6);
-    let base = base_surface(mesh, topology, &l.nodes, &plane, size).map_err(|problem| {
-        HoleError::Base {
-            loop_index: k,
-            centre: l.centre,
-            problem,
-        }
+    let base = base_surface(stars, &l.nodes, &plane, size).map_err(|problem| HoleError::Base {
+        loop_index: k,
+        centre: l.centre,
+        problem,
     })?;
     // The trim loop by normal projection (eq. 7-9). Where that loop crosses itself or a
     // fill triangle over it would fold (a loop far off its base surface: across a
@@ -394,7 +418,7 @@ fn fill_one(
         }
     }
     let mut normal_jump = 0.0f64;
-    for (i, &h) in l.half_edges.iter().enumerate() {
+    for (i, &face) in l.faces.iter().enumerate() {
         let j = (i + 1) % n;
         // The fill runs the loop edge the other way from the mesh's free half-edge.
         let Some(t) = on_edge.get(&(j, i)) else {
@@ -405,7 +429,7 @@ fn fill_one(
         };
         let [a, b, c] = t.map(|v| positions[v]);
         let fill_normal = (b - a).cross(c - a).normalize_or_zero();
-        if let Some(mesh_normal) = mesh.face_normal(topology.face(h)) {
+        if let Some(mesh_normal) = mesh.face_normal(face) {
             normal_jump = normal_jump.max(fill_normal.angle_between(mesh_normal).to_degrees());
         }
     }
