@@ -3,6 +3,8 @@
 //! vertices, non-manifold edges, dihedral angles, orientation, Euler characteristic).
 
 use dieface::geom::error::GeomError;
+use dieface::geom::mesh::holes::loops::free_edges;
+use dieface::geom::mesh::stars::VertexStars;
 use dieface::geom::mesh::{
     BoundaryChain, BoundaryLoops, EdgeId, Face, FaceId, HalfEdgeId, Mesh, Topology, VertexId,
 };
@@ -1094,5 +1096,73 @@ proptest! {
         }
         // Determinism: building twice gives identical results.
         prop_assert_eq!(mesh.topology(), topo);
+    }
+
+    /// The light connectivity hole filling uses, against the half-edge topology on the
+    /// same arbitrary meshes (non-manifold edges, flipped windings, bowties, duplicate
+    /// faces): each node's star is its faces; a node's faces close round it exactly
+    /// where each of its edges runs as often one way as the other; and the free-edge
+    /// scan finds the loops and open chains `boundary_loops` traces, with the faces on
+    /// their edges, and as many free edges.
+    #[test]
+    fn stars_and_the_free_edge_scan_agree_with_the_topology(
+        coords in prop::collection::vec((0i32..3, 0i32..3, 0i32..2), 3..9),
+        raw_faces in prop::collection::vec(prop::collection::vec(0u32..9, 3..5), 0..14),
+    ) {
+        let positions: Vec<DVec3> =
+            coords.iter().map(|&(x, y, z)| DVec3::new(x as f64, y as f64, z as f64)).collect();
+        let faces: Vec<Face> = raw_faces
+            .iter()
+            .filter_map(|f| Face::from_slice(f).ok())
+            .filter(|f| {
+                let v = f.indices();
+                v.iter().all(|&i| (i as usize) < positions.len())
+                    && (0..v.len()).all(|i| !v[i + 1..].contains(&v[i]))
+            })
+            .collect();
+        let mesh = Mesh::new(positions, faces).unwrap();
+        let topo = mesh.topology();
+        let stars = VertexStars::build(&mesh);
+        for v in mesh.vertex_ids() {
+            prop_assert_eq!(stars.faces(v), topo.vertex_faces(v));
+            let balanced = topo.vertex_edges(v).iter().all(|&e| {
+                let from_v = topo
+                    .edge_half_edges(e)
+                    .iter()
+                    .filter(|&&h| topo.origin(h) == v)
+                    .count();
+                2 * from_v == topo.edge_half_edges(e).len()
+            });
+            prop_assert_eq!(stars.closes(v), balanced, "node {}", v.0);
+        }
+        let free = free_edges(&mesh, None);
+        let traced = topo.boundary_loops();
+        prop_assert_eq!(free.loops.len(), traced.loops.len());
+        for (l, chain) in free.loops.iter().zip(&traced.loops) {
+            prop_assert_eq!(&l.nodes, &chain.vertices);
+            let faces: Vec<FaceId> = chain.half_edges.iter().map(|&h| topo.face(h)).collect();
+            prop_assert_eq!(&l.faces, &faces);
+        }
+        let open: Vec<Vec<VertexId>> =
+            traced.open_chains.iter().map(|c| c.vertices.clone()).collect();
+        prop_assert_eq!(&free.open_chains, &open);
+        prop_assert_eq!(free.count, topo.free_edges().len());
+        // The pieces are the faces joined across edges, but where two sheets touch
+        // only at a node inside both (its faces closing round it in two fans), which
+        // joins them.
+        let components = topo.connected_components();
+        let mut piece_of = vec![0; mesh.face_count()];
+        for (k, c) in components.iter().enumerate() {
+            for f in c {
+                piece_of[f.index()] = k;
+            }
+        }
+        let kissing = mesh.vertex_ids().any(|v| {
+            stars.closes(v)
+                && topo.vertex_faces(v).iter().any(|f| piece_of[f.index()] != piece_of[topo.vertex_faces(v)[0].index()])
+        });
+        if !kissing {
+            prop_assert_eq!(free.pieces, components.len());
+        }
     }
 }

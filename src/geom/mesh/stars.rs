@@ -2,8 +2,7 @@
 //! over the faces (a counting sort), with no edge numbering.
 //!
 //! This is the light connectivity that work round a few places of a large mesh needs
-//! (a hole's rim, the faces round it): a node's faces, the faces across a face's
-//! sides, and how the faces at a node run round it. It costs a fraction of the
+//! (a hole's rim, the faces round it): a node's faces, and how they run round it. It costs a fraction of the
 //! half-edge [`Topology`](super::Topology), which numbers every edge of the mesh and is
 //! worth building only when the whole mesh is walked.
 //!
@@ -142,29 +141,5 @@ impl<'m> VertexStars<'m> {
                 to: VertexId(corners[(i + 1) % k]),
             })
         })
-    }
-
-    /// The faces on the edge `a`-`b`, either way round, in id order.
-    pub fn edge_faces(&self, a: VertexId, b: VertexId) -> impl Iterator<Item = FaceId> + '_ {
-        self.faces(a).iter().copied().filter(move |&f| {
-            self.mesh
-                .faces()
-                .get(f.index())
-                .is_some_and(|face| face.indices().contains(&b.0))
-        })
-    }
-
-    /// The faces sharing a side with face `f`, in id order and each once; `f` itself
-    /// left out (as [`Topology::face_neighbors`](super::Topology::face_neighbors)).
-    pub fn face_neighbors(&self, f: FaceId, out: &mut Vec<FaceId>) {
-        out.clear();
-        let Some(face) = self.mesh.faces().get(f.index()) else {
-            return;
-        };
-        for (a, b) in face.sides() {
-            out.extend(self.edge_faces(a, b).filter(|&g| g != f));
-        }
-        out.sort_unstable();
-        out.dedup();
     }
 }

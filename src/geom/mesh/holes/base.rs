@@ -64,58 +64,129 @@ pub enum BaseError {
     Surface(String),
 }
 
-/// The faces round the hole whose heights the grid reads: from the faces at the loop's
-/// nodes, flooded across edges while a face faces the plane (its normal within 85 deg
-/// of the plane's) and lies over the grid's box. A face far off in the mesh that only
-/// overlaps the box in projection (a flange folded under) is never reached.
-fn faces_round(
+/// The grid a base surface is made on: `nx` by `ny` cells of `step` from `corner`, in
+/// the projection plane's coordinates.
+struct Grid {
+    corner: DVec2,
+    step: f64,
+    nx: usize,
+    ny: usize,
+}
+
+impl Grid {
+    /// Sets the height of every node of the grid that lies over the triangle `tri`
+    /// (plane position and height at each corner) and has none yet: the first face
+    /// read gives a node on a shared edge its height.
+    fn sample(&self, tri: [(DVec2, f64); 3], known: &mut [Option<f64>]) {
+        let (corner, step, nx, ny) = (self.corner, self.step, self.nx, self.ny);
+        let (tlo, thi) = tri.iter().fold(
+            (DVec2::INFINITY, DVec2::NEG_INFINITY),
+            |(lo, hi), (q, _)| (lo.min(*q), hi.max(*q)),
+        );
+        let i0 = (((tlo.x - corner.x) / step).ceil().max(0.0)) as usize;
+        let j0 = (((tlo.y - corner.y) / step).ceil().max(0.0)) as usize;
+        let i1 = (((thi.x - corner.x) / step).floor()).min(nx as f64);
+        let j1 = (((thi.y - corner.y) / step).floor()).min(ny as f64);
+        if i1 < 0.0 || j1 < 0.0 {
+            return;
+        }
+        let (a, b, c) = (tri[0].0, tri[1].0, tri[2].0);
+        let area = (b - a).perp_dot(c - a);
+        if area.abs() <= f64::MIN_POSITIVE {
+            return;
+        }
+        for j in j0..=j1 as usize {
+            for i in i0..=i1 as usize {
+                let q = corner + DVec2::new(i as f64, j as f64) * step;
+                let wa = (b - q).perp_dot(c - q) / area;
+                let wb = (c - q).perp_dot(a - q) / area;
+                let wc = 1.0 - wa - wb;
+                let eps = -1e-12;
+                if wa >= eps && wb >= eps && wc >= eps {
+                    let k = j * (nx + 1) + i;
+                    known[k].get_or_insert(wa * tri[0].1 + wb * tri[1].1 + wc * tri[2].1);
+                }
+            }
+        }
+    }
+}
+
+/// Each grid node's height where it meets a face round the hole, straight along the
+/// plane's normal (`None` where it meets none: over the hole, or off the panel).
+///
+/// The faces read are found from the faces at the loop's nodes, flooded across their
+/// nodes (to every face at a node of a face taken) while a face faces the plane (its normal within 85 deg of the plane's) and lies over
+/// the grid's box. A face far off in the mesh that only overlaps the box in projection
+/// (a flange folded under) is never reached. Faces are read in the order the flood
+/// reaches them, so every build gives a node on a shared edge the same face's height.
+fn heights_round(
     stars: &VertexStars,
     loop_nodes: &[VertexId],
     plane: &ProjectionPlane,
-    (lo, hi): (DVec2, DVec2),
-) -> Vec<FaceId> {
+    grid: &Grid,
+) -> Vec<Option<f64>> {
     let mesh = stars.mesh();
-    let over = |f: FaceId| -> bool {
-        let Some(face) = mesh.face(f) else {
-            return false;
-        };
+    let (lo, hi) = (
+        grid.corner,
+        grid.corner + DVec2::new(grid.nx as f64, grid.ny as f64) * grid.step,
+    );
+    let mut known: Vec<Option<f64>> = vec![None; (grid.nx + 1) * (grid.ny + 1)];
+    // A face's corners on the plane (and how many), if it faces the plane and lies
+    // over the box.
+    let over = |f: FaceId| -> Option<([(DVec2, f64); 4], usize)> {
+        let face = mesh.face(f)?;
         let facing = mesh
             .face_normal(f)
             .is_some_and(|n| n.dot(plane.normal) > 0.087);
-        let (mut flo, mut fhi) = (DVec2::INFINITY, DVec2::NEG_INFINITY);
-        for v in face.vertices() {
-            let q = plane.to_plane(mesh.positions()[v.index()]).0;
-            flo = flo.min(q);
-            fhi = fhi.max(q);
+        if !facing {
+            return None;
         }
-        facing && flo.cmple(hi).all() && fhi.cmpge(lo).all()
+        let mut corners = [(DVec2::ZERO, 0.0); 4];
+        let (mut flo, mut fhi) = (DVec2::INFINITY, DVec2::NEG_INFINITY);
+        for (slot, v) in corners.iter_mut().zip(face.vertices()) {
+            *slot = plane.to_plane(mesh.positions()[v.index()]);
+            flo = flo.min(slot.0);
+            fhi = fhi.max(slot.0);
+        }
+        (flo.cmple(hi).all() && fhi.cmpge(lo).all()).then_some((corners, face.vertex_count()))
     };
-    // Visited faces marked in a table over the mesh's faces; the faces kept in the
-    // order the flood reaches them (so every build reads the same face first).
-    let mut seen = vec![false; mesh.face_count()];
-    let mut found: Vec<FaceId> = Vec::new();
+    // Each face's state in a table over the mesh's faces: judged once, however many
+    // times the flood comes to it.
+    const UNSEEN: u8 = 0;
+    const TAKEN: u8 = 1;
+    const LEFT: u8 = 2;
+    let mut state = vec![UNSEEN; mesh.face_count()];
     let mut queue: Vec<FaceId> = Vec::new();
+    let mut reach = |f: FaceId, queue: &mut Vec<FaceId>| {
+        if state[f.index()] != UNSEEN {
+            return;
+        }
+        let Some((corners, count)) = over(f) else {
+            state[f.index()] = LEFT;
+            return;
+        };
+        state[f.index()] = TAKEN;
+        queue.push(f);
+        // Triangles only reach here (the mesh is triangulated before filling); a quad
+        // is read as its two triangles.
+        for k in 1..count - 1 {
+            grid.sample([corners[0], corners[k], corners[k + 1]], &mut known);
+        }
+    };
     for &v in loop_nodes {
         for &f in stars.faces(v) {
-            if !seen[f.index()] && over(f) {
-                seen[f.index()] = true;
-                found.push(f);
-                queue.push(f);
-            }
+            reach(f, &mut queue);
         }
     }
-    let mut neighbours = Vec::new();
     while let Some(f) = queue.pop() {
-        stars.face_neighbors(f, &mut neighbours);
-        for &g in &neighbours {
-            if !seen[g.index()] && over(g) {
-                seen[g.index()] = true;
-                found.push(g);
-                queue.push(g);
+        let Some(face) = mesh.face(f) else { continue };
+        for v in face.vertices() {
+            for &g in stars.faces(v) {
+                reach(g, &mut queue);
             }
         }
     }
-    found
+    known
 }
 
 /// The base surface of the hole whose loop runs through `loop_nodes` (in order), on
@@ -143,7 +214,6 @@ pub fn base_surface(
     let far = hi + DVec2::splat(MARGIN_CELLS as f64 * step);
     let nx = ((far.x - corner.x) / step).ceil() as usize;
     let ny = ((far.y - corner.y) / step).ceil() as usize;
-    let faces = faces_round(stars, loop_nodes, plane, (corner, far));
 
     // Planar: the loop and the faces at its nodes all on the plane.
     let ring: BTreeSet<VertexId> = loop_nodes
@@ -179,51 +249,13 @@ pub fn base_surface(
             solved_nodes: 0,
         });
     }
-
-    // Each grid node's height where it meets a face round the hole, straight along the
-    // plane's normal.
-    let mut known: Vec<Option<f64>> = vec![None; (nx + 1) * (ny + 1)];
-    for &f in &faces {
-        let Some(face) = mesh.face(f) else { continue };
-        let corners: Vec<(DVec2, f64)> = face
-            .vertices()
-            .map(|v| plane.to_plane(mesh.positions()[v.index()]))
-            .collect();
-        // Triangles only reach here (the mesh is triangulated before filling); a
-        // quad is read as its two triangles.
-        for k in 1..corners.len().saturating_sub(1) {
-            let tri = [corners[0], corners[k], corners[k + 1]];
-            let (tlo, thi) = tri.iter().fold(
-                (DVec2::INFINITY, DVec2::NEG_INFINITY),
-                |(lo, hi), (q, _)| (lo.min(*q), hi.max(*q)),
-            );
-            let i0 = (((tlo.x - corner.x) / step).ceil().max(0.0)) as usize;
-            let j0 = (((tlo.y - corner.y) / step).ceil().max(0.0)) as usize;
-            let i1 = (((thi.x - corner.x) / step).floor()).min(nx as f64);
-            let j1 = (((thi.y - corner.y) / step).floor()).min(ny as f64);
-            if i1 < 0.0 || j1 < 0.0 {
-                continue;
-            }
-            let (a, b, c) = (tri[0].0, tri[1].0, tri[2].0);
-            let area = (b - a).perp_dot(c - a);
-            if area.abs() <= f64::MIN_POSITIVE {
-                continue;
-            }
-            for j in j0..=j1 as usize {
-                for i in i0..=i1 as usize {
-                    let q = corner + DVec2::new(i as f64, j as f64) * step;
-                    let wa = (b - q).perp_dot(c - q) / area;
-                    let wb = (c - q).perp_dot(a - q) / area;
-                    let wc = 1.0 - wa - wb;
-                    let eps = -1e-12;
-                    if wa >= eps && wb >= eps && wc >= eps {
-                        let k = j * (nx + 1) + i;
-                        known[k].get_or_insert(wa * tri[0].1 + wb * tri[1].1 + wc * tri[2].1);
-                    }
-                }
-            }
-        }
-    }
+    let grid = Grid {
+        corner,
+        step,
+        nx,
+        ny,
+    };
+    let known = heights_round(stars, loop_nodes, plane, &grid);
     let known_nodes = known.iter().filter(|h| h.is_some()).count();
     let grid = HeightGrid { nx, ny, known };
     let heights = solve_plate(&grid)?;

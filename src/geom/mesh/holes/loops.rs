@@ -49,7 +49,8 @@ pub struct FreeEdges {
     pub loops: Vec<FreeLoop>,
     /// Chains of free edges that do not close, as node lists.
     pub open_chains: Vec<Vec<VertexId>>,
-    /// The mesh's connected pieces.
+    /// The mesh's connected pieces (faces joined across edges; see [`scan`] for the
+    /// one exception).
     pub pieces: usize,
 }
 
@@ -104,24 +105,25 @@ pub fn free_edges(mesh: &Mesh, outer: Option<DVec3>) -> FreeEdges {
 /// Two passes over the faces, run side by side: the stars, which flag the nodes whose
 /// faces do not close round them, and the connected pieces (a union of each face's
 /// nodes). Only the flagged nodes are then looked at. Where each has one free edge
-/// in and one out and sound edges (a panel with holes), the loops are those edges
-/// chained; anywhere else (a bowtie node, an edge of three faces, faces wound both
-/// ways) the mesh's whole half-edge topology traces them, as
-/// [`Topology::boundary_loops`] does for every mesh.
+/// in and one out, sound edges and one fan of faces (a panel with holes), the loops
+/// are those edges chained; anywhere else (a bowtie node, an edge of three faces,
+/// faces wound both ways) the mesh's whole half-edge topology traces them, as
+/// [`Topology::boundary_loops`] does for every mesh, and joins the pieces across
+/// edges. The loops are the same either way (property-tested against the topology);
+/// the pieces too, but where two sheets touch only at a node inside both, which the
+/// first way counts as one piece.
 pub fn scan(mesh: &Mesh, outer: Option<DVec3>) -> Scan<'_> {
-    let (stars, mut node_sets) = rayon::join(
-        || VertexStars::build(mesh),
-        || {
-            let mut sets = UnionFind::new(mesh.vertex_count());
-            for face in mesh.faces() {
-                let v = face.indices();
-                for k in 1..v.len() {
-                    sets.union(v[0] as usize, v[k] as usize);
-                }
-            }
-            sets
-        },
-    );
+    // A thread of its own for the pieces: a pool's worker may be asleep, and the two
+    // passes take about a millisecond each on a 50k-face mesh.
+    let (stars, mut node_sets) = std::thread::scope(|scope| {
+        let pieces = scope.spawn(|| NodeSets::of_faces(mesh));
+        let stars = VertexStars::build(mesh);
+        // The pass cannot panic: every index was checked by Mesh::new.
+        (
+            stars,
+            pieces.join().expect("the pieces pass does not panic"),
+        )
+    });
     let mut free = match simple_loops(&stars) {
         Some((count, chains)) => {
             // Pieces by shared nodes: the same as by shared edges here, every node on a
@@ -160,8 +162,48 @@ pub fn scan(mesh: &Mesh, outer: Option<DVec3>) -> Scan<'_> {
     Scan { stars, free }
 }
 
+/// The mesh's nodes in sets joined by its faces (a union-find over `u32` node
+/// numbers, each set named by its smallest node): the connected pieces, by shared
+/// nodes.
+struct NodeSets {
+    parent: Vec<u32>,
+}
+
+impl NodeSets {
+    /// The sets of `mesh`'s nodes its faces join.
+    fn of_faces(mesh: &Mesh) -> NodeSets {
+        let mut sets = NodeSets {
+            parent: (0..mesh.vertex_count() as u32).collect(),
+        };
+        for face in mesh.faces() {
+            // A face's corners' sets become one, named by the smallest root.
+            let mut roots = [0u32; 4];
+            let corners = face.indices();
+            for (root, &v) in roots.iter_mut().zip(corners) {
+                *root = sets.find(v as usize) as u32;
+            }
+            let roots = &roots[..corners.len()];
+            let least = roots.iter().copied().min().unwrap_or(0);
+            for &r in roots {
+                sets.parent[r as usize] = least;
+            }
+        }
+        sets
+    }
+
+    /// The root of `v`'s set, halving the path on the way.
+    fn find(&mut self, mut v: usize) -> usize {
+        while self.parent[v] as usize != v {
+            let grand = self.parent[self.parent[v] as usize];
+            self.parent[v] = grand;
+            v = grand as usize;
+        }
+        v
+    }
+}
+
 /// The loops of free edges where every node on one is simple: one free edge in, one
-/// out, and every edge at it with one or two faces wound alike. `None` where a node is
+/// out, every edge at it with one or two faces wound alike, and its faces one fan. `None` where a node is
 /// not. The free-edge count and each loop's nodes and faces, from its first free edge
 /// in face order, in that order.
 #[allow(clippy::type_complexity)]
@@ -169,8 +211,10 @@ fn simple_loops(stars: &VertexStars) -> Option<(usize, Vec<(Vec<VertexId>, Vec<F
     let open: Vec<VertexId> = stars.open_nodes().collect();
     // Per open node, its free edge out: (face, the node's corner in it, the next node).
     let mut out: Vec<(FaceId, usize, VertexId)> = Vec::with_capacity(open.len());
+    let mut corners = Vec::new();
     for &v in &open {
-        let corners: Vec<_> = stars.corners(v).collect();
+        corners.clear();
+        corners.extend(stars.corners(v));
         let (mut free_out, mut free_in) = (None, 0usize);
         for c in &corners {
             for w in [c.to, c.from] {
@@ -192,6 +236,21 @@ fn simple_loops(stars: &VertexStars) -> Option<(usize, Vec<(Vec<VertexId>, Vec<F
         }
         let face = free_out?;
         if free_in != 1 {
+            return None;
+        }
+        // One fan: turning round the node from the face on the free edge out, face by
+        // face across the edges they share, reaches every face at the node (a closed
+        // fan also hung on the node would make the node's pieces the topology's job).
+        let mut at = corners.iter().find(|c| c.face == face)?;
+        let mut fan = 1;
+        while let Some(across) = corners.iter().find(|d| d.to == at.from) {
+            at = across;
+            fan += 1;
+            if fan > corners.len() {
+                return None;
+            }
+        }
+        if fan != corners.len() {
             return None;
         }
         let corner = stars

@@ -78,34 +78,54 @@ pub fn solve_plate(grid: &HeightGrid) -> Result<Vec<f64>, PlateError> {
     if count == 0 {
         return Ok(heights);
     }
-    // A Laplacian row touches nodes a grid row apart on either side, so two rows of
-    // the normal equations' product reach two grid rows.
-    let band = 2 * (grid.nx + 1);
+    // The Laplacian at each node: +1 at each grid neighbour, -(neighbours) at itself;
+    // only the rows that hold an unknown node count.
+    let laplacians = (0..=grid.ny)
+        .flat_map(|j| (0..=grid.nx).map(move |i| (i, j)))
+        .filter_map(|(i, j)| {
+            let mut row = [(0usize, 0.0f64); 5];
+            let mut len = 0;
+            for n in grid.neighbours(i, j) {
+                row[len] = (n, 1.0);
+                len += 1;
+            }
+            row[len] = (grid.index(i, j), -(len as f64));
+            len += 1;
+            row[..len]
+                .iter()
+                .any(|&(n, _)| grid.known[n].is_none())
+                .then_some((row, len))
+        });
+    // The normal equations couple two unknowns that share a row; numbered in the
+    // grid's order they lie at most two grid rows apart, and the band is the widest
+    // such gap (a hole narrower than the grid has fewer unknowns between).
+    let band = laplacians
+        .clone()
+        .map(|(row, len)| {
+            let ids = row[..len]
+                .iter()
+                .filter(|(n, _)| grid.known[*n].is_none())
+                .map(|&(n, _)| unknown[n]);
+            ids.clone().max().unwrap_or(0) - ids.min().unwrap_or(0)
+        })
+        .max()
+        .unwrap_or(0);
     let mut a = SymmetricBand::zeros(count, band);
     let mut rhs = vec![0.0; count];
-    for j in 0..=grid.ny {
-        for i in 0..=grid.nx {
-            // The Laplacian at (i, j): +1 at each neighbour, -(neighbours) at itself.
-            let centre = grid.index(i, j);
-            let mut row: Vec<(usize, f64)> = grid.neighbours(i, j).map(|n| (n, 1.0)).collect();
-            let degree = row.len() as f64;
-            row.push((centre, -degree));
-            if row.iter().all(|&(n, _)| grid.known[n].is_some()) {
-                continue;
-            }
-            let fixed: f64 = row
-                .iter()
-                .filter_map(|&(n, w)| grid.known[n].map(|h| w * h))
-                .sum();
-            for &(p, wp) in row.iter().filter(|(n, _)| grid.known[*n].is_none()) {
-                let r = unknown[p];
-                rhs[r] -= wp * fixed;
-                // The lower triangle only: the matrix is symmetric.
-                for &(q, wq) in row.iter().filter(|(n, _)| grid.known[*n].is_none()) {
-                    let c = unknown[q];
-                    if c <= r {
-                        a.add(r, c, wp * wq);
-                    }
+    for (row, len) in laplacians {
+        let row = &row[..len];
+        let fixed: f64 = row
+            .iter()
+            .filter_map(|&(n, w)| grid.known[n].map(|h| w * h))
+            .sum();
+        for &(p, wp) in row.iter().filter(|(n, _)| grid.known[*n].is_none()) {
+            let r = unknown[p];
+            rhs[r] -= wp * fixed;
+            // The lower triangle only: the matrix is symmetric.
+            for &(q, wq) in row.iter().filter(|(n, _)| grid.known[*n].is_none()) {
+                let c = unknown[q];
+                if c <= r {
+                    a.add(r, c, wp * wq);
                 }
             }
         }
