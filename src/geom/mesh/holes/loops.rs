@@ -113,18 +113,18 @@ pub fn free_edges(mesh: &Mesh, outer: Option<DVec3>) -> FreeEdges {
 /// the pieces too, but where two sheets touch only at a node inside both, which the
 /// first way counts as one piece.
 pub fn scan(mesh: &Mesh, outer: Option<DVec3>) -> Scan<'_> {
-    // A thread of its own for the pieces: a pool's worker may be asleep, and the two
-    // passes take about a millisecond each on a 50k-face mesh.
-    let (stars, mut node_sets) = std::thread::scope(|scope| {
+    // A thread of its own for the pieces: a pool's worker may be asleep, and the
+    // passes take about a millisecond each on a 50k-face mesh. The loops are chained
+    // meanwhile.
+    let (stars, simple, mut node_sets) = std::thread::scope(|scope| {
         let pieces = scope.spawn(|| NodeSets::of_faces(mesh));
         let stars = VertexStars::build(mesh);
+        let simple = simple_loops(&stars);
         // The pass cannot panic: every index was checked by Mesh::new.
-        (
-            stars,
-            pieces.join().expect("the pieces pass does not panic"),
-        )
+        let node_sets = pieces.join().expect("the pieces pass does not panic");
+        (stars, simple, node_sets)
     });
-    let mut free = match simple_loops(&stars) {
+    let mut free = match simple {
         Some((count, chains)) => {
             // Pieces by shared nodes: the same as by shared edges here, every node on a
             // free edge having one fan of faces.
@@ -146,14 +146,11 @@ pub fn scan(mesh: &Mesh, outer: Option<DVec3>) -> Scan<'_> {
                     measured(mesh, nodes, faces, piece)
                 })
                 .collect();
-            let pieces = (0..mesh.vertex_count())
-                .filter(|&v| !stars.faces(VertexId(v as u32)).is_empty() && node_sets.find(v) == v)
-                .count();
             FreeEdges {
                 count,
                 loops,
                 open_chains: Vec::new(),
-                pieces,
+                pieces: node_sets.count,
             }
         }
         None => traced_on_topology(mesh),
@@ -167,6 +164,8 @@ pub fn scan(mesh: &Mesh, outer: Option<DVec3>) -> Scan<'_> {
 /// nodes.
 struct NodeSets {
     parent: Vec<u32>,
+    /// How many sets hold a face.
+    count: usize,
 }
 
 impl NodeSets {
@@ -174,13 +173,16 @@ impl NodeSets {
     fn of_faces(mesh: &Mesh) -> NodeSets {
         let mut sets = NodeSets {
             parent: (0..mesh.vertex_count() as u32).collect(),
+            count: 0,
         };
+        let mut used = vec![false; mesh.vertex_count()];
         for face in mesh.faces() {
             // A face's corners' sets become one, named by the smallest root.
             let mut roots = [0u32; 4];
             let corners = face.indices();
             for (root, &v) in roots.iter_mut().zip(corners) {
                 *root = sets.find(v as usize) as u32;
+                used[v as usize] = true;
             }
             let roots = &roots[..corners.len()];
             let least = roots.iter().copied().min().unwrap_or(0);
@@ -188,6 +190,9 @@ impl NodeSets {
                 sets.parent[r as usize] = least;
             }
         }
+        sets.count = (0..used.len())
+            .filter(|&v| used[v] && sets.parent[v] as usize == v)
+            .count();
         sets
     }
 
