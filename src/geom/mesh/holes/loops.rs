@@ -1,6 +1,8 @@
 //! Free edges and the loops they close (paper 002, section 2): each loop of free
-//! half-edges from the mesh's half-edge topology, its length and span, whether it is a
-//! panel's outer boundary, and whether the mesh round it is sound enough to fill.
+//! edges, its length and span, whether it is a panel's outer boundary, and whether the
+//! mesh round it is sound enough to fill. The loops are those the half-edge topology
+//! traces ([`Topology::boundary_loops`]), found without building it for the whole mesh
+//! where the mesh round them is simple ([`scan`]).
 //!
 //! The outer boundary is not "the longest loop": a panel may have a hole longer than a
 //! narrow outer edge. In each connected piece of the mesh, projected on the plane
@@ -207,12 +209,14 @@ impl NodeSets {
     }
 }
 
+/// A loop of free edges as chained: its nodes, and the face on each edge.
+type Chain = (Vec<VertexId>, Vec<FaceId>);
+
 /// The loops of free edges where every node on one is simple: one free edge in, one
-/// out, every edge at it with one or two faces wound alike, and its faces one fan. `None` where a node is
-/// not. The free-edge count and each loop's nodes and faces, from its first free edge
-/// in face order, in that order.
-#[allow(clippy::type_complexity)]
-fn simple_loops(stars: &VertexStars) -> Option<(usize, Vec<(Vec<VertexId>, Vec<FaceId>)>)> {
+/// out, every edge at it with one or two faces wound alike, and its faces one fan.
+/// `None` where a node is not. The free-edge count and each loop from its first free
+/// edge in face order, in that order.
+fn simple_loops(stars: &VertexStars) -> Option<(usize, Vec<Chain>)> {
     let open: Vec<VertexId> = stars.open_nodes().collect();
     // Per open node, its free edge out: (face, the node's corner in it, the next node).
     let mut out: Vec<(FaceId, usize, VertexId)> = Vec::with_capacity(open.len());

@@ -8,8 +8,10 @@
 //! - [`cracks`]: pairs of free-edge chains closer than a tolerance (CAD patches exported
 //!   apart) stitched by merging nodes, nodes on the opposite chain's edges splitting
 //!   them first so no T-junction is left;
-//! - [`loops`]: the loops of free half-edges on the existing half-edge topology, their
-//!   length and span, each piece's outer boundary (the loop enclosing the others in the
+//! - [`loops`]: the loops of free edges, found from each node's star (the nodes whose
+//!   faces do not close round it) and traced on the half-edge topology where one of
+//!   them is not simple (the same loops either way, property-tested), their length and
+//!   span, each piece's outer boundary (the loop enclosing the others in the
 //!   piece's projection), and the checks on the mesh round a loop;
 //! - [`plane`]: a hole's projection plane, square to the mean of its nodes' normals;
 //! - [`base`]: the initial grid on that plane projected onto the mesh round the hole,
