@@ -13,7 +13,7 @@
 use glam::{DVec2, DVec3};
 
 use super::plane::ProjectionPlane;
-use crate::geom::mesh::stars::VertexStars;
+use crate::geom::mesh::stars::{Corner, VertexStars};
 use crate::geom::mesh::{FaceId, HalfEdgeId, Mesh, Topology, VertexId};
 use crate::geom::trimmed::{polygon_area, polygon_winding};
 use crate::geom::union_find::UnionFind;
@@ -118,13 +118,13 @@ pub fn scan(mesh: &Mesh, outer: Option<DVec3>) -> Scan<'_> {
     // A thread of its own for the pieces: a pool's worker may be asleep, and the
     // passes take about a millisecond each on a 50k-face mesh. The loops are chained
     // meanwhile.
-    let (stars, simple, mut node_sets) = std::thread::scope(|scope| {
-        let pieces = scope.spawn(|| NodeSets::of_faces(mesh));
+    let (stars, simple, (mut sets, pieces)) = std::thread::scope(|scope| {
+        let pieces = scope.spawn(|| node_sets(mesh));
         let stars = VertexStars::build(mesh);
         let simple = simple_loops(&stars);
         // The pass cannot panic: every index was checked by Mesh::new.
-        let node_sets = pieces.join().expect("the pieces pass does not panic");
-        (stars, simple, node_sets)
+        let pieces = pieces.join().expect("the pieces pass does not panic");
+        (stars, simple, pieces)
     });
     let mut free = match simple {
         Some((count, chains)) => {
@@ -132,7 +132,7 @@ pub fn scan(mesh: &Mesh, outer: Option<DVec3>) -> Scan<'_> {
             // free edge having one fan of faces.
             let mut root_piece: Vec<(usize, usize)> = Vec::new();
             let mut piece_of = |v: VertexId| {
-                let root = node_sets.find(v.index());
+                let root = sets.find(v.index());
                 match root_piece.iter().find(|(r, _)| *r == root) {
                     Some(&(_, p)) => p,
                     None => {
@@ -152,7 +152,7 @@ pub fn scan(mesh: &Mesh, outer: Option<DVec3>) -> Scan<'_> {
                 count,
                 loops,
                 open_chains: Vec::new(),
-                pieces: node_sets.count,
+                pieces,
             }
         }
         None => traced_on_topology(mesh),
@@ -161,51 +161,47 @@ pub fn scan(mesh: &Mesh, outer: Option<DVec3>) -> Scan<'_> {
     Scan { stars, free }
 }
 
-/// The mesh's nodes in sets joined by its faces (a union-find over `u32` node
-/// numbers, each set named by its smallest node): the connected pieces, by shared
-/// nodes.
-struct NodeSets {
-    parent: Vec<u32>,
-    /// How many sets hold a face.
-    count: usize,
+/// The mesh's nodes in sets joined by its faces (each set named by its smallest node:
+/// the connected pieces, by shared nodes), and how many sets hold a face.
+fn node_sets(mesh: &Mesh) -> (UnionFind, usize) {
+    let mut sets = UnionFind::new(mesh.vertex_count());
+    let mut used = vec![false; mesh.vertex_count()];
+    for face in mesh.faces() {
+        let v = face.indices();
+        used[v[0] as usize] = true;
+        for &w in &v[1..] {
+            used[w as usize] = true;
+            sets.union(v[0] as usize, w as usize);
+        }
+    }
+    let count = (0..used.len())
+        .filter(|&v| used[v] && sets.find(v) == v)
+        .count();
+    (sets, count)
 }
 
-impl NodeSets {
-    /// The sets of `mesh`'s nodes its faces join.
-    fn of_faces(mesh: &Mesh) -> NodeSets {
-        let mut sets = NodeSets {
-            parent: (0..mesh.vertex_count() as u32).collect(),
-            count: 0,
-        };
-        let mut used = vec![false; mesh.vertex_count()];
-        for face in mesh.faces() {
-            // A face's corners' sets become one, named by the smallest root.
-            let mut roots = [0u32; 4];
-            let corners = face.indices();
-            for (root, &v) in roots.iter_mut().zip(corners) {
-                *root = sets.find(v as usize) as u32;
-                used[v as usize] = true;
-            }
-            let roots = &roots[..corners.len()];
-            let least = roots.iter().copied().min().unwrap_or(0);
-            for &r in roots {
-                sets.parent[r as usize] = least;
-            }
-        }
-        sets.count = (0..used.len())
-            .filter(|&v| used[v] && sets.parent[v] as usize == v)
-            .count();
-        sets
-    }
+/// How an edge at a node stands.
+enum EdgeAt {
+    /// One face.
+    Free,
+    /// Two faces wound opposite ways across it.
+    Sound,
+    /// More than two faces.
+    NotManifold,
+    /// Two faces wound the same way across it.
+    WoundAlike,
+}
 
-    /// The root of `v`'s set, halving the path on the way.
-    fn find(&mut self, mut v: usize) -> usize {
-        while self.parent[v] as usize != v {
-            let grand = self.parent[self.parent[v] as usize];
-            self.parent[v] = grand;
-            v = grand as usize;
-        }
-        v
+/// How the edge from a node to `w` stands, from `corners` (how each face at the node
+/// runs there): its faces run from the node to `w` or from `w` to the node.
+fn edge_at(corners: &[Corner], w: VertexId) -> EdgeAt {
+    let out = corners.iter().filter(|c| c.to == w).count();
+    let back = corners.iter().filter(|c| c.from == w).count();
+    match (out, back) {
+        _ if out + back > 2 => EdgeAt::NotManifold,
+        (2, _) | (_, 2) => EdgeAt::WoundAlike,
+        _ if out + back == 1 => EdgeAt::Free,
+        _ => EdgeAt::Sound,
     }
 }
 
@@ -227,18 +223,17 @@ fn simple_loops(stars: &VertexStars) -> Option<(usize, Vec<Chain>)> {
         let (mut free_out, mut free_in) = (None, 0usize);
         for c in &corners {
             for w in [c.to, c.from] {
-                let to = corners.iter().filter(|d| d.to == w).count();
-                let from = corners.iter().filter(|d| d.from == w).count();
-                if to + from > 2 || to == 2 || from == 2 {
-                    return None;
-                }
-                if to + from == 1 {
-                    if w == c.to {
-                        if free_out.replace(c.face).is_some() {
-                            return None;
+                match edge_at(&corners, w) {
+                    EdgeAt::NotManifold | EdgeAt::WoundAlike => return None,
+                    EdgeAt::Sound => {}
+                    EdgeAt::Free => {
+                        if w == c.to {
+                            if free_out.replace(c.face).is_some() {
+                                return None;
+                            }
+                        } else {
+                            free_in += 1;
                         }
-                    } else {
-                        free_in += 1;
                     }
                 }
             }
@@ -558,19 +553,20 @@ pub fn check_nodes(stars: &VertexStars, nodes: &[VertexId]) -> Result<(), LoopPr
         neighbours.sort_unstable();
         neighbours.dedup();
         for w in neighbours {
-            let out = corners.iter().filter(|c| c.to == w).count();
-            let back = corners.iter().filter(|c| c.from == w).count();
-            if out + back > 2 {
-                return Err(LoopProblem::NotManifold {
-                    node: v.0,
-                    at: at(v),
-                });
-            }
-            if out == 2 || back == 2 {
-                return Err(LoopProblem::Inconsistent {
-                    node: v.0,
-                    at: at(v),
-                });
+            match edge_at(&corners, w) {
+                EdgeAt::NotManifold => {
+                    return Err(LoopProblem::NotManifold {
+                        node: v.0,
+                        at: at(v),
+                    })
+                }
+                EdgeAt::WoundAlike => {
+                    return Err(LoopProblem::Inconsistent {
+                        node: v.0,
+                        at: at(v),
+                    })
+                }
+                EdgeAt::Free | EdgeAt::Sound => {}
             }
         }
     }
