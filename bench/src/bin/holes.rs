@@ -153,6 +153,16 @@ fn main() {
         outer: None,
         size: None,
     };
+    // `HOLES_PROFILE=N`: only fill the panel in place N times, for `perf record`.
+    if let Some(n) = std::env::var("HOLES_PROFILE")
+        .ok()
+        .and_then(|n| n.parse::<usize>().ok())
+    {
+        for _ in 0..n {
+            fill_holes_in(mesh.clone(), &options).expect("filled");
+        }
+        return;
+    }
     let ours = median_time(
         || {
             fill_holes(&mesh, &options).expect("filled");

@@ -115,8 +115,8 @@ impl Grid {
 /// plane's normal (`None` where it meets none: over the hole, or off the panel).
 ///
 /// The faces read are found from the faces at the loop's nodes, flooded across their
-/// nodes (to every face at a node of a face taken) while a face faces the plane (its normal within 85 deg of the plane's) and lies over
-/// the grid's box. A face far off in the mesh that only overlaps the box in projection
+/// nodes (to every face at a node of a face taken) while a face faces the plane (its
+/// normal within 85 deg of the plane's) and lies over the grid's box. A face far off in the mesh that only overlaps the box in projection
 /// (a flange folded under) is never reached. Faces are read in the order the flood
 /// reaches them, so every build gives a node on a shared edge the same face's height.
 fn heights_round(
@@ -151,38 +151,44 @@ fn heights_round(
         (flo.cmple(hi).all() && fhi.cmpge(lo).all()).then_some((corners, face.vertex_count()))
     };
     // Each face's state in a table over the mesh's faces: judged once, however many
-    // times the flood comes to it.
+    // of its nodes the flood comes to it from. Each node is flooded from once.
     const UNSEEN: u8 = 0;
     const TAKEN: u8 = 1;
     const LEFT: u8 = 2;
     let mut state = vec![UNSEEN; mesh.face_count()];
-    let mut queue: Vec<FaceId> = Vec::new();
-    let mut reach = |f: FaceId, queue: &mut Vec<FaceId>| {
-        if state[f.index()] != UNSEEN {
-            return;
-        }
-        let Some((corners, count)) = over(f) else {
-            state[f.index()] = LEFT;
-            return;
-        };
-        state[f.index()] = TAKEN;
-        queue.push(f);
-        // Triangles only reach here (the mesh is triangulated before filling); a quad
-        // is read as its two triangles.
-        for k in 1..count - 1 {
-            grid.sample([corners[0], corners[k], corners[k + 1]], &mut known);
-        }
-    };
+    let mut flooded = vec![false; mesh.vertex_count()];
+    let mut nodes: Vec<VertexId> = Vec::new();
     for &v in loop_nodes {
-        for &f in stars.faces(v) {
-            reach(f, &mut queue);
+        if let Some(seen) = flooded.get_mut(v.index()) {
+            if !*seen {
+                *seen = true;
+                nodes.push(v);
+            }
         }
     }
-    while let Some(f) = queue.pop() {
-        let Some(face) = mesh.face(f) else { continue };
-        for v in face.vertices() {
-            for &g in stars.faces(v) {
-                reach(g, &mut queue);
+    while let Some(v) = nodes.pop() {
+        for &f in stars.faces(v) {
+            if state[f.index()] != UNSEEN {
+                continue;
+            }
+            let Some((corners, count)) = over(f) else {
+                state[f.index()] = LEFT;
+                continue;
+            };
+            state[f.index()] = TAKEN;
+            // Triangles only reach here (the mesh is triangulated before filling); a
+            // quad is read as its two triangles.
+            for k in 1..count - 1 {
+                grid.sample([corners[0], corners[k], corners[k + 1]], &mut known);
+            }
+            let Some(face) = mesh.face(f) else { continue };
+            for w in face.vertices() {
+                // Mesh::new checked every face index against the positions.
+                let seen = &mut flooded[w.index()];
+                if !*seen {
+                    *seen = true;
+                    nodes.push(w);
+                }
             }
         }
     }
