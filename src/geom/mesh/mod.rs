@@ -28,6 +28,7 @@ pub mod curvature;
 pub mod holes;
 mod ids;
 mod ops;
+pub mod quad;
 pub mod rounding;
 pub mod stars;
 mod topology;
