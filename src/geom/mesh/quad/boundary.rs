@@ -5,16 +5,7 @@
 use glam::DVec2;
 
 use super::{QuadError, Region};
-use crate::geom::trimmed::winding;
-
-/// The signed area of a closed polygon (positive counter-clockwise).
-pub fn signed_area(points: &[DVec2]) -> f64 {
-    let n = points.len();
-    (0..n)
-        .map(|i| points[i].perp_dot(points[(i + 1) % n]))
-        .sum::<f64>()
-        * 0.5
-}
+use crate::geom::trimmed::{polygon_area, winding};
 
 /// Where the segments `a b` and `c d` meet (touching counts), if they do.
 pub fn segments_meet(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> Option<DVec2> {
@@ -60,7 +51,7 @@ pub fn checked_loops(region: &Region) -> Result<Vec<Vec<DVec2>>, QuadError> {
         while l.len() > 1 && l[0].distance(l[l.len() - 1]) <= 1e-9 {
             l.pop();
         }
-        let area = signed_area(&l);
+        let area = polygon_area(l.iter().copied());
         let span = l
             .iter()
             .fold(0.0f64, |m, p| m.max(p.distance(l[0])))

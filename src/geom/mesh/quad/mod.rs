@@ -31,6 +31,7 @@ pub mod split;
 use glam::{DVec2, DVec3};
 
 use super::{Face, Mesh};
+use crate::geom::trimmed::polygon_area;
 
 /// A plane region: an outer loop and the holes inside it, each a closed polygon (the
 /// first point not repeated at the end), either way round.
@@ -193,7 +194,7 @@ pub fn quad_mesh_region(region: &Region, options: &QuadOptions) -> Result<PlaneM
         return Err(QuadError::Size(size));
     }
     let loops = boundary::checked_loops(region)?;
-    let area: f64 = loops.iter().map(|l| boundary::signed_area(l)).sum();
+    let area: f64 = loops.iter().map(|l| polygon_area(l.iter().copied())).sum();
     // Each quad covers about size^2; the boundary's own count bounds the work too.
     let estimate = (area.abs() / (size * size)).ceil() as usize;
     if estimate > options.max_elements {
