@@ -4,6 +4,7 @@
 
 use glam::DVec2;
 
+use super::sizing::Sizes;
 use super::{QuadError, Region};
 use crate::geom::trimmed::{polygon_area, winding};
 
@@ -137,12 +138,13 @@ pub fn corners(points: &[DVec2], corner_angle: f64) -> Vec<usize> {
         .collect()
 }
 
-/// The spacing each segment of a side (a polyline) allows: `size`, less where the
+/// The spacing each segment of a side (a polyline) allows: the size wanted there, less where the
 /// side curves so tightly that a chord of `size` would sag more than `tolerance` off
 /// it. The radius at a point is read from its turn over the segments round it; a chord
 /// of length `c` on radius `r` sags `tolerance` when `c = 2 sqrt(2 r t - t^2)`.
-pub fn allowed_spacing(side: &[DVec2], size: f64, tolerance: f64) -> Vec<f64> {
+pub fn allowed_spacing(side: &[DVec2], sizes: Sizes, tolerance: f64) -> Vec<f64> {
     let at_point = |i: usize| -> f64 {
+        let size = sizes.at(side[i]);
         if i == 0 || i + 1 >= side.len() || tolerance.is_nan() || tolerance <= 0.0 {
             return size;
         }
@@ -161,7 +163,7 @@ pub fn allowed_spacing(side: &[DVec2], size: f64, tolerance: f64) -> Vec<f64> {
     points.windows(2).map(|w| w[0].min(w[1])).collect()
 }
 
-/// Nodes along the closed loop `points`, about `size` apart (closer where the loop
+/// Nodes along the closed loop `points`, about the wanted size apart (closer where the loop
 /// curves, so no piece's chord sags more than `chord_tolerance` off it): every corner (a turn of
 /// more than `corner_angle`) is a node, each side between corners divided evenly by
 /// arc length into as many pieces as its length over `size` (at least one), and the
@@ -169,7 +171,7 @@ pub fn allowed_spacing(side: &[DVec2], size: f64, tolerance: f64) -> Vec<f64> {
 /// four. A smooth loop is one side from its first point.
 pub fn place_nodes(
     points: &[DVec2],
-    size: f64,
+    sizes: Sizes,
     corner_angle: f64,
     chord_tolerance: f64,
 ) -> Vec<DVec2> {
@@ -196,7 +198,7 @@ pub fn place_nodes(
     let measures: Vec<Vec<f64>> = sides
         .iter()
         .map(|side| {
-            let spacing = allowed_spacing(side, size, chord_tolerance);
+            let spacing = allowed_spacing(side, sizes, chord_tolerance);
             side.windows(2)
                 .zip(&spacing)
                 .map(|(w, h)| w[0].distance(w[1]) / h.max(f64::MIN_POSITIVE))
@@ -254,7 +256,7 @@ mod tests {
             }
         }
         let tolerance = 0.5;
-        let nodes = place_nodes(&slot, 20.0, 1.0, tolerance);
+        let nodes = place_nodes(&slot, Sizes::uniform(20.0), 1.0, tolerance);
         // Every piece's chord within the tolerance of the arc (its midpoint's distance
         // from the nearer end's circle centre; a fifth more for a piece running from the
         // straight onto the arc), and the straight sides in pieces of at most 20.
@@ -281,7 +283,7 @@ mod tests {
             DVec2::new(10.0, 10.0),
             DVec2::new(0.0, 10.0),
         ];
-        let nodes = place_nodes(&square, 2.0, 0.5, 0.1);
+        let nodes = place_nodes(&square, Sizes::uniform(2.0), 0.5, 0.1);
         assert_eq!(nodes.len(), 20);
         for c in square {
             assert!(nodes.iter().any(|n| n.distance(c) < 1e-12));
@@ -295,7 +297,7 @@ mod tests {
             DVec2::new(10.0, 0.0),
             DVec2::new(0.0, 10.0),
         ];
-        let nodes = place_nodes(&tri, 3.0, 0.5, 0.1);
+        let nodes = place_nodes(&tri, Sizes::uniform(3.0), 0.5, 0.1);
         // 3 + 3 + 5 pieces is odd: a leg (3.3 mm pieces against 2.8) gets one more.
         assert_eq!(nodes.len(), 12);
     }

@@ -7,6 +7,7 @@
 use glam::DVec2;
 
 use super::boundary::segments_meet;
+use super::sizing::Sizes;
 use super::QuadError;
 
 /// How many of the shortest node pairs are tried for a cut line before all are sorted.
@@ -78,11 +79,11 @@ fn around(points: &[DVec2], l: &[u32], i: usize) -> (DVec2, DVec2, DVec2) {
 /// [`checked_loops`](super::boundary::checked_loops) leaves them). The holes are joined
 /// one at a time, always by the shortest cut line any remaining hole has to the loop
 /// so far, so cut lines run across the narrowest gaps; new nodes on them go to
-/// `points`, about `size` apart.
+/// `points`, about the size wanted at the line's middle apart.
 pub fn join_holes(
     points: &mut Vec<DVec2>,
     loops: &[Vec<u32>],
-    size: f64,
+    sizes: Sizes,
 ) -> Result<Vec<u32>, QuadError> {
     let mut joined: Vec<u32> = loops[0].clone();
     let mut left: Vec<&[u32]> = loops[1..].iter().map(Vec::as_slice).collect();
@@ -138,8 +139,9 @@ pub fn join_holes(
             });
         };
         let hole = left.remove(h);
-        let pieces = ((length / size).round() as usize).max(1);
         let (from, to) = (points[joined[i] as usize], points[hole[j] as usize]);
+        let size = sizes.at(from.lerp(to, 0.5));
+        let pieces = ((length / size).round() as usize).max(1);
         let first_new = points.len() as u32;
         for k in 1..pieces {
             points.push(from.lerp(to, k as f64 / pieces as f64));

@@ -25,10 +25,16 @@
 pub mod boundary;
 pub mod cut;
 pub mod quality;
+pub mod sizing;
 pub mod smooth;
 pub mod split;
+pub mod surface;
+
+use std::sync::Arc;
 
 use glam::{DVec2, DVec3};
+
+use sizing::{SizeGrid, Sizes};
 
 use super::{Face, Mesh};
 use crate::geom::trimmed::polygon_area;
@@ -46,8 +52,10 @@ pub struct Region {
 /// How a region is meshed.
 #[derive(Debug, Clone, PartialEq)]
 pub struct QuadOptions {
-    /// The element size along the boundary and inside (mm).
+    /// The element size along the boundary and inside (mm): the largest anywhere.
     pub size: f64,
+    /// Finer sizes over the plane (a surface's curvature seen in its plane), if any.
+    pub grading: Option<Arc<SizeGrid>>,
     /// Where a loop turns by more than this (rad), the node there is a corner: it is
     /// kept as a node and the boundary's nodes are spaced between corners.
     pub corner_angle: f64,
@@ -68,10 +76,19 @@ impl QuadOptions {
     pub fn at_size(size: f64) -> QuadOptions {
         QuadOptions {
             size,
+            grading: None,
             corner_angle: 30f64.to_radians(),
             chord_tolerance: 0.05 * size,
             smoothing: 10,
             max_elements: 2_000_000,
+        }
+    }
+
+    /// The size wanted at each point: `size`, finer where `grading` asks.
+    pub fn sizes(&self) -> Sizes<'_> {
+        Sizes {
+            size: self.size,
+            grid: self.grading.as_deref(),
         }
     }
 }
@@ -196,7 +213,11 @@ pub fn quad_mesh_region(region: &Region, options: &QuadOptions) -> Result<PlaneM
     let loops = boundary::checked_loops(region)?;
     let area: f64 = loops.iter().map(|l| polygon_area(l.iter().copied())).sum();
     // Each quad covers about size^2; the boundary's own count bounds the work too.
-    let estimate = (area.abs() / (size * size)).ceil() as usize;
+    let estimate = match &options.grading {
+        Some(grid) => grid.elements(area.abs(), size),
+        None => area.abs() / (size * size),
+    }
+    .ceil() as usize;
     if estimate > options.max_elements {
         return Err(QuadError::TooMany {
             estimate,
@@ -206,7 +227,12 @@ pub fn quad_mesh_region(region: &Region, options: &QuadOptions) -> Result<PlaneM
     let mut points: Vec<DVec2> = Vec::new();
     let mut loop_nodes: Vec<Vec<u32>> = Vec::new();
     for l in &loops {
-        let placed = boundary::place_nodes(l, size, options.corner_angle, options.chord_tolerance);
+        let placed = boundary::place_nodes(
+            l,
+            options.sizes(),
+            options.corner_angle,
+            options.chord_tolerance,
+        );
         let first = points.len() as u32;
         loop_nodes.push((first..first + placed.len() as u32).collect());
         points.extend(placed);
@@ -219,10 +245,16 @@ pub fn quad_mesh_region(region: &Region, options: &QuadOptions) -> Result<PlaneM
             limit: options.max_elements,
         });
     }
-    let single = cut::join_holes(&mut points, &loop_nodes, size)?;
+    let single = cut::join_holes(&mut points, &loop_nodes, options.sizes())?;
     let mut quads = Vec::new();
     let mut triangles = Vec::new();
-    split::split_down(&mut points, single, size, &mut quads, &mut triangles)?;
+    split::split_down(
+        &mut points,
+        single,
+        options.sizes(),
+        &mut quads,
+        &mut triangles,
+    )?;
     smooth::smooth(
         &mut points,
         boundary_nodes,

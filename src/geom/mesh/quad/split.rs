@@ -24,6 +24,7 @@ use glam::DVec2;
 
 use super::cut::{blocked, ccw_angle, inner_angle};
 use super::quality::scaled_jacobian_2d;
+use super::sizing::Sizes;
 use super::QuadError;
 
 /// Weights of the four errors in a split line's score.
@@ -133,7 +134,7 @@ impl LoopView {
     /// The scored line from `a` to `b`, if it leaves both ends into the region cutting
     /// no angle there below `least` (rad), both
     /// halves have area and an even count of at least four nodes can be made.
-    fn line(&self, a: usize, b: usize, scale: f64, size: f64, least: f64) -> Option<Line> {
+    fn line(&self, a: usize, b: usize, scale: f64, sizes: Sizes, least: f64) -> Option<Line> {
         let n = self.p.len();
         let d = self.p[b] - self.p[a];
         let length = d.length();
@@ -160,6 +161,7 @@ impl LoopView {
         }
         // The spacing along the line: halfway between the boundary's at its ends and
         // the element size, so lines inside come back to the size.
+        let size = sizes.at(self.p[a].lerp(self.p[b], 0.5));
         let target = 0.5 * (0.5 * (self.spacing[a] + self.spacing[b]) + size);
         // Pieces along the line: as near the target spacing as the halves' parity
         // allows (the first half has b - a + pieces nodes).
@@ -264,12 +266,12 @@ fn best_visible(
 fn split_once(
     points: &mut Vec<DVec2>,
     l: &[u32],
-    size: f64,
+    sizes: Sizes,
 ) -> Result<(Vec<u32>, Vec<u32>), QuadError> {
     let n = l.len();
     let view = LoopView::new(points, l);
     let scale = view.area.abs().sqrt().max(f64::MIN_POSITIVE);
-    let best = best_visible(points, l, &view, |a, b| view.line(a, b, scale, size, 1e-6)).ok_or(
+    let best = best_visible(points, l, &view, |a, b| view.line(a, b, scale, sizes, 1e-6)).ok_or(
         QuadError::NoSplit {
             nodes: n,
             at: view.p[0],
@@ -378,7 +380,7 @@ fn finish_small(points: &[DVec2], l: &[u32]) -> (Vec<[u32; 4]>, Option<DVec2>) {
 pub fn split_down(
     points: &mut Vec<DVec2>,
     first: Vec<u32>,
-    size: f64,
+    sizes: Sizes,
     quads: &mut Vec<[u32; 4]>,
     triangles: &mut Vec<[u32; 3]>,
 ) -> Result<(), QuadError> {
@@ -407,7 +409,7 @@ pub fn split_down(
             }
             continue;
         }
-        let (first, second) = split_once(points, &l, size)?;
+        let (first, second) = split_once(points, &l, sizes)?;
         stack.push(second);
         stack.push(first);
     }
