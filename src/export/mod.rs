@@ -17,12 +17,16 @@
 //! STEP ([`step`]) writes the exact B-spline faces of the model's die face, sewn into
 //! shells (the build pipeline's `step_bytes` calls it).
 //!
+//! [`fe`] writes shell-element decks of a meshed die face for forming simulation
+//! (LS-DYNA keyword, Nastran bulk data) from plain nodes and shells.
+//!
 //! Every encoder is deterministic: the same scene gives the same bytes (no hash-map
 //! order, stable float formatting, little-endian buffers). [`atomic::write_atomic`]
 //! writes a file through a temporary sibling and a rename, so a failed build never
 //! leaves a half-written or missing output behind.
 
 pub mod atomic;
+pub mod fe;
 pub mod gltf;
 pub mod obj;
 pub mod scene;

@@ -1,0 +1,359 @@
+//! The FE decks read back by readers dieface does not share code with: the LS-DYNA
+//! deck by `lsdyna_mesh_reader`, the Nastran deck by pyNastran and by meshio, through
+//! `tests/reference/fe_readback.py`. Everything the readers report is compared with
+//! the model written: nodes (to the six written decimals), elements by id with their
+//! part and nodes, counts by type and part, sections, material, and each draw bead's
+//! node set, force curve and contact (the keyword cards `lsdyna_mesh_reader` does not
+//! read are parsed by the script from LS-DYNA's fixed columns, and it says so).
+//!
+//! The Python modules are pinned in `tests/reference/fe-requirements.txt`, which
+//! `scripts/test` installs. Without `python3` or a module this test fails, saying so: a
+//! reader that is not there must never look like a pass.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::time::{SystemTime, UNIX_EPOCH};
+
+use dieface::export::fe::{encode_lsdyna, encode_nastran, FeBead, FeModel, FePart, Shell};
+use glam::DVec3;
+use serde_json::{json, Value};
+
+/// The exit status of `fe_readback.py` when a module is missing.
+const MISSING_MODULE: i32 = 3;
+
+/// Two parts sharing a seam of three nodes (2, 5, 8): a 2 x 2 quad patch, and a quad
+/// with three triangles beside it; coordinates that are not round, one far from the
+/// origin and one near zero; a bead of ten nodes (two set cards) with a force and one
+/// of three without.
+fn model() -> FeModel {
+    let xs = [-0.000123, 250.5, 1234.567891, 1800.25, 2047.000001];
+    let ys = [-9876.54321, -120.000007, 333.333333];
+    let mut nodes = Vec::new();
+    for (r, &y) in ys.iter().enumerate() {
+        for (c, &x) in xs[..3].iter().enumerate() {
+            nodes.push(DVec3::new(x, y, 12.345678 - 0.1 * (r * 3 + c) as f64));
+        }
+    }
+    // 9, 10, 11: the binder's column beside the seam; 12: a node further out.
+    for (r, &y) in ys.iter().enumerate() {
+        nodes.push(DVec3::new(xs[3], y, -0.000987 * (r + 1) as f64));
+    }
+    nodes.push(DVec3::new(xs[4], ys[1], 7.5));
+    FeModel {
+        title: "fe readback: die face and binder".into(),
+        nodes,
+        parts: vec![
+            FePart {
+                name: "die face".into(),
+                kind: "step_draw".into(),
+                thickness: 1.25,
+                shells: vec![
+                    Shell::Quad([0, 1, 4, 3]),
+                    Shell::Quad([1, 2, 5, 4]),
+                    Shell::Quad([3, 4, 7, 6]),
+                    Shell::Quad([4, 5, 8, 7]),
+                ],
+            },
+            FePart {
+                name: "binder".into(),
+                kind: "blankholder".into(),
+                thickness: 0.8,
+                shells: vec![
+                    Shell::Quad([2, 9, 10, 5]),
+                    Shell::Triangle([5, 10, 11]),
+                    Shell::Triangle([5, 11, 8]),
+                    Shell::Triangle([9, 12, 10]),
+                ],
+            },
+        ],
+        beads: vec![
+            FeBead {
+                name: "front bead".into(),
+                nodes: vec![0, 1, 2, 9, 12, 11, 8, 7, 6, 3],
+                force: Some(187.5),
+            },
+            FeBead {
+                name: "rear bead".into(),
+                nodes: vec![3, 4, 5],
+                force: None,
+            },
+        ],
+    }
+}
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// A new folder under the system's temporary folder, named by this process and the
+/// clock so parallel runs never share one.
+fn temp_dir() -> PathBuf {
+    let nanos = SystemTime::now()
+        .duration_since(UNIX_EPOCH)
+        .map(|d| d.as_nanos())
+        .unwrap_or(0);
+    let dir = std::env::temp_dir().join(format!("dieface-fe-decks-{}-{nanos}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("a temporary folder");
+    dir
+}
+
+/// `fe_readback.py` on the two decks: its JSON.
+fn read_back(k: &Path, bdf: &Path) -> Value {
+    let script = root()
+        .join("tests")
+        .join("reference")
+        .join("fe_readback.py");
+    let output = Command::new("python3")
+        .arg(&script)
+        .arg(k)
+        .arg(bdf)
+        .current_dir(root())
+        .output()
+        .unwrap_or_else(|e| {
+            panic!(
+                "`python3` must be on PATH to read the FE decks back ({e}): run `scripts/test`, \
+                 which installs the readers of tests/reference/fe-requirements.txt"
+            )
+        });
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_ne!(
+        output.status.code(),
+        Some(MISSING_MODULE),
+        "a reader of the FE decks is not installed: run `scripts/test` (it installs \
+         tests/reference/fe-requirements.txt with pip), or `python3 -m pip install -r \
+         tests/reference/fe-requirements.txt` once\n{stderr}"
+    );
+    assert!(
+        output.status.success(),
+        "fe_readback.py failed on {} and {}:\n{stderr}",
+        k.display(),
+        bdf.display()
+    );
+    serde_json::from_slice(&output.stdout).unwrap_or_else(|e| {
+        panic!(
+            "fe_readback.py printed no JSON ({e}):\n{}",
+            String::from_utf8_lossy(&output.stdout)
+        )
+    })
+}
+
+/// Every node read back where it was written, to the written precision (six
+/// decimals: half a micrometre, plus the reader's last bit).
+fn assert_nodes(reader: &str, read: &Value, model: &FeModel) {
+    let nodes = read.as_object().expect("nodes by id");
+    assert_eq!(nodes.len(), model.nodes.len(), "{reader}: node count");
+    for (i, p) in model.nodes.iter().enumerate() {
+        let id = (i + 1).to_string();
+        let xyz = nodes[&id].as_array().expect("x, y, z");
+        for (axis, (got, want)) in xyz.iter().zip([p.x, p.y, p.z]).enumerate() {
+            let got = got.as_f64().expect("a number");
+            let tolerance = 5e-7 + 4.0 * f64::EPSILON * want.abs();
+            assert!(
+                (got - want).abs() <= tolerance,
+                "{reader}: node {id} axis {axis} read {got}, written {want}"
+            );
+        }
+    }
+}
+
+/// The shells in deck order: element id, part id, 1-based node ids.
+fn shells(model: &FeModel) -> Vec<(u64, u64, &Shell, Vec<u64>)> {
+    let mut out = Vec::new();
+    for (k, part) in model.parts.iter().enumerate() {
+        for shell in &part.shells {
+            let ids = shell.nodes().iter().map(|&n| u64::from(n) + 1).collect();
+            out.push((out.len() as u64 + 1, k as u64 + 1, shell, ids));
+        }
+    }
+    out
+}
+
+fn check_lsdyna(read: &Value, model: &FeModel) {
+    assert!(
+        read["reader"]
+            .as_str()
+            .is_some_and(|r| r.starts_with("lsdyna_mesh_reader")),
+        "{}",
+        read["reader"]
+    );
+    assert_eq!(read["node_count"], 13);
+    assert_nodes("lsdyna_mesh_reader", &read["nodes"], model);
+    assert_eq!(
+        read["element_counts"],
+        json!({"quad": 5, "triangle": 3, "other": 0})
+    );
+    assert_eq!(read["part_element_counts"], json!({"1": 4, "2": 4}));
+    let elements = read["elements"].as_object().expect("elements by id");
+    assert_eq!(elements.len(), 8);
+    for (eid, pid, shell, mut ids) in shells(model) {
+        if let Shell::Triangle(_) = shell {
+            ids.push(ids[2]);
+        }
+        assert_eq!(
+            elements[&eid.to_string()],
+            json!({"part": pid, "nodes": ids}),
+            "lsdyna_mesh_reader: element {eid}"
+        );
+    }
+
+    let parsed = &read["parsed_by_this_script"];
+    let keywords: Vec<&str> = parsed["keywords"]
+        .as_array()
+        .expect("keywords")
+        .iter()
+        .filter_map(Value::as_str)
+        .collect();
+    assert_eq!(
+        keywords,
+        [
+            "*KEYWORD",
+            "*TITLE",
+            "*PART",
+            "*PART",
+            "*SECTION_SHELL",
+            "*SECTION_SHELL",
+            "*MAT_RIGID",
+            "*NODE",
+            "*ELEMENT_SHELL",
+            "*SET_NODE_LIST",
+            "*DEFINE_CURVE",
+            "*CONTACT_DRAWBEAD",
+            "*SET_NODE_LIST",
+            "*CONTACT_DRAWBEAD",
+            "*END",
+        ]
+    );
+    assert_eq!(
+        parsed["parts"],
+        json!({
+            "1": {"heading": "die face", "secid": 1, "mid": 1},
+            "2": {"heading": "binder", "secid": 2, "mid": 1},
+        })
+    );
+    assert_eq!(
+        parsed["sections"],
+        json!({
+            "1": {"elform": 2, "thickness": [1.25, 1.25, 1.25, 1.25]},
+            "2": {"elform": 2, "thickness": [0.8, 0.8, 0.8, 0.8]},
+        })
+    );
+    assert_eq!(
+        parsed["materials"],
+        json!({"1": {"ro": 7.85e-9, "e": 210000.0, "pr": 0.3}})
+    );
+    assert_eq!(
+        parsed["node_sets"],
+        json!({"1": [1, 2, 3, 10, 13, 12, 9, 8, 7, 4], "2": [4, 5, 6]})
+    );
+    assert_eq!(
+        parsed["curves"],
+        json!({"1": [[0.0, 187.5], [1000.0, 187.5]]})
+    );
+    assert_eq!(
+        parsed["drawbeads"],
+        json!([
+            {"ssid": 1, "msid": 1, "sstyp": 4, "mstyp": 2, "cards": 4,
+             "lcidrf": 1, "lcidnf": 0, "dfscl": 1.0},
+            {"ssid": 2, "msid": 1, "sstyp": 4, "mstyp": 2, "cards": 4,
+             "lcidrf": 0, "lcidnf": 0, "dfscl": 1.0},
+        ])
+    );
+}
+
+fn check_pynastran(read: &Value, model: &FeModel) {
+    assert!(
+        read["reader"]
+            .as_str()
+            .is_some_and(|r| r.starts_with("pyNastran")),
+        "{}",
+        read["reader"]
+    );
+    assert_eq!(read["node_count"], 13);
+    assert_nodes("pyNastran", &read["nodes"], model);
+    assert_eq!(read["element_counts"], json!({"CQUAD4": 5, "CTRIA3": 3}));
+    assert_eq!(read["part_element_counts"], json!({"1": 4, "2": 4}));
+    let elements = read["elements"].as_object().expect("elements by id");
+    assert_eq!(elements.len(), 8);
+    for (eid, pid, shell, ids) in shells(model) {
+        let card = match shell {
+            Shell::Quad(_) => "CQUAD4",
+            Shell::Triangle(_) => "CTRIA3",
+        };
+        assert_eq!(
+            elements[&eid.to_string()],
+            json!({"type": card, "property": pid, "nodes": ids}),
+            "pyNastran: element {eid}"
+        );
+    }
+    assert_eq!(
+        read["properties"],
+        json!({
+            "1": {"type": "PSHELL", "t": 1.25, "mid1": 1, "mid2": 1},
+            "2": {"type": "PSHELL", "t": 0.8, "mid1": 1, "mid2": 1},
+        })
+    );
+    assert_eq!(
+        read["materials"],
+        json!({"1": {"type": "MAT1", "e": 210000.0, "nu": 0.3, "rho": 7.85e-9}})
+    );
+    assert_eq!(read["unknown_cards"], json!([]));
+    assert_eq!(
+        read["parsed_by_this_script"]["beads"],
+        json!([
+            {"title": "draw bead 1: front bead", "force": 187.5,
+             "nodes": [1, 2, 3, 10, 13, 12, 9, 8, 7, 4]},
+            {"title": "draw bead 2: rear bead", "force": null, "nodes": [4, 5, 6]},
+        ])
+    );
+}
+
+fn check_meshio(read: &Value, model: &FeModel) {
+    assert!(
+        read["reader"]
+            .as_str()
+            .is_some_and(|r| r.starts_with("meshio")),
+        "{}",
+        read["reader"]
+    );
+    assert_eq!(read["node_count"], 13);
+    assert_nodes("meshio", &read["nodes"], model);
+    assert_eq!(read["cell_counts"], json!({"quad": 5, "triangle": 3}));
+    let mut want = json!({
+        "quad": {"ids": [], "nodes": [], "property": []},
+        "triangle": {"ids": [], "nodes": [], "property": []},
+    });
+    for (eid, pid, shell, ids) in shells(model) {
+        let kind = match shell {
+            Shell::Quad(_) => "quad",
+            Shell::Triangle(_) => "triangle",
+        };
+        for (key, value) in [
+            ("ids", json!(eid)),
+            ("nodes", json!(ids)),
+            ("property", json!(pid)),
+        ] {
+            if let Some(list) = want[kind][key].as_array_mut() {
+                list.push(value);
+            }
+        }
+    }
+    assert_eq!(read["cells"], want);
+}
+
+#[test]
+fn the_decks_read_back_as_written() {
+    let model = model();
+    assert_eq!(model.check(), Ok(()));
+    let dir = temp_dir();
+    let k = dir.join("die.k");
+    let bdf = dir.join("die.bdf");
+    std::fs::write(&k, encode_lsdyna(&model)).expect("write die.k");
+    std::fs::write(&bdf, encode_nastran(&model)).expect("write die.bdf");
+
+    let read = read_back(&k, &bdf);
+    check_lsdyna(&read["lsdyna"], &model);
+    check_pynastran(&read["nastran"], &model);
+    check_meshio(&read["meshio"], &model);
+    // Kept when an assertion fails above, to be looked at; removed on success.
+    let _ = std::fs::remove_dir_all(&dir);
+}
