@@ -7,8 +7,7 @@
 #[path = "common/quad_surfaces.rs"]
 mod surfaces;
 
-#[path = "common/quad_shapes.rs"]
-mod shapes;
+use surfaces::shapes;
 
 use dieface::geom::mesh::quad::quality::mesh_quality;
 use dieface::geom::mesh::quad::surface::{

@@ -154,7 +154,14 @@ impl Ctx<'_> {
         match &value.data {
             Data::Surface(s) => part.shape = Some(Shape::Surface(s.clone())),
             Data::Trimmed(t) => part.shape = Some(Shape::Trimmed(t.clone())),
-            Data::Mesh(m) => part.shape = Some(Shape::Mesh(m.clone())),
+            Data::Mesh(m) => {
+                // A mesh of shell elements (`quad_mesh`) says so, for the FE decks and
+                // for reviewers; a triangle mesh keeps its declaration's kind.
+                if part.kind == "let" && m.faces().iter().any(|f| f.is_quad()) {
+                    part.kind = "quad_mesh".to_string();
+                }
+                part.shape = Some(Shape::Mesh(m.clone()))
+            }
             Data::Curve3(c) => part.shape = Some(Shape::Curve(c.clone())),
             Data::Curve2(c) => {
                 part.shape = Some(Shape::Curve(Arc::new(c.map_points(|p| p.extend(0.0)))))

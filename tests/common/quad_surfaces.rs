@@ -14,7 +14,7 @@ use dieface::geom::{Curve3, NurbsSurface};
 use glam::{DVec2, DVec3};
 
 #[path = "quad_shapes.rs"]
-mod shapes;
+pub mod shapes;
 
 fn through(points: &[DVec3]) -> Curve3 {
     interpolate(points, &Interpolation::default()).expect("distinct points")

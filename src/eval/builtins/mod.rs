@@ -12,6 +12,7 @@ mod curves;
 mod io;
 mod math;
 mod meshes;
+mod quad;
 mod queries;
 mod surfaces;
 mod transforms;
@@ -92,7 +93,7 @@ impl Builtin {
 }
 
 /// Every builtin module's table.
-fn tables() -> [&'static [Builtin]; 9] {
+fn tables() -> [&'static [Builtin]; 10] {
     [
         math::BUILTINS,
         checks::BUILTINS,
@@ -103,6 +104,7 @@ fn tables() -> [&'static [Builtin]; 9] {
         queries::BUILTINS,
         io::BUILTINS,
         meshes::BUILTINS,
+        quad::BUILTINS,
     ]
 }
 

@@ -425,6 +425,43 @@ fn domain_edges(surface: &NurbsSurface) -> Vec<DVec2> {
         .collect()
 }
 
+/// Points drawn in a view laid onto the surface: each point moved along `direction`
+/// (press Z for the top view) to the surface point seen there, found by Newton from the
+/// nearest of a coarse grid of samples. `Err(k)` names the first point the surface is
+/// not seen under (outside it, or where Newton fails).
+pub fn lay_onto(
+    surface: &NurbsSurface,
+    direction: DVec3,
+    points: &[DVec3],
+) -> Result<Vec<DVec3>, usize> {
+    let plane = ProjectionPlane::square_to(surface, direction).ok_or(0usize)?;
+    let (lo, span) = domain(surface);
+    let map = PlaneMap {
+        surface,
+        seen: Some(&plane),
+        lo,
+        span,
+        lengths: iso_lengths(surface),
+        closed: (false, false),
+    };
+    let coarse: Vec<(DVec2, DVec2)> = grid_of(lo, lo + span, 32)
+        .map(|uv| (map.to_plane(uv), uv))
+        .collect();
+    points
+        .iter()
+        .enumerate()
+        .map(|(k, &p)| {
+            let q = plane.project(p);
+            let start = coarse
+                .iter()
+                .min_by(|x, y| x.0.distance_squared(q).total_cmp(&y.0.distance_squared(q)))
+                .map_or(lo, |c| c.1);
+            let uv = map.to_parameters(q, start).ok_or(k)?;
+            Ok(surface.point_at(uv.x, uv.y))
+        })
+        .collect()
+}
+
 /// How the plane stands for the surface: parameters to plane points and back.
 struct PlaneMap<'a> {
     surface: &'a NurbsSurface,
