@@ -150,12 +150,27 @@ fn a_step_output_without_a_die_face_is_refused() {
 }
 
 #[test]
+fn an_fe_deck_without_a_mesh_is_refused() {
+    let dir = project("fe_empty", "let a = circle((0, 0), 10 mm)\n");
+    for out in ["a.k", "a.bdf"] {
+        let (code, _, stderr) = dieface(&dir, &["build", "part.die", "-o", out]);
+        assert_eq!(code, Some(2), "{stderr}");
+        assert!(stderr.contains("no mesh to write"), "{stderr}");
+        assert!(stderr.contains("quad_mesh"), "{stderr}");
+        assert!(!dir.join(out).exists());
+    }
+}
+
+#[test]
 fn an_unknown_extension_is_a_usage_error_before_evaluating() {
     // The script is broken too: exit 2 shows the outputs were checked first.
     let dir = project("bad_ext", "let a = 10 mm + 5 deg\n");
     let (code, _, stderr) = dieface(&dir, &["build", "part.die", "-o", "a.stl"]);
     assert_eq!(code, Some(2), "{stderr}");
-    assert!(stderr.contains(".glb, .gltf, .obj or .step"), "{stderr}");
+    assert!(
+        stderr.contains(".glb, .gltf, .obj, .step, .k or .bdf"),
+        "{stderr}"
+    );
     assert!(!stderr.contains("unit_mismatch"), "{stderr}");
     assert_eq!(dieface(&dir, &["build", "part.die"]).0, Some(2), "no -o");
     assert_eq!(

@@ -168,7 +168,23 @@ fn shells(model: &FeModel) -> Vec<(u64, u64, &Shell, Vec<u64>)> {
     out
 }
 
-fn check_lsdyna(read: &Value, model: &FeModel) {
+/// The model's shells by kind (quads, triangles), and per part id.
+fn counts(model: &FeModel) -> (usize, usize, Value) {
+    let all = model.parts.iter().flat_map(|p| &p.shells);
+    let quads = all.clone().filter(|s| matches!(s, Shell::Quad(_))).count();
+    let triangles = all.count() - quads;
+    let per_part: serde_json::Map<String, Value> = model
+        .parts
+        .iter()
+        .enumerate()
+        .map(|(k, p)| ((k + 1).to_string(), json!(p.shells.len())))
+        .collect();
+    (quads, triangles, Value::Object(per_part))
+}
+
+/// The nodes and shells lsdyna_mesh_reader read back: every one, where it was written.
+fn check_lsdyna_mesh(read: &Value, model: &FeModel) {
+    let (quads, triangles, per_part) = counts(model);
     assert!(
         read["reader"]
             .as_str()
@@ -176,15 +192,15 @@ fn check_lsdyna(read: &Value, model: &FeModel) {
         "{}",
         read["reader"]
     );
-    assert_eq!(read["node_count"], 13);
+    assert_eq!(read["node_count"], model.nodes.len());
     assert_nodes("lsdyna_mesh_reader", &read["nodes"], model);
     assert_eq!(
         read["element_counts"],
-        json!({"quad": 5, "triangle": 3, "other": 0})
+        json!({"quad": quads, "triangle": triangles, "other": 0})
     );
-    assert_eq!(read["part_element_counts"], json!({"1": 4, "2": 4}));
+    assert_eq!(read["part_element_counts"], per_part);
     let elements = read["elements"].as_object().expect("elements by id");
-    assert_eq!(elements.len(), 8);
+    assert_eq!(elements.len(), quads + triangles);
     for (eid, pid, shell, mut ids) in shells(model) {
         if let Shell::Triangle(_) = shell {
             ids.push(ids[2]);
@@ -195,6 +211,45 @@ fn check_lsdyna(read: &Value, model: &FeModel) {
             "lsdyna_mesh_reader: element {eid}"
         );
     }
+}
+
+/// The nodes and shells pyNastran read back: every one, where it was written.
+fn check_pynastran_mesh(read: &Value, model: &FeModel) {
+    let (quads, triangles, per_part) = counts(model);
+    assert!(
+        read["reader"]
+            .as_str()
+            .is_some_and(|r| r.starts_with("pyNastran")),
+        "{}",
+        read["reader"]
+    );
+    assert_eq!(read["node_count"], model.nodes.len());
+    assert_nodes("pyNastran", &read["nodes"], model);
+    assert_eq!(
+        read["element_counts"],
+        json!({"CQUAD4": quads, "CTRIA3": triangles})
+    );
+    assert_eq!(read["part_element_counts"], per_part);
+    let elements = read["elements"].as_object().expect("elements by id");
+    assert_eq!(elements.len(), quads + triangles);
+    for (eid, pid, shell, ids) in shells(model) {
+        let card = match shell {
+            Shell::Quad(_) => "CQUAD4",
+            Shell::Triangle(_) => "CTRIA3",
+        };
+        assert_eq!(
+            elements[&eid.to_string()],
+            json!({"type": card, "property": pid, "nodes": ids}),
+            "pyNastran: element {eid}"
+        );
+    }
+    assert_eq!(read["unknown_cards"], json!([]));
+}
+
+fn check_lsdyna(read: &Value, model: &FeModel) {
+    check_lsdyna_mesh(read, model);
+    assert_eq!(read["node_count"], 13);
+    assert_eq!(read["part_element_counts"], json!({"1": 4, "2": 4}));
 
     let parsed = &read["parsed_by_this_script"];
     let keywords: Vec<&str> = parsed["keywords"]
@@ -261,30 +316,8 @@ fn check_lsdyna(read: &Value, model: &FeModel) {
 }
 
 fn check_pynastran(read: &Value, model: &FeModel) {
-    assert!(
-        read["reader"]
-            .as_str()
-            .is_some_and(|r| r.starts_with("pyNastran")),
-        "{}",
-        read["reader"]
-    );
-    assert_eq!(read["node_count"], 13);
-    assert_nodes("pyNastran", &read["nodes"], model);
+    check_pynastran_mesh(read, model);
     assert_eq!(read["element_counts"], json!({"CQUAD4": 5, "CTRIA3": 3}));
-    assert_eq!(read["part_element_counts"], json!({"1": 4, "2": 4}));
-    let elements = read["elements"].as_object().expect("elements by id");
-    assert_eq!(elements.len(), 8);
-    for (eid, pid, shell, ids) in shells(model) {
-        let card = match shell {
-            Shell::Quad(_) => "CQUAD4",
-            Shell::Triangle(_) => "CTRIA3",
-        };
-        assert_eq!(
-            elements[&eid.to_string()],
-            json!({"type": card, "property": pid, "nodes": ids}),
-            "pyNastran: element {eid}"
-        );
-    }
     assert_eq!(
         read["properties"],
         json!({
@@ -315,9 +348,13 @@ fn check_meshio(read: &Value, model: &FeModel) {
         "{}",
         read["reader"]
     );
-    assert_eq!(read["node_count"], 13);
+    let (quads, triangles, _) = counts(model);
+    assert_eq!(read["node_count"], model.nodes.len());
     assert_nodes("meshio", &read["nodes"], model);
-    assert_eq!(read["cell_counts"], json!({"quad": 5, "triangle": 3}));
+    assert_eq!(
+        read["cell_counts"],
+        json!({"quad": quads, "triangle": triangles})
+    );
     let mut want = json!({
         "quad": {"ids": [], "nodes": [], "property": []},
         "triangle": {"ids": [], "nodes": [], "property": []},
@@ -355,5 +392,74 @@ fn the_decks_read_back_as_written() {
     check_pynastran(&read["nastran"], &model);
     check_meshio(&read["meshio"], &model);
     // Kept when an assertion fails above, to be looked at; removed on success.
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The example's die model as the build sees it, turned into the deck's data by the
+/// library (the reference the decks the binary wrote are read against).
+fn example_deck(example: &str) -> FeModel {
+    let path = root()
+        .join("examples")
+        .join(example)
+        .join(format!("{example}.die"));
+    let mut engine = dieface::eval::Engine::new(Some(root()));
+    let outcome = engine.evaluate_path(&path).expect("the example reads");
+    assert!(
+        outcome.diagnostics.is_empty(),
+        "the example evaluates cleanly"
+    );
+    let model = engine.die_model(&outcome);
+    dieface::export::fe::from_model::fe_model(&model, example)
+}
+
+#[test]
+fn a_quad_meshed_example_built_to_decks_reads_back_with_every_node_and_element() {
+    let dir = temp_dir();
+    let k = dir.join("door_inner.k");
+    let bdf = dir.join("door_inner.bdf");
+    let example = root().join("examples/door_inner_quad/door_inner_quad.die");
+    let out = Command::new(env!("CARGO_BIN_EXE_dieface"))
+        .arg("build")
+        .arg(&example)
+        .arg("-o")
+        .arg(&k)
+        .arg("-o")
+        .arg(&bdf)
+        .output()
+        .expect("dieface runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    // The same script gives the same bytes.
+    let again = dir.join("again.k");
+    let out = Command::new(env!("CARGO_BIN_EXE_dieface"))
+        .arg("build")
+        .arg(&example)
+        .arg("-o")
+        .arg(&again)
+        .output()
+        .expect("dieface runs");
+    assert!(out.status.success());
+    assert_eq!(
+        std::fs::read(&k).expect("read"),
+        std::fs::read(&again).expect("read"),
+        "a second build wrote other bytes"
+    );
+    let model = example_deck("door_inner_quad");
+    // One part, the quad mesh, nearly all quads.
+    assert_eq!(model.parts.len(), 1);
+    assert_eq!(model.parts[0].kind, "quad_mesh");
+    let quads = model.parts[0]
+        .shells
+        .iter()
+        .filter(|s| matches!(s, Shell::Quad(_)))
+        .count();
+    assert!(quads * 100 > 99 * model.parts[0].shells.len());
+    let read = read_back(&k, &bdf);
+    check_lsdyna_mesh(&read["lsdyna"], &model);
+    check_pynastran_mesh(&read["nastran"], &model);
+    check_meshio(&read["meshio"], &model);
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -106,7 +106,7 @@ impl Plan {
                 Some(f) => outputs.push((path.clone(), f)),
                 None => {
                     eprintln!(
-                        "error: cannot tell the format of `{}`: use .glb, .gltf, .obj or .step",
+                        "error: cannot tell the format of `{}`: use .glb, .gltf, .obj, .step, .k or .bdf",
                         path.display()
                     );
                     return Err(ExitCode::from(USAGE_ERROR));

@@ -494,8 +494,12 @@ fn surface_triangles(mesh: SurfaceMesh) -> Geometry {
 
 /// A kernel mesh as triangles with unit normals: quads split, the mesh's own normals
 /// normalised (computed ones where it has none or one is zero).
+/// The name of the triangle group that holds a mesh's quads, each as its two
+/// consecutive triangles (glTF `extras.groups`, OBJ group).
+pub const QUADS_GROUP: &str = "quads";
+
 fn mesh_triangles(m: &Mesh) -> Geometry {
-    let tri = m.triangulated();
+    let (tri, origin) = m.triangulated_with_map();
     let computed = tri.compute_vertex_normals();
     let normals = match tri.normals() {
         Some(given) => given
@@ -517,7 +521,7 @@ fn mesh_triangles(m: &Mesh) -> Geometry {
         .flat_map(|f| f.indices().to_vec())
         .collect();
     // `triangulated` keeps each group on the triangles its faces became.
-    let groups = tri
+    let mut groups: Vec<TriangleGroup> = tri
         .groups()
         .iter()
         .map(|g| TriangleGroup {
@@ -525,6 +529,16 @@ fn mesh_triangles(m: &Mesh) -> Geometry {
             triangles: g.faces().iter().map(|f| f.0).collect(),
         })
         .collect();
+    // A shell mesh's quad structure, for viewers and reviewers: the triangles each quad
+    // became, its two consecutive ones (a quad too flat to split keeps one).
+    if m.faces().iter().any(|f| f.is_quad()) {
+        groups.push(TriangleGroup {
+            name: QUADS_GROUP.to_string(),
+            triangles: (0..origin.len() as u32)
+                .filter(|&t| m.faces()[origin[t as usize].0 as usize].is_quad())
+                .collect(),
+        });
+    }
     Geometry::Triangles {
         positions: tri.positions().to_vec(),
         normals,

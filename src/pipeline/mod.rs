@@ -35,6 +35,11 @@ pub enum Output {
     Scene(Format),
     /// STEP AP214: the die face sewn into a shell ([`crate::export::step`]).
     Step,
+    /// An LS-DYNA keyword deck (`.k`, `.key`, `.dyn`) of the meshed parts
+    /// ([`crate::export::fe`]).
+    LsDyna,
+    /// Nastran bulk data (`.bdf`, `.nas`) of the meshed parts.
+    Nastran,
 }
 
 impl Output {
@@ -43,6 +48,8 @@ impl Output {
         let ext = p.extension()?.to_str()?.to_ascii_lowercase();
         match ext.as_str() {
             "step" | "stp" => Some(Output::Step),
+            "k" | "key" | "dyn" => Some(Output::LsDyna),
+            "bdf" | "nas" => Some(Output::Nastran),
             _ => Format::from_path(p).map(Output::Scene),
         }
     }
@@ -173,7 +180,27 @@ pub fn encode_output(
             Some(model) => step_bytes(model, name),
             None => Err("the build has problems; nothing to write".into()),
         },
+        Output::LsDyna | Output::Nastran => match &build.model {
+            Some(model) => fe_bytes(model, name, output),
+            None => Err("the build has problems; nothing to write".into()),
+        },
     }
+}
+
+/// The FE deck of a die model's meshed parts (`quad_mesh` and other meshes, one shell
+/// part each, coincident nodes shared) and its line beads, as LS-DYNA keywords or
+/// Nastran bulk data.
+pub fn fe_bytes(model: &DieModel, name: &str, output: Output) -> Result<Vec<u8>, String> {
+    let deck = crate::export::fe::from_model::fe_model(model, name);
+    if deck.parts.is_empty() {
+        return Err("the script has no mesh to write: an FE deck holds shell elements; mesh the die face's surfaces with `quad_mesh(surface, size: 5 mm)`".into());
+    }
+    deck.check()
+        .map_err(|e| format!("the deck cannot be written: {e}"))?;
+    Ok(match output {
+        Output::Nastran => crate::export::fe::encode_nastran(&deck),
+        _ => crate::export::fe::encode_lsdyna(&deck),
+    })
 }
 
 /// One output of [`Pipeline::write_outputs`].

@@ -24,6 +24,7 @@
 //! and never panic: on a model [`FeModel::check`] refuses they still write what they
 //! were given, which the solver will then refuse.
 
+pub mod from_model;
 pub mod lsdyna;
 pub mod nastran;
 

@@ -1,0 +1,118 @@
+//! The die model as an FE deck's data: every meshed part (a `quad_mesh`, a mesh read or
+//! made in the script) one shell part, every line bead a bead.
+//!
+//! Nodes that coincide (within [`WELD`]) are one node across all parts, so two parts
+//! meshed to share their seam's nodes share them in the deck. Each part's shells are
+//! turned, as a whole, to face up (+Z: the mean of their normals), as the writers
+//! expect. Surfaces the script did not mesh are not in the deck: a shell deck holds
+//! elements, and which size to mesh a surface at is the designer's decision.
+
+use std::collections::BTreeMap;
+
+use glam::DVec3;
+
+use super::{FeBead, FeModel, FePart, Shell};
+use crate::die::model::{DieModel, Part, Shape};
+
+/// Nodes nearer than this (mm) are one node.
+pub const WELD: f64 = 1e-6;
+
+/// The shell thickness written for every part (mm): the die face is a rigid tool, and
+/// its contact takes the blank's thickness, not the tool's.
+pub const TOOL_THICKNESS: f64 = 1.0;
+
+/// Node ids by position, welded on a grid of [`WELD`].
+#[derive(Default)]
+struct Nodes {
+    points: Vec<DVec3>,
+    by_cell: BTreeMap<(i64, i64, i64), u32>,
+}
+
+impl Nodes {
+    fn id(&mut self, p: DVec3) -> u32 {
+        let cell = (p / WELD).round();
+        let key = (cell.x as i64, cell.y as i64, cell.z as i64);
+        if let Some(&id) = self.by_cell.get(&key) {
+            return id;
+        }
+        let id = self.points.len() as u32;
+        self.points.push(p);
+        self.by_cell.insert(key, id);
+        id
+    }
+}
+
+/// The deck's data of `model`, titled `title`: one part per meshed part (depth first,
+/// in the model's order), one bead per line bead.
+pub fn fe_model(model: &DieModel, title: &str) -> FeModel {
+    let mut nodes = Nodes::default();
+    let mut parts = Vec::new();
+    let mut beads = Vec::new();
+    for part in &model.parts {
+        collect(part, &mut nodes, &mut parts, &mut beads);
+    }
+    FeModel {
+        title: title.to_string(),
+        nodes: nodes.points,
+        parts,
+        beads,
+    }
+}
+
+fn collect(part: &Part, nodes: &mut Nodes, parts: &mut Vec<FePart>, beads: &mut Vec<FeBead>) {
+    if let Some(Shape::Mesh(mesh)) = &part.shape {
+        let positions = mesh.positions();
+        let up: f64 = mesh
+            .faces()
+            .iter()
+            .map(|f| {
+                let p: Vec<DVec3> = f.indices().iter().map(|&v| positions[v as usize]).collect();
+                let n = if p.len() == 4 {
+                    (p[2] - p[0]).cross(p[3] - p[1])
+                } else {
+                    (p[1] - p[0]).cross(p[2] - p[0])
+                };
+                n.z
+            })
+            .sum();
+        let shells: Vec<Shell> = mesh
+            .faces()
+            .iter()
+            .map(|f| {
+                let face = if up < 0.0 { f.reversed() } else { *f };
+                let ids: Vec<u32> = face
+                    .indices()
+                    .iter()
+                    .map(|&v| nodes.id(positions[v as usize]))
+                    .collect();
+                match ids.as_slice() {
+                    [a, b, c, d] => Shell::Quad([*a, *b, *c, *d]),
+                    [a, b, c] => Shell::Triangle([*a, *b, *c]),
+                    // A face has three or four corners: `Face`'s constructors make no other.
+                    _ => Shell::Triangle([ids[0], ids[1], ids[ids.len() - 1]]),
+                }
+            })
+            .collect();
+        if !shells.is_empty() {
+            parts.push(FePart {
+                name: part.name.clone(),
+                kind: part.kind.clone(),
+                thickness: TOOL_THICKNESS,
+                shells,
+            });
+        }
+    }
+    if let Some(bead) = &part.line_bead {
+        let ids: Vec<u32> = bead.points.iter().map(|&p| nodes.id(p)).collect();
+        if ids.len() >= 2 {
+            beads.push(FeBead {
+                name: part.name.clone(),
+                nodes: ids,
+                force: bead.force,
+            });
+        }
+    }
+    for child in &part.children {
+        collect(child, nodes, parts, beads);
+    }
+}
