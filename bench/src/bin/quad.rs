@@ -14,14 +14,18 @@
 //! geometry build and `generate(2)`, timed inside Python. Prints markdown for
 //! BENCHMARKS.md.
 
-#[path = "../../../tests/common/quad_shapes.rs"]
-mod shapes;
+#[path = "../../../tests/common/quad_surfaces.rs"]
+mod surfaces;
+
+use surfaces::shapes;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use dieface::geom::mesh::quad::quality::{mesh_quality, MeshQuality};
+use dieface::geom::mesh::quad::surface::{quad_mesh_surface, SurfaceMeshOptions, SurfaceRegion};
 use dieface::geom::mesh::quad::{quad_mesh_region, QuadOptions, Region};
+use dieface::geom::NurbsSurface;
 use dieface_bench::{median_time, read_obj, write_obj};
 use glam::DVec2;
 
@@ -165,5 +169,71 @@ fn main() {
             let theirs = gmsh_row(&script, &dir, name, &region, size);
             print_row(name, "gmsh", size, &theirs, Some(theirs.ms / ours.ms));
         }
+    }
+    surface_table(&dir);
+}
+
+/// Trimmed surfaces (paper 004's cases on surfaces): ours only, as gmsh would need the
+/// surfaces as CAD geometry; quality measured in 3-D by the same `mesh_quality`.
+fn surface_table(dir: &Path) {
+    let (door, door_region) = surfaces::door_inner_on_surface();
+    let (vessel, vessel_region) = surfaces::vessel_end();
+    let cylinder = surfaces::half_cylinder();
+    let mut tight = SurfaceMeshOptions::at_size(20.0);
+    tight.quad.chord_tolerance = 0.1;
+    let cases: Vec<(&str, &NurbsSurface, SurfaceRegion, SurfaceMeshOptions)> = vec![
+        (
+            "door inner on a Coons patch",
+            &door,
+            door_region,
+            SurfaceMeshOptions::at_size(20.0),
+        ),
+        (
+            "vessel end, 5 nozzles",
+            &vessel,
+            vessel_region,
+            SurfaceMeshOptions::at_size(15.0),
+        ),
+        (
+            "half cylinder R 50, sag 0.1 mm",
+            &cylinder,
+            SurfaceRegion::default(),
+            tight,
+        ),
+    ];
+    println!();
+    println!("| surface | size | plane | quads | triangles | min / mean scaled Jacobian | angles | max aspect | inverted | time (median of {RUNS}) |");
+    println!("|---|---:|---|---:|---:|---:|---:|---:|---:|---:|");
+    for (name, surface, region, options) in cases {
+        let meshed = quad_mesh_surface(surface, &region, &options).expect("meshed");
+        let time = median_time(
+            || {
+                quad_mesh_surface(surface, &region, &options).expect("meshed");
+            },
+            1,
+            RUNS,
+        );
+        let file = name.split(' ').next().unwrap_or("surface");
+        write_obj(
+            &meshed.mesh,
+            &dir.join(format!("surface_{file}.obj")),
+            "",
+            6,
+        );
+        let q = mesh_quality(&meshed.mesh);
+        println!(
+            "| {name} | {} | {:?} | {} | {} | {:.3} / {:.3} | {:.1} to {:.1} deg | {:.2} | {} | {:.1} ms |",
+            options.quad.size,
+            meshed.plane,
+            q.quads,
+            q.triangles,
+            q.min_scaled_jacobian,
+            q.mean_scaled_jacobian,
+            q.min_angle,
+            q.max_angle,
+            q.max_aspect,
+            q.inverted,
+            time.as_secs_f64() * 1e3
+        );
     }
 }

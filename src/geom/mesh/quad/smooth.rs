@@ -2,7 +2,10 @@
 //! each node not on the region's boundary moved to the mean of the centres of the
 //! elements round it, the move kept only where the worst of those elements stays
 //! above its floor (never folding an element, never making a good one poor) or where
-//! it mends a folded one.
+//! it mends a folded one. Then each inner node of a poor element (scaled Jacobian below
+//! [`POOR`]) is moved where the worst of its elements is best, by a compass search:
+//! centroid smoothing evens a mesh out, but cannot pull a node out of a sliver its
+//! neighbours pin it in.
 
 use glam::DVec2;
 
@@ -11,6 +14,15 @@ use super::quality::scaled_jacobian_2d;
 /// The worst scaled Jacobian a move may leave among a node's elements, unless they were
 /// worse before it.
 const FLOOR: f64 = 0.3;
+
+/// Elements poorer than this (scaled Jacobian) have their inner nodes optimised.
+pub const POOR: f64 = 0.5;
+
+/// Sweeps of the compass search over the poor elements' nodes.
+const SWEEPS: usize = 4;
+
+/// Halvings of a compass search's step before it stops.
+const HALVINGS: usize = 8;
 
 /// Moves every node of `points` from `fixed` on (the first `fixed` are the boundary's)
 /// towards the centre of its elements, `passes` times over.
@@ -78,6 +90,73 @@ pub fn smooth(
             if !keeps {
                 points[v] = old;
             }
+        }
+    }
+    if passes == 0 {
+        return;
+    }
+    let directions: Vec<DVec2> = (0..8)
+        .map(|k| DVec2::from_angle(std::f64::consts::FRAC_PI_4 * k as f64))
+        .collect();
+    // The compass search's measure: the scaled Jacobian, and no element with a side
+    // under a third of its longest (the scaled Jacobian alone would let a quad fold
+    // one side down to nothing, its four angles still fair).
+    let judged = |points: &[DVec2], around: &[usize]| {
+        around
+            .iter()
+            .map(|&k| {
+                let corners: Vec<DVec2> = elements[k].iter().map(|&v| points[v as usize]).collect();
+                let n = corners.len();
+                let sides = (0..n).map(|i| corners[i].distance(corners[(i + 1) % n]));
+                let (short, long) =
+                    sides.fold((f64::INFINITY, 0.0f64), |(s, l), d| (s.min(d), l.max(d)));
+                let stretch = if long > 0.0 { 3.0 * short / long } else { 0.0 };
+                scaled_jacobian_2d(&corners).min(stretch)
+            })
+            .fold(f64::INFINITY, f64::min)
+    };
+    for _ in 0..SWEEPS {
+        let mut moved = false;
+        for v in fixed..points.len() {
+            let around = &star[offsets[v]..offsets[v + 1]];
+            if around.is_empty() {
+                continue;
+            }
+            let mut best = judged(points, around);
+            if best >= POOR {
+                continue;
+            }
+            // The step starts at a third of the node's mean distance to its corners.
+            let (sum, count) = around
+                .iter()
+                .flat_map(|&k| elements[k].iter())
+                .fold((0.0, 0usize), |(s, c), &w| {
+                    (s + points[w as usize].distance(points[v]), c + 1)
+                });
+            let mut step = sum / count.max(1) as f64 / 3.0;
+            let mut halvings = 0;
+            while halvings < HALVINGS {
+                let here = points[v];
+                let mut found = None;
+                for d in &directions {
+                    points[v] = here + step * *d;
+                    let q = judged(points, around);
+                    if q > best + 1e-12 {
+                        best = q;
+                        found = Some(points[v]);
+                    }
+                }
+                points[v] = found.unwrap_or(here);
+                if found.is_some() {
+                    moved = true;
+                } else {
+                    step *= 0.5;
+                    halvings += 1;
+                }
+            }
+        }
+        if !moved {
+            break;
         }
     }
 }

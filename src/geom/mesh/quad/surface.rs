@@ -664,7 +664,7 @@ pub fn quad_mesh_surface(
         None => match &corner_plane {
             Some(p) if steepest(p.normal) <= STEEPEST => MeshPlane::Projection,
             _ if region_normal.length() > 0.0 && steepest(region_normal) <= STEEPEST => {
-                MeshPlane::View(region_normal)
+                MeshPlane::View(region_normal.normalize())
             }
             _ => MeshPlane::Parameters,
         },
