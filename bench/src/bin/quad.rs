@@ -115,18 +115,10 @@ fn gmsh_row(script: &Path, dir: &Path, name: &str, region: &Region, size: f64) -
 /// One table row: the region, the mesher, the size, the quality figures, the time and
 /// the time as a multiple of ours (`ratio`, none on our own row).
 fn print_row(region: &str, mesher: &str, size: f64, row: &Row, ratio: Option<f64>) {
-    let q = &row.quality;
     let ratio = ratio.map_or("".to_string(), |r| format!("{r:.1}x"));
     println!(
-        "| {region} | {mesher} | {size} | {} | {} | {:.3} / {:.3} | {:.1} to {:.1} deg | {:.2} | {} | {:.2} ms | {ratio} |",
-        q.quads,
-        q.triangles,
-        q.min_scaled_jacobian,
-        q.mean_scaled_jacobian,
-        q.min_angle,
-        q.max_angle,
-        q.max_aspect,
-        q.inverted,
+        "| {region} | {mesher} | {size} | {} | {:.2} ms | {ratio} |",
+        quality_cells(&row.quality),
         row.ms
     );
 }
@@ -171,6 +163,22 @@ fn main() {
         }
     }
     surface_table(&dir);
+}
+
+/// The quality columns of a table row: quads, triangles, least and mean scaled
+/// Jacobian, corner angles, largest aspect, inverted elements.
+fn quality_cells(q: &MeshQuality) -> String {
+    format!(
+        "{} | {} | {:.3} / {:.3} | {:.1} to {:.1} deg | {:.2} | {}",
+        q.quads,
+        q.triangles,
+        q.min_scaled_jacobian,
+        q.mean_scaled_jacobian,
+        q.min_angle,
+        q.max_angle,
+        q.max_aspect,
+        q.inverted
+    )
 }
 
 /// Trimmed surfaces (paper 004's cases on surfaces): ours only, as gmsh would need the
@@ -220,19 +228,11 @@ fn surface_table(dir: &Path) {
             "",
             6,
         );
-        let q = mesh_quality(&meshed.mesh);
         println!(
-            "| {name} | {} | {:?} | {} | {} | {:.3} / {:.3} | {:.1} to {:.1} deg | {:.2} | {} | {:.1} ms |",
+            "| {name} | {} | {:?} | {} | {:.1} ms |",
             options.quad.size,
             meshed.plane,
-            q.quads,
-            q.triangles,
-            q.min_scaled_jacobian,
-            q.mean_scaled_jacobian,
-            q.min_angle,
-            q.max_angle,
-            q.max_aspect,
-            q.inverted,
+            quality_cells(&mesh_quality(&meshed.mesh)),
             time.as_secs_f64() * 1e3
         );
     }

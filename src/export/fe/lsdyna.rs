@@ -33,7 +33,7 @@ use std::fmt::Write;
 use glam::DVec3;
 
 use super::{
-    node_id, numbered_shells, part_id, plain_line, real, FeBead, FeModel, FePart, Shell,
+    comment, node_id, numbered_shells, part_id, plain_line, real, FeBead, FeModel, FePart, Shell,
     MATERIAL_ID, STEEL_DENSITY, STEEL_POISSON_RATIO, STEEL_YOUNGS_MODULUS,
 };
 
@@ -81,11 +81,6 @@ fn int(id: u64, width: usize) -> String {
 /// A real in a ten-character field.
 fn real10(value: f64) -> String {
     real(value, 10, 6)
-}
-
-/// A `$` comment line of at most 80 characters.
-fn comment(out: &mut String, text: &str) {
-    let _ = writeln!(out, "$ {}", plain_line(text, 78));
 }
 
 /// `*KEYWORD`, `*TITLE` and the comments saying what the deck is.

@@ -289,6 +289,12 @@ fn numbered_shells(model: &FeModel) -> impl Iterator<Item = (u64, u64, &Shell)> 
         .map(|((pid, s), eid)| (eid, pid, s))
 }
 
+/// A `$` comment line of at most 80 characters (both decks take `$` as a comment).
+fn comment(out: &mut String, text: &str) {
+    use std::fmt::Write;
+    let _ = writeln!(out, "$ {}", plain_line(text, 78));
+}
+
 /// `text` as one line of plain ASCII at most `max` characters long, safe in a heading
 /// or a comment: control characters (a line break would end the card) become spaces,
 /// other non-ASCII characters `_` (fixed columns count bytes), and a leading `*` or `$`

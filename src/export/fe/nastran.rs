@@ -22,8 +22,8 @@ use std::fmt::Write;
 use glam::DVec3;
 
 use super::{
-    node_id, numbered_shells, part_id, plain_line, real, FeBead, FeModel, FePart, Shell,
-    MATERIAL_ID, STEEL_DENSITY, STEEL_POISSON_RATIO, STEEL_YOUNGS_MODULUS,
+    comment, node_id, numbered_shells, part_id, real, FeBead, FeModel, FePart, Shell, MATERIAL_ID,
+    STEEL_DENSITY, STEEL_POISSON_RATIO, STEEL_YOUNGS_MODULUS,
 };
 
 /// Decimals of a coordinate: 1e-6 mm, and a value up to 1e7 mm still fits its field.
@@ -56,11 +56,6 @@ fn int8(id: u64) -> String {
 /// A small field (eight characters): a real right-aligned.
 fn real8(value: f64) -> String {
     real(value, 8, 6)
-}
-
-/// A `$` comment line of at most 80 characters.
-fn comment(out: &mut String, text: &str) {
-    let _ = writeln!(out, "$ {}", plain_line(text, 78));
 }
 
 /// The comments before `BEGIN BULK`: what the deck is.
