@@ -134,7 +134,7 @@ fn a_door_inner_on_a_coons_patch_is_meshed_in_its_projection_plane() {
     assert_sound(&surface, &region, &meshed, off, 1e-6);
     let q = mesh_quality(&meshed.mesh);
     assert!(q.quad_share() > 0.97, "{q:?}");
-    assert!(q.min_scaled_jacobian > 0.08, "{q:?}");
+    assert!(q.min_scaled_jacobian > 0.3, "{q:?}");
 }
 
 #[test]

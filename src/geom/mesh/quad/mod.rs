@@ -263,7 +263,14 @@ pub fn quad_mesh_region(region: &Region, options: &QuadOptions) -> Result<PlaneM
         options.smoothing,
     );
     let (quads, folded) = split_folded(&points, quads);
-    triangles.extend(folded);
+    if !folded.is_empty() && options.smoothing > 0 {
+        // The triangles a folded quad became: their inner nodes searched again, now
+        // that the quad's diagonal no longer pins them.
+        triangles.extend(folded);
+        smooth::smooth(&mut points, boundary_nodes, &quads, &triangles, 1);
+    } else {
+        triangles.extend(folded);
+    }
     Ok(PlaneMesh {
         points,
         boundary_nodes,
