@@ -21,7 +21,9 @@ pub const WELD: f64 = 1e-6;
 /// its contact takes the blank's thickness, not the tool's.
 pub const TOOL_THICKNESS: f64 = 1.0;
 
-/// Node ids by position, welded on a grid of [`WELD`].
+/// Node ids by position: a point within [`WELD`] of a node already placed is that node
+/// (found among the grid cells of size [`WELD`] round it, so two points straddling a
+/// cell's edge still meet).
 #[derive(Default)]
 struct Nodes {
     points: Vec<DVec3>,
@@ -32,12 +34,21 @@ impl Nodes {
     fn id(&mut self, p: DVec3) -> u32 {
         let cell = (p / WELD).round();
         let key = (cell.x as i64, cell.y as i64, cell.z as i64);
-        if let Some(&id) = self.by_cell.get(&key) {
-            return id;
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                for dz in -1..=1 {
+                    let near = (key.0 + dx, key.1 + dy, key.2 + dz);
+                    if let Some(&id) = self.by_cell.get(&near) {
+                        if self.points[id as usize].distance(p) <= WELD {
+                            return id;
+                        }
+                    }
+                }
+            }
         }
         let id = self.points.len() as u32;
         self.points.push(p);
-        self.by_cell.insert(key, id);
+        self.by_cell.entry(key).or_insert(id);
         id
     }
 }
@@ -114,5 +125,22 @@ fn collect(part: &Part, nodes: &mut Nodes, parts: &mut Vec<FePart>, beads: &mut 
     }
     for child in &part.children {
         collect(child, nodes, parts, beads);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn points_within_the_weld_distance_are_one_node_across_a_cell_edge() {
+        let mut nodes = Nodes::default();
+        // 0.49e-6 and 0.51e-6 round to different cells (0 and 1) but lie within WELD.
+        let a = nodes.id(DVec3::new(0.49e-6, 0.0, 0.0));
+        let b = nodes.id(DVec3::new(0.51e-6, 0.0, 0.0));
+        let c = nodes.id(DVec3::new(3e-6, 0.0, 0.0));
+        assert_eq!(a, b);
+        assert_ne!(a, c);
+        assert_eq!(nodes.points.len(), 2);
     }
 }
