@@ -230,3 +230,35 @@ fn crossing_trim_loops_are_refused_with_the_loops_named() {
         "{err:?}"
     );
 }
+
+#[test]
+fn quad_mesh_in_a_script_takes_loops_as_top_view_points_sketches_and_3d_points() {
+    use dieface::eval::value::Data;
+    use dieface::eval::Engine;
+    // A flat panel: a loop of 2-D points laid onto it, a circle drawn in the top view,
+    // and the same outline as 3-D points on it, each meshed.
+    let text = "units mm
+let panel = coons(line_between((0, 0, 0), (200, 0, 0)), line_between((0, 100, 0), (200, 100, 0)),
+                  line_between((0, 0, 0), (0, 100, 0)), line_between((200, 0, 0), (200, 100, 0)))
+let flat = quad_mesh(panel, size: 10 mm, outline: [(20, 20), (180, 20), (180, 80), (20, 80)],
+                     holes: [circle((100, 50), 15 mm)])
+let spatial = quad_mesh(panel, size: 10 mm, outline: [(20, 20, 0), (180, 20, 0), (180, 80, 0), (20, 80, 0)])
+";
+    let mut engine = Engine::new(None);
+    let out = engine.evaluate("panel.die", text, None);
+    assert!(out.diagnostics.is_empty(), "{:?}", out.diagnostics);
+    for name in ["flat", "spatial"] {
+        let decl = out.decls.iter().find(|d| d.name == name).expect("declared");
+        let Some(Data::Mesh(mesh)) = decl.value.as_ref().map(|v| &v.data) else {
+            panic!("{name} is not a mesh");
+        };
+        let q = mesh_quality(mesh);
+        assert_eq!(q.triangles, 0, "{name}: {q:?}");
+        assert!(q.quads >= 80, "{name}: {q:?}");
+        // Every node within the outline's 160 x 60 mm.
+        assert!(mesh.positions().iter().all(|p| p.x >= 20.0 - 1e-9
+            && p.x <= 180.0 + 1e-9
+            && p.y >= 20.0 - 1e-9
+            && p.y <= 80.0 + 1e-9));
+    }
+}

@@ -177,7 +177,7 @@ fn trim_loop(
             let mut flat = true;
             for p in items.iter() {
                 match &p.data {
-                    Data::List(c) if c.len() == 2 => {
+                    Data::Tuple(c) if c.len() == 2 => {
                         let q = super::as_point2(p, call.units, &what(call, arg))?;
                         points.push(q.extend(0.0));
                     }
