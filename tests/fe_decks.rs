@@ -413,10 +413,18 @@ fn the_decks_read_back_as_written() {
 /// The example's die model as the build sees it, turned into the deck's data by the
 /// library (the reference the decks the binary wrote are read against).
 fn example_deck(example: &str) -> FeModel {
-    let path = root()
-        .join("examples")
-        .join(example)
-        .join(format!("{example}.die"));
+    script_deck(
+        &root()
+            .join("examples")
+            .join(example)
+            .join(format!("{example}.die")),
+        example,
+    )
+}
+
+/// The deck's data of the script at `path`, titled `title`, as the build makes it.
+fn script_deck(path: &Path, example: &str) -> FeModel {
+    let path = path.to_path_buf();
     let mut engine = dieface::eval::Engine::new(Some(root()));
     let outcome = engine.evaluate_path(&path).expect("the example reads");
     assert!(
@@ -427,19 +435,15 @@ fn example_deck(example: &str) -> FeModel {
     dieface::export::fe::from_model::fe_model(&model, example)
 }
 
-#[test]
-fn a_quad_meshed_example_built_to_decks_reads_back_with_every_node_and_element() {
-    let dir = temp_dir();
-    let k = dir.join("door_inner.k");
-    let bdf = dir.join("door_inner.bdf");
-    let example = root().join("examples/door_inner_quad/door_inner_quad.die");
+/// `dieface build SCRIPT -o K -o BDF`, which must succeed.
+fn build_decks(script: &Path, k: &Path, bdf: &Path) {
     let out = Command::new(env!("CARGO_BIN_EXE_dieface"))
         .arg("build")
-        .arg(&example)
+        .arg(script)
         .arg("-o")
-        .arg(&k)
+        .arg(k)
         .arg("-o")
-        .arg(&bdf)
+        .arg(bdf)
         .output()
         .expect("dieface runs");
     assert!(
@@ -447,6 +451,15 @@ fn a_quad_meshed_example_built_to_decks_reads_back_with_every_node_and_element()
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
+}
+
+#[test]
+fn a_quad_meshed_example_built_to_decks_reads_back_with_every_node_and_element() {
+    let dir = temp_dir();
+    let k = dir.join("door_inner.k");
+    let bdf = dir.join("door_inner.bdf");
+    let example = root().join("examples/door_inner_quad/door_inner_quad.die");
+    build_decks(&example, &k, &bdf);
     // The same script gives the same bytes.
     let again = dir.join("again.k");
     let out = Command::new(env!("CARGO_BIN_EXE_dieface"))
@@ -476,5 +489,55 @@ fn a_quad_meshed_example_built_to_decks_reads_back_with_every_node_and_element()
     check_lsdyna_mesh(&read["lsdyna"], &model);
     check_pynastran_mesh(&read["nastran"], &model);
     check_meshio(&read["meshio"], &model);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn the_fender_die_face_deck_reads_back_with_its_three_parts_and_two_line_beads() {
+    let dir = temp_dir();
+    let k = dir.join("fender.k");
+    let bdf = dir.join("fender.bdf");
+    let example = root().join("examples/fender/fender_deck.die");
+    build_decks(&example, &k, &bdf);
+    let model = script_deck(&example, "fender_deck");
+    // One part per feature, the seams' nodes shared between them (fewer nodes in the
+    // deck than in the three meshes), and the two beads.
+    let kinds: Vec<&str> = model.parts.iter().map(|p| p.kind.as_str()).collect();
+    assert_eq!(kinds, ["quad_mesh"; 3]);
+    assert_eq!(model.beads.len(), 2);
+    let per_part: usize = model
+        .parts
+        .iter()
+        .map(|p| {
+            p.shells
+                .iter()
+                .flat_map(|s| match s {
+                    Shell::Quad(q) => q.to_vec(),
+                    Shell::Triangle(t) => t.to_vec(),
+                })
+                .collect::<std::collections::BTreeSet<u32>>()
+                .len()
+        })
+        .sum();
+    // The product outline and the punch opening (some 6 m together) at 10 mm: several
+    // hundred nodes in two parts each.
+    let shared = per_part - model.nodes.len();
+    assert!(shared > 500, "{shared} nodes shared between parts");
+    let read = read_back(&k, &bdf);
+    check_lsdyna_mesh(&read["lsdyna"], &model);
+    check_pynastran_mesh(&read["nastran"], &model);
+    check_meshio(&read["meshio"], &model);
+    // The three parts and the two line beads, as this script's own parse finds them.
+    let parsed = &read["lsdyna"]["parsed_by_this_script"];
+    assert_eq!(parsed["parts"].as_object().map(|p| p.len()), Some(3));
+    let keywords: Vec<&str> = parsed["keywords"]
+        .as_array()
+        .expect("keywords")
+        .iter()
+        .filter_map(Value::as_str)
+        .collect();
+    let count = |k: &str| keywords.iter().filter(|&&w| w == k).count();
+    assert_eq!(count("*CONTACT_DRAWBEAD"), 2);
+    assert_eq!(count("*SET_NODE_LIST"), 2);
     let _ = std::fs::remove_dir_all(&dir);
 }

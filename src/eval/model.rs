@@ -109,8 +109,9 @@ fn trimmed_panels(outcome: &Outcome) -> Vec<&crate::geom::NurbsSurface> {
     out
 }
 
-/// A product's faces of the die face: a trimmed surface, a surface, or a list of them.
-fn product_faces(name: &str, value: &Value, out: &mut Vec<Face>) {
+/// A product's faces of the die face: a trimmed surface, a surface, or a list of them
+/// (nothing for any other value).
+pub(crate) fn product_faces(name: &str, value: &Value, out: &mut Vec<Face>) {
     match &value.data {
         Data::Trimmed(t) => out.push(Face {
             name: name.to_string(),

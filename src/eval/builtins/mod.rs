@@ -9,6 +9,7 @@
 mod args;
 mod checks;
 mod curves;
+mod die_face_mesh;
 mod io;
 mod math;
 mod meshes;
@@ -93,7 +94,7 @@ impl Builtin {
 }
 
 /// Every builtin module's table.
-fn tables() -> [&'static [Builtin]; 10] {
+fn tables() -> [&'static [Builtin]; 11] {
     [
         math::BUILTINS,
         checks::BUILTINS,
@@ -105,6 +106,7 @@ fn tables() -> [&'static [Builtin]; 10] {
         io::BUILTINS,
         meshes::BUILTINS,
         quad::BUILTINS,
+        die_face_mesh::BUILTINS,
     ]
 }
 

@@ -25,6 +25,7 @@
 pub mod boundary;
 pub mod cut;
 pub mod quality;
+pub mod shell;
 pub mod sizing;
 pub mod smooth;
 pub mod split;
@@ -67,6 +68,11 @@ pub struct QuadOptions {
     /// The most elements the region may be meshed into; more is refused before any
     /// meshing starts.
     pub max_elements: usize,
+    /// Take the loops' points as the boundary nodes, as they are, instead of placing
+    /// nodes along the loops: how neighbouring regions share the nodes of their seam.
+    /// Their total must be even (a region bounded by an odd number of nodes cannot be
+    /// all quads) and no two neighbours may coincide.
+    pub keep_boundary: bool,
 }
 
 impl QuadOptions {
@@ -81,6 +87,7 @@ impl QuadOptions {
             chord_tolerance: 0.05 * size,
             smoothing: 10,
             max_elements: 2_000_000,
+            keep_boundary: false,
         }
     }
 
@@ -154,6 +161,12 @@ pub enum QuadError {
     /// An inner loop lies outside the outer one.
     #[error("loop {loop_index} lies outside the outer loop")]
     Outside { loop_index: usize },
+    /// The boundary nodes given (`keep_boundary`) are an odd number.
+    #[error("the loops have {nodes} nodes in all, an odd number: a region needs an even number of boundary nodes to be meshed with quads")]
+    OddBoundary { nodes: usize },
+    /// Two neighbouring boundary nodes given (`keep_boundary`) coincide.
+    #[error("loop {loop_index} has two neighbouring nodes in one place")]
+    RepeatedNode { loop_index: usize },
     /// The element size would make more elements than allowed.
     #[error(
         "the element size would make about {estimate} elements, more than the limit of {limit}"
@@ -202,6 +215,44 @@ fn split_folded(points: &[DVec2], quads: Vec<[u32; 4]>) -> (Vec<[u32; 4]>, Vec<[
     (kept, triangles)
 }
 
+/// The region's own loop points as its boundary nodes, in the order given (outer loop,
+/// then each hole), and each loop's nodes in the order the mesher walks it (the outer
+/// loop counter-clockwise, the holes clockwise: [`boundary::checked_loops`] turns a loop
+/// given the other way round).
+fn given_nodes(
+    region: &Region,
+    checked: &[Vec<DVec2>],
+    points: &mut Vec<DVec2>,
+    loop_nodes: &mut Vec<Vec<u32>>,
+) -> Result<(), QuadError> {
+    for (k, (raw, l)) in std::iter::once(&region.outer)
+        .chain(&region.holes)
+        .zip(checked)
+        .enumerate()
+    {
+        // A repeated point was dropped by the check: two nodes in one place.
+        if raw.len() != l.len() {
+            return Err(QuadError::RepeatedNode { loop_index: k });
+        }
+        let n = raw.len() as u32;
+        let first = points.len() as u32;
+        let turned = raw[0] != l[0] || (n > 1 && raw[1] != l[1]);
+        loop_nodes.push(if turned {
+            // `l` is `raw` reversed: l[i] = raw[n - 1 - i].
+            (0..n).map(|i| first + (n - 1 - i)).collect()
+        } else {
+            (first..first + n).collect()
+        });
+        points.extend(raw.iter().copied());
+    }
+    if points.len() % 2 == 1 {
+        return Err(QuadError::OddBoundary {
+            nodes: points.len(),
+        });
+    }
+    Ok(())
+}
+
 /// Meshes `region` with quads of about `options.size` (paper 004, section 4): boundary
 /// nodes placed, holes cut into one loop, the loop split down to quads, the inner nodes
 /// smoothed, and a quad left folded split into two triangles.
@@ -226,16 +277,20 @@ pub fn quad_mesh_region(region: &Region, options: &QuadOptions) -> Result<PlaneM
     }
     let mut points: Vec<DVec2> = Vec::new();
     let mut loop_nodes: Vec<Vec<u32>> = Vec::new();
-    for l in &loops {
-        let placed = boundary::place_nodes(
-            l,
-            options.sizes(),
-            options.corner_angle,
-            options.chord_tolerance,
-        );
-        let first = points.len() as u32;
-        loop_nodes.push((first..first + placed.len() as u32).collect());
-        points.extend(placed);
+    if options.keep_boundary {
+        given_nodes(region, &loops, &mut points, &mut loop_nodes)?;
+    } else {
+        for l in &loops {
+            let placed = boundary::place_nodes(
+                l,
+                options.sizes(),
+                options.corner_angle,
+                options.chord_tolerance,
+            );
+            let first = points.len() as u32;
+            loop_nodes.push((first..first + placed.len() as u32).collect());
+            points.extend(placed);
+        }
     }
     let boundary_nodes = points.len();
     let perimeter_nodes: usize = loop_nodes.iter().map(Vec::len).sum();

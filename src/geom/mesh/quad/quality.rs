@@ -25,18 +25,31 @@ fn least_corner(k: usize, sine: impl Fn(usize) -> f64) -> f64 {
 /// The scaled Jacobian of a plane element, corners counter-clockwise (see the module
 /// notes).
 pub fn scaled_jacobian_2d(corners: &[DVec2]) -> f64 {
+    least_corner(corners.len(), |i| corner_sine_2d(corners, i))
+}
+
+/// The mean of a plane element's corner sines (signed, corners counter-clockwise): 1
+/// for a square, 0 for an element whose nodes lie on one line. Where the scaled
+/// Jacobian sees only the worst corner, this tells an element with one straight corner
+/// from one of no area.
+pub fn mean_corner_sine_2d(corners: &[DVec2]) -> f64 {
     let k = corners.len();
-    least_corner(k, |i| {
-        let at = corners[i];
-        let a = corners[(i + 1) % k] - at;
-        let b = corners[(i + k - 1) % k] - at;
-        let l = a.length() * b.length();
-        if l <= f64::MIN_POSITIVE {
-            -1.0
-        } else {
-            a.perp_dot(b) / l
-        }
-    })
+    (0..k).map(|i| corner_sine_2d(corners, i)).sum::<f64>() / k as f64
+}
+
+/// The sine of corner `i` of a plane element: the cross product of its two sides over
+/// their lengths (-1 where a side has no length).
+fn corner_sine_2d(corners: &[DVec2], i: usize) -> f64 {
+    let k = corners.len();
+    let at = corners[i];
+    let a = corners[(i + 1) % k] - at;
+    let b = corners[(i + k - 1) % k] - at;
+    let l = a.length() * b.length();
+    if l <= f64::MIN_POSITIVE {
+        -1.0
+    } else {
+        a.perp_dot(b) / l
+    }
 }
 
 /// The element's normal: for a quad, across its diagonals; for a triangle, its plane's.

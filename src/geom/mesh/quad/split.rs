@@ -23,7 +23,7 @@
 use glam::DVec2;
 
 use super::cut::{blocked, ccw_angle, inner_angle};
-use super::quality::scaled_jacobian_2d;
+use super::quality::{mean_corner_sine_2d, scaled_jacobian_2d};
 use super::sizing::Sizes;
 use super::QuadError;
 
@@ -35,9 +35,9 @@ const SPACING_WEIGHT: f64 = 0.6;
 /// The weight of how badly a half small enough to finish at once would be finished.
 const SMALL_WEIGHT: f64 = 2.0;
 
-/// How many of the best-scored lines are sorted and tried for visibility before all
-/// the others are.
-const FIRST_TRIED: usize = 64;
+/// A small half whose best way leaves an element below this scaled Jacobian counts as
+/// one that cannot be finished (see [`small_error`]).
+const SMALL_FOLDED: f64 = 0.05;
 
 /// Loops of at most this many nodes are finished by trying every way.
 const SMALL: usize = 8;
@@ -69,6 +69,8 @@ fn clear_of_nodes(p: &[DVec2], a: usize, b: usize, clearance: f64) -> bool {
 /// A split line: between loop positions `a < b`, in `pieces` pieces.
 #[derive(Debug, Clone, Copy)]
 struct Line {
+    /// The four errors' score, without how a small half would be finished (which only
+    /// adds: see [`LoopView::small_halves_error`]).
     score: f64,
     a: usize,
     b: usize,
@@ -184,29 +186,10 @@ impl LoopView {
             + angle_error(self.theta[a] - phi_a)
             + angle_error(phi_b)
             + angle_error(self.theta[b] - phi_b);
-        let mut score = ANGLE_WEIGHT * angles / 4.0
+        let score = ANGLE_WEIGHT * angles / 4.0
             + AREA_WEIGHT * (first - second).abs() / self.area
             + LENGTH_WEIGHT * length / scale
             + SPACING_WEIGHT * spacing_error(pieces) / target;
-        // A half small enough to be finished at once is judged by how well it can be.
-        let along = |k: usize| self.p[a].lerp(self.p[b], k as f64 / pieces as f64);
-        if first_nodes <= SMALL {
-            let half: Vec<DVec2> = self.p[a..=b]
-                .iter()
-                .copied()
-                .chain((1..pieces).rev().map(along))
-                .collect();
-            score += SMALL_WEIGHT * (1.0 - best_small(&half).map_or(-1.0, |w| w.0));
-        }
-        if second_nodes <= SMALL {
-            let half: Vec<DVec2> = self.p[b..]
-                .iter()
-                .chain(&self.p[..=a])
-                .copied()
-                .chain((1..pieces).map(along))
-                .collect();
-            score += SMALL_WEIGHT * (1.0 - best_small(&half).map_or(-1.0, |w| w.0));
-        }
         Some(Line {
             score,
             a,
@@ -216,8 +199,50 @@ impl LoopView {
     }
 }
 
+impl LoopView {
+    /// How badly the halves of `line` small enough to be finished at once would be
+    /// finished ([`small_error`]; zero when neither is small).
+    fn small_halves_error(&self, line: &Line) -> f64 {
+        let Line { a, b, pieces, .. } = *line;
+        let n = self.p.len();
+        let along = |k: usize| self.p[a].lerp(self.p[b], k as f64 / pieces as f64);
+        let mut error = 0.0;
+        if b - a + pieces <= SMALL {
+            let half: Vec<DVec2> = self.p[a..=b]
+                .iter()
+                .copied()
+                .chain((1..pieces).rev().map(along))
+                .collect();
+            error += small_error(&half);
+        }
+        if n - (b - a) + pieces <= SMALL {
+            let half: Vec<DVec2> = self.p[b..]
+                .iter()
+                .chain(&self.p[..=a])
+                .copied()
+                .chain((1..pieces).map(along))
+                .collect();
+            error += small_error(&half);
+        }
+        error
+    }
+}
+
+/// How badly a half small enough to be finished at once would be finished: by its
+/// best way's worst element, and far worse than any other error when even that
+/// element comes out folded or flat (a half of six nodes, five of them on one line),
+/// so such a line is taken only when no other sees.
+fn small_error(half: &[DVec2]) -> f64 {
+    let worst = best_small(half).map_or(-1.0, |w| w.0);
+    let folded = if worst < SMALL_FOLDED { 100.0 } else { 0.0 };
+    SMALL_WEIGHT * (1.0 - worst) + folded
+}
+
 /// The best-scored line of the loop `l` that sees from end to end, among the lines
-/// `scored` makes.
+/// `scored` makes: lines are taken best first by their four errors, each then charged
+/// for how its small halves would be finished and tried for sight only when it could
+/// still beat the best found; the search stops once no line left can (the charge only
+/// adds). Ties go to the lower loop positions.
 fn best_visible(
     points: &[DVec2],
     l: &[u32],
@@ -225,22 +250,17 @@ fn best_visible(
     scored: impl Fn(usize, usize) -> Option<Line>,
 ) -> Option<Line> {
     let n = l.len();
-    let mut lines: Vec<Line> = Vec::new();
+    let mut lines: Vec<Ranked> = Vec::new();
     for a in 0..n {
         for b in a + 2..n {
             if (a == 0 && b == n - 1) || l[a] == l[b] {
                 continue;
             }
             if let Some(line) = scored(a, b) {
-                lines.push(line);
+                lines.push(Ranked(line));
             }
         }
     }
-    let order = |x: &Line, y: &Line| {
-        x.score
-            .total_cmp(&y.score)
-            .then((x.a, x.b).cmp(&(y.a, y.b)))
-    };
     // A line must see from end to end and pass its loop's other nodes no nearer than a
     // share of the spacing there (a line grazing a node leaves a sliver).
     let sees = |line: &Line| {
@@ -248,17 +268,56 @@ fn best_visible(
         !blocked(points, l[line.a], l[line.b], &[l])
             && clear_of_nodes(&view.p, line.a, line.b, clearance)
     };
-    let few = lines.len().min(FIRST_TRIED);
-    if few < lines.len() {
-        lines.select_nth_unstable_by(few, order);
+    let mut heap = std::collections::BinaryHeap::from(lines);
+    let mut best: Option<Line> = None;
+    while let Some(Ranked(line)) = heap.pop() {
+        if best.is_some_and(|b| line.score >= b.score) {
+            break;
+        }
+        let full = Line {
+            score: line.score + view.small_halves_error(&line),
+            ..line
+        };
+        if best.is_some_and(|b| full.score >= b.score) {
+            continue;
+        }
+        if sees(&full) {
+            best = Some(full);
+        }
     }
-    lines[..few].sort_by(order);
-    if let Some(&line) = lines[..few].iter().find(|line| sees(line)) {
-        return Some(line);
+    best
+}
+
+/// A line ordered for [`std::collections::BinaryHeap`] so the best (lowest score, then
+/// lowest loop positions) pops first.
+struct Ranked(Line);
+
+impl Ranked {
+    fn key(&self) -> (f64, usize, usize) {
+        (self.0.score, self.0.a, self.0.b)
     }
-    let rest = &mut lines[few..];
-    rest.sort_by(order);
-    rest.iter().find(|line| sees(line)).copied()
+}
+
+impl PartialEq for Ranked {
+    fn eq(&self, other: &Self) -> bool {
+        self.cmp(other) == std::cmp::Ordering::Equal
+    }
+}
+
+impl Eq for Ranked {}
+
+impl PartialOrd for Ranked {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for Ranked {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        let (x, y) = (self.key(), other.key());
+        // Reversed: the heap pops its greatest.
+        y.0.total_cmp(&x.0).then((y.1, y.2).cmp(&(x.1, x.2)))
+    }
 }
 
 /// The loop `l` (node ids, counter-clockwise) split at its best line: the two halves,
@@ -271,12 +330,16 @@ fn split_once(
     let n = l.len();
     let view = LoopView::new(points, l);
     let scale = view.area.abs().sqrt().max(f64::MIN_POSITIVE);
-    let best = best_visible(points, l, &view, |a, b| view.line(a, b, scale, sizes, 1e-6)).ok_or(
-        QuadError::NoSplit {
-            nodes: n,
-            at: view.p[0],
-        },
-    )?;
+    // Lines cutting no angle sharper than LEAST_ANGLE first; any line only where none
+    // of those sees (a loop with a sliver corner of its own).
+    let best = best_visible(points, l, &view, |a, b| {
+        view.line(a, b, scale, sizes, LEAST_ANGLE)
+    })
+    .or_else(|| best_visible(points, l, &view, |a, b| view.line(a, b, scale, sizes, 1e-6)))
+    .ok_or(QuadError::NoSplit {
+        nodes: n,
+        at: view.p[0],
+    })?;
     let Line { a, b, pieces, .. } = best;
     let (from, to) = (view.p[a], view.p[b]);
     let first_new = points.len() as u32;
@@ -347,7 +410,7 @@ fn best_small(p: &[DVec2]) -> Option<(f64, Vec<[usize; 4]>)> {
     let n = p.len();
     let centre = p.iter().copied().sum::<DVec2>() / n as f64;
     let at = |i: usize| if i < n { p[i] } else { centre };
-    small_ways(n)
+    let ways: Vec<(f64, Vec<[usize; 4]>)> = small_ways(n)
         .into_iter()
         .map(|quads| {
             let worst = quads
@@ -356,7 +419,24 @@ fn best_small(p: &[DVec2]) -> Option<(f64, Vec<[usize; 4]>)> {
                 .fold(f64::INFINITY, f64::min);
             (worst, quads)
         })
+        .collect();
+    let best_worst = ways.iter().map(|w| w.0).fold(f64::NEG_INFINITY, f64::max);
+    // Between ways whose worst corners are alike (each with a straight corner where a
+    // side has more nodes than the other), the one whose flattest element still spans
+    // area: a quad on four nodes of one line is no element at all.
+    let flattest = |quads: &[[usize; 4]]| {
+        quads
+            .iter()
+            .map(|q| mean_corner_sine_2d(&q.map(at)))
+            .fold(f64::INFINITY, f64::min)
+    };
+    // (A way whose worst is more than 0.02 below the best cannot win: the flattest
+    // element moves the key by at most 0.01 either way.)
+    ways.into_iter()
+        .filter(|w| w.0 >= best_worst - 0.02)
+        .map(|(worst, quads)| (worst + 0.01 * flattest(&quads), worst, quads))
         .max_by(|x, y| x.0.total_cmp(&y.0))
+        .map(|(_, worst, quads)| (worst, quads))
 }
 
 /// A small loop finished the best way ([`best_small`]): its quads, and the centre

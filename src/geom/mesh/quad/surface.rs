@@ -27,6 +27,7 @@ use glam::{DVec2, DVec3};
 use super::sizing::SizeGrid;
 use super::{quad_mesh_region, PlaneMesh, QuadError, QuadOptions, Region};
 use crate::geom::curvature::principal_of;
+use crate::geom::mesh::box_grid::BoxGrid;
 use crate::geom::mesh::{Face, Mesh};
 use crate::geom::NurbsSurface;
 
@@ -702,7 +703,17 @@ pub fn quad_mesh_surface(
             Some((map.to_plane(*uv), on_surface / stretch, on_surface))
         })
         .collect();
-    let in_plane: Vec<(DVec2, f64)> = sized.iter().map(|s| (s.0, s.1)).collect();
+    let mut in_plane: Vec<(DVec2, f64)> = sized.iter().map(|s| (s.0, s.1)).collect();
+    if options.quad.keep_boundary {
+        // The nodes given along the loops ask for their own spacing inside too, so
+        // the elements grade from a seam's spacing to the region's size.
+        for l in &plane_loops {
+            for (k, &q) in l.iter().enumerate() {
+                let (prev, next) = (l[(k + l.len() - 1) % l.len()], l[(k + 1) % l.len()]);
+                in_plane.push((q, 0.5 * (q.distance(prev) + q.distance(next))));
+            }
+        }
+    }
     let grid = SizeGrid::from_samples(&in_plane, SAMPLES);
     let least_size = sized.iter().map(|s| s.2).fold(size, f64::min);
     let mut quad = options.quad.clone();
@@ -712,8 +723,23 @@ pub fn quad_mesh_surface(
         holes: plane_loops[1..].to_vec(),
     };
     let meshed = quad_mesh_region(&plane_region, &quad).map_err(SurfaceMeshError::Region)?;
-    let uv = back_to_parameters(&map, &start_plane, &meshed, &plane_loops, &loops, &samples)?;
-    let positions: Vec<DVec3> = uv.iter().map(|p| surface.point_at(p.x, p.y)).collect();
+    let mut uv = back_to_parameters(&map, &start_plane, &meshed, &plane_loops, &loops, &samples)?;
+    let mut positions: Vec<DVec3> = uv.iter().map(|p| surface.point_at(p.x, p.y)).collect();
+    if options.quad.keep_boundary {
+        // The nodes given are the boundary nodes, in their order: kept exactly where
+        // they were given, so a neighbouring region meshed with the same seam nodes
+        // shares them to the last bit.
+        let given = region
+            .outer
+            .iter()
+            .flatten()
+            .chain(region.holes.iter().flatten());
+        let given_uv = loops.iter().flatten();
+        for (k, (&p, &at)) in given.zip(given_uv).enumerate().take(meshed.boundary_nodes) {
+            positions[k] = p;
+            uv[k] = at;
+        }
+    }
     let faces = oriented_faces(surface, &meshed, &uv, &positions)?;
     let mesh = Mesh::new(positions, faces)
         .map_err(|e| SurfaceMeshError::Region(QuadError::Mesh(e.to_string())))?;
@@ -751,6 +777,12 @@ fn back_to_parameters(
                 .flat_map(|(q, uv)| q.iter().copied().zip(uv.iter().copied())),
         )
         .collect();
+    // The seen points on a grid (in the plane z = 0), for the one nearest each node.
+    let boxes: Vec<(DVec3, DVec3)> = seen
+        .iter()
+        .map(|(q, _)| (q.extend(0.0), q.extend(0.0)))
+        .collect();
+    let grid = BoxGrid::new(&boxes);
     let on_trim = |q: DVec2| -> Option<DVec2> {
         let mut best: Option<(f64, DVec2)> = None;
         for (ql, uvl) in plane_loops.iter().zip(loops) {
@@ -791,10 +823,9 @@ fn back_to_parameters(
                     return Ok(uv);
                 }
             }
-            let start = seen
-                .iter()
-                .min_by(|x, y| x.0.distance_squared(q).total_cmp(&y.0.distance_squared(q)))
-                .map_or(map.lo, |s| s.1);
+            let start = grid
+                .nearest(q.extend(0.0), |k| (seen[k as usize].0.distance(q), ()))
+                .map_or(map.lo, |(k, _, _)| seen[k as usize].1);
             map.to_parameters(q, start)
                 .or_else(|| map.to_parameters(q, start_plane.start(q)))
                 .ok_or_else(|| SurfaceMeshError::Distorted {
