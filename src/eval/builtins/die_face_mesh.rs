@@ -140,18 +140,6 @@ fn die_face_mesh(call: &Call) -> Result<Data, Diagnostic> {
         owner.extend(std::iter::repeat_n(k, f.faces.len()));
         faces.extend(f.faces.iter().cloned());
     }
-    let estimate: f64 = faces
-        .iter()
-        .zip(&owner)
-        .map(|(f, &k)| f.area() / (feature_size[k] * feature_size[k]))
-        .sum();
-    if estimate > options.quad.max_elements as f64 {
-        return Err(too_many(
-            call,
-            estimate.ceil() as usize,
-            options.quad.max_elements,
-        ));
-    }
     let sizes: Vec<f64> = owner.iter().map(|&k| feature_size[k]).collect();
     let shell =
         sew(faces, DIE_FACE_TOLERANCE).map_err(|e| call.kernel_error(e, Some("features")))?;
@@ -263,7 +251,7 @@ fn shell_error(
     owner: &[usize],
 ) -> Diagnostic {
     match err {
-        ShellMeshError::TooMany { nodes, limit } => too_many(call, *nodes, *limit),
+        ShellMeshError::TooMany { estimate, limit } => too_many(call, *estimate, *limit),
         ShellMeshError::Size { face, size } => {
             let f = &features[owner[*face]];
             bad_argument(

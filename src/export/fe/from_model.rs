@@ -7,7 +7,7 @@
 //! expect. Surfaces the script did not mesh are not in the deck: a shell deck holds
 //! elements, and which size to mesh a surface at is the designer's decision.
 
-use std::collections::BTreeMap;
+use std::collections::HashMap;
 
 use glam::DVec3;
 
@@ -27,7 +27,7 @@ pub const TOOL_THICKNESS: f64 = 1.0;
 #[derive(Default)]
 struct Nodes {
     points: Vec<DVec3>,
-    by_cell: BTreeMap<(i64, i64, i64), u32>,
+    by_cell: HashMap<(i64, i64, i64), u32>,
 }
 
 impl Nodes {
@@ -86,6 +86,9 @@ fn collect(part: &Part, nodes: &mut Nodes, parts: &mut Vec<FePart>, beads: &mut 
                 n.z
             })
             .sum();
+        // Each vertex's node, looked up once (at its first corner, so the numbering
+        // is the one a lookup per corner gives).
+        let mut node_of: Vec<Option<u32>> = vec![None; positions.len()];
         let shells: Vec<Shell> = mesh
             .faces()
             .iter()
@@ -94,7 +97,9 @@ fn collect(part: &Part, nodes: &mut Nodes, parts: &mut Vec<FePart>, beads: &mut 
                 let ids: Vec<u32> = face
                     .indices()
                     .iter()
-                    .map(|&v| nodes.id(positions[v as usize]))
+                    .map(|&v| {
+                        *node_of[v as usize].get_or_insert_with(|| nodes.id(positions[v as usize]))
+                    })
                     .collect();
                 match ids.as_slice() {
                     [a, b, c, d] => Shell::Quad([*a, *b, *c, *d]),

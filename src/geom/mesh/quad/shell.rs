@@ -91,9 +91,10 @@ pub enum ShellMeshError {
     /// An element size is not a positive length.
     #[error("face {face}: the element size must be above 0 mm, not {size} mm")]
     Size { face: usize, size: f64 },
-    /// The seams alone would carry more nodes than the element limit.
-    #[error("the seams alone would have {nodes} nodes, more than the limit of {limit} elements")]
-    TooMany { nodes: usize, limit: usize },
+    /// The faces would be meshed into more elements than the limit (estimated from
+    /// the areas inside their seams, before any face is meshed).
+    #[error("about {estimate} elements, more than the limit of {limit}")]
+    TooMany { estimate: usize, limit: usize },
 }
 
 /// Meshes every face of `shell` with quads, face `f` at element size `sizes[f]`, so
@@ -127,10 +128,11 @@ pub fn quad_mesh_shell(
     let mut segments: Vec<usize> = spacing.iter().map(|s| s.segments()).collect();
     even_loops(shell, &mut segments);
     let seam_nodes: usize = segments.iter().sum();
-    if seam_nodes > options.quad.max_elements {
+    let limit = options.quad.max_elements;
+    if seam_nodes > limit {
         return Err(ShellMeshError::TooMany {
-            nodes: seam_nodes,
-            limit: options.quad.max_elements,
+            estimate: seam_nodes,
+            limit,
         });
     }
     // The seam nodes: the vertices, then each edge's inner nodes.
@@ -162,6 +164,28 @@ pub fn quad_mesh_shell(
             ids
         })
         .collect();
+    // Each face's elements: the area inside its seam nodes (the polygon's vector
+    // area, close to the surface's on a die face's gently curved patches) over its
+    // size squared.
+    let estimate: f64 = loops
+        .iter()
+        .enumerate()
+        .map(|(f, ids)| {
+            let p: Vec<DVec3> = ids.iter().map(|&v| positions[v as usize]).collect();
+            let area = (0..p.len())
+                .map(|i| p[i].cross(p[(i + 1) % p.len()]))
+                .sum::<DVec3>()
+                .length()
+                * 0.5;
+            area / (size_of(f) * size_of(f))
+        })
+        .sum();
+    if estimate > limit as f64 {
+        return Err(ShellMeshError::TooMany {
+            estimate: estimate.ceil() as usize,
+            limit,
+        });
+    }
     let meshed: Vec<Result<_, ShellMeshError>> = shell
         .faces
         .par_iter()
