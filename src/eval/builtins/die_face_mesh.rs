@@ -121,8 +121,8 @@ fn die_face_mesh(call: &Call) -> Result<Data, Diagnostic> {
             feature_size[k] = h;
         }
     }
+    // A chordal tolerance of size / 20 unless given.
     let mut options = SurfaceMeshOptions::at_size(size);
-    options.quad.chord_tolerance = 0.05 * size;
     if call.arg("tolerance").is_some() {
         options.quad.chord_tolerance = positive_length(
             call,

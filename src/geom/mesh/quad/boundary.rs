@@ -4,7 +4,7 @@
 
 use glam::DVec2;
 
-use super::sizing::Sizes;
+use super::sizing::{chord_for_sag, Sizes};
 use super::{QuadError, Region};
 use crate::geom::trimmed::{polygon_area, winding};
 
@@ -154,10 +154,7 @@ pub fn allowed_spacing(side: &[DVec2], sizes: Sizes, tolerance: f64) -> Vec<f64>
             return size;
         }
         let r = 0.5 * (a.length() + b.length()) / turn;
-        if tolerance >= r {
-            return size.min(2.0 * r);
-        }
-        size.min(2.0 * (2.0 * r * tolerance - tolerance * tolerance).sqrt())
+        size.min(chord_for_sag(r, tolerance))
     };
     let points: Vec<f64> = (0..side.len()).map(at_point).collect();
     points.windows(2).map(|w| w[0].min(w[1])).collect()

@@ -22,7 +22,9 @@
 use glam::DVec3;
 use rayon::prelude::*;
 
+use super::sizing::chord_for_sag;
 use super::surface::{quad_mesh_surface, SurfaceMeshError, SurfaceMeshOptions, SurfaceRegion};
+use super::QuadError;
 use crate::geom::curve::Curve3;
 use crate::geom::mesh::{Face, Mesh};
 use crate::geom::sew::Shell;
@@ -209,7 +211,7 @@ pub fn quad_mesh_shell(
         })
         .collect();
     let mut elements = Vec::with_capacity(shell.faces.len());
-    for ((face, ids), result) in shell.faces.iter().zip(&loops).zip(meshed) {
+    for (index, ((face, ids), result)) in shell.faces.iter().zip(&loops).zip(meshed).enumerate() {
         let surface_mesh = result?;
         let local = &surface_mesh.mesh;
         // Local boundary node k is the loop's k-th seam node; the rest are new.
@@ -224,16 +226,14 @@ pub fn quad_mesh_shell(
             .map(|e| {
                 let renumbered: Vec<u32> =
                     e.indices().iter().map(|&v| global[v as usize]).collect();
-                // The loop holds at least three nodes, so the element is a triangle or
-                // a quad like the one it renumbers.
-                let f = Face::from_slice(&renumbered).expect("a renumbered element keeps its size");
-                if face.reversed {
-                    f.reversed()
-                } else {
-                    f
-                }
+                let f = Face::from_slice(&renumbered).map_err(|e| ShellMeshError::Face {
+                    face: index,
+                    name: face.face.name.clone(),
+                    error: SurfaceMeshError::Region(QuadError::Mesh(e.to_string())),
+                })?;
+                Ok(if face.reversed { f.reversed() } else { f })
             })
-            .collect();
+            .collect::<Result<_, ShellMeshError>>()?;
         elements.push(faces);
     }
     Ok(ShellMesh {
@@ -388,14 +388,5 @@ fn circumradius(a: DVec3, b: DVec3, c: DVec3) -> f64 {
         f64::INFINITY
     } else {
         ab * bc * ca / (2.0 * twice_area)
-    }
-}
-
-/// The chord of a circle of radius `r` that sags `t`: `2 sqrt(2 r t - t^2)`.
-fn chord_for_sag(r: f64, t: f64) -> f64 {
-    if t >= r {
-        2.0 * r
-    } else {
-        2.0 * (2.0 * r * t - t * t).sqrt()
     }
 }

@@ -14,6 +14,17 @@ use glam::DVec2;
 /// per element's length.
 pub const GROWTH: f64 = 0.3;
 
+/// The chord of a circle of radius `r` that sags `t` off it, `2 sqrt(2 r t - t^2)`
+/// (the whole diameter when `t >= r`): the longest element edge a curve or surface of
+/// that radius allows at a chordal tolerance of `t`.
+pub fn chord_for_sag(r: f64, t: f64) -> f64 {
+    if t >= r {
+        2.0 * r
+    } else {
+        2.0 * (2.0 * r * t - t * t).sqrt()
+    }
+}
+
 /// The size wanted at a point: `size`, or less where the grid asks.
 #[derive(Debug, Clone, Copy)]
 pub struct Sizes<'a> {

@@ -24,7 +24,7 @@
 
 use glam::{DVec2, DVec3};
 
-use super::sizing::SizeGrid;
+use super::sizing::{chord_for_sag, SizeGrid};
 use super::{quad_mesh_region, PlaneMesh, QuadError, QuadOptions, Region};
 use crate::geom::curvature::principal_of;
 use crate::geom::mesh::box_grid::BoxGrid;
@@ -596,15 +596,6 @@ fn iso_lengths(surface: &NurbsSurface) -> DVec2 {
         .sum::<f64>()
         / 5.0;
     DVec2::new(along_u, along_v).max(DVec2::splat(1e-9))
-}
-
-/// The chord of a surface of smallest radius `r` that sags `t`: `2 sqrt(2 r t - t^2)`.
-fn chord_for_sag(r: f64, t: f64) -> f64 {
-    if t >= r {
-        2.0 * r
-    } else {
-        2.0 * (2.0 * r * t - t * t).sqrt()
-    }
 }
 
 /// Meshes a region of `surface` with quads of about `options.quad.size` (paper 004):
