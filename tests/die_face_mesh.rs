@@ -23,7 +23,12 @@ fn root() -> PathBuf {
 /// The fender deck example's model with its element sizes set (the script and the
 /// fender it imports copied to a folder of their own).
 fn deck_model(size: &str, product_size: &str) -> DieModel {
-    let text = std::fs::read_to_string(root().join("fender/fender_deck.die"))
+    deck_model_of("fender_deck.die", size, product_size)
+}
+
+/// The deck example `file` (in `examples/fender`) evaluated with its element sizes set.
+fn deck_model_of(file: &str, size: &str, product_size: &str) -> DieModel {
+    let text = std::fs::read_to_string(root().join("fender").join(file))
         .expect("the example reads")
         .replace("param size = 10 mm", &format!("param size = {size}"))
         .replace(
@@ -108,6 +113,27 @@ fn edge_uses(elements: &[(String, Vec<Key>)]) -> BTreeMap<(Key, Key), Vec<(Strin
     uses
 }
 
+/// Manifold and oriented: no edge has three elements, and the two elements of a
+/// shared edge run it in opposite directions (across parts too).
+fn check_manifold_and_oriented(uses: &BTreeMap<(Key, Key), Users>) {
+    for (edge, users) in uses {
+        assert!(
+            users.len() <= 2,
+            "edge at {:?} has {} elements",
+            point(&edge.0),
+            users.len()
+        );
+        if users.len() == 2 {
+            assert_ne!(
+                users[0].1,
+                users[1].1,
+                "edge at {:?} used the same way twice",
+                point(&edge.0)
+            );
+        }
+    }
+}
+
 fn point(k: &Key) -> DVec3 {
     DVec3::new(
         f64::from_bits(k[0]),
@@ -140,24 +166,7 @@ fn the_fender_die_face_mesh_is_one_conforming_shell_open_only_at_the_binder_edge
     }
     let all = elements(&meshes);
     let uses = edge_uses(&all);
-    // Manifold and oriented: no edge has three elements, and the two elements of a
-    // shared edge run it in opposite directions (across parts too).
-    for (edge, users) in &uses {
-        assert!(
-            users.len() <= 2,
-            "edge at {:?} has {} elements",
-            point(&edge.0),
-            users.len()
-        );
-        if users.len() == 2 {
-            assert_ne!(
-                users[0].1,
-                users[1].1,
-                "edge at {:?} used the same way twice",
-                point(&edge.0)
-            );
-        }
-    }
+    check_manifold_and_oriented(&uses);
     // No node doubled: distinct nodes are at least a hundredth of a millimetre apart
     // (checked on a grid of 1 mm cells).
     let nodes: BTreeSet<Key> = all.iter().flat_map(|(_, e)| e.iter().copied()).collect();
@@ -294,4 +303,68 @@ fn a_finer_product_size_refines_the_product_and_its_seam_only() {
     // its size (it only grades in from the finer outline it does not touch).
     assert!((3.0..5.0).contains(&product), "product x{product}");
     assert!((0.9..1.2).contains(&binder), "binder x{binder}");
+}
+
+#[test]
+fn beads_set_into_the_binder_share_their_feet_with_it_and_leave_no_free_edge() {
+    let model = deck_model_of("fender_bead_deck.die", "25 mm", "25 mm");
+    let meshes = feature_meshes(&model);
+    let names: Vec<&str> = meshes.keys().map(String::as_str).collect();
+    assert_eq!(
+        names,
+        [
+            "die_mesh/binder",
+            "die_mesh/product",
+            "die_mesh/rear_corner",
+            "die_mesh/step_draw",
+            "die_mesh/wheel_arch"
+        ],
+        "one mesh per feature, each bead its own"
+    );
+    for (name, m) in &meshes {
+        let q = mesh_quality(m);
+        eprintln!(
+            "{name}: {} quads {} tris, min SJ {:.3}, mean {:.3}",
+            q.quads, q.triangles, q.min_scaled_jacobian, q.mean_scaled_jacobian
+        );
+        assert_eq!(q.inverted, 0, "{name}: no inverted element");
+        assert!(
+            q.min_scaled_jacobian > 0.05,
+            "{name}: least scaled Jacobian {}",
+            q.min_scaled_jacobian
+        );
+        // The binder grades from the beads' 6 mm feet to 25 mm here, and leaves a
+        // triangle pair now and then on the way (1 % at its own 10 mm).
+        assert!(q.quad_share() > 0.9, "{name}: quads {}", q.quad_share());
+    }
+    let all = elements(&meshes);
+    let uses = edge_uses(&all);
+    check_manifold_and_oriented(&uses);
+    // Still open only round the binder's outer edge: the beads' feet and ends are
+    // all shared with the binder.
+    let free: Vec<_> = uses.iter().filter(|(_, u)| u.len() == 1).collect();
+    assert!(
+        free.iter().all(|(_, u)| u[0].0 == "die_mesh/binder"),
+        "a free edge off the binder"
+    );
+    assert_eq!(loops(&free.iter().map(|(e, _)| **e).collect::<Vec<_>>()), 1);
+    for bead in ["die_mesh/wheel_arch", "die_mesh/rear_corner"] {
+        // The bead's whole boundary is binder edges: one closed footprint each.
+        let bead_edges: Vec<(Key, Key)> = uses
+            .iter()
+            .filter(|(_, u)| {
+                u.len() == 2
+                    && u.iter().any(|x| x.0 == bead)
+                    && u.iter().any(|x| x.0 == "die_mesh/binder")
+            })
+            .map(|(e, _)| *e)
+            .collect();
+        assert!(!bead_edges.is_empty(), "{bead} meets the binder");
+        assert_eq!(loops(&bead_edges), 1, "{bead}: one footprint");
+        let own: usize = uses
+            .iter()
+            .filter(|(_, u)| u.len() == 1 && u[0].0 == bead)
+            .count();
+        assert_eq!(own, 0, "{bead}: no free edge");
+    }
 }

@@ -151,23 +151,32 @@ impl Writer {
             .collect();
         let mut faces = Vec::new();
         for f in &shell.faces {
-            let oriented: Vec<String> = f
-                .bound
-                .iter()
-                .map(|&(e, forward)| {
-                    self.add(format!(
-                        "ORIENTED_EDGE('',*,*,{},{})",
-                        edges[e],
-                        flag(forward)
-                    ))
-                })
-                .collect();
-            let lp = self.add(format!("EDGE_LOOP('',({}))", oriented.join(",")));
-            let bound = self.add(format!("FACE_OUTER_BOUND('',{lp},.T.)"));
+            // The outer loop, then a plain bound per hole (a bead imprinted on it).
+            let mut bounds = Vec::with_capacity(1 + f.holes.len());
+            for (k, l) in std::iter::once(&f.bound).chain(&f.holes).enumerate() {
+                let oriented: Vec<String> = l
+                    .iter()
+                    .map(|&(e, forward)| {
+                        self.add(format!(
+                            "ORIENTED_EDGE('',*,*,{},{})",
+                            edges[e],
+                            flag(forward)
+                        ))
+                    })
+                    .collect();
+                let lp = self.add(format!("EDGE_LOOP('',({}))", oriented.join(",")));
+                let keyword = if k == 0 {
+                    "FACE_OUTER_BOUND"
+                } else {
+                    "FACE_BOUND"
+                };
+                bounds.push(self.add(format!("{keyword}('',{lp},.T.)")));
+            }
             let surface = self.surface(f.face.surface());
             faces.push(self.add(format!(
-                "ADVANCED_FACE('{}',({bound}),{surface},{})",
+                "ADVANCED_FACE('{}',({}),{surface},{})",
                 escape(&f.face.name),
+                bounds.join(","),
                 flag(!f.reversed)
             )));
         }

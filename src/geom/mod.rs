@@ -35,6 +35,7 @@ pub mod curve;
 pub mod error;
 pub mod fingerprint;
 pub(crate) mod grid;
+pub mod imprint;
 pub mod interpolate;
 pub mod intersect;
 pub mod inversion;

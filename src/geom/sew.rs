@@ -105,15 +105,20 @@ pub struct Edge {
 }
 
 /// A sewn face: the face and its boundary as edges in loop order, each with whether
-/// the loop runs along the edge's curve (`true`) or against it. The loop runs
+/// the loop runs along the edge's curve (`true`) or against it. The outer loop runs
 /// counter-clockwise around the face's normal, which is the surface's `S_u x S_v`, or
-/// its opposite when `reversed`.
+/// its opposite when `reversed`; its holes run clockwise, so the face always lies to
+/// the left.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SewnFace {
     /// The face.
     pub face: Face,
-    /// `(edge index, same direction)` in loop order.
+    /// The outer loop: `(edge index, same direction)` in loop order.
     pub bound: Vec<(usize, bool)>,
+    /// The inner loops, the same way: none from [`sew`]; a face imprinted into the
+    /// shell ([`super::imprint`], a draw bead on the binder) leaves one where it lies
+    /// inside a face.
+    pub holes: Vec<Vec<(usize, bool)>>,
     /// Whether the face's normal is turned against its surface's, so that the shell
     /// is oriented consistently (every shared edge used in opposite directions).
     pub reversed: bool,
@@ -130,12 +135,19 @@ pub struct Shell {
     pub faces: Vec<SewnFace>,
 }
 
+impl SewnFace {
+    /// Every loop's edges, the outer loop first, then the holes.
+    pub fn loop_edges(&self) -> impl Iterator<Item = &(usize, bool)> {
+        self.bound.iter().chain(self.holes.iter().flatten())
+    }
+}
+
 impl Shell {
     /// How many faces use each edge.
     pub fn edge_uses(&self) -> Vec<usize> {
         let mut uses = vec![0; self.edges.len()];
         for f in &self.faces {
-            for &(e, _) in &f.bound {
+            for &(e, _) in f.loop_edges() {
                 uses[e] += 1;
             }
         }
@@ -267,6 +279,7 @@ pub fn sew(faces: Vec<Face>, tol: f64) -> Result<Shell> {
         sewn.push(SewnFace {
             face,
             bound,
+            holes: Vec::new(),
             reversed: false,
         });
     }
@@ -285,7 +298,7 @@ pub fn sew(faces: Vec<Face>, tol: f64) -> Result<Shell> {
 fn orient(faces: &mut [SewnFace], edge_count: usize) {
     let mut users: Vec<Vec<(usize, bool)>> = vec![Vec::new(); edge_count];
     for (i, f) in faces.iter().enumerate() {
-        for &(e, d) in &f.bound {
+        for &(e, d) in f.loop_edges() {
             users[e].push((i, d));
         }
     }
@@ -298,7 +311,7 @@ fn orient(faces: &mut [SewnFace], edge_count: usize) {
         let mut stack = vec![start];
         while let Some(f) = stack.pop() {
             let flip_f = flip[f].unwrap_or(false);
-            for &(e, d) in &faces[f].bound {
+            for &(e, d) in faces[f].loop_edges() {
                 for &(g, dg) in &users[e] {
                     if g != f && flip[g].is_none() {
                         // g is used the way f effectively runs: turn it.
@@ -311,9 +324,11 @@ fn orient(faces: &mut [SewnFace], edge_count: usize) {
     }
     for (f, flipped) in faces.iter_mut().zip(flip) {
         if flipped == Some(true) {
-            f.bound.reverse();
-            for b in &mut f.bound {
-                b.1 = !b.1;
+            for l in std::iter::once(&mut f.bound).chain(&mut f.holes) {
+                l.reverse();
+                for b in l.iter_mut() {
+                    b.1 = !b.1;
+                }
             }
             f.reversed = true;
         }

@@ -1,22 +1,27 @@
 //! The whole die face as one conforming shell mesh for forming simulation (issue 18):
-//! the product, the step draw's patches and the binder's patches meshed with quads so
-//! that every seam carries the same nodes on both sides
+//! the product, the step draw's patches, the binder's patches and the draw beads'
+//! skins meshed with quads so that every seam carries the same nodes on both sides
 //! (`geom::mesh::quad::shell`).
 //!
 //! ```text
-//! let die_mesh = die_face_mesh({ product: fender, step_draw: addendum, binder: binder },
+//! let die_mesh = die_face_mesh({ product: fender, step_draw: addendum, binder: binder,
+//!                                wheel_arch: wheel_arch },
 //!                              size: 10 mm, sizes: { product: 5 mm }, tolerance: 0.3 mm)
 //! ```
 //!
 //! The value is a record with one mesh per feature, under the names given: in a deck
 //! each is one shell part, and they share the seam nodes (the product outline between
 //! the product and the step draw, the punch opening between the step draw and the
-//! binder).
+//! binder, a bead's feet between the bead and the binder). A bead given here is set
+//! into the binder it stands on (`geom::imprint`): the binder's elements stop at the
+//! bead's feet and the bead's skin is meshed between them, for a simulation that
+//! models the bead's geometry instead of a line bead.
 
 use std::sync::Arc;
 
 use crate::diag::Diagnostic;
 use crate::die::model::DieFace;
+use crate::geom::imprint::imprint;
 use crate::geom::mesh::quad::shell::{quad_mesh_shell, ShellMeshError};
 use crate::geom::mesh::quad::surface::{SurfaceMeshError, SurfaceMeshOptions};
 use crate::geom::mesh::quad::QuadError;
@@ -38,15 +43,17 @@ pub static BUILTINS: &[Builtin] = &[Builtin {
         opt("tolerance"),
         opt("max_elements"),
     ],
-    doc: "the die face's features (a record such as `{ product: fender, step_draw: addendum, binder: binder }`) meshed with quads of about `size` (per feature from `sizes`, a record under the same names), finer where a chord would sag more than `tolerance` (default size / 20); neighbouring patches share their seam nodes exactly; the value is a record of one mesh per feature",
+    doc: "the die face's features (a record such as `{ product: fender, step_draw: addendum, binder: binder }`, beads too, set into the binder) meshed with quads of about `size` (per feature from `sizes`, a record under the same names), finer where a chord would sag more than `tolerance` (default size / 20); neighbouring patches share their seam nodes exactly; the value is a record of one mesh per feature",
     run: die_face_mesh,
 }];
 
-/// One feature's faces: the name it was given and its faces of the die face.
+/// One feature's faces: the name it was given, its faces of the die face, and its
+/// bead skins to set into them.
 struct Feature<'a> {
     name: String,
     value: &'a Value,
     faces: Vec<Face>,
+    beads: Vec<Face>,
 }
 
 /// `die_face_mesh(features, size, sizes?, tolerance?, max_elements?)`.
@@ -66,12 +73,13 @@ fn die_face_mesh(call: &Call) -> Result<Data, Diagnostic> {
     )?;
     let mut features = Vec::with_capacity(record.fields.len());
     for (name, value) in &record.fields {
-        let mut faces = Vec::new();
-        faces_of(name, value, &mut faces)?;
+        let mut face = DieFace::default();
+        faces_of(name, value, &mut face)?;
         features.push(Feature {
             name: name.clone(),
             value,
-            faces,
+            faces: face.faces,
+            beads: face.beads,
         });
     }
     if features.iter().all(|f| f.faces.is_empty()) {
@@ -140,9 +148,31 @@ fn die_face_mesh(call: &Call) -> Result<Data, Diagnostic> {
         owner.extend(std::iter::repeat_n(k, f.faces.len()));
         faces.extend(f.faces.iter().cloned());
     }
-    let sizes: Vec<f64> = owner.iter().map(|&k| feature_size[k]).collect();
-    let shell =
+    let mut shell =
         sew(faces, DIE_FACE_TOLERANCE).map_err(|e| call.kernel_error(e, Some("features")))?;
+    // The beads set into the faces they stand on; a face a bead cuts in two stays
+    // its feature's.
+    for (k, f) in features.iter().enumerate() {
+        for bead in &f.beads {
+            let done = imprint(&mut shell, bead.clone(), DIE_FACE_TOLERANCE).map_err(|e| {
+                Diagnostic::new(
+                    "die::quad_mesh",
+                    format!(
+                        "`die_face_mesh` could not set the bead `{}` into the die face: {e}",
+                        f.name
+                    ),
+                    f.value.span,
+                    "this bead",
+                )
+                .with_help("a bead meshed with the die face must stand on the binder given beside it, inside its outer edge and clear of its patch corners")
+            })?;
+            for &(_, from) in &done.split {
+                owner.push(owner[from]);
+            }
+            owner.push(k);
+        }
+    }
+    let sizes: Vec<f64> = owner.iter().map(|&k| feature_size[k]).collect();
     let meshed = quad_mesh_shell(&shell, &sizes, &options)
         .map_err(|e| shell_error(call, &e, &features, &owner))?;
     check_size(call, "size", "the die-face mesh", meshed.positions.len())?;
@@ -188,38 +218,34 @@ fn positive_length(call: &Call, arg: &str, help: &str) -> Result<f64, Diagnostic
 }
 
 /// The die-face faces of one feature: a product (a trimmed surface, a surface, or a
-/// list of them), or a step draw's or blankholder's patches.
-fn faces_of(name: &str, value: &Value, out: &mut Vec<Face>) -> Result<(), Diagnostic> {
+/// list of them), a step draw's or blankholder's patches, or a bead's skin.
+fn faces_of(name: &str, value: &Value, out: &mut DieFace) -> Result<(), Diagnostic> {
     if let Data::Record(r) = &value.data {
         if let Some(f) = &r.feature {
             let mut face = DieFace::default();
             f.kind.die_face(name, r, &mut face);
-            if face.faces.is_empty() {
+            if face.faces.is_empty() && face.beads.is_empty() {
                 let kind = r.kind.as_deref().unwrap_or("feature");
-                let help = if kind == "bead" {
-                    "a draw bead goes to a deck as a line bead (`*CONTACT_DRAWBEAD`): declare the bead and it is written beside the mesh"
-                } else {
-                    "give the product, the step draw and the blankholder"
-                };
                 return Err(Diagnostic::new(
                     "die::bad_argument",
                     format!("`{name}` is a {kind}, which has no face of the die face to mesh"),
                     value.span,
                     "not a face of the die face",
                 )
-                .with_help(help));
+                .with_help("give the product, the step draw, the blankholder and the beads"));
             }
-            out.extend(face.faces);
+            out.faces.extend(face.faces);
+            out.beads.extend(face.beads);
             return Ok(());
         }
     }
-    let before = out.len();
-    product_faces(name, value, out);
-    if out.len() == before {
+    let before = out.faces.len();
+    product_faces(name, value, &mut out.faces);
+    if out.faces.len() == before {
         return Err(Diagnostic::new(
             "die::type",
             format!(
-                "`{name}` in `features` of `die_face_mesh` must be a product surface, a step draw or a blankholder, not {}",
+                "`{name}` in `features` of `die_face_mesh` must be a product surface, a step draw, a blankholder or a bead, not {}",
                 value.data.type_name()
             ),
             value.span,

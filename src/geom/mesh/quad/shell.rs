@@ -116,7 +116,7 @@ pub fn quad_mesh_shell(
     // Each edge at the finest size of the faces using it.
     let mut edge_size = vec![f64::INFINITY; shell.edges.len()];
     for (f, face) in shell.faces.iter().enumerate() {
-        for &(e, _) in &face.bound {
+        for &(e, _) in face.loop_edges() {
             edge_size[e] = edge_size[e].min(size_of(f));
         }
     }
@@ -149,33 +149,44 @@ pub fn quad_mesh_shell(
         ids.push(edge.end as u32);
         edge_ids.push(ids);
     }
-    // Each face inside its loop of seam nodes.
-    let loops: Vec<Vec<u32>> = shell
+    // Each face inside its loops of seam nodes: the outer loop, then its holes.
+    let loop_ids = |l: &[(usize, bool)]| -> Vec<u32> {
+        let mut ids = Vec::new();
+        for &(e, forward) in l {
+            let along = &edge_ids[e];
+            if forward {
+                ids.extend(&along[..along.len() - 1]);
+            } else {
+                ids.extend(along[1..].iter().rev());
+            }
+        }
+        ids
+    };
+    let loops: Vec<Vec<Vec<u32>>> = shell
         .faces
         .iter()
         .map(|face| {
-            let mut ids = Vec::new();
-            for &(e, forward) in &face.bound {
-                let along = &edge_ids[e];
-                if forward {
-                    ids.extend(&along[..along.len() - 1]);
-                } else {
-                    ids.extend(along[1..].iter().rev());
-                }
-            }
-            ids
+            std::iter::once(&face.bound)
+                .chain(&face.holes)
+                .map(|l| loop_ids(l))
+                .collect()
         })
         .collect();
-    // Each face's elements: the area inside its seam nodes (the polygon's vector
-    // area, close to the surface's on a die face's gently curved patches) over its
-    // size squared.
+    // Each face's elements: the area inside its seam nodes (the polygons' vector
+    // area, the holes running the other way; close to the surface's on a die face's
+    // gently curved patches) over its size squared.
     let estimate: f64 = loops
         .iter()
         .enumerate()
-        .map(|(f, ids)| {
-            let p: Vec<DVec3> = ids.iter().map(|&v| positions[v as usize]).collect();
-            let area = (0..p.len())
-                .map(|i| p[i].cross(p[(i + 1) % p.len()]))
+        .map(|(f, face_loops)| {
+            let area = face_loops
+                .iter()
+                .map(|ids| {
+                    let p: Vec<DVec3> = ids.iter().map(|&v| positions[v as usize]).collect();
+                    (0..p.len())
+                        .map(|i| p[i].cross(p[(i + 1) % p.len()]))
+                        .sum::<DVec3>()
+                })
                 .sum::<DVec3>()
                 .length()
                 * 0.5;
@@ -193,13 +204,14 @@ pub fn quad_mesh_shell(
         .par_iter()
         .zip(&loops)
         .enumerate()
-        .map(|(f, (face, ids))| {
+        .map(|(f, (face, face_loops))| {
             let mut face_options = options.clone();
             face_options.quad.size = size_of(f);
             face_options.quad.keep_boundary = true;
+            let points = |ids: &Vec<u32>| ids.iter().map(|&v| positions[v as usize]).collect();
             let region = SurfaceRegion {
-                outer: Some(ids.iter().map(|&v| positions[v as usize]).collect()),
-                holes: Vec::new(),
+                outer: Some(points(&face_loops[0])),
+                holes: face_loops[1..].iter().map(points).collect(),
             };
             quad_mesh_surface(face.face.surface(), &region, &face_options).map_err(|error| {
                 ShellMeshError::Face {
@@ -211,11 +223,15 @@ pub fn quad_mesh_shell(
         })
         .collect();
     let mut elements = Vec::with_capacity(shell.faces.len());
-    for (index, ((face, ids), result)) in shell.faces.iter().zip(&loops).zip(meshed).enumerate() {
+    for (index, ((face, face_loops), result)) in
+        shell.faces.iter().zip(&loops).zip(meshed).enumerate()
+    {
         let surface_mesh = result?;
         let local = &surface_mesh.mesh;
-        // Local boundary node k is the loop's k-th seam node; the rest are new.
-        let mut global: Vec<u32> = ids.clone();
+        // Local boundary node k is the loops' k-th seam node (outer loop, then the
+        // holes); the rest are new.
+        let mut global: Vec<u32> = face_loops.concat();
+        let ids = global.clone();
         for &p in &local.positions()[ids.len().min(local.vertex_count())..] {
             global.push(positions.len() as u32);
             positions.push(p);
@@ -254,7 +270,7 @@ pub fn even_loops(shell: &Shell, segments: &mut [usize]) {
     let uses = shell.edge_uses();
     let mut users: Vec<Vec<usize>> = vec![Vec::new(); shell.edges.len()];
     for (f, face) in shell.faces.iter().enumerate() {
-        for &(e, _) in &face.bound {
+        for &(e, _) in face.loop_edges() {
             users[e].push(f);
         }
     }
@@ -264,7 +280,7 @@ pub fn even_loops(shell: &Shell, segments: &mut [usize]) {
     let mut order = Vec::with_capacity(n);
     let mut queue = std::collections::VecDeque::new();
     for (f, face) in shell.faces.iter().enumerate() {
-        if let Some(&(e, _)) = face.bound.iter().find(|(e, _)| uses[*e] == 1) {
+        if let Some(&(e, _)) = face.loop_edges().find(|(e, _)| uses[*e] == 1) {
             seen[f] = true;
             parent[f] = Some(e);
             queue.push_back(f);
@@ -274,7 +290,7 @@ pub fn even_loops(shell: &Shell, segments: &mut [usize]) {
     loop {
         while let Some(f) = queue.pop_front() {
             order.push(f);
-            for &(e, _) in &shell.faces[f].bound {
+            for &(e, _) in shell.faces[f].loop_edges() {
                 for &g in &users[e] {
                     if !seen[g] {
                         seen[g] = true;
@@ -294,7 +310,7 @@ pub fn even_loops(shell: &Shell, segments: &mut [usize]) {
         queue.push_back(next_root);
     }
     let total = |f: usize, segments: &[usize]| -> usize {
-        shell.faces[f].bound.iter().map(|&(e, _)| segments[e]).sum()
+        shell.faces[f].loop_edges().map(|&(e, _)| segments[e]).sum()
     };
     for &f in order.iter().rev() {
         if total(f, segments) % 2 == 1 {
@@ -308,8 +324,7 @@ pub fn even_loops(shell: &Shell, segments: &mut [usize]) {
     for f in 0..n {
         if total(f, segments) < 4 {
             if let Some(&(e, _)) = shell.faces[f]
-                .bound
-                .iter()
+                .loop_edges()
                 .max_by_key(|(e, _)| segments[*e])
             {
                 segments[e] += 2;
