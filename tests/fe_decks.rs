@@ -541,3 +541,24 @@ fn the_fender_die_face_deck_reads_back_with_its_three_parts_and_two_line_beads()
     assert_eq!(count("*SET_NODE_LIST"), 2);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn the_fender_deck_with_bead_skins_reads_back_with_a_part_per_bead_and_no_line_bead() {
+    let dir = temp_dir();
+    let k = dir.join("fender_beads.k");
+    let bdf = dir.join("fender_beads.bdf");
+    let example = root().join("examples/fender/fender_bead_deck.die");
+    build_decks(&example, &k, &bdf);
+    let model = script_deck(&example, "fender_bead_deck");
+    // Product, step draw, binder and the two beads' skins; the beads modelled as
+    // geometry, so no line bead.
+    assert_eq!(model.parts.len(), 5);
+    assert!(model.beads.is_empty());
+    let read = read_back(&k, &bdf);
+    check_lsdyna_mesh(&read["lsdyna"], &model);
+    check_pynastran_mesh(&read["nastran"], &model);
+    check_meshio(&read["meshio"], &model);
+    let parsed = &read["lsdyna"]["parsed_by_this_script"];
+    assert_eq!(parsed["parts"].as_object().map(|p| p.len()), Some(5));
+    let _ = std::fs::remove_dir_all(&dir);
+}
