@@ -8,6 +8,7 @@
 //! elements, and which size to mesh a surface at is the designer's decision.
 
 use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
 
 use glam::DVec3;
 
@@ -27,7 +28,37 @@ pub const TOOL_THICKNESS: f64 = 1.0;
 #[derive(Default)]
 struct Nodes {
     points: Vec<DVec3>,
-    by_cell: HashMap<(i64, i64, i64), u32>,
+    by_cell: HashMap<(i64, i64, i64), u32, BuildHasherDefault<CellHasher>>,
+}
+
+/// The weld grid's hasher: FxHash's rotate, xor and multiply per word of the cell key.
+/// The standard SipHash, which guards a map against keys chosen to collide, made the
+/// 27 look-ups per node a third of writing a deck; the map is only looked up, never
+/// walked, so the deck does not depend on the hash.
+#[derive(Default)]
+struct CellHasher(u64);
+
+impl Hasher for CellHasher {
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.add(u64::from(b));
+        }
+    }
+
+    fn write_i64(&mut self, word: i64) {
+        self.add(word as u64);
+    }
+
+    fn finish(&self) -> u64 {
+        self.0
+    }
+}
+
+impl CellHasher {
+    /// One word mixed in (FxHash's constant: odd, its bits spread).
+    fn add(&mut self, word: u64) {
+        self.0 = (self.0.rotate_left(5) ^ word).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+    }
 }
 
 impl Nodes {
@@ -77,8 +108,12 @@ fn collect(part: &Part, nodes: &mut Nodes, parts: &mut Vec<FePart>, beads: &mut 
             .faces()
             .iter()
             .map(|f| {
-                let p: Vec<DVec3> = f.indices().iter().map(|&v| positions[v as usize]).collect();
-                let n = if p.len() == 4 {
+                let ids = f.indices();
+                let p = |k: usize| positions[ids[k] as usize];
+                // The first three corners and the last (a quad's fourth; a triangle's
+                // normal uses only the first three), with no list made per face.
+                let p = [0, 1, 2, ids.len() - 1].map(p);
+                let n = if ids.len() == 4 {
                     (p[2] - p[0]).cross(p[3] - p[1])
                 } else {
                     (p[1] - p[0]).cross(p[2] - p[0])

@@ -33,8 +33,8 @@ use std::fmt::Write;
 use glam::DVec3;
 
 use super::{
-    comment, node_id, numbered_shells, part_id, plain_line, real, FeBead, FeModel, FePart, Shell,
-    MATERIAL_ID, STEEL_DENSITY, STEEL_POISSON_RATIO, STEEL_YOUNGS_MODULUS,
+    comment, node_id, numbered_shells, part_id, plain_line, push_real, real, FeBead, FeModel,
+    FePart, Shell, MATERIAL_ID, STEEL_DENSITY, STEEL_POISSON_RATIO, STEEL_YOUNGS_MODULUS,
 };
 
 /// The part set id every bead contact takes as its master: the blank's, which is not in
@@ -55,7 +55,10 @@ const COORDINATE_DECIMALS: usize = 6;
 /// The die face as an LS-DYNA keyword deck (ASCII, `\n` line ends, deterministic).
 /// Call [`FeModel::check`] first: an unchecked model is written as given.
 pub fn encode_lsdyna(model: &FeModel) -> Vec<u8> {
-    let mut out = String::new();
+    // About the deck's size (a node's line is 57 bytes, a shell's 49), so the text is
+    // not copied as it grows.
+    let shells: usize = model.parts.iter().map(|p| p.shells.len()).sum();
+    let mut out = String::with_capacity(57 * model.nodes.len() + 49 * shells + 4096);
     header(&mut out, model);
     for (k, part) in model.parts.iter().enumerate() {
         part_card(&mut out, k, part);
@@ -178,9 +181,9 @@ fn nodes(out: &mut String, nodes: &[DVec3]) {
     out.push_str("*NODE\n");
     out.push_str("$#   nid               x               y               z\n");
     for (i, p) in (0u32..).zip(nodes) {
-        let _ = write!(out, "{}", int(node_id(i), 8));
+        let _ = write!(out, "{:>8}", node_id(i));
         for c in [p.x, p.y, p.z] {
-            out.push_str(&real(c, 16, COORDINATE_DECIMALS));
+            push_real(out, c, 16, COORDINATE_DECIMALS);
         }
         out.push('\n');
     }
@@ -198,11 +201,14 @@ fn elements(out: &mut String, model: &FeModel) {
             Shell::Quad(n) => n,
             Shell::Triangle([a, b, c]) => [a, b, c, c],
         };
-        let _ = write!(out, "{}{}", int(eid, 8), int(pid, 8));
-        for n in [a, b, c, d] {
-            out.push_str(&int(node_id(n), 8));
-        }
-        out.push('\n');
+        let _ = writeln!(
+            out,
+            "{eid:>8}{pid:>8}{:>8}{:>8}{:>8}{:>8}",
+            node_id(a),
+            node_id(b),
+            node_id(c),
+            node_id(d)
+        );
     }
 }
 

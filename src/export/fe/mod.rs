@@ -331,6 +331,59 @@ fn real(value: f64, width: usize, decimals: usize) -> String {
     format!("{text:>width$}")
 }
 
+/// [`real`] written onto the end of `out`, the same characters, without the two
+/// strings `real` makes: the common case (the value fits its field with all
+/// `decimals`, which is [`real`]'s first choice) formatted in a buffer on the stack,
+/// anything else left to [`real`].
+fn push_real(out: &mut String, value: f64, width: usize, decimals: usize) {
+    let value = if value == 0.0 { 0.0 } else { value };
+    let mut text = StackText::default();
+    let fits = std::fmt::Write::write_fmt(&mut text, format_args!("{value:.decimals$}")).is_ok();
+    let text = text.as_str();
+    // `real` adds a point where there is none (no decimals), and looks further when
+    // the text is too long or reads back as zero: left to it.
+    if fits && text.contains('.') && text.len() < width && !is_rounded_away(text, value) {
+        out.extend(std::iter::repeat_n(' ', width - text.len()));
+        out.push_str(text);
+    } else {
+        out.push_str(&real(value, width, decimals));
+    }
+}
+
+/// A short text formatted on the stack ([`push_real`]); writing more than it holds is
+/// an error.
+struct StackText {
+    bytes: [u8; 40],
+    len: usize,
+}
+
+impl Default for StackText {
+    fn default() -> Self {
+        StackText {
+            bytes: [0; 40],
+            len: 0,
+        }
+    }
+}
+
+impl StackText {
+    /// What was written.
+    fn as_str(&self) -> &str {
+        // Only whole `&str`s are ever copied in, so the bytes are UTF-8.
+        std::str::from_utf8(&self.bytes[..self.len]).unwrap_or("")
+    }
+}
+
+impl std::fmt::Write for StackText {
+    fn write_str(&mut self, s: &str) -> std::fmt::Result {
+        let end = self.len + s.len();
+        let slot = self.bytes.get_mut(self.len..end).ok_or(std::fmt::Error)?;
+        slot.copy_from_slice(s.as_bytes());
+        self.len = end;
+        Ok(())
+    }
+}
+
 /// Whether a fixed-decimal `text` lost all of a non-zero `value` (a tiny value written
 /// with too few decimals reads back as zero): then scientific notation keeps it.
 fn is_rounded_away(text: &str, value: f64) -> bool {

@@ -25,7 +25,30 @@ fn least_corner(k: usize, sine: impl Fn(usize) -> f64) -> f64 {
 /// The scaled Jacobian of a plane element, corners counter-clockwise (see the module
 /// notes).
 pub fn scaled_jacobian_2d(corners: &[DVec2]) -> f64 {
-    least_corner(corners.len(), |i| corner_sine_2d(corners, i))
+    let k = corners.len();
+    if k > 4 {
+        return least_corner(k, |i| corner_sine_2d(corners, i));
+    }
+    // The same numbers as `corner_sine_2d` gives, each side's vector and length
+    // worked out once rather than at both its corners (the meshing judges elements
+    // millions of times): corner i's sides are side i and side i - 1 turned round,
+    // and turning a vector round (`b - a` for `a - b`) changes no bit of it or of its
+    // length.
+    let mut side = [DVec2::ZERO; 4];
+    let mut length = [0.0; 4];
+    for i in 0..k {
+        side[i] = corners[(i + 1) % k] - corners[i];
+        length[i] = side[i].length();
+    }
+    least_corner(k, |i| {
+        let before = (i + k - 1) % k;
+        let l = length[i] * length[before];
+        if l <= f64::MIN_POSITIVE {
+            -1.0
+        } else {
+            side[i].perp_dot(-side[before]) / l
+        }
+    })
 }
 
 /// The mean of a plane element's corner sines (signed, corners counter-clockwise): 1

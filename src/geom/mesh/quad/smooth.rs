@@ -56,12 +56,21 @@ pub fn smooth(
             slot[v as usize] += 1;
         }
     }
+    // An element's corners, copied to the stack (no allocation per look).
+    let corners_of = |points: &[DVec2], k: usize| {
+        let e = elements[k];
+        let mut corners = [DVec2::ZERO; 4];
+        for (c, &v) in corners.iter_mut().zip(e) {
+            *c = points[v as usize];
+        }
+        (corners, e.len())
+    };
     let worst = |points: &[DVec2], around: &[usize]| {
         around
             .iter()
             .map(|&k| {
-                let corners: Vec<DVec2> = elements[k].iter().map(|&v| points[v as usize]).collect();
-                scaled_jacobian_2d(&corners)
+                let (corners, n) = corners_of(points, k);
+                scaled_jacobian_2d(&corners[..n])
             })
             .fold(f64::INFINITY, f64::min)
     };
@@ -105,13 +114,13 @@ pub fn smooth(
         around
             .iter()
             .map(|&k| {
-                let corners: Vec<DVec2> = elements[k].iter().map(|&v| points[v as usize]).collect();
-                let n = corners.len();
+                let (corners, n) = corners_of(points, k);
+                let corners = &corners[..n];
                 let sides = (0..n).map(|i| corners[i].distance(corners[(i + 1) % n]));
                 let (short, long) =
                     sides.fold((f64::INFINITY, 0.0f64), |(s, l), d| (s.min(d), l.max(d)));
                 let stretch = if long > 0.0 { 3.0 * short / long } else { 0.0 };
-                scaled_jacobian_2d(&corners).min(stretch)
+                scaled_jacobian_2d(corners).min(stretch)
             })
             .fold(f64::INFINITY, f64::min)
     };

@@ -133,6 +133,25 @@ impl LoopView {
         0.5 * (self.shoelace[b] - self.shoelace[a] + self.p[b].perp_dot(self.p[a]))
     }
 
+    /// The area-balance error of the line from `a` to `b`, weighted, computed as
+    /// [`LoopView::line`] computes it.
+    fn area_error(&self, a: usize, b: usize) -> f64 {
+        let first = self.half_area(a, b);
+        let second = self.area - first;
+        AREA_WEIGHT * (first - second).abs() / self.area
+    }
+
+    /// The length error of the line from `a` to `b`, weighted, computed as
+    /// [`LoopView::line`] computes it.
+    ///
+    /// `area_error + length_error` is never above the line's score, to the last bit:
+    /// the score adds the angle error (at least zero) before these two and the spacing
+    /// error (at least zero) after them, and rounding never makes a sum smaller than
+    /// it would be without a term at least zero (see [`best_visible`]).
+    fn length_error(&self, a: usize, b: usize, scale: f64) -> f64 {
+        LENGTH_WEIGHT * (self.p[b] - self.p[a]).length() / scale
+    }
+
     /// The scored line from `a` to `b`, if it leaves both ends into the region cutting
     /// no angle there below `least` (rad), both
     /// halves have area and an even count of at least four nodes can be made.
@@ -186,6 +205,7 @@ impl LoopView {
             + angle_error(self.theta[a] - phi_a)
             + angle_error(phi_b)
             + angle_error(self.theta[b] - phi_b);
+        // Summed in this order: see [`LoopView::length_error`].
         let score = ANGLE_WEIGHT * angles / 4.0
             + AREA_WEIGHT * (first - second).abs() / self.area
             + LENGTH_WEIGHT * length / scale
@@ -243,24 +263,68 @@ fn small_error(half: &[DVec2]) -> f64 {
 /// for how its small halves would be finished and tried for sight only when it could
 /// still beat the best found; the search stops once no line left can (the charge only
 /// adds). Ties go to the lower loop positions.
+///
+/// Scoring every one of the `n^2 / 2` lines (two arc tangents and a size look-up each)
+/// was most of the meshing time, so the search runs twice, pruned by the area and
+/// length errors ([`LoopView::area_error`], [`LoopView::length_error`]), whose sum is
+/// never above a line's score and which cost a few multiplications and a square root:
+///
+/// 1. from each node, the line to the later node that halves the area most evenly is
+///    searched as above, giving a visible line and its charged score `s` (an upper
+///    bound on the best's, since the best is the least charged score of any visible
+///    line);
+/// 2. every line whose area and length errors add to at most `s` is scored and
+///    searched again. A line whose two errors add to more than `s` scores more than
+///    `s`, so it can be neither the best nor tie with it, and is never reached by the
+///    full search before it stops: the result is the same line, to the last bit, as
+///    searching all lines. Without a line from the first pass, all lines are searched.
 fn best_visible(
     points: &[DVec2],
     l: &[u32],
     view: &LoopView,
+    scale: f64,
     scored: impl Fn(usize, usize) -> Option<Line>,
 ) -> Option<Line> {
     let n = l.len();
-    let mut lines: Vec<Ranked> = Vec::new();
+    // Whether a < b is a line: not a loop edge (nor a node to its own twin on a cut
+    // line). Loop positions a and a + 1 are never paired.
+    let pairs = |a: usize, b: usize| !((a == 0 && b == n - 1) || l[a] == l[b]);
+    let mut evenest: Vec<Line> = Vec::with_capacity(n);
+    for a in 0..n {
+        let mut most_even: Option<(f64, usize)> = None;
+        for b in a + 2..n {
+            let error = view.area_error(a, b);
+            if pairs(a, b) && most_even.is_none_or(|m| error < m.0) {
+                most_even = Some((error, b));
+            }
+        }
+        evenest.extend(most_even.and_then(|(_, b)| scored(a, b)));
+    }
+    let first = search(points, l, view, evenest.into_iter());
+    let most = first.map_or(f64::INFINITY, |line| line.score);
+    let mut lines: Vec<Line> = Vec::new();
     for a in 0..n {
         for b in a + 2..n {
-            if (a == 0 && b == n - 1) || l[a] == l[b] {
+            // The area error alone first: cheap, and most lines fail it.
+            let area = view.area_error(a, b);
+            if area > most || !pairs(a, b) {
                 continue;
             }
-            if let Some(line) = scored(a, b) {
-                lines.push(Ranked(line));
+            if area + view.length_error(a, b, scale) <= most {
+                lines.extend(scored(a, b));
             }
         }
     }
+    search(points, l, view, lines.into_iter())
+}
+
+/// The best of `lines` that sees from end to end (see [`best_visible`]).
+fn search(
+    points: &[DVec2],
+    l: &[u32],
+    view: &LoopView,
+    lines: impl Iterator<Item = Line>,
+) -> Option<Line> {
     // A line must see from end to end and pass its loop's other nodes no nearer than a
     // share of the spacing there (a line grazing a node leaves a sliver).
     let sees = |line: &Line| {
@@ -268,7 +332,7 @@ fn best_visible(
         !blocked(points, l[line.a], l[line.b], &[l])
             && clear_of_nodes(&view.p, line.a, line.b, clearance)
     };
-    let mut heap = std::collections::BinaryHeap::from(lines);
+    let mut heap: std::collections::BinaryHeap<Ranked> = lines.map(Ranked).collect();
     let mut best: Option<Line> = None;
     while let Some(Ranked(line)) = heap.pop() {
         if best.is_some_and(|b| line.score >= b.score) {
@@ -332,10 +396,14 @@ fn split_once(
     let scale = view.area.abs().sqrt().max(f64::MIN_POSITIVE);
     // Lines cutting no angle sharper than LEAST_ANGLE first; any line only where none
     // of those sees (a loop with a sliver corner of its own).
-    let best = best_visible(points, l, &view, |a, b| {
+    let best = best_visible(points, l, &view, scale, |a, b| {
         view.line(a, b, scale, sizes, LEAST_ANGLE)
     })
-    .or_else(|| best_visible(points, l, &view, |a, b| view.line(a, b, scale, sizes, 1e-6)))
+    .or_else(|| {
+        best_visible(points, l, &view, scale, |a, b| {
+            view.line(a, b, scale, sizes, 1e-6)
+        })
+    })
     .ok_or(QuadError::NoSplit {
         nodes: n,
         at: view.p[0],
@@ -354,10 +422,61 @@ fn split_once(
     Ok((first, second))
 }
 
+/// The ways of meshing a small loop of `n` nodes ([`make_small_ways`]), with the
+/// distinct quads they use: the splitting judges them at every line it charges, and
+/// the 26 ways of eight nodes use only 28 quads among their 80.
+struct SmallWays {
+    /// Each way's quads, by loop position (`n` the centre node).
+    ways: Vec<Vec<[usize; 4]>>,
+    /// The distinct quads, each once whichever corner it is written from (a quad's
+    /// scaled Jacobian is the least of its corners', the same from any corner).
+    quads: Vec<[usize; 4]>,
+    /// Each way's quads as indices into `quads`.
+    uses: Vec<Vec<usize>>,
+}
+
+/// The ways of meshing a small loop of `n` nodes, made once per `n`.
+fn small_ways(n: usize) -> &'static SmallWays {
+    static WAYS: [std::sync::OnceLock<SmallWays>; SMALL + 1] =
+        [const { std::sync::OnceLock::new() }; SMALL + 1];
+    static NONE: SmallWays = SmallWays {
+        ways: Vec::new(),
+        quads: Vec::new(),
+        uses: Vec::new(),
+    };
+    let Some(slot) = WAYS.get(n) else {
+        return &NONE;
+    };
+    slot.get_or_init(|| {
+        let ways = make_small_ways(n);
+        let mut quads: Vec<[usize; 4]> = Vec::new();
+        let uses = ways
+            .iter()
+            .map(|way| {
+                way.iter()
+                    .map(|q| {
+                        // The quad written from its least corner.
+                        let first = (0..4).min_by_key(|&i| q[i]).unwrap_or(0);
+                        let key = [0, 1, 2, 3].map(|i| q[(first + i) % 4]);
+                        match quads.iter().position(|k| *k == key) {
+                            Some(at) => at,
+                            None => {
+                                quads.push(key);
+                                quads.len() - 1
+                            }
+                        }
+                    })
+                    .collect()
+            })
+            .collect();
+        SmallWays { ways, quads, uses }
+    })
+}
+
 /// Every way of meshing a small loop of `n` nodes (4, 6 or 8) into quads: each quad by
 /// loop positions, position `n` being a centre node (the mean of the loop's nodes)
 /// where the way has one.
-fn small_ways(n: usize) -> Vec<Vec<[usize; 4]>> {
+fn make_small_ways(n: usize) -> Vec<Vec<[usize; 4]>> {
     let mut ways: Vec<Vec<[usize; 4]>> = Vec::new();
     if n == 4 {
         ways.push(vec![[0, 1, 2, 3]]);
@@ -406,18 +525,26 @@ fn small_ways(n: usize) -> Vec<Vec<[usize; 4]>> {
 /// The best way of meshing the small loop through `p` (its quads by loop position, `n`
 /// the centre node) and its worst element's scaled Jacobian; `None` for a loop with no
 /// way (not 4, 6 or 8 nodes).
-fn best_small(p: &[DVec2]) -> Option<(f64, Vec<[usize; 4]>)> {
+fn best_small(p: &[DVec2]) -> Option<(f64, &'static [[usize; 4]])> {
     let n = p.len();
     let centre = p.iter().copied().sum::<DVec2>() / n as f64;
     let at = |i: usize| if i < n { p[i] } else { centre };
-    let ways: Vec<(f64, Vec<[usize; 4]>)> = small_ways(n)
-        .into_iter()
-        .map(|quads| {
-            let worst = quads
+    let table = small_ways(n);
+    let jacobians: Vec<f64> = table
+        .quads
+        .iter()
+        .map(|q| scaled_jacobian_2d(&q.map(at)))
+        .collect();
+    let ways: Vec<(f64, &'static [[usize; 4]])> = table
+        .uses
+        .iter()
+        .zip(&table.ways)
+        .map(|(uses, quads)| {
+            let worst = uses
                 .iter()
-                .map(|q| scaled_jacobian_2d(&q.map(at)))
+                .map(|&k| jacobians[k])
                 .fold(f64::INFINITY, f64::min);
-            (worst, quads)
+            (worst, quads.as_slice())
         })
         .collect();
     let best_worst = ways.iter().map(|w| w.0).fold(f64::NEG_INFINITY, f64::max);
@@ -434,7 +561,7 @@ fn best_small(p: &[DVec2]) -> Option<(f64, Vec<[usize; 4]>)> {
     // element moves the key by at most 0.01 either way.)
     ways.into_iter()
         .filter(|w| w.0 >= best_worst - 0.02)
-        .map(|(worst, quads)| (worst + 0.01 * flattest(&quads), worst, quads))
+        .map(|(worst, quads)| (worst + 0.01 * flattest(quads), worst, quads))
         .max_by(|x, y| x.0.total_cmp(&y.0))
         .map(|(_, worst, quads)| (worst, quads))
 }
