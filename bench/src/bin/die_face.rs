@@ -1,19 +1,22 @@
 //! The fender's die face meshed as one conforming quad shell (issue 18).
 //!
-//! `cargo build --release && cargo run -p dieface-bench --release --bin die_face [SIZE]`
+//! `cargo build --release && cargo run -p dieface-bench --release --bin die_face [SIZE] [beads]`
 //!
 //! Evaluates `examples/fender/fender.die`, sews its die face (product, step draw,
-//! binder) and meshes it with `quad_mesh_shell` at SIZE (default 5 mm), reporting each
+//! binder; with `beads`, the two draw beads' skins set into the binder and meshed at
+//! 6 mm) and meshes it with `quad_mesh_shell` at SIZE (default 5 mm), reporting each
 //! face's elements and quality and the whole shell's conformity; then times the real
 //! binary (`target/release/dieface`, or `$DIEFACE`) building
-//! `examples/fender/fender_deck.die` at that size to a `.k` deck, three times, as a
-//! designer runs it: the whole process, and the build's own last line.
+//! `examples/fender/fender_deck.die` (with `beads`, `fender_bead_deck.die`) at that
+//! size to a `.k` deck, three times, as a designer runs it: the whole process, and the
+//! build's own last line.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
 
 use dieface::eval::Engine;
+use dieface::geom::imprint::imprint;
 use dieface::geom::mesh::quad::quality::mesh_quality;
 use dieface::geom::mesh::quad::shell::quad_mesh_shell;
 use dieface::geom::mesh::quad::surface::SurfaceMeshOptions;
@@ -31,11 +34,26 @@ fn main() {
         .expect("the fender example is readable");
     assert!(outcome.diagnostics.is_empty(), "the fender example builds");
     let model = engine.die_model(&outcome);
+    let beads = std::env::args().nth(2).is_some_and(|a| a == "beads");
     let faces = model.die_face.faces.clone();
-    let shell = sew(faces, DIE_FACE_TOLERANCE).expect("the fender's die face sews");
+    let t = Instant::now();
+    let mut shell = sew(faces, DIE_FACE_TOLERANCE).expect("the fender's die face sews");
+    let mut sizes = vec![size; shell.faces.len()];
+    if beads {
+        for bead in &model.die_face.beads {
+            let done = imprint(&mut shell, bead.clone(), DIE_FACE_TOLERANCE)
+                .expect("the fender's beads stand on its binder");
+            sizes.extend(std::iter::repeat_n(size, done.split.len()));
+            sizes.push(6.0);
+        }
+    }
+    println!(
+        "sewn{} in {:.0} ms",
+        if beads { " and beads imprinted" } else { "" },
+        t.elapsed().as_secs_f64() * 1e3
+    );
     let mut options = SurfaceMeshOptions::at_size(size);
     options.quad.chord_tolerance = 0.3;
-    let sizes = vec![size; shell.faces.len()];
     let t = Instant::now();
     let meshed = quad_mesh_shell(&shell, &sizes, &options);
     let took = t.elapsed();
@@ -46,14 +64,21 @@ fn main() {
             std::process::exit(1);
         }
     };
-    println!("| face | quads | triangles | min SJ | mean SJ |");
-    println!("|---|---:|---:|---:|---:|");
+    let sag = chord_sag(&shell, &meshed);
+    println!("| face | quads | triangles | min SJ | mean SJ | sag at edge midpoints / centres |");
+    println!("|---|---:|---:|---:|---:|---:|");
     for (f, face) in shell.faces.iter().enumerate() {
         let mesh = meshed.mesh_of(&[f]).expect("a face's mesh");
         let q = mesh_quality(&mesh);
         println!(
-            "| {} | {} | {} | {:.3} | {:.3} |",
-            face.face.name, q.quads, q.triangles, q.min_scaled_jacobian, q.mean_scaled_jacobian
+            "| {} | {} | {} | {:.3} | {:.3} | {:.3} / {:.3} mm |",
+            face.face.name,
+            q.quads,
+            q.triangles,
+            q.min_scaled_jacobian,
+            q.mean_scaled_jacobian,
+            sag[f].0,
+            sag[f].1
         );
         if let Ok(dir) = std::env::var("DUMP") {
             std::fs::write(format!("{dir}/{f}.obj"), obj_text(&mesh)).ok();
@@ -70,13 +95,20 @@ fn main() {
         q.mean_scaled_jacobian,
         took.as_secs_f64() * 1e3
     );
+    let (edge_sag, centre_sag) = sag
+        .iter()
+        .fold((0.0f64, 0.0f64), |m, f| (m.0.max(f.0), m.1.max(f.1)));
+    println!(
+        "chord sag off the faces' surfaces: element edge midpoints {edge_sag:.3} mm, element centres {centre_sag:.3} mm at most (tolerance {} mm)",
+        options.quad.chord_tolerance
+    );
     let topo = whole.topology();
     println!(
         "free edges {}, non-manifold edges {}",
         topo.free_edges().len(),
         topo.non_manifold_edges().len()
     );
-    deck_build_times(&root, size);
+    deck_build_times(&root, size, beads);
 }
 
 /// The binary under test: `$DIEFACE`, else this checkout's release build.
@@ -87,9 +119,9 @@ fn binary() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../target/release/dieface")
 }
 
-/// `dieface build fender_deck.die -o fender.k` at `size`, three times: the whole
-/// process's time and the build's own report.
-fn deck_build_times(examples: &Path, size: f64) {
+/// `dieface build fender_deck.die -o fender.k` (with `beads`, the bead deck) at
+/// `size`, three times: the whole process's time and the build's own report.
+fn deck_build_times(examples: &Path, size: f64, beads: bool) {
     let bin = binary();
     if !bin.is_file() {
         println!(
@@ -101,7 +133,12 @@ fn deck_build_times(examples: &Path, size: f64) {
     let dir = std::env::temp_dir().join(format!("dieface-bench-die-face-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("a temporary folder");
     std::fs::copy(examples.join("fender/fender.die"), dir.join("fender.die")).expect("copy");
-    let text = std::fs::read_to_string(examples.join("fender/fender_deck.die"))
+    let deck = if beads {
+        "fender/fender_bead_deck.die"
+    } else {
+        "fender/fender_deck.die"
+    };
+    let text = std::fs::read_to_string(examples.join(deck))
         .expect("the deck example")
         .replace("param size = 10 mm", &format!("param size = {size} mm"))
         .replace(
@@ -135,6 +172,66 @@ fn deck_build_times(examples: &Path, size: f64) {
         );
     }
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// How far the elements stray from the surfaces they mesh, as a die engineer checks a
+/// tool mesh: the largest distance from an element edge's midpoint, and from an
+/// element's centre, to its face's surface (each node's foot found from the whole
+/// surface, each midpoint's and centre's by Newton from its nodes' feet), per face.
+fn chord_sag(
+    shell: &dieface::geom::sew::Shell,
+    meshed: &dieface::geom::mesh::quad::shell::ShellMesh,
+) -> Vec<(f64, f64)> {
+    use dieface::geom::inversion::{closest_point_on_surface, project_to_surface_near};
+    use glam::DVec3;
+    use rayon::prelude::*;
+    let per_face: Vec<(f64, f64)> = shell
+        .faces
+        .par_iter()
+        .zip(&meshed.elements)
+        .map(|(face, elements)| {
+            let surface = face.face.surface();
+            let mut feet = std::collections::HashMap::new();
+            let (mut edge, mut centre) = (0.0f64, 0.0f64);
+            for e in elements {
+                let ids = e.indices();
+                let uv: Vec<(f64, f64)> = ids
+                    .iter()
+                    .map(|&v| {
+                        *feet.entry(v).or_insert_with(|| {
+                            closest_point_on_surface(surface, meshed.positions[v as usize])
+                                .map_or((f64::NAN, f64::NAN), |f| (f.u, f.v))
+                        })
+                    })
+                    .collect();
+                let off = |p: DVec3, guess: (f64, f64)| {
+                    project_to_surface_near(surface, p, guess).map_or(0.0, |f| f.distance)
+                };
+                let n = ids.len();
+                for i in 0..n {
+                    let (a, b) = (ids[i] as usize, ids[(i + 1) % n] as usize);
+                    let mid = 0.5 * (meshed.positions[a] + meshed.positions[b]);
+                    let guess = (
+                        0.5 * (uv[i].0 + uv[(i + 1) % n].0),
+                        0.5 * (uv[i].1 + uv[(i + 1) % n].1),
+                    );
+                    edge = edge.max(off(mid, guess));
+                }
+                let c = ids
+                    .iter()
+                    .map(|&v| meshed.positions[v as usize])
+                    .sum::<DVec3>()
+                    / n as f64;
+                let guess = (
+                    uv.iter().map(|p| p.0).sum::<f64>() / n as f64,
+                    uv.iter().map(|p| p.1).sum::<f64>() / n as f64,
+                );
+                centre = centre.max(off(c, guess));
+            }
+            (edge, centre)
+        })
+        .collect();
+    per_face
 }
 
 /// A mesh as OBJ text, for looking at a face's mesh.
