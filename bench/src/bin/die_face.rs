@@ -17,10 +17,11 @@ use std::time::Instant;
 
 use dieface::eval::Engine;
 use dieface::geom::imprint::imprint;
-use dieface::geom::mesh::quad::quality::mesh_quality;
-use dieface::geom::mesh::quad::shell::quad_mesh_shell;
+use dieface::geom::mesh::quad::quality::{mesh_quality, scaled_jacobian};
+use dieface::geom::mesh::quad::shell::{quad_mesh_shell, ShellMesh};
 use dieface::geom::mesh::quad::surface::SurfaceMeshOptions;
-use dieface::geom::sew::{sew, DIE_FACE_TOLERANCE};
+use dieface::geom::sew::{sew, Shell, DIE_FACE_TOLERANCE};
+use glam::DVec3;
 
 fn main() {
     let size: f64 = std::env::args()
@@ -102,6 +103,9 @@ fn main() {
         "chord sag off the faces' surfaces: element edge midpoints {edge_sag:.3} mm, element centres {centre_sag:.3} mm at most (tolerance {} mm)",
         options.quad.chord_tolerance
     );
+    if let Ok(n) = std::env::var("WORST") {
+        worst_elements(&shell, &meshed, n.parse().unwrap_or(20));
+    }
     let topo = whole.topology();
     println!(
         "free edges {}, non-manifold edges {}",
@@ -178,12 +182,8 @@ fn deck_build_times(examples: &Path, size: f64, beads: bool) {
 /// tool mesh: the largest distance from an element edge's midpoint, and from an
 /// element's centre, to its face's surface (each node's foot found from the whole
 /// surface, each midpoint's and centre's by Newton from its nodes' feet), per face.
-fn chord_sag(
-    shell: &dieface::geom::sew::Shell,
-    meshed: &dieface::geom::mesh::quad::shell::ShellMesh,
-) -> Vec<(f64, f64)> {
+fn chord_sag(shell: &Shell, meshed: &ShellMesh) -> Vec<(f64, f64)> {
     use dieface::geom::inversion::{closest_point_on_surface, project_to_surface_near};
-    use glam::DVec3;
     use rayon::prelude::*;
     let per_face: Vec<(f64, f64)> = shell
         .faces
@@ -245,4 +245,100 @@ fn obj_text(mesh: &dieface::geom::mesh::Mesh) -> String {
         out += &format!("f {}\n", ids.join(" "));
     }
     out
+}
+
+/// With `WORST=N`: the `N` worst elements of the shell and every triangle, each with
+/// its face, place, scaled Jacobian, side lengths, how many of its nodes lie on a seam,
+/// and the size of the elements round it (the mean side of each neighbour sharing a
+/// node): where the mesh is poor, and whether the size jumps there.
+fn worst_elements(shell: &Shell, meshed: &ShellMesh, n: usize) {
+    let seam_nodes = shell.vertices.len()
+        + meshed
+            .edge_segments
+            .iter()
+            .map(|s| s.saturating_sub(1))
+            .sum::<usize>();
+    let mut all: Vec<(f64, usize, usize)> = Vec::new();
+    let mut star: Vec<Vec<(usize, usize)>> = vec![Vec::new(); meshed.positions.len()];
+    for (f, elements) in meshed.elements.iter().enumerate() {
+        for (k, e) in elements.iter().enumerate() {
+            let c: Vec<DVec3> = e
+                .indices()
+                .iter()
+                .map(|&v| meshed.positions[v as usize])
+                .collect();
+            all.push((scaled_jacobian(&c), f, k));
+            for &v in e.indices() {
+                star[v as usize].push((f, k));
+            }
+        }
+    }
+    let sides = |f: usize, k: usize| -> Vec<f64> {
+        let ids = meshed.elements[f][k].indices();
+        (0..ids.len())
+            .map(|i| {
+                meshed.positions[ids[i] as usize]
+                    .distance(meshed.positions[ids[(i + 1) % ids.len()] as usize])
+            })
+            .collect()
+    };
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+    let report = |sj: f64, f: usize, k: usize| {
+        let ids = meshed.elements[f][k].indices();
+        let centre = ids
+            .iter()
+            .map(|&v| meshed.positions[v as usize])
+            .sum::<DVec3>()
+            / ids.len() as f64;
+        let on_seam = ids.iter().filter(|&&v| (v as usize) < seam_nodes).count();
+        let own = sides(f, k);
+        let round: Vec<f64> = ids
+            .iter()
+            .flat_map(|&v| star[v as usize].iter())
+            .filter(|&&(g, j)| (g, j) != (f, k))
+            .map(|&(g, j)| mean(&sides(g, j)))
+            .collect();
+        let (lo, hi) = round
+            .iter()
+            .fold((f64::INFINITY, 0.0f64), |(a, b), &x| (a.min(x), b.max(x)));
+        let sides_text: Vec<String> = own.iter().map(|l| format!("{l:.1}")).collect();
+        let k = ids.len();
+        let angles: Vec<String> = (0..k)
+            .map(|i| {
+                let at = meshed.positions[ids[i] as usize];
+                let a = meshed.positions[ids[(i + 1) % k] as usize] - at;
+                let b = meshed.positions[ids[(i + k - 1) % k] as usize] - at;
+                let seam = if (ids[i] as usize) < seam_nodes {
+                    "s"
+                } else {
+                    ""
+                };
+                format!("{:.0}{seam}", a.angle_between(b).to_degrees())
+            })
+            .collect();
+        println!(
+            "| {} | {} | {sj:.3} | ({:.0}, {:.0}, {:.0}) | {} | {} | {on_seam}/{} | {lo:.1}-{hi:.1} |",
+            shell.faces[f].face.name,
+            if ids.len() == 4 { "quad" } else { "tri" },
+            centre.x,
+            centre.y,
+            centre.z,
+            sides_text.join(" "),
+            angles.join(" "),
+            ids.len(),
+        );
+    };
+    all.sort_by(|a, b| a.0.total_cmp(&b.0));
+    println!("\n| face | kind | SJ | centre | sides (mm) | angles (deg, s: seam node) | on seam | neighbours' size (mm) |");
+    println!("|---|---|---:|---|---|---|---:|---|");
+    for &(sj, f, k) in all.iter().take(n) {
+        report(sj, f, k);
+    }
+    println!("\ntriangles:");
+    for &(sj, f, k) in all
+        .iter()
+        .filter(|e| meshed.elements[e.1][e.2].indices().len() == 3)
+    {
+        report(sj, f, k);
+    }
 }

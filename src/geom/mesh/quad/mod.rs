@@ -13,6 +13,11 @@
 //!   split line so both halves keep an even count, again and again until every loop
 //!   has four nodes; loops of six and eight nodes are also tried against their
 //!   templates (three or four quads round a centre node);
+//! - [`swap`]: where a quad is poor after smoothing, the edge it shares with a
+//!   neighbour swapped when the pair's hexagon filled the other way (its inner nodes
+//!   relaxed) leaves the quads round it better, then smoothing again: a quad on three
+//!   nodes of a gently curving boundary, or on three nodes of a split line, which no
+//!   node move can mend;
 //! - [`smooth`]: the inner nodes moved towards their neighbours' centre (the paper stops
 //!   before this; every mesher a CAE engineer uses does it), a move kept only where it
 //!   leaves no element worse than its floor;
@@ -30,6 +35,7 @@ pub mod sizing;
 pub mod smooth;
 pub mod split;
 pub mod surface;
+pub mod swap;
 
 use std::sync::Arc;
 
@@ -317,6 +323,23 @@ pub fn quad_mesh_region(region: &Region, options: &QuadOptions) -> Result<PlaneM
         &triangles,
         options.smoothing,
     );
+    if options.smoothing > 0
+        && swap::swap_edges(
+            &mut points,
+            boundary_nodes,
+            &mut quads,
+            &triangles,
+            smooth::POOR,
+        ) > 0
+    {
+        smooth::smooth(
+            &mut points,
+            boundary_nodes,
+            &quads,
+            &triangles,
+            options.smoothing,
+        );
+    }
     let (quads, folded) = split_folded(&points, quads);
     if !folded.is_empty() && options.smoothing > 0 {
         // The triangles a folded quad became: their inner nodes searched again, now
