@@ -187,7 +187,7 @@ impl<'a> Swapper<'a> {
     /// beats the worst there before by [`GAIN`], else leaves the mesh as it was.
     /// Whether a swap was kept.
     fn improve(&mut self, quads: &mut [[u32; 4]], k: usize) -> bool {
-        let mut best: Option<(f64, usize, [[u32; 4]; 2], [u32; 6])> = None;
+        let mut best: Option<Swap> = None;
         let mut before_best = f64::INFINITY;
         for i in 0..4 {
             let Some((other, h)) = self.across(quads, k, i) else {
@@ -206,8 +206,13 @@ impl<'a> Swapper<'a> {
                 self.apply(quads, k, other, filled(h, way));
                 self.relax(quads, &h);
                 let after = self.worst_round(quads, &h);
-                if after > before + GAIN && best.is_none_or(|b| after - before > b.0) {
-                    best = Some((after - before, other, filled(h, way), h));
+                if after > before + GAIN && best.is_none_or(|b| after - before > b.gain) {
+                    best = Some(Swap {
+                        gain: after - before,
+                        other,
+                        pair: filled(h, way),
+                        hexagon: h,
+                    });
                     before_best = before;
                 }
                 self.apply(quads, k, other, old);
@@ -216,7 +221,13 @@ impl<'a> Swapper<'a> {
                 }
             }
         }
-        let Some((_, other, pair, h)) = best else {
+        let Some(Swap {
+            other,
+            pair,
+            hexagon: h,
+            ..
+        }) = best
+        else {
             return false;
         };
         self.apply(quads, k, other, pair);
@@ -224,6 +235,16 @@ impl<'a> Swapper<'a> {
         debug_assert!(self.worst_round(quads, &h) > before_best);
         true
     }
+}
+
+/// A swap found: how much it improves the worst quad round the hexagon, the
+/// neighbouring quad, the two quads that fill the hexagon the new way, and the hexagon.
+#[derive(Debug, Clone, Copy)]
+struct Swap {
+    gain: f64,
+    other: usize,
+    pair: [[u32; 4]; 2],
+    hexagon: [u32; 6],
 }
 
 /// Swaps the edges of every quad poorer than `poor` (plane scaled Jacobian) with a
