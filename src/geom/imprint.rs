@@ -354,6 +354,8 @@ pub fn imprint(shell: &mut Shell, face: Face, tol: f64) -> Result<Imprinted, Imp
             let inside = outers
                 .iter()
                 .position(|(_, outer)| winding(outer.iter().copied(), polygon[0]) != 0)
+                // A hole lies inside one of the face's outer loops; should its first
+                // point fall exactly on an outer loop's trace, the largest part takes it.
                 .unwrap_or(0);
             parts[inside].holes.push(hole);
         }
