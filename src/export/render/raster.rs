@@ -136,9 +136,26 @@ impl Canvas {
             top_left(p[2], p[0]),
             top_left(p[0], p[1]),
         ];
+        let edges = [(p[1], p[2]), (p[2], p[0]), (p[0], p[1])];
         for y in y0 as usize..=y1 as usize {
             let cy = y as f64 + 0.5;
-            for x in x0 as usize..=x1 as usize {
+            // The row's run of centres inside, from the three edges' half-planes (a
+            // pixel of slack each side; the exact test below decides), so a long thin
+            // triangle is not scanned across its whole bounding box.
+            let (mut lo, mut hi) = (x0, x1);
+            for (a, b) in edges {
+                let slope = a.y - b.y; // d(edge)/dx
+                let at_zero = (b.x - a.x) * (cy - a.y) + (b.y - a.y) * a.x;
+                if slope > 0.0 {
+                    lo = lo.max((-at_zero / slope - 0.5).floor() - 1.0);
+                } else if slope < 0.0 {
+                    hi = hi.min((-at_zero / slope - 0.5).ceil() + 1.0);
+                }
+            }
+            if lo > hi {
+                continue;
+            }
+            for x in lo as usize..=hi as usize {
                 let cx = x as f64 + 0.5;
                 let w = [
                     edge(p[1], p[2], cx, cy),
