@@ -1,4 +1,4 @@
-//! The command line: `dieface check`, `build`, `inspect` and `watch` (clap).
+//! The command line: `dieface check`, `build`, `inspect`, `render` and `watch` (clap).
 //!
 //! Exit codes, for every command: 0 success, 1 errors in the script (diagnostics are
 //! printed on stderr), 2 usage errors (bad arguments, a missing file, an output with an
@@ -6,6 +6,7 @@
 
 mod build;
 mod inspect;
+mod render;
 mod watch;
 
 use std::io::IsTerminal;
@@ -60,6 +61,17 @@ pub enum Command {
         /// Print the evaluated data as JSON on stdout.
         #[arg(long)]
         json: bool,
+    },
+    /// Draw the script's geometry as a shaded PNG picture (software rendering: no
+    /// browser, no GPU), each kind in its glTF colour, from an iso, top, front, side,
+    /// back or bottom view.
+    Render {
+        /// What to evaluate.
+        #[command(flatten)]
+        script: ScriptArgs,
+        /// The picture and how to draw it.
+        #[command(flatten)]
+        render: render::RenderArgs,
     },
     /// Build, then rebuild whenever the script or a file it imports changes (Ctrl-C
     /// stops).
@@ -131,6 +143,7 @@ pub fn main() -> ExitCode {
         Command::Check { script } => check(&script),
         Command::Build { script, output } => build::run(&script, &output),
         Command::Inspect { script, json } => inspect::run(&script, json),
+        Command::Render { script, render } => render::run(&script, &render),
         Command::Watch { script, output } => watch::run(&script, &output),
     }
 }

@@ -20,6 +20,9 @@
 //! [`fe`] writes shell-element decks of a meshed die face for forming simulation
 //! (LS-DYNA keyword, Nastran bulk data) from plain nodes and shells.
 //!
+//! [`render`] draws the scene as a shaded picture (PNG) with a software rasterizer:
+//! `dieface render`.
+//!
 //! Every encoder is deterministic: the same scene gives the same bytes (no hash-map
 //! order, stable float formatting, little-endian buffers). [`atomic::write_atomic`]
 //! writes a file through a temporary sibling and a rename, so a failed build never
@@ -29,6 +32,7 @@ pub mod atomic;
 pub mod fe;
 pub mod gltf;
 pub mod obj;
+pub mod render;
 pub mod scene;
 pub mod step;
 

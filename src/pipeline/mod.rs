@@ -17,6 +17,7 @@ use crate::die::model::DieModel;
 use crate::eval::{Engine, Outcome};
 use crate::export::atomic::{write_atomic_with, Durability};
 use crate::export::gltf::GltfCache;
+use crate::export::render::{encode_png, render, scene_picture, Size, View};
 use crate::export::scene::{Scene, SceneCache, TessellationError};
 use crate::export::step::{encode_step, StepModel};
 use crate::export::{encode_with, Format};
@@ -185,6 +186,20 @@ pub fn encode_output(
             None => Err("the build has problems; nothing to write".into()),
         },
     }
+}
+
+/// The PNG of a clean build's scene drawn from `view` at `size`
+/// ([`crate::export::render`]: each kind in its glTF colour, curves over the surfaces, a
+/// swatch per kind), or why there is none (the build has problems, or nothing to draw).
+pub fn picture_bytes(build: &Build, view: View, size: Size) -> Result<Vec<u8>, String> {
+    let Some(scene) = &build.scene else {
+        return Err("the build has problems; nothing to draw".into());
+    };
+    let picture = scene_picture(scene);
+    if picture.is_empty() {
+        return Err("the script has nothing to draw: a picture shows the surfaces, meshes and curves it declares, and this script has none".into());
+    }
+    encode_png(&render(&picture, view, size))
 }
 
 /// The FE deck of a die model's meshed parts (`quad_mesh` and other meshes, one shell
