@@ -194,3 +194,44 @@ fn usage_errors_exit_2() {
     assert!(stderr.contains("the new version (`bad.die`)"), "{stderr}");
     assert!(stderr.contains("die::unit_mismatch"), "{stderr}");
 }
+
+#[test]
+fn git_diff_runs_dieface_through_the_wrapper_script() {
+    let dir = common::fresh_dir("cli_diff", "git_wrapper");
+    let wrapper = Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/git-diff-die");
+    let git = |args: &[&str]| {
+        let out = std::process::Command::new("git")
+            .current_dir(&dir)
+            .env("DIEFACE", env!("CARGO_BIN_EXE_dieface"))
+            .args(["-c", "user.name=t", "-c", "user.email=t@example.com"])
+            .args(args)
+            .output()
+            .expect("run git");
+        assert!(out.status.success(), "git {args:?}: {out:?}");
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    };
+    // An import next to the script: the old version, a temporary copy, must still find
+    // it (`--as`).
+    std::fs::create_dir_all(dir.join("die")).expect("folder");
+    std::fs::write(dir.join("die/sizes.die"), "let reach = 100 mm\n").expect("write");
+    let script = "units mm deg\nimport \"sizes.die\" as s\nlet a = line_between((0, 0, 0), (s.reach, 0, 0))\n";
+    std::fs::write(dir.join("die/part.die"), script).expect("write");
+    std::fs::write(dir.join(".gitattributes"), "*.die diff=dieface\n").expect("write");
+    git(&["init", "-q"]);
+    git(&[
+        "config",
+        "diff.dieface.command",
+        wrapper.to_str().expect("utf-8 path"),
+    ]);
+    git(&["add", "."]);
+    git(&["commit", "-q", "-m", "first"]);
+    std::fs::write(dir.join("die/part.die"), script.replace("0, 0))", "0, 4))")).expect("write");
+    let shown = git(&["diff"]);
+    assert!(shown.contains("dieface diff die/part.die"), "{shown}");
+    let max = largest_on(&shown, "changed  let a:");
+    assert!((max - 4.0).abs() < 1e-3, "{shown}");
+    // A comment edit is no change.
+    std::fs::write(dir.join("die/part.die"), format!("// note\n{script}")).expect("write");
+    let shown = git(&["diff"]);
+    assert!(shown.contains("no change ("), "{shown}");
+}

@@ -18,14 +18,24 @@ use crate::pipeline::{parse_tolerance, Build, Pipeline};
 
 use super::{ms, progress, ScriptArgs, SCRIPT_ERROR, USAGE_ERROR};
 
+/// Which versions to compare, besides the first file.
+pub(crate) struct Versions {
+    /// The new version's file.
+    pub new: Option<PathBuf>,
+    /// The git revision of the old version (the first file is the new one).
+    pub rev: Option<String>,
+    /// Where both files are evaluated as if they stood (`--as`).
+    pub at: Option<PathBuf>,
+}
+
 /// `dieface diff`.
 pub(crate) fn run(
     script: &ScriptArgs,
-    new: Option<PathBuf>,
-    rev: Option<String>,
+    versions: Versions,
     json: bool,
     tolerance: Option<String>,
 ) -> ExitCode {
+    let Versions { new, rev, at } = versions;
     let started = Instant::now();
     let usage = |msg: String| {
         eprintln!("error: {msg}");
@@ -43,6 +53,13 @@ pub(crate) fn run(
             }
         },
     };
+    if let (Some(new), Some(at)) = (&new, at) {
+        let at = ScriptArgs {
+            file: at,
+            ..script.clone()
+        };
+        return run_as(&at, &script.file, new, json, tolerance, started);
+    }
     let (old, new_args, old_label) = match (new, rev) {
         (Some(new), None) => {
             let new_args = ScriptArgs {
@@ -64,7 +81,7 @@ pub(crate) fn run(
                 Ok(found) => found,
                 Err(msg) => return usage(msg),
             };
-            let old = match build_text(script, &label, &text, tolerance) {
+            let old = match build_text(script, &label, &text, tolerance, "old") {
                 Ok(b) => b,
                 Err(code) => return code,
             };
@@ -85,14 +102,79 @@ pub(crate) fn run(
         Ok(b) => b,
         Err(code) => return code,
     };
-    let (Some(old_side), Some(new_side)) = (side(&old.0), side(&new_build.0)) else {
-        // `checked` below returned only builds with a model and a scene.
+    let new_label = new_args.file.display().to_string();
+    report(&old.0, &new_build.0, &old_label, &new_label, json, started)
+}
+
+/// `dieface diff --as PATH OLD NEW`: both files read as they are and evaluated as if
+/// they stood at `at.file`.
+fn run_as(
+    at: &ScriptArgs,
+    old: &Path,
+    new: &Path,
+    json: bool,
+    tolerance: Option<f64>,
+    started: Instant,
+) -> ExitCode {
+    let mut built = Vec::new();
+    for (file, which) in [(old, "old"), (new, "new")] {
+        let text = match read_text(file, &at.limits()) {
+            Ok(t) => t,
+            Err(msg) => {
+                eprintln!("error: {msg}");
+                return ExitCode::from(USAGE_ERROR);
+            }
+        };
+        let label = format!("{} ({which})", at.file.display());
+        match build_text(at, &label, &text, tolerance, which) {
+            Ok(b) => built.push((b, label)),
+            Err(code) => return code,
+        }
+    }
+    let (new_built, new_label) = built.pop().expect("two versions were built");
+    let (old_built, old_label) = built.pop().expect("two versions were built");
+    report(
+        &old_built.0,
+        &new_built.0,
+        &old_label,
+        &new_label,
+        json,
+        started,
+    )
+}
+
+/// The text of a version given as a file (a regular file within the `file_bytes`
+/// limit, UTF-8), or why not.
+fn read_text(file: &Path, limits: &crate::limits::Limits) -> Result<String, String> {
+    let max = limits.get(crate::limits::Limit::FileBytes);
+    crate::eval::paths::check_regular_path(file, max)
+        .map_err(|e| format!("cannot read `{}`: {e}", file.display()))?;
+    let bytes =
+        std::fs::read(file).map_err(|e| format!("cannot read `{}`: {e}", file.display()))?;
+    String::from_utf8(bytes).map_err(|e| format!("`{}` is not UTF-8 text: {e}", file.display()))
+}
+
+/// Compares two clean builds and prints the report; exit 0 when nothing changed, 1
+/// when something did.
+fn report(
+    old: &Build,
+    new: &Build,
+    old_label: &str,
+    new_label: &str,
+    json: bool,
+    started: Instant,
+) -> ExitCode {
+    let usage = |msg: String| {
+        eprintln!("error: {msg}");
+        ExitCode::from(USAGE_ERROR)
+    };
+    let (Some(old_side), Some(new_side)) = (side(old), side(new)) else {
+        // `checked` returns only builds with a model and a scene.
         return usage("internal: a clean build without its model".into());
     };
     let comparison = compare(old_side, new_side);
-    let new_label = new_args.file.display().to_string();
     if json {
-        match serde_json::to_string_pretty(&json_report(&comparison, &old_label, &new_label)) {
+        match serde_json::to_string_pretty(&json_report(&comparison, old_label, new_label)) {
             Ok(s) => println!("{s}"),
             Err(e) => return usage(format!("cannot write JSON: {e}")),
         }
@@ -139,13 +221,15 @@ fn build_file(args: &ScriptArgs, tolerance: Option<f64>, which: &str) -> Result<
     }
 }
 
-/// Builds the old version given as `text` (read from git), named `label`, with its
-/// imports read next to the script of `args`.
+/// Builds a version given as `text` (read from git, or from git's temporary copy),
+/// named `label`, with its imports read next to the script of `args`; `which` (`old`,
+/// `new`) names it in messages.
 fn build_text(
     args: &ScriptArgs,
     label: &str,
     text: &str,
     tolerance: Option<f64>,
+    which: &str,
 ) -> Result<Built, ExitCode> {
     let mut pipeline = Pipeline::new(args.engine()?);
     let dir = args
@@ -156,7 +240,7 @@ fn build_text(
     let bar = progress(format!("building {label}"));
     let build = pipeline.build_text(label, text, dir, tolerance, &mut |_| {});
     bar.finish_and_clear();
-    checked(build, pipeline, args, "old", label)
+    checked(build, pipeline, args, which, label)
 }
 
 /// The build when clean; otherwise its problems printed, the version named, exit 1.

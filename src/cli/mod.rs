@@ -105,6 +105,16 @@ pub enum Command {
         /// a branch), read with `git show REV:PATH`.
         #[arg(long, value_name = "REV", conflicts_with = "new")]
         rev: Option<String>,
+        /// Read OLD and NEW but evaluate both as if they stood at PATH (their imports
+        /// and file reads next to PATH, within its root): for git's external diff,
+        /// which hands over temporary copies (`scripts/git-diff-die`).
+        #[arg(
+            long = "as",
+            value_name = "PATH",
+            conflicts_with = "rev",
+            requires = "new"
+        )]
+        at: Option<PathBuf>,
         /// Print the comparison as JSON on stdout.
         #[arg(long)]
         json: bool,
@@ -190,9 +200,10 @@ pub fn main() -> ExitCode {
             script,
             new,
             rev,
+            at,
             json,
             tolerance,
-        } => diff::run(&script, new, rev, json, tolerance),
+        } => diff::run(&script, diff::Versions { new, rev, at }, json, tolerance),
     }
 }
 

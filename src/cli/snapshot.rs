@@ -42,7 +42,9 @@ pub(crate) fn snap_path(script: &Path) -> PathBuf {
 /// `dieface snapshot`.
 pub(crate) fn run(script: &ScriptArgs, mode: Mode) -> ExitCode {
     let snap = snap_path(&script.file);
-    if mode != Mode::Check {
+    // Refused before evaluating when it would be written: a read-only snapshot is
+    // still checked.
+    if mode == Mode::Update || (mode == Mode::Default && !snap.exists()) {
         if let Err(e) = check_replaceable(&snap) {
             eprintln!("error: cannot write `{}`: {e}", snap.display());
             return ExitCode::from(USAGE_ERROR);
