@@ -124,6 +124,20 @@ fn an_edited_comment_is_no_change_and_a_rename_is_a_rename() {
     );
     assert!(!stdout.contains("removed"), "{stdout}");
     assert!(!stdout.contains("added"), "{stdout}");
+
+    // A change that moves no geometry: the line bead's restraining force.
+    std::fs::write(
+        dir.join("force.die"),
+        old.replacen("force = 250", "force = 300", 1),
+    )
+    .expect("write");
+    let (code, stdout, stderr) = run(&dir, &["diff", "old.die", "force.die"]);
+    assert_eq!(code, Some(1), "{stdout}{stderr}");
+    assert!(stdout.contains("changed  bead wheel_arch"), "{stdout}");
+    assert!(
+        stdout.contains("quality line_bead.force: 250 N/mm -> 300 N/mm"),
+        "{stdout}"
+    );
 }
 
 #[test]

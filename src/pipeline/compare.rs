@@ -3,8 +3,9 @@
 //! how far the new lies from the old.
 //!
 //! A declaration is unchanged when its kind, its summary (`eval::summary`, numbers
-//! rounded as the snapshot rounds them), its quality figures and the exact geometry of
-//! every piece ([`Fingerprint`]) are the same; where it stands in the file is not
+//! rounded as the snapshot rounds them; not for a feature, whose summary measures every
+//! patch again), its quality figures and line bead and the exact geometry of every
+//! piece ([`Fingerprint`]) are the same; where it stands in the file is not
 //! compared, so an edit of a comment or of whitespace changes nothing. A declaration
 //! gone under one name and added under another with the same everything is a rename.
 //! A changed piece is measured on its tessellations ([`crate::geom::mesh::distance`]):
@@ -18,9 +19,10 @@ use glam::DVec3;
 use rayon::prelude::*;
 use serde_json::{json, Map, Value as Json};
 
-use crate::die::model::{DieModel, FigureValue, Part, Shape};
+use crate::die::model::{DieModel, FigureValue, LineBead, Part, Shape};
 use crate::eval::summary::describe;
 use crate::eval::units::round;
+use crate::eval::value::Data;
 use crate::eval::Outcome;
 use crate::export::scene::{Geometry, Node, Scene};
 use crate::geom::fingerprint::Fingerprint;
@@ -202,16 +204,54 @@ fn decls<'a>(side: Side<'a>) -> Vec<Decl<'a>> {
                     .iter()
                     .map(|f| (f.name.clone(), figure_text(&f.value)))
                     .collect();
+                for p in part.walk() {
+                    if let Some(bead) = &p.line_bead {
+                        // Named within the declaration, so a rename keeps them.
+                        let relative = p.name.strip_prefix(d.name.as_str()).unwrap_or(&p.name);
+                        figures.extend(line_bead_figures(relative.trim_start_matches('/'), bead));
+                    }
+                }
             }
+            // A feature is told by its pieces, figures and line bead; its summary (the
+            // area and bounds of every patch) would cost more than the whole build.
+            let is_feature = d
+                .value
+                .as_ref()
+                .is_some_and(|v| matches!(&v.data, Data::Record(r) if r.feature.is_some()));
             Decl {
                 name: &d.name,
                 kind: &d.kind,
-                summary: coarsen(&describe(d.value.as_ref())),
+                summary: if is_feature {
+                    String::new()
+                } else {
+                    coarsen(&describe(d.value.as_ref()))
+                },
                 pieces,
                 figures,
             }
         })
         .collect()
+}
+
+/// A line bead as figures: its restraining force, spacing and point count (its points
+/// move with the bead's pieces, which are measured).
+fn line_bead_figures(piece: &str, bead: &LineBead) -> Vec<(String, String)> {
+    let name = if piece.is_empty() {
+        "line_bead".to_string()
+    } else {
+        format!("{piece}.line_bead")
+    };
+    let force = bead
+        .force
+        .map_or("-".to_string(), |f| coarsen(&format!("{} N/mm", round(f))));
+    vec![
+        (format!("{name}.force"), force),
+        (
+            format!("{name}.spacing"),
+            coarsen(&format!("{} mm", round(bead.spacing))),
+        ),
+        (format!("{name}.points"), bead.points.len().to_string()),
+    ]
 }
 
 /// The exact geometry's fingerprint.
