@@ -1,12 +1,15 @@
-//! The command line: `dieface check`, `build`, `inspect`, `render` and `watch` (clap).
+//! The command line: `dieface check`, `build`, `inspect`, `render`, `watch`, `snapshot`
+//! and `diff` (clap).
 //!
 //! Exit codes, for every command: 0 success, 1 errors in the script (diagnostics are
 //! printed on stderr), 2 usage errors (bad arguments, a missing file, an output with an
 //! unknown extension). Progress spinners appear on stderr only when it is a terminal.
 
 mod build;
+mod diff;
 mod inspect;
 mod render;
+mod snapshot;
 mod watch;
 
 use std::io::IsTerminal;
@@ -83,6 +86,55 @@ pub enum Command {
         #[command(flatten)]
         output: OutputArgs,
     },
+    /// Write the review snapshot `FILE.die.snap` (the `inspect` summary, rounded so
+    /// float noise cannot change it), or check the script against it: with no flag it
+    /// is written when missing and checked when present.
+    Snapshot {
+        /// What to evaluate.
+        #[command(flatten)]
+        script: ScriptArgs,
+        /// Only check: exit 1 with the changed lines when the snapshot does not match
+        /// (or does not exist).
+        #[arg(long, conflicts_with = "update")]
+        check: bool,
+        /// Write the snapshot whatever it held.
+        #[arg(long)]
+        update: bool,
+    },
+    /// Compare two versions of a script declaration by declaration: added, removed,
+    /// renamed, changed (how far the new geometry lies from the old, in mm) or
+    /// unchanged. `dieface diff OLD.die NEW.die`, or `dieface diff FILE.die --rev REV`
+    /// for the version committed at REV. Exit 0 when nothing changed, 1 when something
+    /// did (or a version has errors), 2 on usage errors.
+    Diff {
+        /// The old version (with `--rev`: the script, compared with its version at REV).
+        #[command(flatten)]
+        script: ScriptArgs,
+        /// The new version.
+        #[arg(value_name = "NEW")]
+        new: Option<PathBuf>,
+        /// Compare the script with its version in this git revision (`HEAD`, a commit,
+        /// a branch), read with `git show REV:PATH`.
+        #[arg(long, value_name = "REV", conflicts_with = "new")]
+        rev: Option<String>,
+        /// Read OLD and NEW but evaluate both as if they stood at PATH (their imports
+        /// and file reads next to PATH, within its root): for git's external diff,
+        /// which hands over temporary copies (`scripts/git-diff-die`).
+        #[arg(
+            long = "as",
+            value_name = "PATH",
+            conflicts_with = "rev",
+            requires = "new"
+        )]
+        at: Option<PathBuf>,
+        /// Print the comparison as JSON on stdout.
+        #[arg(long)]
+        json: bool,
+        /// Chordal tolerance of the tessellations the distances are measured on, a
+        /// length with its unit. Default: each version's `param tolerance`, else 0.05 mm.
+        #[arg(long, value_name = "LENGTH")]
+        tolerance: Option<String>,
+    },
 }
 
 /// The script and how to evaluate it (shared by every command).
@@ -145,6 +197,26 @@ pub fn main() -> ExitCode {
         Command::Inspect { script, json } => inspect::run(&script, json),
         Command::Render { script, render } => render::run(&script, &render),
         Command::Watch { script, output } => watch::run(&script, &output),
+        Command::Snapshot {
+            script,
+            check,
+            update,
+        } => snapshot::run(
+            &script,
+            match (check, update) {
+                (true, _) => snapshot::Mode::Check,
+                (_, true) => snapshot::Mode::Update,
+                _ => snapshot::Mode::Default,
+            },
+        ),
+        Command::Diff {
+            script,
+            new,
+            rev,
+            at,
+            json,
+            tolerance,
+        } => diff::run(&script, diff::Versions { new, rev, at }, json, tolerance),
     }
 }
 

@@ -7,7 +7,9 @@
 //! buffer bytes) across builds. It prints nothing: the commands in `cli` report
 //! what it returns, and follow its stages through [`Stage`] for their progress line.
 
+pub mod compare;
 pub mod report;
+pub mod snapshot;
 mod tolerance;
 
 use std::path::{Path, PathBuf};
@@ -121,6 +123,33 @@ impl Pipeline {
     ) -> std::io::Result<Build> {
         stage(Stage::Evaluating(file));
         let outcome = self.engine.evaluate_path(file)?;
+        Ok(self.finish(outcome, tolerance, stage))
+    }
+
+    /// [`Pipeline::build`] of a script given as text: `name` as diagnostics show it,
+    /// `dir` where its relative imports and file reads start. `dieface diff --rev`
+    /// builds a committed version this way, never writing it to disk.
+    pub fn build_text(
+        &mut self,
+        name: &str,
+        text: &str,
+        dir: Option<PathBuf>,
+        tolerance: Option<f64>,
+        stage: &mut dyn FnMut(Stage),
+    ) -> Build {
+        stage(Stage::Evaluating(Path::new(name)));
+        let outcome = self.engine.evaluate(name, text, dir);
+        self.finish(outcome, tolerance, stage)
+    }
+
+    /// The rest of a build after the evaluation: the tolerance, the die model and its
+    /// tessellation (a clean evaluation only).
+    fn finish(
+        &mut self,
+        outcome: Outcome,
+        tolerance: Option<f64>,
+        stage: &mut dyn FnMut(Stage),
+    ) -> Build {
         let reran = self.engine.last_evaluated().to_vec();
         let mut build = Build {
             problems: outcome.diagnostics.clone(),
@@ -131,13 +160,13 @@ impl Pipeline {
             tessellated: 0,
         };
         if !build.problems.is_empty() {
-            return Ok(build);
+            return build;
         }
         let tol = match tolerance_for(&build.outcome, tolerance) {
             Ok(t) => t,
             Err(d) => {
                 build.problems.push(d);
-                return Ok(build);
+                return build;
             }
         };
         let model = self.engine.die_model(&build.outcome);
@@ -160,7 +189,7 @@ impl Pipeline {
         }
         build.tessellated = self.cache.last_misses();
         build.model = Some(model);
-        Ok(build)
+        build
     }
 }
 

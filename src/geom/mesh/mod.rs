@@ -25,6 +25,7 @@ mod boundary;
 pub mod box_grid;
 mod crossing;
 pub mod curvature;
+pub mod distance;
 pub mod holes;
 mod ids;
 mod ops;
