@@ -249,3 +249,77 @@ fn git_diff_runs_dieface_through_the_wrapper_script() {
     let shown = git(&["diff"]);
     assert!(shown.contains("no change ("), "{shown}");
 }
+
+/// The pixels of a PNG `dieface` wrote (8-bit RGB, as `render` and `diff --png` write).
+fn pixels_of(path: &Path) -> Vec<[u8; 3]> {
+    let bytes = std::fs::read(path).expect("the picture was written");
+    let decoder = png::Decoder::new(std::io::Cursor::new(bytes));
+    let mut reader = decoder.read_info().expect("a PNG");
+    let mut buf = vec![0; reader.output_buffer_size()];
+    let info = reader.next_frame(&mut buf).expect("a frame");
+    assert_eq!(info.color_type, png::ColorType::Rgb);
+    buf.truncate(info.buffer_size());
+    buf.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect()
+}
+
+/// Green through red: a distance above about a quarter of the scale.
+fn warm(p: &[u8; 3]) -> bool {
+    p[0].max(p[1]) > 60 && p[0].max(p[1]) as u16 > p[2] as u16 + 40
+}
+
+fn bluish(p: &[u8; 3]) -> bool {
+    p[2] > 80 && p[2] as u16 > 2 * p[0] as u16 && p[2] as u16 * 2 > 3 * p[1] as u16
+}
+
+#[test]
+fn the_diff_picture_shows_the_moved_bead_red_on_a_blue_die_face() {
+    let dir = common::fresh_dir("cli_diff", "picture");
+    let old = fender();
+    std::fs::write(dir.join("old.die"), &old).expect("write");
+    std::fs::write(dir.join("new.die"), old.replace(BEAD_LINE, BEAD_LINE_MOVED)).expect("write");
+    std::fs::write(
+        dir.join("same.die"),
+        old.replacen("//", "// an edited comment:", 1),
+    )
+    .expect("write");
+    let args = |new: &str, out: &str| {
+        run(
+            &dir,
+            &[
+                "diff", "old.die", new, "--png", out, "--view", "top", "--size", "600x450",
+            ],
+        )
+    };
+    let (code, stdout, stderr) = args("new.die", "moved.png");
+    assert_eq!(code, Some(1), "{stdout}{stderr}");
+    let (code, stdout, stderr) = args("same.die", "same.png");
+    assert_eq!(code, Some(0), "{stdout}{stderr}");
+    let moved = pixels_of(&dir.join("moved.png"));
+    let same = pixels_of(&dir.join("same.png"));
+    assert_eq!(moved.len(), 600 * 450);
+    // Both show the die face, nearly all of it at the scale's cold end (blue); both
+    // carry the scale bar, which runs from blue to red.
+    let blue = |px: &[[u8; 3]]| px.iter().filter(|p| bluish(p)).count();
+    let red = |px: &[[u8; 3]]| px.iter().filter(|p| warm(p)).count();
+    assert!(blue(&moved) > 20_000, "{} blue pixels", blue(&moved));
+    assert!(blue(&same) > 20_000, "{} blue pixels", blue(&same));
+    // The moved bead is drawn green to red (its flanks lie up to 5 mm, the top of the
+    // scale, off the old bead's surface) where nothing unchanged is: the picture of an
+    // edit that moved nothing has only the bar's green and red.
+    assert!(
+        red(&moved) > red(&same) + 300,
+        "green to red pixels: moved {}, unchanged {}",
+        red(&moved),
+        red(&same)
+    );
+    // The same input draws the same bytes.
+    let again = args("new.die", "again.png");
+    assert_eq!(again.0, Some(1));
+    assert_eq!(
+        std::fs::read(dir.join("moved.png")).expect("read"),
+        std::fs::read(dir.join("again.png")).expect("read")
+    );
+    // A picture that is not a PNG is a usage error, and nothing is built.
+    let (code, _, stderr) = args("new.die", "moved.jpg");
+    assert_eq!(code, Some(2), "{stderr}");
+}

@@ -13,10 +13,23 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
 use std::time::Instant;
 
+use crate::export::atomic::{check_replaceable, write_atomic_with, Durability};
+use crate::export::render::{Size, View};
 use crate::pipeline::compare::{compare, json_report, text_report, Side};
-use crate::pipeline::{parse_tolerance, Build, Pipeline};
+use crate::pipeline::{diff_picture_bytes, parse_tolerance, Build, Pipeline};
 
 use super::{ms, progress, ScriptArgs, SCRIPT_ERROR, USAGE_ERROR};
+
+/// Where `--png` draws the new version coloured by its distance from the old, and
+/// from which side.
+pub(crate) struct PngOut {
+    /// The picture file (`.png`).
+    pub path: PathBuf,
+    /// Where it is seen from.
+    pub view: View,
+    /// Width and height in pixels.
+    pub size: Size,
+}
 
 /// Which versions to compare, besides the first file.
 pub(crate) struct Versions {
@@ -34,6 +47,7 @@ pub(crate) fn run(
     versions: Versions,
     json: bool,
     tolerance: Option<String>,
+    png: Option<PngOut>,
 ) -> ExitCode {
     let Versions { new, rev, at } = versions;
     let started = Instant::now();
@@ -41,6 +55,22 @@ pub(crate) fn run(
         eprintln!("error: {msg}");
         ExitCode::from(USAGE_ERROR)
     };
+    if let Some(out) = &png {
+        let is_png = out
+            .path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("png"));
+        if !is_png {
+            return usage(format!(
+                "`{}`: --png writes a PNG picture; give a file ending in .png",
+                out.path.display()
+            ));
+        }
+        if let Err(e) = check_replaceable(&out.path) {
+            return usage(format!("cannot write `{}`: {e}", out.path.display()));
+        }
+    }
+    let png = png.as_ref();
     let tolerance = match &tolerance {
         None => None,
         Some(text) => match parse_tolerance(text, &script.limits()) {
@@ -58,7 +88,7 @@ pub(crate) fn run(
             file: at,
             ..script.clone()
         };
-        return run_as(&at, &script.file, new, json, tolerance, started);
+        return run_as(&at, &script.file, new, json, tolerance, started, png);
     }
     let (old, new_args, old_label) = match (new, rev) {
         (Some(new), None) => {
@@ -103,7 +133,15 @@ pub(crate) fn run(
         Err(code) => return code,
     };
     let new_label = new_args.file.display().to_string();
-    report(&old.0, &new_build.0, &old_label, &new_label, json, started)
+    report(
+        &old.0,
+        &new_build.0,
+        &old_label,
+        &new_label,
+        json,
+        started,
+        png,
+    )
 }
 
 /// `dieface diff --as PATH OLD NEW`: both files read as they are and evaluated as if
@@ -115,6 +153,7 @@ fn run_as(
     json: bool,
     tolerance: Option<f64>,
     started: Instant,
+    png: Option<&PngOut>,
 ) -> ExitCode {
     let mut built = Vec::new();
     for (file, which) in [(old, "old"), (new, "new")] {
@@ -140,6 +179,7 @@ fn run_as(
         &new_label,
         json,
         started,
+        png,
     )
 }
 
@@ -163,6 +203,7 @@ fn report(
     new_label: &str,
     json: bool,
     started: Instant,
+    png: Option<&PngOut>,
 ) -> ExitCode {
     let usage = |msg: String| {
         eprintln!("error: {msg}");
@@ -185,6 +226,19 @@ fn report(
             println!("{l}");
         }
         eprintln!("compared in {}", ms(started.elapsed()));
+    }
+    if let Some(out) = png {
+        let bytes = match diff_picture_bytes(old, new, out.view, out.size) {
+            Ok(b) => b,
+            Err(msg) => {
+                eprintln!("error: {msg}; no picture written");
+                return ExitCode::from(SCRIPT_ERROR);
+            }
+        };
+        if let Err(e) = write_atomic_with(&out.path, &bytes, Durability::Flushed) {
+            return usage(format!("cannot write `{}`: {e}", out.path.display()));
+        }
+        eprintln!("wrote {}", out.path.display());
     }
     if comparison.changed() {
         ExitCode::from(SCRIPT_ERROR)

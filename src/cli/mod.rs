@@ -130,6 +130,16 @@ pub enum Command {
         /// Print the comparison as JSON on stdout.
         #[arg(long)]
         json: bool,
+        /// Also draw the new version as a PNG picture, each point coloured by its
+        /// distance from the old version (blue 0, red the largest), with a scale in mm.
+        #[arg(long, value_name = "FILE.png")]
+        png: Option<PathBuf>,
+        /// Where the `--png` picture is seen from.
+        #[arg(long, value_enum, default_value = "iso", requires = "png")]
+        view: render::ViewArg,
+        /// Width and height of the `--png` picture in pixels.
+        #[arg(long, value_name = "WxH", default_value = "1200x900", value_parser = crate::export::render::Size::parse, requires = "png")]
+        size: crate::export::render::Size,
         /// Chordal tolerance of the tessellations the distances are measured on, a
         /// length with its unit. Default: each version's `param tolerance`, else 0.05 mm.
         #[arg(long, value_name = "LENGTH")]
@@ -216,7 +226,20 @@ pub fn main() -> ExitCode {
             at,
             json,
             tolerance,
-        } => diff::run(&script, diff::Versions { new, rev, at }, json, tolerance),
+            png,
+            view,
+            size,
+        } => diff::run(
+            &script,
+            diff::Versions { new, rev, at },
+            json,
+            tolerance,
+            png.map(|path| diff::PngOut {
+                path,
+                view: view.into(),
+                size,
+            }),
+        ),
     }
 }
 

@@ -8,6 +8,7 @@
 //! what it returns, and follow its stages through [`Stage`] for their progress line.
 
 pub mod compare;
+pub mod diff_picture;
 pub mod report;
 pub mod snapshot;
 mod tolerance;
@@ -227,6 +228,24 @@ pub fn picture_bytes(build: &Build, view: View, size: Size) -> Result<Vec<u8>, S
     let picture = scene_picture(scene);
     if picture.is_empty() {
         return Err("the script has nothing to draw: a picture shows the surfaces, meshes and curves it declares, and this script has none".into());
+    }
+    encode_png(&render(&picture, view, size))
+}
+
+/// The PNG `dieface diff --png` writes: the new build's scene coloured by its distance
+/// from the old build's ([`diff_picture::distance_picture`]), drawn from `view`.
+pub fn diff_picture_bytes(
+    old: &Build,
+    new: &Build,
+    view: View,
+    size: Size,
+) -> Result<Vec<u8>, String> {
+    let (Some(old), Some(new)) = (&old.scene, &new.scene) else {
+        return Err("a version has problems; nothing to draw".into());
+    };
+    let picture = diff_picture::distance_picture(old, new);
+    if picture.is_empty() {
+        return Err("the new version has nothing to draw".into());
     }
     encode_png(&render(&picture, view, size))
 }

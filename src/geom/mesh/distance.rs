@@ -70,6 +70,19 @@ fn deviation(samples: &[DVec3], nearest: impl Fn(DVec3) -> f64) -> Option<Deviat
     })
 }
 
+/// Each of `points`' distance to the nearest of `triangles` (infinite with no
+/// triangle): a tessellation coloured by how far it lies from another, point by point.
+pub fn nearest_distances(triangles: &[Triangle], points: &[DVec3]) -> Vec<f64> {
+    if triangles.is_empty() {
+        return vec![f64::INFINITY; points.len()];
+    }
+    let grid = TriangleGrid::new(triangles.to_vec());
+    points
+        .iter()
+        .map(|&p| grid.nearest(p).map_or(f64::INFINITY, |n| n.1))
+        .collect()
+}
+
 /// Sample points of a triangle soup: its corners and each triangle's centroid (so a
 /// large flat triangle is measured inside as well as at its corners).
 pub fn triangle_samples(triangles: &[Triangle]) -> Vec<DVec3> {
