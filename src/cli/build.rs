@@ -15,7 +15,7 @@ use std::time::{Duration, Instant};
 use indicatif::ProgressBar;
 
 use crate::export::atomic::{check_replaceable, Durability};
-use crate::pipeline::{parse_tolerance, Output, OutputFile, Pipeline, Stage};
+use crate::pipeline::{Output, OutputFile, Pipeline, Stage};
 
 use super::{
     ms, progress, stop_on_interrupt, OutputArgs, ScriptArgs, INTERRUPTED, SCRIPT_ERROR, USAGE_ERROR,
@@ -113,19 +113,7 @@ impl Plan {
                 }
             }
         }
-        let tolerance = match &out.tolerance {
-            None => None,
-            Some(text) => match parse_tolerance(text, &script.limits()) {
-                Ok(mm) => Some(mm),
-                Err(msg) => {
-                    eprintln!(
-                        "error: --tolerance {}: {msg}",
-                        crate::diag::abridged(text, 40)
-                    );
-                    return Err(ExitCode::from(USAGE_ERROR));
-                }
-            },
-        };
+        let tolerance = script.tolerance(out.tolerance.as_deref())?;
         Ok(Plan {
             outputs,
             tolerance,

@@ -16,7 +16,7 @@ use std::time::Instant;
 use crate::export::atomic::{check_replaceable, write_atomic_with, Durability};
 use crate::export::render::{Size, View};
 use crate::pipeline::compare::{compare, json_report, text_report, Side};
-use crate::pipeline::{diff_picture_bytes, parse_tolerance, Build, Pipeline};
+use crate::pipeline::{diff_picture_bytes, Build, Pipeline};
 
 use super::{ms, progress, ScriptArgs, SCRIPT_ERROR, USAGE_ERROR};
 
@@ -71,17 +71,9 @@ pub(crate) fn run(
         }
     }
     let png = png.as_ref();
-    let tolerance = match &tolerance {
-        None => None,
-        Some(text) => match parse_tolerance(text, &script.limits()) {
-            Ok(mm) => Some(mm),
-            Err(msg) => {
-                return usage(format!(
-                    "--tolerance {}: {msg}",
-                    crate::diag::abridged(text, 40)
-                ))
-            }
-        },
+    let tolerance = match script.tolerance(tolerance.as_deref()) {
+        Ok(t) => t,
+        Err(code) => return code,
     };
     if let (Some(new), Some(at)) = (&new, at) {
         let at = ScriptArgs {
@@ -155,23 +147,24 @@ fn run_as(
     started: Instant,
     png: Option<&PngOut>,
 ) -> ExitCode {
-    let mut built = Vec::new();
-    for (file, which) in [(old, "old"), (new, "new")] {
-        let text = match read_text(file, &at.limits()) {
-            Ok(t) => t,
-            Err(msg) => {
-                eprintln!("error: {msg}");
-                return ExitCode::from(USAGE_ERROR);
-            }
-        };
+    // One version read and built as if it stood at `at`, or the exit code of why not.
+    let version = |file: &Path, which: &str| -> Result<(Built, String), ExitCode> {
+        let text = read_text(file, &at.limits()).map_err(|msg| {
+            eprintln!("error: {msg}");
+            ExitCode::from(USAGE_ERROR)
+        })?;
         let label = format!("{} ({which})", at.file.display());
-        match build_text(at, &label, &text, tolerance, which) {
-            Ok(b) => built.push((b, label)),
-            Err(code) => return code,
-        }
-    }
-    let (new_built, new_label) = built.pop().expect("two versions were built");
-    let (old_built, old_label) = built.pop().expect("two versions were built");
+        let built = build_text(at, &label, &text, tolerance, which)?;
+        Ok((built, label))
+    };
+    let (old_built, old_label) = match version(old, "old") {
+        Ok(v) => v,
+        Err(code) => return code,
+    };
+    let (new_built, new_label) = match version(new, "new") {
+        Ok(v) => v,
+        Err(code) => return code,
+    };
     report(
         &old_built.0,
         &new_built.0,

@@ -11,24 +11,14 @@ use std::process::ExitCode;
 
 use crate::pipeline::report::{inspect_json, inspect_lines};
 
-use super::{progress, with_tolerance_checked, ScriptArgs, SCRIPT_ERROR, USAGE_ERROR};
+use super::{ScriptArgs, SCRIPT_ERROR};
 
 /// `dieface inspect`.
 pub(crate) fn run(script: &ScriptArgs, json: bool) -> ExitCode {
     let color = script.color();
-    let mut engine = match script.engine() {
-        Ok(e) => e,
+    let (engine, outcome) = match script.evaluated() {
+        Ok(done) => done,
         Err(code) => return code,
-    };
-    let bar = progress(format!("evaluating {}", script.file.display()));
-    let outcome = engine.evaluate_path(&script.file);
-    bar.finish_and_clear();
-    let outcome = match outcome {
-        Ok(o) => with_tolerance_checked(o),
-        Err(e) => {
-            eprintln!("error: cannot read `{}`: {e}", script.file.display());
-            return ExitCode::from(USAGE_ERROR);
-        }
     };
     for d in &outcome.diagnostics {
         eprintln!("{}", engine.sources.render(d, color));

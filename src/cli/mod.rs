@@ -285,6 +285,41 @@ impl ScriptArgs {
         }
     }
 
+    /// A `--tolerance` given on the command line in millimetres (`None` when not given),
+    /// or the usage error (2) after saying why it is not a length.
+    fn tolerance(&self, given: Option<&str>) -> Result<Option<f64>, ExitCode> {
+        let Some(text) = given else {
+            return Ok(None);
+        };
+        crate::pipeline::parse_tolerance(text, &self.limits())
+            .map(Some)
+            .map_err(|msg| {
+                eprintln!(
+                    "error: --tolerance {}: {msg}",
+                    crate::diag::abridged(text, 40)
+                );
+                ExitCode::from(USAGE_ERROR)
+            })
+    }
+
+    /// The script evaluated behind a spinner, its tolerance parameter checked
+    /// ([`with_tolerance_checked`]), with the engine that holds its sources; or the
+    /// usage error (2) when the script cannot be read. Diagnostics are left to the
+    /// caller to print.
+    fn evaluated(&self) -> Result<(Engine, Outcome), ExitCode> {
+        let mut engine = self.engine()?;
+        let bar = progress(format!("evaluating {}", self.file.display()));
+        let outcome = engine.evaluate_path(&self.file);
+        bar.finish_and_clear();
+        match outcome {
+            Ok(o) => Ok((engine, with_tolerance_checked(o))),
+            Err(e) => {
+                eprintln!("error: cannot read `{}`: {e}", self.file.display());
+                Err(ExitCode::from(USAGE_ERROR))
+            }
+        }
+    }
+
     /// The project root (default: the script's folder).
     fn root(&self) -> PathBuf {
         self.root.clone().unwrap_or_else(|| script_dir(&self.file))

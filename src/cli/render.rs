@@ -14,7 +14,7 @@ use clap::Args;
 
 use crate::export::atomic::{check_replaceable, write_atomic_with, Durability};
 use crate::export::render::{Size, View};
-use crate::pipeline::{parse_tolerance, picture_bytes, Pipeline, Stage};
+use crate::pipeline::{picture_bytes, Pipeline, Stage};
 
 use super::{
     ms, progress, stop_on_interrupt, ScriptArgs, INTERRUPTED, OUTPUTS_WRITTEN, SCRIPT_ERROR,
@@ -92,18 +92,9 @@ pub(crate) fn run(script: &ScriptArgs, args: &RenderArgs) -> ExitCode {
         eprintln!("error: cannot write `{}`: {e}", out.display());
         return ExitCode::from(USAGE_ERROR);
     }
-    let tolerance = match &args.tolerance {
-        None => None,
-        Some(text) => match parse_tolerance(text, &script.limits()) {
-            Ok(mm) => Some(mm),
-            Err(msg) => {
-                eprintln!(
-                    "error: --tolerance {}: {msg}",
-                    crate::diag::abridged(text, 40)
-                );
-                return ExitCode::from(USAGE_ERROR);
-            }
-        },
+    let tolerance = match script.tolerance(args.tolerance.as_deref()) {
+        Ok(t) => t,
+        Err(code) => return code,
     };
     let mut pipeline = match script.engine() {
         Ok(e) => Pipeline::new(e),

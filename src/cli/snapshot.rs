@@ -16,7 +16,7 @@ use std::process::ExitCode;
 use crate::export::atomic::{check_replaceable, write_atomic};
 use crate::pipeline::snapshot::{line_diff, snapshot_text};
 
-use super::{progress, with_tolerance_checked, ScriptArgs, SCRIPT_ERROR, USAGE_ERROR};
+use super::{ScriptArgs, SCRIPT_ERROR, USAGE_ERROR};
 
 /// What `dieface snapshot` was asked to do.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -118,17 +118,7 @@ pub(crate) fn run(script: &ScriptArgs, mode: Mode) -> ExitCode {
 /// or a usage error (2).
 fn snapshot_of(script: &ScriptArgs) -> Result<String, ExitCode> {
     let color = script.color();
-    let mut engine = script.engine()?;
-    let bar = progress(format!("evaluating {}", script.file.display()));
-    let outcome = engine.evaluate_path(&script.file);
-    bar.finish_and_clear();
-    let outcome = match outcome {
-        Ok(o) => with_tolerance_checked(o),
-        Err(e) => {
-            eprintln!("error: cannot read `{}`: {e}", script.file.display());
-            return Err(ExitCode::from(USAGE_ERROR));
-        }
-    };
+    let (engine, outcome) = script.evaluated()?;
     if !outcome.diagnostics.is_empty() {
         for d in &outcome.diagnostics {
             eprintln!("{}", engine.sources.render(d, color));
