@@ -15,6 +15,7 @@ use std::sync::Arc;
 
 use glam::DVec3;
 
+use crate::geom::fingerprint::Fingerprint;
 use crate::geom::mesh::Mesh;
 use crate::geom::sew::Face;
 use crate::geom::{Curve3, NurbsSurface, TrimmedSurface};
@@ -67,6 +68,19 @@ pub enum Shape {
     Mesh(Arc<Mesh>),
     /// A curve (2-D curves and sketches placed in their view).
     Curve(Arc<Curve3>),
+}
+
+impl Shape {
+    /// The content fingerprint of the exact geometry: equal for equal shapes however
+    /// they were made (the scene cache's key, and `diff`'s test of "unchanged").
+    pub fn fingerprint(&self) -> u64 {
+        match self {
+            Shape::Surface(s) => s.fingerprint(),
+            Shape::Trimmed(t) => t.fingerprint(),
+            Shape::Mesh(m) => m.fingerprint(),
+            Shape::Curve(c) => c.fingerprint(),
+        }
+    }
 }
 
 /// A line bead: the bead's centre line on the binder as points every `spacing`, with

@@ -26,7 +26,6 @@ use rayon::prelude::*;
 
 pub use crate::die::model::LineBead;
 use crate::die::model::{DieModel, Part, Shape};
-use crate::geom::fingerprint::Fingerprint;
 use crate::geom::mesh::Mesh;
 use crate::geom::tessellate::{
     tessellate_curve_within, tessellate_surface_within, tessellate_trimmed_within, SurfaceMesh,
@@ -131,6 +130,26 @@ impl Node {
             .map(|g| &**g)
             .filter(|g| !g.is_empty())
             .collect()
+    }
+
+    /// The node's own triangles, as corner positions (indices past the positions are
+    /// skipped): what a distance between two tessellations is measured on.
+    pub fn triangles(&self) -> Vec<[DVec3; 3]> {
+        let mut out = Vec::new();
+        for g in &self.geometry {
+            if let Geometry::Triangles {
+                positions, indices, ..
+            } = g.as_ref()
+            {
+                let corner = |k: u32| positions.get(k as usize).copied();
+                out.extend(
+                    indices
+                        .chunks_exact(3)
+                        .filter_map(|t| Some([corner(t[0])?, corner(t[1])?, corner(t[2])?])),
+                );
+            }
+        }
+        out
     }
 
     /// This node and all its descendants, depth first, parents before children.
@@ -353,7 +372,7 @@ impl SceneCache {
                 }
             }
         }
-        let key = fingerprint(shape);
+        let key = shape.fingerprint();
         match self.entries.get_mut(&key) {
             Some(entry) if same(&entry.shape, shape) => {
                 entry.used = true;
@@ -436,16 +455,6 @@ fn address(shape: &Shape) -> usize {
         Shape::Trimmed(t) => Arc::as_ptr(t) as *const () as usize,
         Shape::Mesh(m) => Arc::as_ptr(m) as *const () as usize,
         Shape::Curve(c) => Arc::as_ptr(c) as *const () as usize,
-    }
-}
-
-/// The content fingerprint of a shape.
-fn fingerprint(shape: &Shape) -> u64 {
-    match shape {
-        Shape::Surface(s) => s.fingerprint(),
-        Shape::Trimmed(t) => t.fingerprint(),
-        Shape::Mesh(m) => m.fingerprint(),
-        Shape::Curve(c) => c.fingerprint(),
     }
 }
 

@@ -19,13 +19,12 @@ use glam::DVec3;
 use rayon::prelude::*;
 use serde_json::{json, Map, Value as Json};
 
-use crate::die::model::{DieModel, FigureValue, LineBead, Part, Shape};
+use crate::die::model::{DieModel, FigureValue, LineBead, Part};
 use crate::eval::summary::describe;
 use crate::eval::units::round;
 use crate::eval::value::Data;
 use crate::eval::Outcome;
 use crate::export::scene::{Geometry, Node, Scene};
-use crate::geom::fingerprint::Fingerprint;
 use crate::geom::mesh::distance::{polylines_deviation, triangles_deviation, Deviation};
 use crate::geom::mesh::rounding::index::Triangle;
 
@@ -195,7 +194,7 @@ fn decls<'a>(side: Side<'a>) -> Vec<Decl<'a>> {
                         .to_string();
                     pieces.push((
                         relative,
-                        fingerprint(shape),
+                        shape.fingerprint(),
                         nodes.get(p.name.as_str()).copied(),
                     ));
                 }
@@ -252,16 +251,6 @@ fn line_bead_figures(piece: &str, bead: &LineBead) -> Vec<(String, String)> {
         ),
         (format!("{name}.points"), bead.points.len().to_string()),
     ]
-}
-
-/// The exact geometry's fingerprint.
-fn fingerprint(shape: &Shape) -> u64 {
-    match shape {
-        Shape::Surface(s) => s.fingerprint(),
-        Shape::Trimmed(t) => t.fingerprint(),
-        Shape::Mesh(m) => m.fingerprint(),
-        Shape::Curve(c) => c.fingerprint(),
-    }
 }
 
 /// A quality figure as text, rounded as the snapshot rounds it.
@@ -448,25 +437,15 @@ fn node_deviation(old: &Node, new: &Node) -> Option<Deviation> {
 
 /// A node's own triangles and polylines.
 fn primitives(node: &Node) -> (Vec<Triangle>, Vec<Vec<DVec3>>) {
-    let mut triangles = Vec::new();
-    let mut lines = Vec::new();
-    for g in &node.geometry {
-        match g.as_ref() {
-            Geometry::Triangles {
-                positions, indices, ..
-            } => {
-                for t in indices.chunks_exact(3) {
-                    let corner = |k: u32| positions.get(k as usize).copied();
-                    if let (Some(a), Some(b), Some(c)) = (corner(t[0]), corner(t[1]), corner(t[2]))
-                    {
-                        triangles.push([a, b, c]);
-                    }
-                }
-            }
-            Geometry::LineStrip { points } => lines.push(points.clone()),
-        }
-    }
-    (triangles, lines)
+    let lines = node
+        .geometry
+        .iter()
+        .filter_map(|g| match g.as_ref() {
+            Geometry::LineStrip { points } => Some(points.clone()),
+            Geometry::Triangles { .. } => None,
+        })
+        .collect();
+    (node.triangles(), lines)
 }
 
 /// A distance as reported: rounded to 0.001 mm.

@@ -2,11 +2,9 @@
 //! far each point lies from the old version's, with a scale in millimetres, so a
 //! reviewer sees at a glance what an edit moved and by how much.
 
-use glam::DVec3;
-
 use crate::export::render::{distance_color, Legend, Linear, Paint, Picture, Polyline, Shaded};
 use crate::export::scene::{Geometry, Node, Scene};
-use crate::geom::mesh::distance::nearest_distances;
+use crate::geom::mesh::distance::NearestTriangles;
 use crate::geom::mesh::rounding::index::Triangle;
 
 /// The curves' colour (linear RGB): a dark grey that no distance colour takes.
@@ -22,7 +20,8 @@ pub const LEAST_SCALE: f64 = 0.01;
 /// version lacks against everything old. Curves are drawn in grey; the legend is the
 /// colour scale in millimetres.
 pub fn distance_picture(old: &Scene, new: &Scene) -> Picture {
-    let everything: Vec<Triangle> = old.nodes.iter().flat_map(triangles_of).collect();
+    // The whole old scene, indexed only if a declaration is new.
+    let mut everything: Option<NearestTriangles> = None;
     let mut coloured: Vec<(Shaded, Vec<f64>)> = Vec::new();
     let mut lines = Vec::new();
     let mut largest = 0.0f64;
@@ -33,7 +32,13 @@ pub fn distance_picture(old: &Scene, new: &Scene) -> Picture {
             .find(|o| o.name == top.name)
             .map(triangles_of)
             .unwrap_or_default();
-        let against = if own.is_empty() { &everything } else { &own };
+        let own = (!own.is_empty()).then(|| NearestTriangles::new(own));
+        let against = match &own {
+            Some(index) => index,
+            None => everything.get_or_insert_with(|| {
+                NearestTriangles::new(old.nodes.iter().flat_map(triangles_of).collect())
+            }),
+        };
         for node in top.walk() {
             for g in node.primitives() {
                 match g {
@@ -43,7 +48,7 @@ pub fn distance_picture(old: &Scene, new: &Scene) -> Picture {
                         indices,
                         ..
                     } => {
-                        let distances = nearest_distances(against, positions);
+                        let distances = against.distances(positions);
                         largest = distances
                             .iter()
                             .copied()
@@ -94,22 +99,5 @@ pub fn distance_picture(old: &Scene, new: &Scene) -> Picture {
 
 /// Every triangle of a node and its children.
 fn triangles_of(node: &Node) -> Vec<Triangle> {
-    let mut out = Vec::new();
-    for n in node.walk() {
-        for g in n.primitives() {
-            if let Geometry::Triangles {
-                positions, indices, ..
-            } = g
-            {
-                let at = |i: u32| positions.get(i as usize).copied().unwrap_or(DVec3::NAN);
-                out.extend(
-                    indices
-                        .chunks_exact(3)
-                        .map(|t| [at(t[0]), at(t[1]), at(t[2])])
-                        .filter(|t| t.iter().all(|p| p.is_finite())),
-                );
-            }
-        }
-    }
-    out
+    node.walk().into_iter().flat_map(Node::triangles).collect()
 }

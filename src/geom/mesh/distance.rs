@@ -70,17 +70,33 @@ fn deviation(samples: &[DVec3], nearest: impl Fn(DVec3) -> f64) -> Option<Deviat
     })
 }
 
-/// Each of `points`' distance to the nearest of `triangles` (infinite with no
-/// triangle): a tessellation coloured by how far it lies from another, point by point.
-pub fn nearest_distances(triangles: &[Triangle], points: &[DVec3]) -> Vec<f64> {
-    if triangles.is_empty() {
-        return vec![f64::INFINITY; points.len()];
+/// Triangles indexed for the distance from any point to the nearest of them: a
+/// tessellation coloured by how far it lies from another, point by point (built once,
+/// asked for many points).
+pub struct NearestTriangles {
+    grid: Option<TriangleGrid>,
+}
+
+impl NearestTriangles {
+    /// The index of `triangles` (none: every distance is infinite).
+    pub fn new(triangles: Vec<Triangle>) -> NearestTriangles {
+        NearestTriangles {
+            grid: (!triangles.is_empty()).then(|| TriangleGrid::new(triangles)),
+        }
     }
-    let grid = TriangleGrid::new(triangles.to_vec());
-    points
-        .iter()
-        .map(|&p| grid.nearest(p).map_or(f64::INFINITY, |n| n.1))
-        .collect()
+
+    /// Each of `points`' distance to the nearest triangle (infinite with none).
+    pub fn distances(&self, points: &[DVec3]) -> Vec<f64> {
+        points
+            .iter()
+            .map(|&p| {
+                self.grid
+                    .as_ref()
+                    .and_then(|g| g.nearest(p))
+                    .map_or(f64::INFINITY, |n| n.1)
+            })
+            .collect()
+    }
 }
 
 /// Sample points of a triangle soup: its corners and each triangle's centroid (so a
