@@ -250,18 +250,6 @@ fn git_diff_runs_dieface_through_the_wrapper_script() {
     assert!(shown.contains("no change ("), "{shown}");
 }
 
-/// The pixels of a PNG `dieface` wrote (8-bit RGB, as `render` and `diff --png` write).
-fn pixels_of(path: &Path) -> Vec<[u8; 3]> {
-    let bytes = std::fs::read(path).expect("the picture was written");
-    let decoder = png::Decoder::new(std::io::Cursor::new(bytes));
-    let mut reader = decoder.read_info().expect("a PNG");
-    let mut buf = vec![0; reader.output_buffer_size()];
-    let info = reader.next_frame(&mut buf).expect("a frame");
-    assert_eq!(info.color_type, png::ColorType::Rgb);
-    buf.truncate(info.buffer_size());
-    buf.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect()
-}
-
 /// Green through red: a distance above about a quarter of the scale.
 fn warm(p: &[u8; 3]) -> bool {
     p[0].max(p[1]) > 60 && p[0].max(p[1]) as u16 > p[2] as u16 + 40
@@ -294,8 +282,12 @@ fn the_diff_picture_shows_the_moved_bead_red_on_a_blue_die_face() {
     assert_eq!(code, Some(1), "{stdout}{stderr}");
     let (code, stdout, stderr) = args("same.die", "same.png");
     assert_eq!(code, Some(0), "{stdout}{stderr}");
-    let moved = pixels_of(&dir.join("moved.png"));
-    let same = pixels_of(&dir.join("same.png"));
+    let moved = common::picture::Image::read(&dir.join("moved.png"))
+        .pixels()
+        .collect::<Vec<_>>();
+    let same = common::picture::Image::read(&dir.join("same.png"))
+        .pixels()
+        .collect::<Vec<_>>();
     assert_eq!(moved.len(), 600 * 450);
     // Both show the die face, nearly all of it at the scale's cold end (blue); both
     // carry the scale bar, which runs from blue to red.

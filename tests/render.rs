@@ -9,23 +9,8 @@ use std::path::{Path, PathBuf};
 
 use dieface::export::render::raster::to_srgb;
 
-/// A product (a 200 mm panel with a 30 mm bump in the middle) over a larger plain plate
-/// 20 mm below it, and an outline curve: small, so each render takes well under a
-/// second.
-const SCRIPT: &str = r#"
-units mm deg
-let half = 100 mm
-let net = [ [ (i * half, j * half, if i == 1 and j == 1 then 30 mm else 0 mm) for j in range(0, 3) ] for i in range(0, 3) ]
-product panel = nurbs_surface(degree: (2, 2), points: net)
-let plate = nurbs_surface(degree: (1, 1), points: [[(-50, -50, -20), (-50, 250, -20)], [(250, -50, -20), (250, 250, -20)]])
-let outline = sketch(top) {
-    from (0, 0)
-    line to (200, 0)
-    fillet 20
-    line to (200, 200)
-    close
-}
-"#;
+/// The script of the pixel tests ([`common::BUMPED_PANEL`]).
+const SCRIPT: &str = common::BUMPED_PANEL;
 
 /// The picture size of the pixel tests: the part is square, so it is drawn 360 px
 /// high and wide, centred at (400, 200), clear of the legend at the top left.
@@ -51,38 +36,7 @@ fn render(dir: &Path, out: &str, args: &[&str]) -> Vec<u8> {
     std::fs::read(dir.join(out)).expect("the picture")
 }
 
-/// A decoded picture: width, height and RGB bytes.
-struct Image {
-    width: usize,
-    height: usize,
-    rgb: Vec<u8>,
-}
-
-impl Image {
-    fn decode(bytes: &[u8]) -> Image {
-        let decoder = png::Decoder::new(std::io::Cursor::new(bytes));
-        let mut reader = decoder.read_info().expect("a PNG");
-        let mut buf = vec![0; reader.output_buffer_size()];
-        let info = reader.next_frame(&mut buf).expect("a frame");
-        assert_eq!(info.color_type, png::ColorType::Rgb);
-        assert_eq!(info.bit_depth, png::BitDepth::Eight);
-        buf.truncate(info.buffer_size());
-        Image {
-            width: info.width as usize,
-            height: info.height as usize,
-            rgb: buf,
-        }
-    }
-
-    fn at(&self, x: usize, y: usize) -> [u8; 3] {
-        let i = 3 * (y * self.width + x);
-        [self.rgb[i], self.rgb[i + 1], self.rgb[i + 2]]
-    }
-
-    fn pixels(&self) -> impl Iterator<Item = [u8; 3]> + '_ {
-        self.rgb.chunks_exact(3).map(|p| [p[0], p[1], p[2]])
-    }
-}
+use common::picture::Image;
 
 const WHITE: [u8; 3] = [255, 255, 255];
 

@@ -15,7 +15,7 @@ use std::time::{Duration, Instant};
 use indicatif::ProgressBar;
 
 use crate::export::atomic::{check_replaceable, Durability};
-use crate::pipeline::{Output, OutputFile, Pipeline, Stage};
+use crate::pipeline::{Build, Output, OutputFile, Pipeline, Stage};
 
 use super::{
     ms, progress, stop_on_interrupt, OutputArgs, ScriptArgs, INTERRUPTED, SCRIPT_ERROR, USAGE_ERROR,
@@ -125,11 +125,13 @@ impl Plan {
     /// Evaluates `script` with `pipeline` and, when clean, writes every output (an
     /// output that already holds the same bytes from this pipeline's previous build is
     /// left alone: see [`Pipeline::write_outputs`]). Prints diagnostics and write
-    /// errors on stderr.
+    /// errors on stderr. `on_build` sees every build that evaluated, clean or not,
+    /// after its outputs are written (the live viewer publishes it).
     pub(crate) fn build(
         &self,
         pipeline: &mut Pipeline,
         script: &ScriptArgs,
+        on_build: &mut dyn FnMut(&mut Pipeline, &Build),
     ) -> Result<Built, String> {
         let started = Instant::now();
         // One progress line at a time, replaced at each stage and cleared before
@@ -163,6 +165,7 @@ impl Plan {
                 for d in &b.problems {
                     eprintln!("{}", pipeline.engine.sources.render(d, self.color));
                 }
+                on_build(pipeline, &b);
                 Ok(Built::ScriptErrors(b.problems.len()))
             }
             Ok(b) => {
@@ -170,8 +173,10 @@ impl Plan {
                     .file
                     .file_stem()
                     .map_or_else(|| "die_face".into(), |s| s.to_string_lossy().into_owned());
-                match pipeline.write_outputs(&b, &self.outputs, &stem, self.durability, &mut stage)
-                {
+                let written =
+                    pipeline.write_outputs(&b, &self.outputs, &stem, self.durability, &mut stage);
+                on_build(pipeline, &b);
+                match written {
                     Ok(files) => {
                         super::OUTPUTS_WRITTEN.store(true, std::sync::atomic::Ordering::SeqCst);
                         Ok(Built::Written {
@@ -211,7 +216,7 @@ pub(crate) fn run(script: &ScriptArgs, out: &OutputArgs) -> ExitCode {
         Err(code) => return code,
     };
     stop_on_interrupt(INTERRUPTED);
-    match plan.build(&mut pipeline, script) {
+    match plan.build(&mut pipeline, script, &mut |_, _| {}) {
         Err(msg) => {
             eprintln!("error: {msg}");
             ExitCode::from(USAGE_ERROR)

@@ -1,5 +1,5 @@
-//! The command line: `dieface check`, `build`, `inspect`, `render`, `watch`, `snapshot`
-//! and `diff` (clap).
+//! The command line: `dieface check`, `build`, `inspect`, `render`, `watch`, `view`,
+//! `snapshot` and `diff` (clap).
 //!
 //! Exit codes, for every command: 0 success, 1 errors in the script (diagnostics are
 //! printed on stderr), 2 usage errors (bad arguments, a missing file, an output with an
@@ -10,6 +10,7 @@ mod diff;
 mod inspect;
 mod render;
 mod snapshot;
+mod viewer;
 mod watch;
 
 use std::io::IsTerminal;
@@ -85,6 +86,28 @@ pub enum Command {
         /// What to write.
         #[command(flatten)]
         output: OutputArgs,
+        /// Also serve the live viewer on 127.0.0.1 (see `dieface view`).
+        #[arg(long)]
+        serve: bool,
+        /// The viewer's port (with `--serve`; 0 picks any free port).
+        #[arg(long, value_name = "N", default_value_t = viewer::DEFAULT_PORT, requires = "serve")]
+        port: u16,
+    },
+    /// Serve a live viewer of the script on 127.0.0.1 and follow its saves: open the
+    /// printed address in a browser; the model updates in place at each save (the
+    /// camera stays), a failed save shows its diagnostic over the last good model.
+    /// Writes no file (`dieface watch --serve` also writes outputs).
+    View {
+        /// What to evaluate.
+        #[command(flatten)]
+        script: ScriptArgs,
+        /// The port on 127.0.0.1 (0 picks any free port).
+        #[arg(long, value_name = "N", default_value_t = viewer::DEFAULT_PORT)]
+        port: u16,
+        /// Chordal tolerance of the tessellation, a length with its unit. Default: the
+        /// script's top-level `param tolerance`, else 0.05 mm.
+        #[arg(long, value_name = "LENGTH")]
+        tolerance: Option<String>,
     },
     /// Write the review snapshot `FILE.die.snap` (the `inspect` summary, rounded so
     /// float noise cannot change it), or check the script against it: with no flag it
@@ -206,7 +229,17 @@ pub fn main() -> ExitCode {
         Command::Build { script, output } => build::run(&script, &output),
         Command::Inspect { script, json } => inspect::run(&script, json),
         Command::Render { script, render } => render::run(&script, &render),
-        Command::Watch { script, output } => watch::run(&script, &output),
+        Command::Watch {
+            script,
+            output,
+            serve,
+            port,
+        } => watch::run(&script, &output, serve.then_some(port)),
+        Command::View {
+            script,
+            port,
+            tolerance,
+        } => watch::view(&script, port, tolerance.as_deref()),
         Command::Snapshot {
             script,
             check,

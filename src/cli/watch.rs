@@ -1,5 +1,6 @@
 //! `dieface watch FILE -o OUT.glb`: build, then rebuild on every change of the script
-//! or of a file it imports, until Ctrl-C.
+//! or of a file it imports, until Ctrl-C. With `--serve`, and in `dieface view` (which
+//! writes no file), each build is also published to the live viewer ([`super::viewer`]).
 //!
 //! The rename trap: editors such as vim and VS Code save by writing a new file and
 //! renaming it over the old one, so a watch on the file itself follows the old inode and
@@ -26,9 +27,13 @@ use notify::event::{AccessKind, AccessMode};
 use notify::{EventKind, RecursiveMode, Watcher};
 
 use crate::eval::Engine;
-use crate::pipeline::{OutputFile, Pipeline};
+use crate::export::atomic::Durability;
+use crate::export::Format;
+use crate::pipeline::viewer_data::model_info;
+use crate::pipeline::{Build, Output, OutputFile, Pipeline};
 
 use super::build::{Built, Plan};
+use super::viewer::Viewer;
 use super::{ms, stop_on_interrupt, OutputArgs, ScriptArgs, USAGE_ERROR};
 
 /// Quiet time that ends a burst of events.
@@ -36,16 +41,65 @@ const DEBOUNCE: Duration = Duration::from_millis(150);
 /// Longest a burst may delay a rebuild.
 const MAX_DELAY: Duration = Duration::from_secs(2);
 
-/// `dieface watch`.
-pub(crate) fn run(script: &ScriptArgs, out: &OutputArgs) -> ExitCode {
+/// `dieface watch`, serving the live viewer on `serve`'s port when given.
+pub(crate) fn run(script: &ScriptArgs, out: &OutputArgs, serve: Option<u16>) -> ExitCode {
     let plan = match Plan::new(script, out) {
         // Previews are rewritten at every save: renamed into place, not flushed.
         Ok(p) => Plan {
-            durability: crate::export::atomic::Durability::Renamed,
+            durability: Durability::Renamed,
             ..p
         },
         Err(code) => return code,
     };
+    let viewer = match serve.map(start_viewer).transpose() {
+        Ok(v) => v,
+        Err(code) => return code,
+    };
+    watch(&plan, script, viewer.as_ref())
+}
+
+/// `dieface view`: the live viewer of the script, following its saves; writes no file.
+pub(crate) fn view(script: &ScriptArgs, port: u16, tolerance: Option<&str>) -> ExitCode {
+    let tolerance = match script.tolerance(tolerance) {
+        Ok(t) => t,
+        Err(code) => return code,
+    };
+    let plan = Plan {
+        outputs: Vec::new(),
+        tolerance,
+        color: script.color(),
+        durability: Durability::Renamed,
+    };
+    match start_viewer(port) {
+        Ok(viewer) => watch(&plan, script, Some(&viewer)),
+        Err(code) => code,
+    }
+}
+
+/// Starts the viewer's server on 127.0.0.1:`port` and says where it is (stdout), or
+/// says why not (a port taken is a usage error, 2).
+fn start_viewer(port: u16) -> Result<Viewer, ExitCode> {
+    match super::viewer::serve(port) {
+        Ok(v) => {
+            println!("viewer at http://{}/ (open it in a browser)", v.addr);
+            Ok(v)
+        }
+        Err(e) if e.kind() == std::io::ErrorKind::AddrInUse => {
+            eprintln!(
+                "error: port {port} on 127.0.0.1 is taken (another `dieface view` or server?)\n  \
+                 help: choose another with `--port N`, or `--port 0` for any free port"
+            );
+            Err(ExitCode::from(USAGE_ERROR))
+        }
+        Err(e) => {
+            eprintln!("error: cannot serve the viewer on 127.0.0.1:{port}: {e}");
+            Err(ExitCode::from(USAGE_ERROR))
+        }
+    }
+}
+
+/// Builds, then rebuilds at every change of the script or its imports, until Ctrl-C.
+fn watch(plan: &Plan, script: &ScriptArgs, viewer: Option<&Viewer>) -> ExitCode {
     let mut pipeline = match script.engine() {
         Ok(e) => Pipeline::new(e),
         Err(code) => return code,
@@ -77,7 +131,7 @@ pub(crate) fn run(script: &ScriptArgs, out: &OutputArgs) -> ExitCode {
     register(&mut watcher, &files, &mut dirs);
 
     let mut state = State::default();
-    rebuild(&plan, &mut pipeline, script, &mut state);
+    rebuild(plan, &mut pipeline, script, &mut state, viewer);
     files.extend(loaded_files(&pipeline.engine, &script.root()));
     register(&mut watcher, &files, &mut dirs);
     eprintln!(
@@ -116,12 +170,44 @@ pub(crate) fn run(script: &ScriptArgs, out: &OutputArgs) -> ExitCode {
                         Err(RecvTimeoutError::Disconnected) => return ExitCode::SUCCESS,
                     }
                 }
-                rebuild(&plan, &mut pipeline, script, &mut state);
+                rebuild(plan, &mut pipeline, script, &mut state, viewer);
                 // Imports may have changed: watch the folders of new ones too.
                 files.extend(loaded_files(&pipeline.engine, &script.root()));
                 register(&mut watcher, &files, &mut dirs);
             }
         }
+    }
+}
+
+/// Publishes a build to the viewer: a clean one's model (GLB, declarations, scene),
+/// or a failed one's diagnostics as plain text. `started` is when the save was
+/// noticed.
+fn publish(viewer: &Viewer, pipeline: &mut Pipeline, build: &Build, name: &str, started: Instant) {
+    if !build.problems.is_empty() {
+        let text: Vec<String> = build
+            .problems
+            .iter()
+            .map(|d| pipeline.engine.sources.render(d, false))
+            .collect();
+        viewer.publish_errors(text.join("\n"), started.elapsed());
+        return;
+    }
+    let (Some(scene), Some(model)) = (&build.scene, &build.model) else {
+        return;
+    };
+    match pipeline.encode(build, Output::Scene(Format::Glb), name) {
+        Ok(glb) => {
+            let info = model_info(&build.outcome, &pipeline.engine.sources, scene).to_string();
+            viewer.publish_model(
+                glb,
+                info,
+                scene.clone(),
+                model.clone(),
+                started.elapsed(),
+                &build.reran,
+            );
+        }
+        Err(e) => viewer.publish_errors(e, started.elapsed()),
     }
 }
 
@@ -141,7 +227,13 @@ struct State {
 /// its new line). An empty (or whitespace-only) script is not built: it is what an
 /// editor that saves by truncating and then writing leaves for a moment, and a designer
 /// never means "replace my die face by nothing".
-fn rebuild(plan: &Plan, pipeline: &mut Pipeline, script: &ScriptArgs, state: &mut State) {
+fn rebuild(
+    plan: &Plan,
+    pipeline: &mut Pipeline,
+    script: &ScriptArgs,
+    state: &mut State,
+    viewer: Option<&Viewer>,
+) {
     let started = Instant::now();
     if script_is_empty(&script.file, pipeline) {
         if state.built_once {
@@ -151,11 +243,29 @@ fn rebuild(plan: &Plan, pipeline: &mut Pipeline, script: &ScriptArgs, state: &mu
         }
         return;
     }
-    match plan.build(pipeline, script) {
+    if let Some(v) = viewer {
+        v.building();
+    }
+    let name = script
+        .file
+        .file_stem()
+        .map_or_else(|| "die_face".into(), |s| s.to_string_lossy().into_owned());
+    let mut on_build = |pipeline: &mut Pipeline, build: &Build| {
+        if let Some(v) = viewer {
+            publish(v, pipeline, build, &name, started);
+        }
+    };
+    match plan.build(pipeline, script, &mut on_build) {
         Err(msg) => {
             // Typically the moment between an editor's delete and its write: the next
             // event brings the new file.
             eprintln!("warning: {msg}; waiting for the next change");
+            if let Some(v) = viewer {
+                v.publish_errors(
+                    format!("{msg}; waiting for the next change"),
+                    started.elapsed(),
+                );
+            }
         }
         Ok(Built::ScriptErrors(_)) | Ok(Built::WriteFailed) => {
             if state.built_once {
@@ -170,7 +280,14 @@ fn rebuild(plan: &Plan, pipeline: &mut Pipeline, script: &ScriptArgs, state: &mu
             tessellated,
             ..
         }) => {
-            report(&files, &ran, tessellated, started.elapsed(), state);
+            report(
+                &files,
+                &ran,
+                tessellated,
+                started.elapsed(),
+                state,
+                !plan.outputs.is_empty(),
+            );
             state.built_once = true;
         }
     }
@@ -192,6 +309,7 @@ fn report(
     tessellated: usize,
     took: std::time::Duration,
     state: &State,
+    has_outputs: bool,
 ) {
     let took = ms(took);
     let written: Vec<String> = files
@@ -199,7 +317,20 @@ fn report(
         .filter(|f| !f.unchanged)
         .map(|f| f.path.display().to_string())
         .collect();
-    if !state.built_once {
+    if !has_outputs {
+        // `dieface view`: nothing is written; the line says what the viewer got.
+        if !state.built_once {
+            println!("built in {took}: {} declarations", ran.len());
+        } else if ran.is_empty() {
+            println!("no changes");
+        } else {
+            println!(
+                "rebuilt in {took}: {}; {tessellated} piece{} tessellated",
+                ran.join(", "),
+                if tessellated == 1 { "" } else { "s" }
+            );
+        }
+    } else if !state.built_once {
         println!(
             "built in {took}: {} declarations, wrote {}",
             ran.len(),

@@ -20,6 +20,9 @@
 //! [`fe`] writes shell-element decks of a meshed die face for forming simulation
 //! (LS-DYNA keyword, Nastran bulk data) from plain nodes and shells.
 //!
+//! [`seams`] measures the normal jump where one piece's open edge lies on another's
+//! (the viewer's seam analysis).
+//!
 //! [`render`] draws the scene as a shaded picture (PNG) with a software rasterizer:
 //! `dieface render`.
 //!
@@ -34,6 +37,7 @@ pub mod gltf;
 pub mod obj;
 pub mod render;
 pub mod scene;
+pub mod seams;
 pub mod step;
 
 use std::path::Path;

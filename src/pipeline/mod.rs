@@ -12,6 +12,7 @@ pub mod diff_picture;
 pub mod report;
 pub mod snapshot;
 mod tolerance;
+pub mod viewer_data;
 
 use std::path::{Path, PathBuf};
 
@@ -327,6 +328,12 @@ impl Pipeline {
             .map(|p| p.display().to_string())
     }
 
+    /// The bytes of one output of a clean build, through this pipeline's glTF cache
+    /// (the viewer's GLB is encoded this way at every save).
+    pub fn encode(&mut self, build: &Build, output: Output, name: &str) -> Result<Vec<u8>, String> {
+        encode_output(build, output, name, &mut self.encoded)
+    }
+
     /// Encodes and writes every output of a clean build atomically (a failed write
     /// leaves the previous file whole), in order, with the given [`Durability`]; stops
     /// at the first that fails. An output that already holds exactly the new bytes,
@@ -344,7 +351,8 @@ impl Pipeline {
         let mut files = Vec::new();
         for (path, output) in outputs {
             stage(Stage::Writing(path));
-            let bytes = encode_output(build, *output, name, &mut self.encoded)
+            let bytes = self
+                .encode(build, *output, name)
                 .map_err(|e| (path.clone(), e))?;
             if let Some(input) = self.input_at(path) {
                 return Err((

@@ -66,8 +66,9 @@ fn value_area(v: &crate::eval::value::Value) -> Option<f64> {
     }
 }
 
-/// One piece's shape: its type, bounds, and area or length.
-fn piece_summary(part: &Part) -> String {
+/// One piece's shape: its type, bounds, and area or length (also what the viewer shows
+/// of a picked piece).
+pub fn piece_summary(part: &Part) -> String {
     match &part.shape {
         None => format!("group of {}", part.children.len()),
         Some(Shape::Surface(s)) => {

@@ -1,5 +1,8 @@
 //! Helpers shared by the integration tests.
 
+#[allow(dead_code)] // only the tests that decode pictures use it
+pub mod picture;
+
 use std::path::{Path, PathBuf};
 
 /// Every `.die` file under `dir` (relative to the crate root), recursively, sorted.
@@ -127,3 +130,22 @@ pub fn obj_object(path: &Path, name: &str) -> (Vec<glam::DVec3>, Vec<[u32; 3]>) 
     }
     (positions, faces)
 }
+
+/// A product (a 200 mm panel with a 30 mm bump in the middle) over a larger plain plate
+/// 20 mm below it, and an outline curve: small, so each run of the binary on it takes
+/// well under a second.
+#[allow(dead_code)] // the tests that run the binary on a small part use it
+pub const BUMPED_PANEL: &str = r#"
+units mm deg
+let half = 100 mm
+let net = [ [ (i * half, j * half, if i == 1 and j == 1 then 30 mm else 0 mm) for j in range(0, 3) ] for i in range(0, 3) ]
+product panel = nurbs_surface(degree: (2, 2), points: net)
+let plate = nurbs_surface(degree: (1, 1), points: [[(-50, -50, -20), (-50, 250, -20)], [(250, -50, -20), (250, 250, -20)]])
+let outline = sketch(top) {
+    from (0, 0)
+    line to (200, 0)
+    fillet 20
+    line to (200, 200)
+    close
+}
+"#;
