@@ -38,8 +38,14 @@ impl Drop for Viewer {
 
 /// Starts `dieface view SCRIPT --port 0` in `dir` and reads the address it prints.
 fn start_view(dir: &Path, script: &str) -> Viewer {
+    start_serving(dir, &["view", script, "--port", "0", "--color", "never"])
+}
+
+/// Starts `dieface ARGS` (a command that serves the viewer) in `dir` and reads the
+/// address it prints.
+fn start_serving(dir: &Path, args: &[&str]) -> Viewer {
     let mut child = Command::new(env!("CARGO_BIN_EXE_dieface"))
-        .args(["view", script, "--port", "0", "--color", "never"])
+        .args(args)
         .current_dir(dir)
         .stdout(Stdio::piped())
         .stderr(Stdio::null())
@@ -211,8 +217,8 @@ fn the_fender_in_headless_chromium() {
     );
     let r: serde_json::Value = serde_json::from_slice(&out.stdout).expect("the check's JSON");
     eprintln!(
-        "viewer: save to model drawn {} ms (build {} ms; page {})",
-        r["saveToModelMs"], r["buildMs"], r["pageTimings"]
+        "viewer: save to model drawn {} ms (status heard at {} ms, build {} ms; page {})",
+        r["saveToModelMs"], r["saveToStatusMs"], r["buildMs"], r["pageTimings"]
     );
 
     // No console error from loading, picking, both analyses, a save and a broken save.
@@ -291,10 +297,17 @@ fn the_fender_in_headless_chromium() {
         "{seams}"
     );
 
-    // A save moves the bead: a new model, drawn, with the camera where it was.
+    // A save moves the bead: a new model, drawn within 2 s of the save (the issue's
+    // figure; its time is measured in bench/viewer-latency.mjs), with the camera where
+    // it was.
     assert!(
         r["afterSave"]["version"].as_u64() > r["loadedVersion"].as_u64(),
         "{r}"
+    );
+    let latency = r["saveToModelMs"].as_f64().expect("save to model drawn");
+    assert!(
+        latency > 0.0 && latency < 2000.0,
+        "save to model drawn: {latency} ms"
     );
     assert_eq!(r["cameraKept"], true);
     // A broken save: its diagnostic shown, the model kept; fixed again, it goes.
@@ -396,6 +409,21 @@ fn the_served_model_is_the_built_glb_and_a_broken_save_keeps_it() {
     assert!(fixed["took_ms"].as_f64().is_some());
     assert_ne!(get_ok(port, "/model.glb"), built);
     drop(viewer);
+}
+
+#[test]
+fn watch_serve_writes_its_outputs_and_serves_the_same_model() {
+    let dir = common::fresh_dir("viewer", "watch");
+    std::fs::write(dir.join("part.die"), SMALL).expect("write script");
+    let viewer = start_serving(
+        &dir,
+        &[
+            "watch", "part.die", "-o", "part.glb", "--serve", "--port", "0",
+        ],
+    );
+    wait_status(viewer.port, |s| s["state"] == "ok");
+    let written = std::fs::read(dir.join("part.glb")).expect("watch wrote its output");
+    assert_eq!(get_ok(viewer.port, "/model.glb"), written);
 }
 
 #[test]

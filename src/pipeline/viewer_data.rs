@@ -10,14 +10,16 @@ use serde_json::{json, Value as Json};
 
 use crate::diag::Sources;
 use crate::die::model::DieModel;
-use crate::eval::summary::{describe, feature_report};
+use crate::eval::summary::feature_report;
 use crate::eval::Outcome;
 use crate::export::gltf::to_gltf_position;
 use crate::export::scene::Scene;
 use crate::export::seams::seam_points;
 
 /// The page's model description: the script, the tolerance, and per declaration its
-/// kind, name, line, summary and quality report lines.
+/// kind, name, line and quality report lines. Made at every save, so it holds only
+/// what is already computed: a summary (bounds and areas are sampled) is asked for one
+/// piece at a time ([`piece_info`]).
 pub fn model_info(outcome: &Outcome, sources: &Sources, scene: &Scene) -> Json {
     let declarations: Vec<Json> = outcome
         .decls
@@ -27,7 +29,6 @@ pub fn model_info(outcome: &Outcome, sources: &Sources, scene: &Scene) -> Json {
                 "name": d.name,
                 "kind": d.kind,
                 "line": sources.line(d.span),
-                "summary": describe(d.value.as_ref()),
                 "figures": d.value.as_ref().map(feature_report).unwrap_or_default(),
             })
         })

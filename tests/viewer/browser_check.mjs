@@ -89,8 +89,14 @@ try {
   const t0 = Date.now();
   writeFileSync(script, moved);
   await page.waitForFunction((v) => window.dieface.loadedVersion > v
-    && window.dieface.renderedVersion === window.dieface.loadedVersion, before, { timeout: 60000 });
-  result.saveToModelMs = Date.now() - t0;
+    && window.dieface.renderedVersion === window.dieface.loadedVersion
+    && window.dieface.timings, before, { timeout: 60000, polling: 20 });
+  result.seenAfterMs = Date.now() - t0;
+  // From the save to the frame that drew the new model, on this machine's clock (the
+  // page stamps the frame; polling from here only adds its own delay).
+  const timings = await page.evaluate(() => window.dieface.timings);
+  result.saveToModelMs = timings.drawn_epoch_ms - t0;
+  result.saveToStatusMs = timings.heard_epoch_ms - t0;
   result.buildMs = await page.evaluate(() => window.dieface.status.took_ms);
   result.pageTimings = await page.evaluate(() => window.dieface.timings);
   result.afterSave = await page.evaluate(() => ({ version: window.dieface.loadedVersion, pieces: window.dieface.pieces().length }));

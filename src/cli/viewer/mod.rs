@@ -17,7 +17,7 @@
 //! | `/events` | server-sent events: the status (below) at connection and after each build |
 //! | `/status.json` | `{version, model_version, state: building|ok|error, took_ms, reran, error}` |
 //! | `/model.glb` | the last good model, the bytes `dieface build -o x.glb` writes |
-//! | `/info.json` | its declarations: kind, name, line, summary, quality figures |
+//! | `/info.json` | its declarations: kind, name, line, quality figures |
 //! | `/piece.json?name=binder/front` | one piece's kind, line and shape summary |
 //! | `/seams.json` | the normal jump along the seams (analysis mode) |
 

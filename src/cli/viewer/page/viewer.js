@@ -138,6 +138,7 @@ async function loadModel(version) {
     const drawn = performance.now();
     state.timings = {
       fetch_ms: fetched - state.heardAt, parse_ms: parsed - fetched, draw_ms: drawn - parsed,
+      heard_epoch_ms: performance.timeOrigin + state.heardAt, drawn_epoch_ms: performance.timeOrigin + drawn,
     };
   });
 }
