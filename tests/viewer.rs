@@ -296,6 +296,13 @@ fn the_fender_in_headless_chromium() {
         seams["max_deg"].as_f64().is_some_and(|d| d < 0.5),
         "{seams}"
     );
+    // Switching the binder off hides its seams (with the step draw and between its
+    // own patches), and on again shows them all.
+    let drawn = seams["drawn"].as_u64().expect("points drawn");
+    assert_eq!(Some(drawn), seams["count"].as_u64(), "{seams}");
+    let without = seams["drawnWithoutBinder"].as_u64().expect("points drawn");
+    assert!(without > 0 && without < drawn, "{seams}");
+    assert_eq!(seams["drawnAgain"].as_u64(), Some(drawn), "{seams}");
 
     // A save moves the bead: a new model, drawn within 2 s of the save (the issue's
     // figure; its time is measured in bench/viewer-latency.mjs), with the camera where

@@ -78,6 +78,12 @@ try {
   const seams = await page.evaluate(() => window.dieface.seams);
   result.seams = { count: seams.count, max_deg: seams.max_deg, between: seams.max_between };
   result.seamLegend = await page.textContent('#legend');
+  // The binder switched off takes its seams with it; on again, they come back.
+  result.seams.drawn = await page.evaluate(() => window.dieface.seamPointsDrawn);
+  await page.uncheck('#tree input[data-name="binder"]');
+  result.seams.drawnWithoutBinder = await page.evaluate(() => window.dieface.seamPointsDrawn);
+  await page.check('#tree input[data-name="binder"]');
+  result.seams.drawnAgain = await page.evaluate(() => window.dieface.seamPointsDrawn);
   await page.check('input[name=mode][value=kind]');
 
   // 4. A save that moves the wheel-arch bead 5 mm outwards.

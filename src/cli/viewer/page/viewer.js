@@ -318,6 +318,7 @@ function toggleRow(object) {
     if (box.checked) state.hidden.delete(name);
     else state.hidden.add(name);
     object.visible = box.checked;
+    if (state.mode === 'seams' && state.seamsInfo) drawSeams();
     render();
   });
   const sw = document.createElement('span');
@@ -396,24 +397,45 @@ function draftColor(draft, c) {
 }
 
 async function showSeams() {
-  hideSeams();
   const version = state.loadedVersion;
-  const s = await fetch(`/seams.json?v=${version}`).then((r) => r.json());
-  if (state.mode !== 'seams' || version !== state.loadedVersion) return;
-  state.seamsInfo = s;
-  const geometry = new THREE.BufferGeometry();
-  geometry.setAttribute('position', new THREE.Float32BufferAttribute(s.positions, 3));
-  const colors = new Float32Array(s.jumps.length * 3);
+  if (!state.seamsInfo || state.seamsVersion !== version) {
+    const s = await fetch(`/seams.json?v=${version}`).then((r) => r.json());
+    if (version !== state.loadedVersion) return; // a newer model came meanwhile
+    state.seamsInfo = s;
+    state.seamsVersion = version;
+  }
+  if (state.mode === 'seams') drawSeams();
+}
+
+// Whether the node `name` and every group above it (`binder` for `binder/front`) are on.
+function nameShown(name) {
+  const parts = name.split('/');
+  for (let i = 1; i <= parts.length; i++) {
+    if (state.hidden.has(parts.slice(0, i).join('/'))) return false;
+  }
+  return true;
+}
+
+// The seam points whose two pieces are both shown, coloured by their normal jump.
+function drawSeams() {
+  hideSeams();
+  const s = state.seamsInfo;
+  const positions = [];
+  const colors = [];
   const c = new THREE.Color();
   const green = new THREE.Color('#2e7d32');
   const amber = new THREE.Color('#f9a825');
   const red = new THREE.Color('#d32f2f');
   s.jumps.forEach((j, i) => {
+    if (!nameShown(s.names[s.pieces[2 * i]]) || !nameShown(s.names[s.pieces[2 * i + 1]])) return;
     if (j <= SEAM_G1) c.copy(green).lerp(amber, j / SEAM_G1);
     else c.copy(amber).lerp(red, Math.min(1, (j - SEAM_G1) / (SEAM_RAMP_END - SEAM_G1)));
-    colors.set([c.r, c.g, c.b], i * 3);
+    positions.push(s.positions[3 * i], s.positions[3 * i + 1], s.positions[3 * i + 2]);
+    colors.push(c.r, c.g, c.b);
   });
-  geometry.setAttribute('color', new THREE.BufferAttribute(colors, 3));
+  const geometry = new THREE.BufferGeometry();
+  geometry.setAttribute('position', new THREE.Float32BufferAttribute(positions, 3));
+  geometry.setAttribute('color', new THREE.Float32BufferAttribute(colors, 3));
   const material = new THREE.PointsMaterial({ size: 5, sizeAttenuation: false, vertexColors: true, depthTest: false });
   state.seams = new THREE.Points(geometry, material);
   state.seams.renderOrder = 10;
@@ -646,6 +668,7 @@ window.dieface = {
   get lastPick() { return state.lastPick; },
   get timings() { return state.timings || null; },
   get seams() { return state.seamsInfo || null; },
+  get seamPointsDrawn() { return state.seams ? state.seams.geometry.getAttribute('position').count : 0; },
   get camera() { return [...camera.position.toArray(), ...controls.target.toArray()]; },
   pieces: () => [...state.nodes.keys()],
   screenPointOf,
