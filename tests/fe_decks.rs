@@ -71,11 +71,13 @@ fn model() -> FeModel {
                 name: "front bead".into(),
                 nodes: vec![0, 1, 2, 9, 12, 11, 8, 7, 6, 3],
                 force: Some(187.5),
+                depth: 6.0,
             },
             FeBead {
                 name: "rear bead".into(),
                 nodes: vec![3, 4, 5],
                 force: None,
+                depth: 4.5,
             },
         ],
     }
@@ -319,9 +321,9 @@ fn check_lsdyna(read: &Value, model: &FeModel) {
         parsed["drawbeads"],
         json!([
             {"ssid": 1, "msid": 1, "sstyp": 4, "mstyp": 2, "cards": 4,
-             "lcidrf": 1, "lcidnf": 0, "dfscl": 1.0},
+             "lcidrf": 1, "lcidnf": 0, "dbdth": 6.0, "dfscl": 1.0},
             {"ssid": 2, "msid": 1, "sstyp": 4, "mstyp": 2, "cards": 4,
-             "lcidrf": 0, "lcidnf": 0, "dfscl": 1.0},
+             "lcidrf": 0, "lcidnf": 0, "dbdth": 4.5, "dfscl": 1.0},
         ])
     );
 }
@@ -539,6 +541,17 @@ fn the_fender_die_face_deck_reads_back_with_its_three_parts_and_two_line_beads()
     let count = |k: &str| keywords.iter().filter(|&&w| w == k).count();
     assert_eq!(count("*CONTACT_DRAWBEAD"), 2);
     assert_eq!(count("*SET_NODE_LIST"), 2);
+    // Each bead contact carries its bead's depth (DBDTH): the wheel-arch bead is 6 mm
+    // tall, the rear-corner bead 8 mm round its corner (the script's profiles).
+    let depths: Vec<f64> = parsed["drawbeads"]
+        .as_array()
+        .expect("draw beads")
+        .iter()
+        .map(|d| d["dbdth"].as_f64().expect("DBDTH"))
+        .collect();
+    assert_eq!(depths.len(), 2);
+    assert!((depths[0] - 6.0).abs() < 0.05, "{depths:?}");
+    assert!((depths[1] - 8.0).abs() < 0.05, "{depths:?}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -94,6 +94,9 @@ pub struct LineBead {
     pub spacing: f64,
     /// Restraining force per unit length (N/mm), if the script gives one.
     pub force: Option<f64>,
+    /// The bead's depth: its tallest point above the binder (mm). LS-DYNA's draw bead
+    /// contact needs it (DBDTH) to tell how far the blank has moved into the bead.
+    pub depth: f64,
 }
 
 /// One quality figure of a feature: `min_radius`, `patch_a.draft`, ...

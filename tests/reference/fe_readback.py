@@ -151,6 +151,7 @@ def parse_keywords(path):
                     "cards": len(lines),
                     "lcidrf": int(card4[0]),
                     "lcidnf": int(card4[1]),
+                    "dbdth": float(card4[2]),
                     "dfscl": float(card4[3]),
                 }
             )

@@ -743,6 +743,7 @@ impl FeatureKind for BeadKind {
             points: b.line_points.clone(),
             spacing: number("spacing")?,
             force: number("force"),
+            depth: b.quality.height,
         })
     }
     /// A bead's skin is a face of its own, beside the die face.

@@ -160,6 +160,7 @@ fn collect(part: &Part, nodes: &mut Nodes, parts: &mut Vec<FePart>, beads: &mut 
                 name: part.name.clone(),
                 nodes: ids,
                 force: bead.force,
+                depth: bead.depth,
             });
         }
     }

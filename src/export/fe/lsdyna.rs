@@ -22,11 +22,14 @@
 //! shells move with it.
 //!
 //! Card layout of `*CONTACT_DRAWBEAD`: cards 1 to 3 as every `*CONTACT` (SSID MSID
-//! SSTYP MSTYP ..., FS FD DC ..., SFS SFM SST ...), then card 4: LCIDRF LCIDNF DBDTH
-//! DFSCL NUMINT; SSTYP 4 is a node set, MSTYP 2 a part set. This is the Keyword User's
-//! Manual's order (Vol. I, `*CONTACT`) as we know it and as a public LS-DYNA converter's
-//! tests write it; the manual itself was not at hand, so check it against the solver
-//! version's manual before relying on card 4.
+//! SSTYP MSTYP ..., FS FD DC VC VDC PENCHK BT DT, SFS SFM SST MST SFST SFMT FSF VSF),
+//! then card 4: LCIDRF LCIDNF DBDTH DFSCL NUMINT; SSTYP 4 is a node set, MSTYP 2 a part
+//! set. Checked field by field against Ansys's pydyna (`ansys/pydyna`,
+//! `keyword_classes/auto/contact_drawbead.py`, generated from the Keyword User's
+//! Manual's keyword database): the fields, their 10-character columns and defaults,
+//! LCIDRF as the bending restraint per unit bead length against displacement, and
+//! DBDTH the draw bead depth the solver needs for that displacement. A solver run was
+//! not at hand.
 
 use std::fmt::Write;
 
@@ -225,7 +228,7 @@ fn bead_cards(out: &mut String, b: usize, bead: &FeBead) {
             &format!("no restraining force was given for bead {id}: no curve, LCIDRF 0"),
         ),
     }
-    contact(out, id, bead.force.map(|_| id));
+    contact(out, id, bead.force.map(|_| id), bead.depth);
 }
 
 /// `*SET_NODE_LIST` `id`: the bead's nodes in order along its line, eight to a card.
@@ -262,8 +265,10 @@ fn force_curve(out: &mut String, id: u64, force: f64) {
 
 /// `*CONTACT_DRAWBEAD`: node set `id` (SSTYP 4) as slave, the blank's part set
 /// [`BLANK_PART_SET`] (MSTYP 2) as master, no friction (the bead's force is the whole
-/// restraint), default stiffness, and the restraining force curve `curve` (0: none).
-fn contact(out: &mut String, id: u64, curve: Option<u64>) {
+/// restraint), default stiffness, the restraining force curve `curve` (0: none), and
+/// the bead's depth (DBDTH, mm), from which the solver measures how far into the bead
+/// the blank has gone.
+fn contact(out: &mut String, id: u64, curve: Option<u64>, depth: f64) {
     out.push_str("*CONTACT_DRAWBEAD\n");
     comment(
         out,
@@ -305,7 +310,7 @@ fn contact(out: &mut String, id: u64, curve: Option<u64>) {
         "{}{}{}{}{}",
         int(curve.unwrap_or(0), 10),
         int(0, 10),
-        real10(0.0),
+        real10(depth),
         real10(1.0),
         int(0, 10)
     );
@@ -389,7 +394,7 @@ mod tests {
         assert_eq!(fields(&contact[1], 10)[7], "1.E20");
         assert_eq!(
             fields(&contact[3], 10),
-            ["1", "0", "0.000000", "1.000000", "0"]
+            ["1", "0", "6.000000", "1.000000", "0"]
         );
         assert!(l.contains(&"$ master: the blank's part set, defined by the forming setup".into()));
         for line in &l {

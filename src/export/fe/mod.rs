@@ -110,6 +110,8 @@ pub struct FeBead {
     pub nodes: Vec<u32>,
     /// Restraining force per unit bead length (N/mm), if the design gives one.
     pub force: Option<f64>,
+    /// The bead's depth (mm): its height above the binder (LS-DYNA's DBDTH).
+    pub depth: f64,
 }
 
 /// Why a model cannot be written as a deck that means what it says.
@@ -436,6 +438,7 @@ mod tests {
                 name: "bead".into(),
                 nodes: vec![0, 1],
                 force: Some(150.0),
+                depth: 6.0,
             }],
         }
     }
