@@ -84,33 +84,50 @@ fn handle(stream: TcpStream, shared: &Shared, addr: SocketAddr) -> io::Result<()
         return events(&mut out, shared);
     }
     match answer(&request, shared) {
-        Some((content_type, body)) => respond(&mut out, 200, content_type, &body, head_only),
+        Some((content_type, body)) => respond(&mut out, 200, content_type, body.bytes(), head_only),
         None => respond(&mut out, 404, "text/plain", b"not found", head_only),
     }
 }
 
+/// A response body: an embedded file, or published bytes shared with the state (a
+/// request never copies the model).
+enum Body {
+    Embedded(&'static [u8]),
+    Bytes(Arc<Vec<u8>>),
+    Text(Arc<String>),
+}
+
+impl Body {
+    fn bytes(&self) -> &[u8] {
+        match self {
+            Body::Embedded(b) => b,
+            Body::Bytes(b) => b,
+            Body::Text(t) => t.as_bytes(),
+        }
+    }
+}
+
 /// The body and content type of a plain path, or `None` for an unknown one.
-fn answer(request: &Request, shared: &Shared) -> Option<(&'static str, Arc<Vec<u8>>)> {
-    let text = |s: &str| Arc::new(s.as_bytes().to_vec());
+fn answer(request: &Request, shared: &Shared) -> Option<(&'static str, Body)> {
     let json = "application/json";
     match request.path.as_str() {
-        "/status.json" => Some((json, text(&shared.lock().status))),
+        "/status.json" => Some((json, Body::Text(Arc::new(shared.lock().status.clone())))),
         "/model.glb" => {
             let s = shared.lock();
-            (s.model_version > 0).then(|| ("model/gltf-binary", Arc::clone(&s.glb)))
+            (s.model_version > 0).then(|| ("model/gltf-binary", Body::Bytes(Arc::clone(&s.glb))))
         }
         "/info.json" => {
             let s = shared.lock();
-            (s.model_version > 0).then(|| (json, Arc::new(s.info.as_bytes().to_vec())))
+            (s.model_version > 0).then(|| (json, Body::Text(Arc::clone(&s.info))))
         }
-        "/seams.json" => seams(shared).map(|t| (json, Arc::new(t.as_bytes().to_vec()))),
+        "/seams.json" => seams(shared).map(|t| (json, Body::Text(t))),
         "/piece.json" => {
             let name = query_value(&request.query, "name")?;
             let model = shared.lock().model.clone()?;
             let info = crate::pipeline::viewer_data::piece_info(&model, &name)?;
-            Some((json, text(&info.to_string())))
+            Some((json, Body::Text(Arc::new(info.to_string()))))
         }
-        path => assets::get(path).map(|a| (a.content_type, Arc::new(a.bytes.to_vec()))),
+        path => assets::get(path).map(|a| (a.content_type, Body::Embedded(a.bytes))),
     }
 }
 
