@@ -326,6 +326,12 @@ fn the_fender_in_headless_chromium() {
     assert_eq!(r["afterBroken"]["state"], "error");
     assert_eq!(r["modelKept"], true);
     assert_eq!(r["recovered"], true);
+    // Without WebGL the page says why it draws nothing, and what draws without it.
+    let without = r["withoutWebgl"].as_str().expect("the page's message");
+    assert!(
+        without.contains("cannot draw the model") && without.contains("dieface render"),
+        "{without}"
+    );
     drop(viewer);
 }
 

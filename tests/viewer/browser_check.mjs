@@ -11,7 +11,8 @@
 //   4. save the script with the wheel-arch bead moved 5 mm: time until the new model
 //      is drawn, and whether the camera stayed;
 //   5. save a broken script: the diagnostic shown, and the model still there;
-//   6. every console error and page error along the way.
+//   6. every console error and page error along the way;
+//   7. in a browser without WebGL, what the page says instead of drawing.
 // The script is restored at the end. Rust checks the figures and the pixels.
 
 import { chromium } from 'playwright-core';
@@ -127,5 +128,21 @@ try {
 } finally {
   writeFileSync(script, original);
   await browser.close();
+}
+
+// 7. A browser without WebGL: the page says it cannot draw, rather than stay blank.
+const noGl = await chromium.launch({
+  executablePath,
+  args: ['--no-sandbox', '--disable-gpu', '--disable-3d-apis', '--disable-webgl',
+    '--disable-quic', '--no-first-run', '--disable-background-networking',
+    '--disable-component-update', '--disable-sync'],
+});
+try {
+  const page = await noGl.newPage({ viewport: { width: 1200, height: 800 } });
+  await page.goto(url);
+  await page.waitForSelector('#diagnostic:not([hidden])', { timeout: 30000 });
+  result.withoutWebgl = await page.textContent('#diagnostic');
+} finally {
+  await noGl.close();
 }
 console.log(JSON.stringify(result));

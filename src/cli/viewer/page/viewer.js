@@ -46,6 +46,15 @@ const state = {
 
 // --- renderer, camera, lights --------------------------------------------------------
 
+// Without WebGL nothing can be drawn: say so on the page rather than leave it blank.
+if (!document.createElement('canvas').getContext('webgl2')) {
+  diagnosticEl.querySelector('h2').textContent = 'This browser cannot draw the model';
+  diagnosticText.textContent = 'The viewer needs WebGL 2, which this browser has switched off or lacks '
+    + '(check its hardware acceleration setting). `dieface render FILE.die -o view.png` draws a '
+    + 'picture without a browser.';
+  diagnosticEl.hidden = false;
+  throw new Error('WebGL 2 is not available');
+}
 const renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
 renderer.setPixelRatio(window.devicePixelRatio);
 renderer.setClearColor(0xeef1f5);
