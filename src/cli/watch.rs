@@ -202,7 +202,7 @@ fn publish(viewer: &Viewer, pipeline: &mut Pipeline, build: &Build, name: &str, 
                 glb,
                 info,
                 scene.clone(),
-                model.clone(),
+                model.parts.clone(),
                 started.elapsed(),
                 &build.reran,
             );

@@ -6,7 +6,7 @@
 //! 11); the live viewer's analysis mode draws these points coloured by their jump.
 //!
 //! Each open-edge vertex of a piece is matched with the nearest point on another
-//! piece's open edges within a gap; the other side's normal there is interpolated
+//! piece's open edges within a gap (the edges filed in a `geom::mesh::box_grid`); the other side's normal there is interpolated
 //! along that edge. Both sides are measured (a side meshed finer has more points).
 //! Normals are compared as lines, not as arrows: a piece whose surface runs the other
 //! way round is not a crease. Solids and sheets are left out: their sharp edges are
@@ -15,6 +15,8 @@
 use std::collections::HashMap;
 
 use glam::DVec3;
+
+use crate::geom::mesh::box_grid::BoxGrid;
 
 use super::scene::{Geometry, Node, Scene};
 
@@ -67,8 +69,8 @@ pub fn seam_points(scene: &Scene, gap: f64) -> Vec<SeamPoint> {
             }
         }
     }
-    let cell = gap.max(1e-6) * 4.0 + mean_length(&edges);
-    let grid = EdgeGrid::new(&edges, cell);
+    let boxes: Vec<(DVec3, DVec3)> = edges.iter().map(|e| (e.a.min(e.b), e.a.max(e.b))).collect();
+    let grid = BoxGrid::new(&boxes);
     let mut out = Vec::new();
     let mut seen: Vec<std::collections::HashSet<[i64; 3]>> = vec![Default::default(); pieces.len()];
     for e in &edges {
@@ -77,7 +79,7 @@ pub fn seam_points(scene: &Scene, gap: f64) -> Vec<SeamPoint> {
             if !seen[e.piece].insert(key(p)) {
                 continue;
             }
-            if let Some((other, m)) = grid.nearest_normal(&edges, p, e.piece, gap) {
+            if let Some((other, m)) = nearest_normal(&grid, &edges, p, e.piece, gap) {
                 out.push(SeamPoint {
                     at: p,
                     jump_deg: line_angle_deg(n, m),
@@ -141,78 +143,35 @@ fn open_edges(
         .collect()
 }
 
-/// The mean length of the edges (0 for none): the grid's cell size grows with it so a
-/// query looks at a few cells.
-fn mean_length(edges: &[OpenEdge]) -> f64 {
-    if edges.is_empty() {
-        return 0.0;
-    }
-    edges.iter().map(|e| e.a.distance(e.b)).sum::<f64>() / edges.len() as f64
-}
-
-/// Open edges binned by the cells of a uniform grid their bounding boxes touch.
-struct EdgeGrid {
-    cell: f64,
-    cells: HashMap<[i64; 3], Vec<usize>>,
-}
-
-impl EdgeGrid {
-    fn new(edges: &[OpenEdge], cell: f64) -> EdgeGrid {
-        let mut cells: HashMap<[i64; 3], Vec<usize>> = HashMap::new();
-        for (i, e) in edges.iter().enumerate() {
-            let lo = Self::cell_of(e.a.min(e.b), cell);
-            let hi = Self::cell_of(e.a.max(e.b), cell);
-            for x in lo[0]..=hi[0] {
-                for y in lo[1]..=hi[1] {
-                    for z in lo[2]..=hi[2] {
-                        cells.entry([x, y, z]).or_default().push(i);
-                    }
-                }
-            }
+/// The piece and the interpolated normal of the nearest open edge of a piece other
+/// than `piece` within `gap` of `p`, if any.
+fn nearest_normal(
+    grid: &BoxGrid,
+    edges: &[OpenEdge],
+    p: DVec3,
+    piece: usize,
+    gap: f64,
+) -> Option<(usize, DVec3)> {
+    let reach = DVec3::splat(gap);
+    let mut best: Option<(f64, usize, DVec3)> = None;
+    for i in grid.candidates(p - reach, p + reach) {
+        let e = &edges[i as usize];
+        if e.piece == piece {
+            continue;
         }
-        EdgeGrid { cell, cells }
-    }
-
-    fn cell_of(p: DVec3, cell: f64) -> [i64; 3] {
-        (p / cell).floor().as_i64vec3().to_array()
-    }
-
-    /// The piece and the interpolated normal of the nearest open edge of a piece other
-    /// than `piece` within `gap` of `p`, if any.
-    fn nearest_normal(
-        &self,
-        edges: &[OpenEdge],
-        p: DVec3,
-        piece: usize,
-        gap: f64,
-    ) -> Option<(usize, DVec3)> {
-        let c = Self::cell_of(p, self.cell);
-        let mut best: Option<(f64, usize, DVec3)> = None;
-        for x in c[0] - 1..=c[0] + 1 {
-            for y in c[1] - 1..=c[1] + 1 {
-                for z in c[2] - 1..=c[2] + 1 {
-                    for &i in self.cells.get(&[x, y, z]).into_iter().flatten() {
-                        let e = &edges[i];
-                        if e.piece == piece {
-                            continue;
-                        }
-                        let ab = e.b - e.a;
-                        let len2 = ab.length_squared();
-                        let t = if len2 > 0.0 {
-                            ((p - e.a).dot(ab) / len2).clamp(0.0, 1.0)
-                        } else {
-                            0.0
-                        };
-                        let d = p.distance(e.a + ab * t);
-                        if d <= gap && best.as_ref().is_none_or(|b| d < b.0) {
-                            best = Some((d, e.piece, e.na.lerp(e.nb, t)));
-                        }
-                    }
-                }
-            }
+        let ab = e.b - e.a;
+        let len2 = ab.length_squared();
+        let t = if len2 > 0.0 {
+            ((p - e.a).dot(ab) / len2).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let d = p.distance(e.a + ab * t);
+        if d <= gap && best.as_ref().is_none_or(|b| d < b.0) {
+            best = Some((d, e.piece, e.na.lerp(e.nb, t)));
         }
-        best.map(|(_, piece, n)| (piece, n))
     }
+    best.map(|(_, piece, n)| (piece, n))
 }
 
 #[cfg(test)]

@@ -9,7 +9,7 @@
 use serde_json::{json, Value as Json};
 
 use crate::diag::Sources;
-use crate::die::model::DieModel;
+use crate::die::model::Part;
 use crate::eval::summary::feature_report;
 use crate::eval::Outcome;
 use crate::export::gltf::to_gltf_position;
@@ -40,12 +40,11 @@ pub fn model_info(outcome: &Outcome, sources: &Sources, scene: &Scene) -> Json {
     })
 }
 
-/// One piece of the model by its full name (`binder/front_nose`): its kind, line and
-/// shape summary (as `dieface snapshot` writes it), or `None` when there is no such
-/// piece.
-pub fn piece_info(model: &DieModel, name: &str) -> Option<Json> {
-    let piece = model
-        .parts
+/// One piece of the die model's parts by its full name (`binder/front_nose`): its
+/// kind, line and shape summary (as `dieface snapshot` writes it), or `None` when there
+/// is no such piece.
+pub fn piece_info(parts: &[Part], name: &str) -> Option<Json> {
+    let piece = parts
         .iter()
         .flat_map(|p| p.walk())
         .find(|p| p.name == name)?;

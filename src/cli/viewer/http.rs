@@ -123,8 +123,8 @@ fn answer(request: &Request, shared: &Shared) -> Option<(&'static str, Body)> {
         "/seams.json" => seams(shared).map(|t| (json, Body::Text(t))),
         "/piece.json" => {
             let name = query_value(&request.query, "name")?;
-            let model = shared.lock().model.clone()?;
-            let info = crate::pipeline::viewer_data::piece_info(&model, &name)?;
+            let parts = shared.lock().parts.clone()?;
+            let info = crate::pipeline::viewer_data::piece_info(&parts, &name)?;
             Some((json, Body::Text(Arc::new(info.to_string()))))
         }
         path => assets::get(path).map(|a| (a.content_type, Body::Embedded(a.bytes))),

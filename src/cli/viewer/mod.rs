@@ -30,7 +30,7 @@ use std::time::Duration;
 
 use serde_json::json;
 
-use crate::die::model::DieModel;
+use crate::die::model::Part;
 use crate::export::scene::Scene;
 
 pub(crate) use http::serve;
@@ -67,9 +67,10 @@ struct Published {
     glb: Arc<Vec<u8>>,
     /// `/info.json` of the model.
     info: Arc<String>,
-    /// The tessellated model and the die model, for `/seams.json` and `/piece.json`.
+    /// The tessellated model and the die model's parts, for `/seams.json` and
+    /// `/piece.json`.
     scene: Option<Arc<Scene>>,
-    model: Option<Arc<DieModel>>,
+    parts: Option<Arc<Vec<Part>>>,
     /// `/seams.json` of the model, made at the first request.
     seams: Option<Arc<String>>,
 }
@@ -110,14 +111,14 @@ impl Viewer {
         });
     }
 
-    /// Publishes a clean build's model: its GLB, its `/info.json`, its scene and die
-    /// model, and how long the build took from the save.
+    /// Publishes a clean build's model: its GLB, its `/info.json`, its scene and the die
+    /// model's parts, and how long the build took from the save.
     pub(crate) fn publish_model(
         &self,
         glb: Vec<u8>,
         info: String,
         scene: Scene,
-        model: DieModel,
+        parts: Vec<Part>,
         took: Duration,
         reran: &[String],
     ) {
@@ -132,7 +133,7 @@ impl Viewer {
             s.glb = Arc::new(glb);
             s.info = Arc::new(info);
             s.scene = Some(Arc::new(scene));
-            s.model = Some(Arc::new(model));
+            s.parts = Some(Arc::new(parts));
             s.seams = None;
             s.status = status(s.version, s.model_version, "ok", Some(took), reran, None);
         });
