@@ -21,6 +21,81 @@ use dieface::geom::mesh::{Face, FaceId, Mesh, Topology};
 use dieface::geom::trimmed::polygon_area;
 use panel::{Hole, DEPTH, WIDTH};
 
+/// The Ferguson patches evaluated from their Hermite data (eq. 2, what filling reads)
+/// are the same surface as their B-spline form (what the kernel and the export take):
+/// points and every derivative up to the second agree at points all over the grid,
+/// patch corners and joins included, and beyond the grid both clamp to its edge.
+#[test]
+fn the_ferguson_patches_are_their_b_spline_point_for_point() {
+    use dieface::geom::inversion::{project_by_newton, project_to_surface_near};
+    use dieface::geom::mesh::holes::ferguson::FergusonPatches;
+    let h = 3.0;
+    let (nu, nv) = (7, 5);
+    let f = |x: f64, y: f64| 4.0 * (0.05 * x).sin() * (0.07 * y).cos() + 0.002 * x * y;
+    let points: Vec<DVec3> = (0..nu)
+        .flat_map(|i| (0..nv).map(move |j| (i, j)))
+        .map(|(i, j)| {
+            let (x, y) = (i as f64 * h, j as f64 * h);
+            DVec3::new(x + 0.1 * y, y, f(x, y))
+        })
+        .collect();
+    let patches = FergusonPatches::new(points, nu, nv, h).expect("patches");
+    let surface = patches.surface();
+    assert_eq!(surface.domain_u(), patches.domain_u());
+    assert_eq!(surface.domain_v(), patches.domain_v());
+    let mut worst = [0.0f64; 3];
+    for a in 0..=37 {
+        for b in 0..=29 {
+            let (u, v) = (a as f64 * 18.0 / 37.0, b as f64 * 12.0 / 29.0);
+            let (mine, theirs) = (patches.derivatives(u, v), surface.derivatives::<3>(u, v));
+            for k in 0..3 {
+                for l in 0..3 - k {
+                    worst[k + l] = worst[k + l].max((mine[k][l] - theirs[k][l]).length());
+                }
+            }
+            assert!(patches.point_at(u, v).distance(surface.point_at(u, v)) < 1e-12);
+        }
+    }
+    eprintln!("Hermite against B-spline: {worst:?} (points, first, second derivatives)");
+    assert!(
+        worst[0] < 1e-12 && worst[1] < 1e-11 && worst[2] < 1e-10,
+        "{worst:?}"
+    );
+    let beyond = patches.point_at(-5.0, 20.0);
+    assert!(
+        beyond.distance(surface.point_at(0.0, 12.0)) < 1e-12,
+        "{beyond}"
+    );
+    // Newton on the patches (eq. 7-9) lands where the kernel's inversion on the
+    // B-spline form lands, from the point straight above each target.
+    for (k, target) in [
+        DVec3::new(4.0, 5.0, 3.0),
+        DVec3::new(10.2, 1.1, -2.0),
+        DVec3::new(16.5, 11.0, 0.5),
+        DVec3::new(7.7, 6.3, 0.01),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let guess = (target.x - 0.1 * target.y, target.y);
+        let mine = project_by_newton(&patches, target, guess).expect("converges");
+        let theirs = project_to_surface_near(&surface, target, guess).expect("converges");
+        let offset = mine.point - target;
+        let d = patches.derivatives(mine.u, mine.v);
+        let cosines =
+            [d[1][0], d[0][1]].map(|t| offset.dot(t).abs() / (t.length() * offset.length()));
+        assert!(cosines.iter().all(|&c| c < 1e-9), "{k}: {cosines:?}");
+        assert!(
+            mine.point.distance(theirs.point) < 1e-9,
+            "{k}: {mine:?} {theirs:?}"
+        );
+    }
+    // Too few points, a step that is not positive, a point not finite: refused.
+    assert!(FergusonPatches::new(vec![DVec3::ZERO; 3], 3, 1, h).is_err());
+    assert!(FergusonPatches::new(vec![DVec3::ZERO; 4], 2, 2, 0.0).is_err());
+    assert!(FergusonPatches::new(vec![DVec3::NAN; 4], 2, 2, h).is_err());
+}
+
 /// Eq. 3's tangents: the natural spline through points on a cubic has the cubic's own
 /// tangents inside (to the spline's end error), and through points on a line the
 /// line's exactly; the Ferguson surface passes through every grid point, its u and v
@@ -352,6 +427,7 @@ fn the_trim_loop_is_each_node_s_closest_point_on_the_surface() {
         corner: DVec2::ZERO,
         step: w / 2.0,
         surface,
+        patches: None,
         planar: false,
         known_nodes: 0,
         solved_nodes: 0,

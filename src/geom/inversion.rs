@@ -87,6 +87,45 @@ pub struct SurfacePoint {
     pub distance: f64,
 }
 
+/// A surface the Newton iteration of the point inversion can evaluate: its domain, its
+/// points and its derivatives up to the second. Every NURBS surface is one; so is a
+/// special form that evaluates faster (a hole's Ferguson patches), which then shares
+/// the same iteration, the same tests and the same tolerances.
+pub trait SurfaceEval {
+    /// The parameter range along u.
+    fn domain_u(&self) -> (f64, f64);
+    /// The parameter range along v.
+    fn domain_v(&self) -> (f64, f64);
+    /// The point `S(u, v)`.
+    fn point_at(&self, u: f64, v: f64) -> DVec3;
+    /// `d[k][l]` = `d^(k+l) S / du^k dv^l` at `(u, v)`, read for `k + l <= 2`.
+    fn second_derivatives(&self, u: f64, v: f64) -> [[DVec3; 3]; 3];
+    /// The size the tolerances are relative to: the largest control-point magnitude.
+    fn scale(&self) -> f64;
+}
+
+impl SurfaceEval for NurbsSurface {
+    fn domain_u(&self) -> (f64, f64) {
+        NurbsSurface::domain_u(self)
+    }
+
+    fn domain_v(&self) -> (f64, f64) {
+        NurbsSurface::domain_v(self)
+    }
+
+    fn point_at(&self, u: f64, v: f64) -> DVec3 {
+        NurbsSurface::point_at(self, u, v)
+    }
+
+    fn second_derivatives(&self, u: f64, v: f64) -> [[DVec3; 3]; 3] {
+        self.derivatives::<3>(u, v)
+    }
+
+    fn scale(&self) -> f64 {
+        self.control_scale()
+    }
+}
+
 /// Absolute tolerances for one inversion problem.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Tolerances {
@@ -538,7 +577,12 @@ pub fn project_to_curve_locally<P: Point>(
 // Surfaces
 // ---------------------------------------------------------------------------------------
 
-fn surface_point(surface: &NurbsSurface, target: DVec3, u: f64, v: f64) -> SurfacePoint {
+fn surface_point<S: SurfaceEval + ?Sized>(
+    surface: &S,
+    target: DVec3,
+    u: f64,
+    v: f64,
+) -> SurfacePoint {
     let point = surface.point_at(u, v);
     SurfacePoint {
         u,
@@ -562,8 +606,8 @@ fn solve_sym2(a: f64, b: f64, c: f64, gu: f64, gv: f64) -> Option<(f64, f64)> {
 /// Safeguarded 2-D Newton (P&T eq. 6.6-6.8) from `(u, v)`, clamped to the domain. A
 /// parameter at a domain bound whose gradient points out of the domain is frozen, and
 /// the iteration continues as a 1-D problem along that edge (none at a corner minimum).
-fn newton_surface(
-    surface: &NurbsSurface,
+fn newton_surface<S: SurfaceEval + ?Sized>(
+    surface: &S,
     target: DVec3,
     u: f64,
     v: f64,
@@ -575,7 +619,7 @@ fn newton_surface(
     let mut last_move = f64::INFINITY;
     let mut residual = f64::INFINITY;
     for _ in 0..MAX_ITERATIONS {
-        let d = surface.derivatives::<3>(u, v);
+        let d = surface.second_derivatives(u, v);
         let (s, su, sv) = (d[0][0], d[1][0], d[0][1]);
         let r = s - target;
         let dist = r.length();
@@ -785,13 +829,31 @@ pub fn project_to_surface_near(
             what: "parameter guess",
         });
     }
-    let tol = Tolerances::new(surface.control_scale(), target.length());
-    let out = newton_surface(surface, target, guess.0, guess.1, tol);
-    let size = surface.control_scale().max(target.length());
-    if out.converged || out.value.distance <= NEAR_COINCIDENCE * size {
-        return finite_distance(out.value, out.value.distance);
+    match project_by_newton(surface, target, guess) {
+        Some(foot) => finite_distance(foot, foot.distance),
+        None => closest_point_on_surface(surface, target),
     }
-    closest_point_on_surface(surface, target)
+}
+
+/// The foot of `target` on `surface` that the 2-D Newton iteration of
+/// [`project_to_surface_near`] reaches from `guess` (clamped to the domain), with the
+/// same tests and tolerances; `None` where it does not converge (and the target is not
+/// within [`NEAR_COINCIDENCE`] of the point reached), or the target or guess is not
+/// finite. No global search follows: for callers with a start they trust and a
+/// fallback of their own, on any [`SurfaceEval`].
+pub fn project_by_newton<S: SurfaceEval + ?Sized>(
+    surface: &S,
+    target: DVec3,
+    guess: (f64, f64),
+) -> Option<SurfacePoint> {
+    if !(target.is_finite() && guess.0.is_finite() && guess.1.is_finite()) {
+        return None;
+    }
+    let tol = Tolerances::new(surface.scale(), target.length());
+    let out = newton_surface(surface, target, guess.0, guess.1, tol);
+    let size = surface.scale().max(target.length());
+    let found = out.converged || out.value.distance <= NEAR_COINCIDENCE * size;
+    (found && out.value.distance.is_finite()).then_some(out.value)
 }
 
 /// Relative distance under which [`project_to_surface_near`] takes the point Newton

@@ -11,12 +11,19 @@ pub struct UnionFind {
     /// The number of indices.
     len: usize,
     /// The parent of each index (a root is its own parent); empty until the first union.
-    parent: Vec<usize>,
+    /// Stored as `u32` (a mesh's nodes and faces are numbered so): half the memory a
+    /// large mesh's sets walk through.
+    parent: Vec<u32>,
 }
 
 impl UnionFind {
-    /// `len` indices, each in a set of its own.
+    /// `len` indices, each in a set of its own (at most `u32::MAX + 1`, as a mesh's
+    /// numbering allows; an index beyond that is a caller's bug).
     pub fn new(len: usize) -> Self {
+        assert!(
+            len <= u32::MAX as usize + 1,
+            "union-find over {len} indices: more than u32 numbers"
+        );
         Self {
             len,
             parent: Vec::new(),
@@ -24,25 +31,32 @@ impl UnionFind {
     }
 
     /// The smallest index of the set holding `x`, halving paths on the way.
-    pub fn find(&mut self, mut x: usize) -> usize {
+    pub fn find(&mut self, x: usize) -> usize {
         if self.parent.is_empty() {
             return x;
         }
-        while self.parent[x] != x {
-            self.parent[x] = self.parent[self.parent[x]];
-            x = self.parent[x];
+        // x < len, checked by `new` to fit a u32.
+        let mut x = x as u32;
+        loop {
+            let parent = self.parent[x as usize];
+            if parent == x {
+                return x as usize;
+            }
+            let grand = self.parent[parent as usize];
+            self.parent[x as usize] = grand;
+            x = grand;
         }
-        x
     }
 
     /// Joins the sets holding `a` and `b`; the smaller root becomes the root of both.
     pub fn union(&mut self, a: usize, b: usize) {
         if self.parent.is_empty() {
-            self.parent.extend(0..self.len);
+            // len fits a u32 (checked by `new`), so every index does.
+            self.parent.extend((0..self.len).map(|i| i as u32));
         }
         let (ra, rb) = (self.find(a), self.find(b));
         let (lo, hi) = (ra.min(rb), ra.max(rb));
-        self.parent[hi] = lo;
+        self.parent[hi] = lo as u32;
     }
 }
 

@@ -141,6 +141,126 @@ fn measure(before: &Mesh, after: &Mesh) -> Measured {
     }
 }
 
+/// Each stage of `fill_holes` timed alone, one thread, summed over the holes: where
+/// the time goes.
+fn stages(mesh: &Mesh) {
+    use dieface::geom::mesh::holes::base::base_surface;
+    use dieface::geom::mesh::holes::loops::scan;
+    use dieface::geom::mesh::holes::patch::mesh_region;
+    use dieface::geom::mesh::holes::plane::loop_plane;
+    use dieface::geom::mesh::holes::trim::trim_loop;
+    use dieface::geom::mesh::stars::VertexStars;
+    use glam::DVec2;
+    // The least and the median of 41 runs: on a machine shared with other work the
+    // least is the nearer to what the stage costs alone.
+    let time = |label: &str, f: &mut dyn FnMut()| {
+        let mut times: Vec<f64> = (0..41)
+            .map(|_| {
+                let start = Instant::now();
+                f();
+                start.elapsed().as_secs_f64() * 1e3
+            })
+            .collect();
+        times.sort_by(f64::total_cmp);
+        println!(
+            "{label:<28} {:>8.3} ms least, {:>8.3} ms median",
+            times[0], times[20]
+        );
+    };
+    time("stars", &mut || {
+        std::hint::black_box(VertexStars::build(mesh));
+    });
+    time("scan (stars, pieces, loops)", &mut || {
+        std::hint::black_box(scan(mesh, None));
+    });
+    let found = scan(mesh, None);
+    let holes: Vec<_> = found.free.loops.iter().filter(|l| !l.outer).collect();
+    let points: Vec<Vec<DVec3>> = holes
+        .iter()
+        .map(|l| {
+            l.nodes
+                .iter()
+                .map(|v| mesh.positions()[v.index()])
+                .collect()
+        })
+        .collect();
+    let planes: Vec<_> = holes
+        .iter()
+        .zip(&points)
+        .map(|(l, p)| {
+            let normals: Vec<DVec3> = l
+                .nodes
+                .iter()
+                .map(|&v| mesh.vertex_normal(v, found.stars.faces(v)))
+                .collect();
+            loop_plane(p, &normals).expect("a plane")
+        })
+        .collect();
+    let sizes: Vec<f64> = holes
+        .iter()
+        .map(|l| l.length / l.nodes.len() as f64)
+        .collect();
+    time("base surfaces", &mut || {
+        for (k, l) in holes.iter().enumerate() {
+            std::hint::black_box(base_surface(&found.stars, &l.nodes, &planes[k], sizes[k]).ok());
+        }
+    });
+    let bases: Vec<_> = (0..holes.len())
+        .map(|k| base_surface(&found.stars, &holes[k].nodes, &planes[k], sizes[k]).expect("a base"))
+        .collect();
+    time("trim loops", &mut || {
+        for k in 0..holes.len() {
+            std::hint::black_box(trim_loop(&bases[k], &points[k]));
+        }
+    });
+    let loops: Vec<Vec<DVec2>> = (0..holes.len())
+        .map(|k| {
+            trim_loop(&bases[k], &points[k])
+                .iter()
+                .rev()
+                .map(|t| t.0)
+                .collect()
+        })
+        .collect();
+    time("regions meshed", &mut || {
+        for k in 0..holes.len() {
+            std::hint::black_box(mesh_region(&loops[k], sizes[k]).ok());
+        }
+    });
+    let regions: Vec<_> = (0..holes.len())
+        .map(|k| mesh_region(&loops[k], sizes[k]).expect("meshed"))
+        .collect();
+    time("mapped to the surfaces", &mut || {
+        for k in 0..holes.len() {
+            let r = &regions[k];
+            let mapped: Vec<DVec3> = r.uv[r.boundary..]
+                .iter()
+                .map(|&q| bases[k].point_at(q))
+                .collect();
+            std::hint::black_box(mapped);
+        }
+    });
+    let options = FillOptions {
+        holes: HoleChoice::All,
+        outer: None,
+        size: None,
+    };
+    time("whole (fill_holes_in)", &mut || {
+        std::hint::black_box(fill_holes_in(mesh.clone(), &options).ok());
+    });
+    time("clone of the mesh", &mut || {
+        std::hint::black_box(mesh.clone());
+    });
+    let nodes: usize = holes.iter().map(|l| l.nodes.len()).sum();
+    let inner: usize = regions.iter().map(|r| r.uv.len() - r.boundary).sum();
+    let grid: usize = bases.iter().map(|b| b.known_nodes + b.solved_nodes).sum();
+    let solved: usize = bases.iter().map(|b| b.solved_nodes).sum();
+    println!(
+        "{} holes, {nodes} loop nodes, {inner} inner nodes, {grid} grid nodes ({solved} solved)",
+        holes.len()
+    );
+}
+
 fn main() {
     let dir = std::env::temp_dir().join("dieface-bench-holes");
     std::fs::create_dir_all(&dir).expect("a temporary folder");
@@ -161,6 +281,11 @@ fn main() {
         for _ in 0..n {
             fill_holes_in(mesh.clone(), &options).expect("filled");
         }
+        return;
+    }
+    // `HOLES_STAGES=1`: each stage of the fill timed alone on one thread (medians).
+    if std::env::var("HOLES_STAGES").is_ok() {
+        stages(&mesh);
         return;
     }
     let ours = median_time(

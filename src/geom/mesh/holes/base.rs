@@ -5,15 +5,14 @@
 //! Ferguson patches through the plate's nodes (`ferguson`). A loop whose nodes and
 //! first ring of faces lie in one plane gets that plane directly (eq. 5).
 
-use std::collections::BTreeSet;
-
 use glam::{DVec2, DVec3};
 
-use super::ferguson::ferguson_surface;
+use super::ferguson::FergusonPatches;
 use super::plane::ProjectionPlane;
 use super::thin_plate::{solve_plate, HeightGrid, PlateError};
+use crate::geom::inversion::{project_by_newton, SurfacePoint};
 use crate::geom::mesh::stars::VertexStars;
-use crate::geom::mesh::{FaceId, VertexId};
+use crate::geom::mesh::{Face, VertexId};
 use crate::geom::surface::NurbsSurface;
 
 /// The fewest and the most grid cells across a hole's longest spread.
@@ -23,6 +22,11 @@ const CELLS_ACROSS: (usize, usize) = (8, 24);
 /// plate's position and slope at the loop, and a third keeps the grid's free edge
 /// away from them.
 const MARGIN_CELLS: usize = 3;
+
+/// The least cosine between a face the flood reads and the plane's normal: a face
+/// turned more than 85 deg from the plane is not read (it stands on edge to the plane,
+/// or faces away, as a flange folded under does).
+const FLOOD_FACING: f64 = 0.087;
 
 /// How far (a share of the loop's span) the loop's nodes and ring may lie off one
 /// plane for the hole to be taken as planar.
@@ -41,6 +45,9 @@ pub struct BaseSurface {
     /// The surface: Ferguson patches over the grid, or the plane itself (a planar
     /// loop), parametrised by plane position less `corner`.
     pub surface: NurbsSurface,
+    /// The Ferguson patches `surface` is made of (`None` for a planar loop's plane),
+    /// evaluated directly where the fill projects onto the base surface and maps back.
+    pub patches: Option<FergusonPatches>,
     /// Whether the loop was planar and the plane taken directly.
     pub planar: bool,
     /// How many grid nodes lay on the mesh (known) and how many the plate found.
@@ -52,6 +59,24 @@ impl BaseSurface {
     /// The surface parameters straight above (along the plane's normal) `p`.
     pub fn uv_above(&self, p: DVec3) -> DVec2 {
         self.plane.to_plane(p).0 - self.corner
+    }
+
+    /// The point of the base surface at `(u, v)`.
+    pub fn point_at(&self, uv: DVec2) -> DVec3 {
+        match &self.patches {
+            Some(patches) => patches.point_at(uv.x, uv.y),
+            None => self.surface.point_at(uv.x, uv.y),
+        }
+    }
+
+    /// The foot of `p` on the base surface by Newton-Raphson from `(u, v)` `guess`
+    /// (eq. 7-9; the kernel's iteration, on the patches where there are some), or
+    /// `None` where it does not converge.
+    pub fn foot(&self, p: DVec3, guess: DVec2) -> Option<SurfacePoint> {
+        match &self.patches {
+            Some(patches) => project_by_newton(patches, p, (guess.x, guess.y)),
+            None => project_by_newton(&self.surface, p, (guess.x, guess.y)),
+        }
     }
 }
 
@@ -131,24 +156,29 @@ fn heights_round(
         grid.corner + DVec2::new(grid.nx as f64, grid.ny as f64) * grid.step,
     );
     let mut known: Vec<Option<f64>> = vec![None; (grid.nx + 1) * (grid.ny + 1)];
-    // A face's corners on the plane (and how many), if it faces the plane and lies
-    // over the box.
-    let over = |f: FaceId| -> Option<([(DVec2, f64); 4], usize)> {
-        let face = mesh.face(f)?;
-        let facing = mesh
-            .face_normal(f)
-            .is_some_and(|n| n.dot(plane.normal) > 0.087);
-        if !facing {
-            return None;
-        }
+    // A face's corners on the plane, if it faces the plane (its normal within 85 deg
+    // of the plane's) and lies over the box. The normal is read in the plane's own
+    // frame (right-handed, so a cross product there is the normal's components along
+    // e1, e2 and the plane's normal), from the corners as they are projected anyway.
+    let over = |face: &Face| -> Option<[(DVec2, f64); 4]> {
         let mut corners = [(DVec2::ZERO, 0.0); 4];
         let (mut flo, mut fhi) = (DVec2::INFINITY, DVec2::NEG_INFINITY);
-        for (slot, v) in corners.iter_mut().zip(face.vertices()) {
-            *slot = plane.to_plane(mesh.positions()[v.index()]);
+        for (slot, &v) in corners.iter_mut().zip(face.indices()) {
+            // Mesh::new checked every face index against the positions.
+            *slot = plane.to_plane(mesh.positions()[v as usize]);
             flo = flo.min(slot.0);
             fhi = fhi.max(slot.0);
         }
-        (flo.cmple(hi).all() && fhi.cmpge(lo).all()).then_some((corners, face.vertex_count()))
+        if !(flo.cmple(hi).all() && fhi.cmpge(lo).all()) {
+            return None;
+        }
+        let at = |k: usize| DVec3::new(corners[k].0.x, corners[k].0.y, corners[k].1);
+        let doubled_area = if face.is_quad() {
+            (at(2) - at(0)).cross(at(3) - at(1))
+        } else {
+            (at(1) - at(0)).cross(at(2) - at(0))
+        };
+        (doubled_area.z > FLOOD_FACING * doubled_area.length()).then_some(corners)
     };
     // Each face's state in a table over the mesh's faces: judged once, however many
     // of its nodes the flood comes to it from. Each node is flooded from once.
@@ -171,23 +201,23 @@ fn heights_round(
             if state[f.index()] != UNSEEN {
                 continue;
             }
-            let Some((corners, count)) = over(f) else {
+            // The stars list only the mesh's own faces.
+            let face = mesh.faces()[f.index()];
+            let Some(corners) = over(&face) else {
                 state[f.index()] = LEFT;
                 continue;
             };
             state[f.index()] = TAKEN;
             // Triangles only reach here (the mesh is triangulated before filling); a
             // quad is read as its two triangles.
-            for k in 1..count - 1 {
+            for k in 1..face.vertex_count() - 1 {
                 grid.sample([corners[0], corners[k], corners[k + 1]], &mut known);
             }
-            let Some(face) = mesh.face(f) else { continue };
-            for w in face.vertices() {
-                // Mesh::new checked every face index against the positions.
-                let seen = &mut flooded[w.index()];
+            for &w in face.indices() {
+                let seen = &mut flooded[w as usize];
                 if !*seen {
                     *seen = true;
-                    nodes.push(w);
+                    nodes.push(VertexId(w));
                 }
             }
         }
@@ -221,16 +251,13 @@ pub fn base_surface(
     let nx = ((far.x - corner.x) / step).ceil() as usize;
     let ny = ((far.y - corner.y) / step).ceil() as usize;
 
-    // Planar: the loop and the faces at its nodes all on the plane.
-    let ring: BTreeSet<VertexId> = loop_nodes
+    // Planar: the loop and the faces at its nodes all on the plane (a node of several
+    // of those faces is read once for each).
+    let planar = loop_nodes
         .iter()
-        .flat_map(|&v| stars.faces(v).iter().copied())
-        .filter_map(|f| mesh.face(f))
-        .flat_map(|f| f.vertices().collect::<Vec<_>>())
-        .collect();
-    let planar = ring
-        .iter()
-        .all(|&v| plane.to_plane(mesh.positions()[v.index()]).1.abs() <= PLANAR * span);
+        .flat_map(|&v| stars.faces(v))
+        .flat_map(|&f| mesh.faces()[f.index()].indices())
+        .all(|&v| plane.to_plane(mesh.positions()[v as usize]).1.abs() <= PLANAR * span);
     if planar {
         let corners = |i: f64, j: f64| plane.from_plane(corner + DVec2::new(i, j), 0.0);
         let (w, h) = (nx as f64 * step, ny as f64 * step);
@@ -250,6 +277,7 @@ pub fn base_surface(
             corner,
             step,
             surface,
+            patches: None,
             planar: true,
             known_nodes: 0,
             solved_nodes: 0,
@@ -265,22 +293,22 @@ pub fn base_surface(
     let known_nodes = known.iter().filter(|h| h.is_some()).count();
     let grid = HeightGrid { nx, ny, known };
     let heights = solve_plate(&grid)?;
-    let points: Vec<Vec<DVec3>> = (0..=nx)
-        .map(|i| {
-            (0..=ny)
-                .map(|j| {
-                    let q = corner + DVec2::new(i as f64, j as f64) * step;
-                    plane.from_plane(q, heights[j * (nx + 1) + i])
-                })
-                .collect()
+    // The grid's points, node (i, j) at i * (ny + 1) + j (i along u).
+    let points: Vec<DVec3> = (0..=nx)
+        .flat_map(|i| (0..=ny).map(move |j| (i, j)))
+        .map(|(i, j)| {
+            let q = corner + DVec2::new(i as f64, j as f64) * step;
+            plane.from_plane(q, heights[j * (nx + 1) + i])
         })
         .collect();
-    let surface = ferguson_surface(&points, step).map_err(|e| BaseError::Surface(e.to_string()))?;
+    let patches = FergusonPatches::new(points, nx + 1, ny + 1, step)
+        .map_err(|e| BaseError::Surface(e.to_string()))?;
     Ok(BaseSurface {
         plane: *plane,
         corner,
         step,
-        surface,
+        surface: patches.surface(),
+        patches: Some(patches),
         planar: false,
         known_nodes,
         solved_nodes: (nx + 1) * (ny + 1) - known_nodes,

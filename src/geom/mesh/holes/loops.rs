@@ -115,17 +115,17 @@ pub fn free_edges(mesh: &Mesh, outer: Option<DVec3>) -> FreeEdges {
 /// the pieces too, but where two sheets touch only at a node inside both, which the
 /// first way counts as one piece.
 pub fn scan(mesh: &Mesh, outer: Option<DVec3>) -> Scan<'_> {
-    // A thread of its own for the pieces: a pool's worker may be asleep, and the
-    // passes take about a millisecond each on a 50k-face mesh. The loops are chained
-    // meanwhile.
-    let (stars, simple, (mut sets, pieces)) = std::thread::scope(|scope| {
-        let pieces = scope.spawn(|| node_sets(mesh));
-        let stars = VertexStars::build(mesh);
-        let simple = simple_loops(&stars);
-        // The pass cannot panic: every index was checked by Mesh::new.
-        let pieces = pieces.join().expect("the pieces pass does not panic");
-        (stars, simple, pieces)
-    });
+    // The pieces beside the stars and the loops chained from them, on the pool's
+    // other thread where it is free (each pass takes under a millisecond on a 50k-face
+    // mesh); where it is not, this thread takes them in turn, without waiting for one.
+    let ((stars, simple), (mut sets, pieces)) = rayon::join(
+        || {
+            let stars = VertexStars::build(mesh);
+            let simple = simple_loops(&stars);
+            (stars, simple)
+        },
+        || node_sets(mesh),
+    );
     let mut free = match simple {
         Some((count, chains)) => {
             // Pieces by shared nodes: the same as by shared edges here, every node on a
@@ -468,17 +468,21 @@ fn enclosing_loop(
             return false;
         }
         // Most of b's nodes inside a (a loop touching another at a node still counts),
-        // judged on up to SAMPLES of them spread evenly along b.
+        // judged on up to SAMPLES of them spread evenly along b, and decided as soon
+        // as a majority either way is reached.
         let step = flat[b].len().div_ceil(SAMPLES).max(1);
-        let (inside, tried) = flat[b]
-            .iter()
-            .step_by(step)
-            .fold((0, 0), |(inside, tried), &q| {
-                (
-                    inside + usize::from(polygon_winding(&flat[a], q) != 0),
-                    tried + 1,
-                )
-            });
+        let tried = flat[b].len().div_ceil(step);
+        let (mut inside, mut outside) = (0, 0);
+        for &q in flat[b].iter().step_by(step) {
+            if polygon_winding(&flat[a], q) != 0 {
+                inside += 1;
+            } else {
+                outside += 1;
+            }
+            if 2 * inside > tried || 2 * outside >= tried {
+                break;
+            }
+        }
         2 * inside > tried
     };
     (0..members.len())

@@ -382,11 +382,7 @@ fn fill_one(
         let meshed = mesh_region(&reversed, size).map_err(|e: RegionError| e.to_string())?;
         let node_of = |i: usize| if i < n { n - 1 - i } else { i };
         let mut positions: Vec<DVec3> = points.clone();
-        positions.extend(
-            meshed.uv[n..]
-                .iter()
-                .map(|q| base.surface.point_at(q.x, q.y)),
-        );
+        positions.extend(meshed.uv[n..].iter().map(|&q| base.point_at(q)));
         let triangles: Vec<[usize; 3]> = meshed.triangles.iter().map(|t| t.map(node_of)).collect();
         // No fold: every fill triangle faces the plane.
         for t in &triangles {
@@ -413,17 +409,20 @@ fn fill_one(
         .fold(180.0, f64::min);
     // The normal jump across each loop edge: the fill triangle on it against the mesh
     // face its free half-edge bounds.
-    let mut on_edge = std::collections::BTreeMap::new();
+    // The fill runs loop edge i (node i to node i + 1) the other way from the mesh's
+    // free half-edge: the triangle on it has the side from i + 1 to i.
+    let mut on_edge: Vec<Option<[usize; 3]>> = vec![None; n];
     for t in &triangles {
         for e in 0..3 {
-            on_edge.insert((t[e], t[(e + 1) % 3]), *t);
+            let (a, b) = (t[e], t[(e + 1) % 3]);
+            if a < n && b < n && a == (b + 1) % n {
+                on_edge[b] = Some(*t);
+            }
         }
     }
     let mut normal_jump = 0.0f64;
     for (i, &face) in l.faces.iter().enumerate() {
-        let j = (i + 1) % n;
-        // The fill runs the loop edge the other way from the mesh's free half-edge.
-        let Some(t) = on_edge.get(&(j, i)) else {
+        let Some(t) = on_edge[i] else {
             return Err(refuse(format!(
                 "the fill does not meet the loop's edge at ({:.3}, {:.3}, {:.3})",
                 points[i].x, points[i].y, points[i].z

@@ -8,8 +8,6 @@
 use glam::DVec2;
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 
-use crate::geom::trimmed::polygon_winding;
-
 /// An interior point nearer a loop segment than this share of the element size is
 /// dropped: it would make a sliver against the loop.
 const CLEARANCE: f64 = 0.55;
@@ -45,6 +43,11 @@ fn to_segment(q: DVec2, a: DVec2, b: DVec2) -> f64 {
 }
 
 /// The points of an equilateral lattice `size` apart inside `loop_uv` and clear of it.
+///
+/// Row by row: a point is inside where an odd number of the loop's crossings of its row
+/// lie to its left (the loop is simple; a loop that crosses itself is refused when it
+/// is triangulated), and clear where every loop segment that comes within the
+/// clearance of the row lies at least that far from it.
 pub fn lattice_inside(loop_uv: &[DVec2], size: f64) -> Vec<DVec2> {
     let n = loop_uv.len();
     let (lo, hi) = loop_uv
@@ -54,19 +57,38 @@ pub fn lattice_inside(loop_uv: &[DVec2], size: f64) -> Vec<DVec2> {
         });
     let row = size * 3f64.sqrt() / 2.0;
     let rows = ((hi.y - lo.y) / row).floor() as usize;
+    let clearance = CLEARANCE * size;
+    let segment = |k: usize| (loop_uv[k], loop_uv[(k + 1) % n]);
     let mut out = Vec::new();
+    let (mut crossings, mut near) = (Vec::new(), Vec::new());
     for r in 1..=rows {
         let y = lo.y + r as f64 * row;
+        crossings.clear();
+        near.clear();
+        for k in 0..n {
+            let (a, b) = segment(k);
+            // Each segment crosses the row where its ends lie either side, an end on
+            // the row counted with the side above (as the winding number counts it).
+            if (a.y <= y) != (b.y <= y) {
+                crossings.push(a.x + (y - a.y) / (b.y - a.y) * (b.x - a.x));
+            }
+            if a.y.min(b.y) <= y + clearance && a.y.max(b.y) >= y - clearance {
+                near.push(k);
+            }
+        }
         let shift = if r % 2 == 0 { 0.0 } else { 0.5 * size };
         let mut x = lo.x + shift;
         while x < hi.x {
             let q = DVec2::new(x, y);
             x += size;
-            if polygon_winding(loop_uv, q) == 0 {
+            let left = crossings.iter().filter(|&&c| c < q.x).count();
+            if left % 2 == 0 {
                 continue;
             }
-            let clear =
-                (0..n).all(|k| to_segment(q, loop_uv[k], loop_uv[(k + 1) % n]) >= CLEARANCE * size);
+            let clear = near.iter().all(|&k| {
+                let (a, b) = segment(k);
+                to_segment(q, a, b) >= clearance
+            });
             if clear {
                 out.push(q);
             }

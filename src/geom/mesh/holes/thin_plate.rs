@@ -6,7 +6,7 @@
 //! nodes that lie on the mesh keep their heights, and the rest (the hole, and the grid
 //! beyond the panel's edge) take the heights that make the energy least: the discrete
 //! biharmonic equation, a least-squares problem solved by its normal equations, which
-//! are banded in the grid's row order.
+//! are banded when the unknowns are numbered line by line.
 //!
 //! Two rings of known nodes round the hole fix the position and the slope the plate
 //! starts from there: the paper's position and slope conditions. A plane (every known
@@ -65,11 +65,22 @@ pub fn solve_plate(grid: &HeightGrid) -> Result<Vec<f64>, PlateError> {
     if grid.known.iter().all(Option::is_none) {
         return Err(PlateError::NothingKnown);
     }
-    // The unknown nodes numbered in the grid's row order.
+    // The unknown nodes numbered along the grid's shorter direction first (row by row
+    // where the grid is taller than wide, column by column where it is wider), so
+    // that the normal equations' band, about two lines of unknowns, is as narrow as
+    // the grid allows: a slot's long grid costs a quarter of what row order would.
+    let order: Vec<usize> = if grid.nx > grid.ny {
+        (0..=grid.nx)
+            .flat_map(|i| (0..=grid.ny).map(move |j| (i, j)))
+            .map(|(i, j)| grid.index(i, j))
+            .collect()
+    } else {
+        (0..nodes).collect()
+    };
     let mut unknown = vec![usize::MAX; nodes];
     let mut count = 0;
-    for (k, h) in grid.known.iter().enumerate() {
-        if h.is_none() {
+    for k in order {
+        if grid.known[k].is_none() {
             unknown[k] = count;
             count += 1;
         }
@@ -96,9 +107,9 @@ pub fn solve_plate(grid: &HeightGrid) -> Result<Vec<f64>, PlateError> {
                 .any(|&(n, _)| grid.known[n].is_none())
                 .then_some((row, len))
         });
-    // The normal equations couple two unknowns that share a row; numbered in the
-    // grid's order they lie at most two grid rows apart, and the band is the widest
-    // such gap (a hole narrower than the grid has fewer unknowns between).
+    // The normal equations couple two unknowns that share a row; numbered as above
+    // they lie at most two grid lines apart, and the band is the widest such gap (a
+    // hole narrower than the grid has fewer unknowns between).
     let band = laplacians
         .clone()
         .map(|(row, len)| {
