@@ -303,12 +303,21 @@ fn joined(free: &FreeEdges, holes: &[FilledHole], own_nodes: usize) -> (Vec<DVec
     (positions, faces)
 }
 
-/// The smallest angle of the triangle `a b c` (deg).
+/// The smallest angle of the triangle `a b c` (deg): the corner with the largest
+/// cosine, so one arc cosine per triangle.
 fn smallest_angle(a: DVec3, b: DVec3, c: DVec3) -> f64 {
-    [(a, b, c), (b, c, a), (c, a, b)]
-        .iter()
-        .map(|&(p, q, r)| (q - p).angle_between(r - p).to_degrees())
-        .fold(180.0, f64::min)
+    let cosine = |p: DVec3, q: DVec3, r: DVec3| {
+        let (u, v) = (q - p, r - p);
+        let lengths = (u.length_squared() * v.length_squared()).sqrt();
+        if lengths > 0.0 {
+            (u.dot(v) / lengths).clamp(-1.0, 1.0)
+        } else {
+            // A corner with no side has no angle; the triangle's smallest is zero.
+            1.0
+        }
+    };
+    let largest = cosine(a, b, c).max(cosine(b, c, a)).max(cosine(c, a, b));
+    largest.acos().to_degrees()
 }
 
 /// Fills hole `k`, loop `l`, of `mesh`: its plane, base surface, trim loop and region
