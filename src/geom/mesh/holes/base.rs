@@ -141,9 +141,10 @@ impl Grid {
 ///
 /// The faces read are found from the faces at the loop's nodes, flooded across their
 /// nodes (to every face at a node of a face taken) while a face faces the plane (its
-/// normal within 85 deg of the plane's) and lies over the grid's box. A face far off in the mesh that only overlaps the box in projection
-/// (a flange folded under) is never reached. Faces are read in the order the flood
-/// reaches them, so every build gives a node on a shared edge the same face's height.
+/// normal within 85 deg of the plane's) and lies over the grid's box. A face far off in
+/// the mesh that only overlaps the box in projection (a flange folded under) is never
+/// reached. Faces are read in the order the flood reaches them, so every build gives a
+/// node on a shared edge the same face's height.
 fn heights_round(
     stars: &VertexStars,
     loop_nodes: &[VertexId],
