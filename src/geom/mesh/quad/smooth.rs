@@ -33,6 +33,9 @@ pub fn smooth(
     triangles: &[[u32; 3]],
     passes: usize,
 ) {
+    if passes == 0 {
+        return;
+    }
     let elements: Vec<&[u32]> = quads
         .iter()
         .map(|q| q.as_slice())
@@ -65,15 +68,17 @@ pub fn smooth(
         }
         (corners, e.len())
     };
-    let worst = |points: &[DVec2], around: &[usize]| {
-        around
-            .iter()
-            .map(|&k| {
-                let (corners, n) = corners_of(points, k);
-                scaled_jacobian_2d(&corners[..n])
-            })
-            .fold(f64::INFINITY, f64::min)
+    let jacobian_of = |points: &[DVec2], k: usize| {
+        let (corners, n) = corners_of(points, k);
+        scaled_jacobian_2d(&corners[..n])
     };
+    // Each element's scaled Jacobian, kept up to date as its nodes move: a node's
+    // elements before a move are read from here, not judged again (an element changes
+    // only when one of its own nodes moves, and every move updates that node's star).
+    let mut jacobians: Vec<f64> = (0..elements.len())
+        .map(|k| jacobian_of(points, k))
+        .collect();
+    let mut moved_jacobians: Vec<f64> = Vec::new();
     for _ in 0..passes {
         for v in fixed..points.len() {
             let around = &star[offsets[v]..offsets[v + 1]];
@@ -88,21 +93,27 @@ pub fn smooth(
                 })
                 .sum::<DVec2>()
                 / around.len() as f64;
-            let before = worst(points, around);
+            let before = least_of(around, &jacobians);
             let old = points[v];
             points[v] = centre;
-            let after = worst(points, around);
+            moved_jacobians.clear();
+            moved_jacobians.extend(around.iter().map(|&k| jacobian_of(points, k)));
+            let after = moved_jacobians
+                .iter()
+                .copied()
+                .fold(f64::INFINITY, f64::min);
             // Kept where it folds nothing and leaves no element poorer than the floor
             // (or than it was), or where it mends a fold.
             let keeps =
                 (after > 0.0 && after >= before.min(FLOOR)) || (before <= 0.0 && after > before);
-            if !keeps {
+            if keeps {
+                for (&k, &q) in around.iter().zip(&moved_jacobians) {
+                    jacobians[k] = q;
+                }
+            } else {
                 points[v] = old;
             }
         }
-    }
-    if passes == 0 {
-        return;
     }
     let directions: Vec<DVec2> = (0..8)
         .map(|k| DVec2::from_angle(std::f64::consts::FRAC_PI_4 * k as f64))
@@ -110,20 +121,23 @@ pub fn smooth(
     // The compass search's measure: the scaled Jacobian, and no element with a side
     // under a third of its longest (the scaled Jacobian alone would let a quad fold
     // one side down to nothing, its four angles still fair).
+    let judged_one = |points: &[DVec2], k: usize| {
+        let (corners, n) = corners_of(points, k);
+        let corners = &corners[..n];
+        let sides = (0..n).map(|i| corners[i].distance(corners[(i + 1) % n]));
+        let (short, long) = sides.fold((f64::INFINITY, 0.0f64), |(s, l), d| (s.min(d), l.max(d)));
+        let stretch = if long > 0.0 { 3.0 * short / long } else { 0.0 };
+        scaled_jacobian_2d(corners).min(stretch)
+    };
     let judged = |points: &[DVec2], around: &[usize]| {
         around
             .iter()
-            .map(|&k| {
-                let (corners, n) = corners_of(points, k);
-                let corners = &corners[..n];
-                let sides = (0..n).map(|i| corners[i].distance(corners[(i + 1) % n]));
-                let (short, long) =
-                    sides.fold((f64::INFINITY, 0.0f64), |(s, l), d| (s.min(d), l.max(d)));
-                let stretch = if long > 0.0 { 3.0 * short / long } else { 0.0 };
-                scaled_jacobian_2d(corners).min(stretch)
-            })
+            .map(|&k| judged_one(points, k))
             .fold(f64::INFINITY, f64::min)
     };
+    // Each element's measure, kept up to date as the search moves nodes, so a node
+    // whose elements are all fair is passed over without judging them again.
+    let mut measures: Vec<f64> = (0..elements.len()).map(|k| judged_one(points, k)).collect();
     for _ in 0..SWEEPS {
         let mut moved = false;
         for v in fixed..points.len() {
@@ -131,7 +145,7 @@ pub fn smooth(
             if around.is_empty() {
                 continue;
             }
-            let mut best = judged(points, around);
+            let mut best = least_of(around, &measures);
             if best >= POOR {
                 continue;
             }
@@ -163,9 +177,20 @@ pub fn smooth(
                     halvings += 1;
                 }
             }
+            for &k in around {
+                measures[k] = judged_one(points, k);
+            }
         }
         if !moved {
             break;
         }
     }
+}
+
+/// The least of the `values` of the elements `around` a node (infinite for none).
+fn least_of(around: &[usize], values: &[f64]) -> f64 {
+    around
+        .iter()
+        .map(|&k| values[k])
+        .fold(f64::INFINITY, f64::min)
 }

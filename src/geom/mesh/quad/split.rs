@@ -228,23 +228,53 @@ impl LoopView {
         let along = |k: usize| self.p[a].lerp(self.p[b], k as f64 / pieces as f64);
         let mut error = 0.0;
         if b - a + pieces <= SMALL {
-            let half: Vec<DVec2> = self.p[a..=b]
-                .iter()
-                .copied()
-                .chain((1..pieces).rev().map(along))
-                .collect();
-            error += small_error(&half);
+            let half = SmallHalf::of(
+                self.p[a..=b]
+                    .iter()
+                    .copied()
+                    .chain((1..pieces).rev().map(along)),
+            );
+            error += small_error(half.nodes());
         }
         if n - (b - a) + pieces <= SMALL {
-            let half: Vec<DVec2> = self.p[b..]
-                .iter()
-                .chain(&self.p[..=a])
-                .copied()
-                .chain((1..pieces).map(along))
-                .collect();
-            error += small_error(&half);
+            let half = SmallHalf::of(
+                self.p[b..]
+                    .iter()
+                    .chain(&self.p[..=a])
+                    .copied()
+                    .chain((1..pieces).map(along)),
+            );
+            error += small_error(half.nodes());
         }
         error
+    }
+}
+
+/// The nodes of a half small enough to be finished at once, held on the stack: the
+/// splitting charges such halves at every line it weighs, and a heap copy of each
+/// cost as much as judging it.
+struct SmallHalf {
+    points: [DVec2; SMALL],
+    count: usize,
+}
+
+impl SmallHalf {
+    /// The first [`SMALL`] of `points` (a small half has no more).
+    fn of(points: impl Iterator<Item = DVec2>) -> SmallHalf {
+        let mut half = SmallHalf {
+            points: [DVec2::ZERO; SMALL],
+            count: 0,
+        };
+        for (slot, p) in half.points.iter_mut().zip(points) {
+            *slot = p;
+            half.count += 1;
+        }
+        half
+    }
+
+    /// The half's nodes, in loop order.
+    fn nodes(&self) -> &[DVec2] {
+        &self.points[..self.count]
     }
 }
 
@@ -273,11 +303,13 @@ fn small_error(half: &[DVec2]) -> f64 {
 ///    searched as above, giving a visible line and its charged score `s` (an upper
 ///    bound on the best's, since the best is the least charged score of any visible
 ///    line);
-/// 2. every line whose area and length errors add to at most `s` is scored and
-///    searched again. A line whose two errors add to more than `s` scores more than
-///    `s`, so it can be neither the best nor tie with it, and is never reached by the
-///    full search before it stops: the result is the same line, to the last bit, as
-///    searching all lines. Without a line from the first pass, all lines are searched.
+/// 2. every line whose area and length errors add to at most `s` is searched again,
+///    queued by that sum and scored only if it comes to the front of the queue (most
+///    never do: the search stops first). A line whose two errors add to more than `s`
+///    scores more than `s`, so it can be neither the best nor tie with it, and is
+///    never reached by the full search before it stops: the result is the same line,
+///    to the last bit, as searching all lines. Without a line from the first pass, all
+///    lines are searched.
 fn best_visible(
     points: &[DVec2],
     l: &[u32],
@@ -300,9 +332,15 @@ fn best_visible(
         }
         evenest.extend(most_even.and_then(|(_, b)| scored(a, b)));
     }
-    let first = search(points, l, view, evenest.into_iter());
+    let first = search(
+        points,
+        l,
+        view,
+        evenest.into_iter().map(Candidate::Scored),
+        &scored,
+    );
     let most = first.map_or(f64::INFINITY, |line| line.score);
-    let mut lines: Vec<Line> = Vec::new();
+    let mut candidates: Vec<Candidate> = Vec::new();
     for a in 0..n {
         for b in a + 2..n {
             // The area error alone first: cheap, and most lines fail it.
@@ -310,20 +348,36 @@ fn best_visible(
             if area > most || !pairs(a, b) {
                 continue;
             }
-            if area + view.length_error(a, b, scale) <= most {
-                lines.extend(scored(a, b));
+            let bound = area + view.length_error(a, b, scale);
+            if bound <= most {
+                candidates.push(Candidate::Unscored { bound, a, b });
             }
         }
     }
-    search(points, l, view, lines.into_iter())
+    search(points, l, view, candidates.into_iter(), &scored)
 }
 
-/// The best of `lines` that sees from end to end (see [`best_visible`]).
+/// A line waiting in [`search`]: scored, or known only by a lower bound of its score
+/// (its area and length errors), scored when it comes to the front. Most lines never
+/// do: the best is found, and the search stopped, long before.
+#[derive(Debug, Clone, Copy)]
+enum Candidate {
+    /// A line with its score (the four errors).
+    Scored(Line),
+    /// The line from `a` to `b`, whose score is at least `bound`.
+    Unscored { bound: f64, a: usize, b: usize },
+}
+
+/// The best of `candidates` that sees from end to end (see [`best_visible`]); an
+/// unscored candidate is scored by `scored` when it comes to the front, and put back
+/// in its place. Since a bound is never above its line's score, the lines are judged
+/// in the same order as if all had been scored first.
 fn search(
     points: &[DVec2],
     l: &[u32],
     view: &LoopView,
-    lines: impl Iterator<Item = Line>,
+    candidates: impl Iterator<Item = Candidate>,
+    scored: impl Fn(usize, usize) -> Option<Line>,
 ) -> Option<Line> {
     // A line must see from end to end and pass its loop's other nodes no nearer than a
     // share of the spacing there (a line grazing a node leaves a sliver).
@@ -332,12 +386,19 @@ fn search(
         !blocked(points, l[line.a], l[line.b], &[l])
             && clear_of_nodes(&view.p, line.a, line.b, clearance)
     };
-    let mut heap: std::collections::BinaryHeap<Ranked> = lines.map(Ranked).collect();
+    let mut heap: std::collections::BinaryHeap<Ranked> = candidates.map(Ranked).collect();
     let mut best: Option<Line> = None;
-    while let Some(Ranked(line)) = heap.pop() {
-        if best.is_some_and(|b| line.score >= b.score) {
+    while let Some(Ranked(candidate)) = heap.pop() {
+        if best.is_some_and(|b| candidate.key().0 >= b.score) {
             break;
         }
+        let line = match candidate {
+            Candidate::Scored(line) => line,
+            Candidate::Unscored { a, b, .. } => {
+                heap.extend(scored(a, b).map(|line| Ranked(Candidate::Scored(line))));
+                continue;
+            }
+        };
         let full = Line {
             score: line.score + view.small_halves_error(&line),
             ..line
@@ -352,13 +413,23 @@ fn search(
     best
 }
 
-/// A line ordered for [`std::collections::BinaryHeap`] so the best (lowest score, then
-/// lowest loop positions) pops first.
-struct Ranked(Line);
+impl Candidate {
+    /// The score (or its bound) and the loop positions, by which candidates are taken.
+    fn key(&self) -> (f64, usize, usize) {
+        match *self {
+            Candidate::Scored(line) => (line.score, line.a, line.b),
+            Candidate::Unscored { bound, a, b } => (bound, a, b),
+        }
+    }
+}
+
+/// A candidate ordered for [`std::collections::BinaryHeap`] so the best (lowest score
+/// or bound, then lowest loop positions) pops first.
+struct Ranked(Candidate);
 
 impl Ranked {
     fn key(&self) -> (f64, usize, usize) {
-        (self.0.score, self.0.a, self.0.b)
+        self.0.key()
     }
 }
 
@@ -433,6 +504,11 @@ struct SmallWays {
     quads: Vec<[usize; 4]>,
     /// Each way's quads as indices into `quads`.
     uses: Vec<Vec<usize>>,
+    /// The distinct quads as the ways write them, from the corner they start at (the
+    /// mean corner sine sums the corners in that order).
+    written: Vec<[usize; 4]>,
+    /// Each way's quads as indices into `written`.
+    written_uses: Vec<Vec<usize>>,
 }
 
 /// The ways of meshing a small loop of `n` nodes, made once per `n`.
@@ -443,6 +519,8 @@ fn small_ways(n: usize) -> &'static SmallWays {
         ways: Vec::new(),
         quads: Vec::new(),
         uses: Vec::new(),
+        written: Vec::new(),
+        written_uses: Vec::new(),
     };
     let Some(slot) = WAYS.get(n) else {
         return &NONE;
@@ -458,19 +536,35 @@ fn small_ways(n: usize) -> &'static SmallWays {
                         // The quad written from its least corner.
                         let first = (0..4).min_by_key(|&i| q[i]).unwrap_or(0);
                         let key = [0, 1, 2, 3].map(|i| q[(first + i) % 4]);
-                        match quads.iter().position(|k| *k == key) {
-                            Some(at) => at,
-                            None => {
-                                quads.push(key);
-                                quads.len() - 1
-                            }
-                        }
+                        index_of(&mut quads, key)
                     })
                     .collect()
             })
             .collect();
-        SmallWays { ways, quads, uses }
+        let mut written: Vec<[usize; 4]> = Vec::new();
+        let written_uses = ways
+            .iter()
+            .map(|way| way.iter().map(|q| index_of(&mut written, *q)).collect())
+            .collect();
+        SmallWays {
+            ways,
+            quads,
+            uses,
+            written,
+            written_uses,
+        }
     })
+}
+
+/// The index of `quad` in `distinct`, added at the end if it is not there yet.
+fn index_of(distinct: &mut Vec<[usize; 4]>, quad: [usize; 4]) -> usize {
+    match distinct.iter().position(|k| *k == quad) {
+        Some(at) => at,
+        None => {
+            distinct.push(quad);
+            distinct.len() - 1
+        }
+    }
 }
 
 /// Every way of meshing a small loop of `n` nodes (4, 6 or 8) into quads: each quad by
@@ -535,35 +629,56 @@ fn best_small(p: &[DVec2]) -> Option<(f64, &'static [[usize; 4]])> {
         .iter()
         .map(|q| scaled_jacobian_2d(&q.map(at)))
         .collect();
-    let ways: Vec<(f64, &'static [[usize; 4]])> = table
-        .uses
-        .iter()
-        .zip(&table.ways)
-        .map(|(uses, quads)| {
-            let worst = uses
-                .iter()
-                .map(|&k| jacobians[k])
-                .fold(f64::INFINITY, f64::min);
-            (worst, quads.as_slice())
-        })
-        .collect();
-    let best_worst = ways.iter().map(|w| w.0).fold(f64::NEG_INFINITY, f64::max);
+    let worst_of = |way: usize| {
+        table.uses[way]
+            .iter()
+            .map(|&k| jacobians[k])
+            .fold(f64::INFINITY, f64::min)
+    };
+    let best_worst = (0..table.ways.len())
+        .map(worst_of)
+        .fold(f64::NEG_INFINITY, f64::max);
     // Between ways whose worst corners are alike (each with a straight corner where a
     // side has more nodes than the other), the one whose flattest element still spans
     // area: a quad on four nodes of one line is no element at all.
-    let flattest = |quads: &[[usize; 4]]| {
-        quads
-            .iter()
-            .map(|q| mean_corner_sine_2d(&q.map(at)))
-            .fold(f64::INFINITY, f64::min)
-    };
     // (A way whose worst is more than 0.02 below the best cannot win: the flattest
     // element moves the key by at most 0.01 either way.)
-    ways.into_iter()
-        .filter(|w| w.0 >= best_worst - 0.02)
-        .map(|(worst, quads)| (worst + 0.01 * flattest(quads), worst, quads))
-        .max_by(|x, y| x.0.total_cmp(&y.0))
-        .map(|(_, worst, quads)| (worst, quads))
+    let alike: Vec<usize> = (0..table.ways.len())
+        .filter(|&w| worst_of(w) >= best_worst - 0.02)
+        .collect();
+    let chosen = match alike.as_slice() {
+        [] => return None,
+        [only] => *only,
+        _ => flattest_kept(table, &alike, at, worst_of)?,
+    };
+    Some((worst_of(chosen), table.ways[chosen].as_slice()))
+}
+
+/// Among the ways `alike` (whose worst elements are within 0.02 of each other), the
+/// one whose worst element plus a hundredth of its flattest element's mean corner sine
+/// is greatest (the last of equals); each distinct quad's sine is worked out once.
+fn flattest_kept(
+    table: &SmallWays,
+    alike: &[usize],
+    at: impl Fn(usize) -> DVec2,
+    worst_of: impl Fn(usize) -> f64,
+) -> Option<usize> {
+    let mut sines: Vec<Option<f64>> = vec![None; table.written.len()];
+    let mut best: Option<(f64, usize)> = None;
+    for &way in alike {
+        let mut flattest = f64::INFINITY;
+        for &k in &table.written_uses[way] {
+            let sine =
+                *sines[k].get_or_insert_with(|| mean_corner_sine_2d(&table.written[k].map(&at)));
+            flattest = flattest.min(sine);
+        }
+        let key = worst_of(way) + 0.01 * flattest;
+        // As `max_by` keeps it: the last of equal keys.
+        if best.is_none_or(|b| key.total_cmp(&b.0) != std::cmp::Ordering::Less) {
+            best = Some((key, way));
+        }
+    }
+    best.map(|b| b.1)
 }
 
 /// A small loop finished the best way ([`best_small`]): its quads, and the centre

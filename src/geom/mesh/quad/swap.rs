@@ -9,8 +9,6 @@
 //! 180 deg wherever its fourth node goes. Swapping the edge it shares with a neighbour
 //! gives that boundary node a second element, and both a fair corner.
 
-use std::collections::HashMap;
-
 use glam::DVec2;
 
 use super::quality::scaled_jacobian_2d;
@@ -53,13 +51,12 @@ pub fn filled(h: [u32; 6], k: usize) -> [[u32; 4]; 2] {
 /// Centroid passes over a hexagon's inner nodes when a swap is tried.
 const RELAX: usize = 4;
 
-/// The mesh's quads as the swaps see them: each directed edge's quad, each node's
-/// quads and whether a triangle holds it.
+/// The mesh's quads as the swaps see them: each node's quads (which also give each
+/// directed edge's quad) and whether a triangle holds it.
 struct Swapper<'a> {
     points: &'a mut [DVec2],
     /// The first `fixed` nodes are the boundary's.
     fixed: usize,
-    owners: HashMap<(u32, u32), usize>,
     star: Vec<Vec<usize>>,
     in_triangle: Vec<bool>,
 }
@@ -71,11 +68,9 @@ impl<'a> Swapper<'a> {
         quads: &[[u32; 4]],
         triangles: &[[u32; 3]],
     ) -> Swapper<'a> {
-        let mut owners = HashMap::with_capacity(4 * quads.len());
         let mut star = vec![Vec::new(); points.len()];
         for (k, q) in quads.iter().enumerate() {
             for i in 0..4 {
-                owners.insert((q[i], q[(i + 1) % 4]), k);
                 star[q[i] as usize].push(k);
             }
         }
@@ -86,7 +81,6 @@ impl<'a> Swapper<'a> {
         Swapper {
             points,
             fixed,
-            owners,
             star,
             in_triangle,
         }
@@ -107,9 +101,18 @@ impl<'a> Swapper<'a> {
         v as usize >= self.fixed && !self.in_triangle[v as usize]
     }
 
+    /// The quad running along the edge from node `a` to node `b`, found among `a`'s
+    /// quads (a handful) rather than in a map of every edge.
+    fn owner(&self, quads: &[[u32; 4]], a: u32, b: u32) -> Option<usize> {
+        self.star[a as usize].iter().rev().copied().find(|&k| {
+            let q = quads[k];
+            (0..4).any(|i| q[i] == a && q[(i + 1) % 4] == b)
+        })
+    }
+
     /// Whether the nodes `a` and `b` are already joined by an edge.
-    fn joined(&self, a: u32, b: u32) -> bool {
-        self.owners.contains_key(&(a, b)) || self.owners.contains_key(&(b, a))
+    fn joined(&self, quads: &[[u32; 4]], a: u32, b: u32) -> bool {
+        self.owner(quads, a, b).is_some() || self.owner(quads, b, a).is_some()
     }
 
     /// The hexagon of quad `k` and its neighbour across the edge from its corner `i`,
@@ -117,7 +120,7 @@ impl<'a> Swapper<'a> {
     fn across(&self, quads: &[[u32; 4]], k: usize, i: usize) -> Option<(usize, [u32; 6])> {
         let q = quads[k];
         let (u, v) = (q[i], q[(i + 1) % 4]);
-        let &other = self.owners.get(&(v, u))?;
+        let other = self.owner(quads, v, u)?;
         Some((other, hexagon(q, quads[other], u, v)?))
     }
 
@@ -156,19 +159,15 @@ impl<'a> Swapper<'a> {
     /// Quads `k` and `other` replaced by `pair`.
     fn apply(&mut self, quads: &mut [[u32; 4]], k: usize, other: usize, pair: [[u32; 4]; 2]) {
         for slot in [k, other] {
-            let q = quads[slot];
-            for i in 0..4 {
-                self.owners.remove(&(q[i], q[(i + 1) % 4]));
-                self.star[q[i] as usize].retain(|&s| s != slot);
+            for v in quads[slot] {
+                self.star[v as usize].retain(|&s| s != slot);
             }
         }
         quads[k] = pair[0];
         quads[other] = pair[1];
         for slot in [k, other] {
-            let q = quads[slot];
-            for i in 0..4 {
-                self.owners.insert((q[i], q[(i + 1) % 4]), slot);
-                self.star[q[i] as usize].push(slot);
+            for v in quads[slot] {
+                self.star[v as usize].push(slot);
             }
         }
     }
@@ -200,7 +199,7 @@ impl<'a> Swapper<'a> {
             let kept: Vec<DVec2> = h.iter().map(|&v| self.points[v as usize]).collect();
             let old = [quads[k], quads[other]];
             for way in [1, 2] {
-                if self.joined(h[way], h[way + 3]) {
+                if self.joined(quads, h[way], h[way + 3]) {
                     continue;
                 }
                 self.apply(quads, k, other, filled(h, way));
