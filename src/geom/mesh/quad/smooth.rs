@@ -157,6 +157,7 @@ pub fn smooth(
                     (s + points[w as usize].distance(points[v]), c + 1)
                 });
             let mut step = sum / count.max(1) as f64 / 3.0;
+            let start = points[v];
             let mut halvings = 0;
             while halvings < HALVINGS {
                 let here = points[v];
@@ -177,8 +178,10 @@ pub fn smooth(
                     halvings += 1;
                 }
             }
-            for &k in around {
-                measures[k] = judged_one(points, k);
+            if points[v] != start {
+                for &k in around {
+                    measures[k] = judged_one(points, k);
+                }
             }
         }
         if !moved {

@@ -303,13 +303,11 @@ fn small_error(half: &[DVec2]) -> f64 {
 ///    searched as above, giving a visible line and its charged score `s` (an upper
 ///    bound on the best's, since the best is the least charged score of any visible
 ///    line);
-/// 2. every line whose area and length errors add to at most `s` is searched again,
-///    queued by that sum and scored only if it comes to the front of the queue (most
-///    never do: the search stops first). A line whose two errors add to more than `s`
-///    scores more than `s`, so it can be neither the best nor tie with it, and is
-///    never reached by the full search before it stops: the result is the same line,
-///    to the last bit, as searching all lines. Without a line from the first pass, all
-///    lines are searched.
+/// 2. every line whose area and length errors add to at most `s` is scored and
+///    searched again. A line whose two errors add to more than `s` scores more than
+///    `s`, so it can be neither the best nor tie with it, and is never reached by the
+///    full search before it stops: the result is the same line, to the last bit, as
+///    searching all lines. Without a line from the first pass, all lines are searched.
 fn best_visible(
     points: &[DVec2],
     l: &[u32],
@@ -332,15 +330,9 @@ fn best_visible(
         }
         evenest.extend(most_even.and_then(|(_, b)| scored(a, b)));
     }
-    let first = search(
-        points,
-        l,
-        view,
-        evenest.into_iter().map(Candidate::Scored),
-        &scored,
-    );
+    let first = search(points, l, view, evenest.into_iter());
     let most = first.map_or(f64::INFINITY, |line| line.score);
-    let mut candidates: Vec<Candidate> = Vec::new();
+    let mut lines: Vec<Line> = Vec::new();
     for a in 0..n {
         for b in a + 2..n {
             // The area error alone first: cheap, and most lines fail it.
@@ -348,36 +340,20 @@ fn best_visible(
             if area > most || !pairs(a, b) {
                 continue;
             }
-            let bound = area + view.length_error(a, b, scale);
-            if bound <= most {
-                candidates.push(Candidate::Unscored { bound, a, b });
+            if area + view.length_error(a, b, scale) <= most {
+                lines.extend(scored(a, b));
             }
         }
     }
-    search(points, l, view, candidates.into_iter(), &scored)
+    search(points, l, view, lines.into_iter())
 }
 
-/// A line waiting in [`search`]: scored, or known only by a lower bound of its score
-/// (its area and length errors), scored when it comes to the front. Most lines never
-/// do: the best is found, and the search stopped, long before.
-#[derive(Debug, Clone, Copy)]
-enum Candidate {
-    /// A line with its score (the four errors).
-    Scored(Line),
-    /// The line from `a` to `b`, whose score is at least `bound`.
-    Unscored { bound: f64, a: usize, b: usize },
-}
-
-/// The best of `candidates` that sees from end to end (see [`best_visible`]); an
-/// unscored candidate is scored by `scored` when it comes to the front, and put back
-/// in its place. Since a bound is never above its line's score, the lines are judged
-/// in the same order as if all had been scored first.
+/// The best of `lines` that sees from end to end (see [`best_visible`]).
 fn search(
     points: &[DVec2],
     l: &[u32],
     view: &LoopView,
-    candidates: impl Iterator<Item = Candidate>,
-    scored: impl Fn(usize, usize) -> Option<Line>,
+    lines: impl Iterator<Item = Line>,
 ) -> Option<Line> {
     // A line must see from end to end and pass its loop's other nodes no nearer than a
     // share of the spacing there (a line grazing a node leaves a sliver).
@@ -386,19 +362,12 @@ fn search(
         !blocked(points, l[line.a], l[line.b], &[l])
             && clear_of_nodes(&view.p, line.a, line.b, clearance)
     };
-    let mut heap: std::collections::BinaryHeap<Ranked> = candidates.map(Ranked).collect();
+    let mut heap: std::collections::BinaryHeap<Ranked> = lines.map(Ranked).collect();
     let mut best: Option<Line> = None;
-    while let Some(Ranked(candidate)) = heap.pop() {
-        if best.is_some_and(|b| candidate.key().0 >= b.score) {
+    while let Some(Ranked(line)) = heap.pop() {
+        if best.is_some_and(|b| line.score >= b.score) {
             break;
         }
-        let line = match candidate {
-            Candidate::Scored(line) => line,
-            Candidate::Unscored { a, b, .. } => {
-                heap.extend(scored(a, b).map(|line| Ranked(Candidate::Scored(line))));
-                continue;
-            }
-        };
         let full = Line {
             score: line.score + view.small_halves_error(&line),
             ..line
@@ -413,23 +382,13 @@ fn search(
     best
 }
 
-impl Candidate {
-    /// The score (or its bound) and the loop positions, by which candidates are taken.
-    fn key(&self) -> (f64, usize, usize) {
-        match *self {
-            Candidate::Scored(line) => (line.score, line.a, line.b),
-            Candidate::Unscored { bound, a, b } => (bound, a, b),
-        }
-    }
-}
-
-/// A candidate ordered for [`std::collections::BinaryHeap`] so the best (lowest score
-/// or bound, then lowest loop positions) pops first.
-struct Ranked(Candidate);
+/// A line ordered for [`std::collections::BinaryHeap`] so the best (lowest score, then
+/// lowest loop positions) pops first.
+struct Ranked(Line);
 
 impl Ranked {
     fn key(&self) -> (f64, usize, usize) {
-        self.0.key()
+        (self.0.score, self.0.a, self.0.b)
     }
 }
 
@@ -629,29 +588,31 @@ fn best_small(p: &[DVec2]) -> Option<(f64, &'static [[usize; 4]])> {
         .iter()
         .map(|q| scaled_jacobian_2d(&q.map(at)))
         .collect();
-    let worst_of = |way: usize| {
-        table.uses[way]
-            .iter()
-            .map(|&k| jacobians[k])
-            .fold(f64::INFINITY, f64::min)
-    };
-    let best_worst = (0..table.ways.len())
-        .map(worst_of)
-        .fold(f64::NEG_INFINITY, f64::max);
+    // Each way's worst element.
+    let worsts: Vec<f64> = table
+        .uses
+        .iter()
+        .map(|uses| {
+            uses.iter()
+                .map(|&k| jacobians[k])
+                .fold(f64::INFINITY, f64::min)
+        })
+        .collect();
+    let best_worst = worsts.iter().copied().fold(f64::NEG_INFINITY, f64::max);
     // Between ways whose worst corners are alike (each with a straight corner where a
     // side has more nodes than the other), the one whose flattest element still spans
     // area: a quad on four nodes of one line is no element at all.
     // (A way whose worst is more than 0.02 below the best cannot win: the flattest
     // element moves the key by at most 0.01 either way.)
     let alike: Vec<usize> = (0..table.ways.len())
-        .filter(|&w| worst_of(w) >= best_worst - 0.02)
+        .filter(|&w| worsts[w] >= best_worst - 0.02)
         .collect();
     let chosen = match alike.as_slice() {
         [] => return None,
         [only] => *only,
-        _ => flattest_kept(table, &alike, at, worst_of)?,
+        _ => flattest_kept(table, &alike, at, &worsts)?,
     };
-    Some((worst_of(chosen), table.ways[chosen].as_slice()))
+    Some((worsts[chosen], table.ways[chosen].as_slice()))
 }
 
 /// Among the ways `alike` (whose worst elements are within 0.02 of each other), the
@@ -661,7 +622,7 @@ fn flattest_kept(
     table: &SmallWays,
     alike: &[usize],
     at: impl Fn(usize) -> DVec2,
-    worst_of: impl Fn(usize) -> f64,
+    worsts: &[f64],
 ) -> Option<usize> {
     let mut sines: Vec<Option<f64>> = vec![None; table.written.len()];
     let mut best: Option<(f64, usize)> = None;
@@ -672,7 +633,7 @@ fn flattest_kept(
                 *sines[k].get_or_insert_with(|| mean_corner_sine_2d(&table.written[k].map(&at)));
             flattest = flattest.min(sine);
         }
-        let key = worst_of(way) + 0.01 * flattest;
+        let key = worsts[way] + 0.01 * flattest;
         // As `max_by` keeps it: the last of equal keys.
         if best.is_none_or(|b| key.total_cmp(&b.0) != std::cmp::Ordering::Less) {
             best = Some((key, way));
