@@ -8,9 +8,10 @@ mod panel;
 
 use glam::{DVec2, DVec3};
 
+use dieface::geom::inversion::SurfaceEval;
 use dieface::geom::mesh::holes::base::base_surface;
 use dieface::geom::mesh::holes::cracks::stitch_cracks;
-use dieface::geom::mesh::holes::ferguson::{ferguson_surface, spline_tangents};
+use dieface::geom::mesh::holes::ferguson::{spline_tangents, FergusonPatches};
 use dieface::geom::mesh::holes::loops::{free_edges, scan};
 use dieface::geom::mesh::holes::patch::mesh_region;
 use dieface::geom::mesh::holes::plane::loop_plane;
@@ -28,7 +29,6 @@ use panel::{Hole, DEPTH, WIDTH};
 #[test]
 fn the_ferguson_patches_are_their_b_spline_point_for_point() {
     use dieface::geom::inversion::{project_by_newton, project_to_surface_near};
-    use dieface::geom::mesh::holes::ferguson::FergusonPatches;
     let h = 3.0;
     let (nu, nv) = (7, 5);
     let f = |x: f64, y: f64| 4.0 * (0.05 * x).sin() * (0.07 * y).cos() + 0.002 * x * y;
@@ -121,7 +121,10 @@ fn the_ferguson_surface_interpolates_its_grid_with_spline_tangents() {
                 .collect()
         })
         .collect();
-    let s = ferguson_surface(&grid, h).expect("a surface");
+    let flat: Vec<DVec3> = grid.iter().flatten().copied().collect();
+    let s = FergusonPatches::new(flat, grid.len(), grid[0].len(), h)
+        .expect("patches")
+        .surface();
     let mut worst = 0.0f64;
     for (i, row) in grid.iter().enumerate() {
         let du = spline_tangents(&grid.iter().map(|r| r[0]).collect::<Vec<_>>(), h);

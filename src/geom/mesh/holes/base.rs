@@ -10,7 +10,7 @@ use glam::{DVec2, DVec3};
 use super::ferguson::FergusonPatches;
 use super::plane::ProjectionPlane;
 use super::thin_plate::{solve_plate, HeightGrid, PlateError};
-use crate::geom::inversion::{project_by_newton, SurfacePoint};
+use crate::geom::inversion::{project_by_newton, SurfaceEval, SurfacePoint};
 use crate::geom::mesh::stars::VertexStars;
 use crate::geom::mesh::{Face, VertexId};
 use crate::geom::surface::NurbsSurface;
@@ -63,19 +63,22 @@ impl BaseSurface {
 
     /// The point of the base surface at `(u, v)`.
     pub fn point_at(&self, uv: DVec2) -> DVec3 {
-        match &self.patches {
-            Some(patches) => patches.point_at(uv.x, uv.y),
-            None => self.surface.point_at(uv.x, uv.y),
-        }
+        self.evaluated().point_at(uv.x, uv.y)
     }
 
     /// The foot of `p` on the base surface by Newton-Raphson from `(u, v)` `guess`
-    /// (eq. 7-9; the kernel's iteration, on the patches where there are some), or
-    /// `None` where it does not converge.
+    /// (eq. 7-9; the kernel's iteration), or `None` where it does not converge.
     pub fn foot(&self, p: DVec3, guess: DVec2) -> Option<SurfacePoint> {
+        project_by_newton(self.evaluated(), p, (guess.x, guess.y))
+    }
+
+    /// The surface as it is evaluated: the Ferguson patches where there are some (the
+    /// same surface as `surface`, at a fraction of the cost), else `surface` itself (a
+    /// planar loop's plane).
+    fn evaluated(&self) -> &dyn SurfaceEval {
         match &self.patches {
-            Some(patches) => project_by_newton(patches, p, (guess.x, guess.y)),
-            None => project_by_newton(&self.surface, p, (guess.x, guess.y)),
+            Some(patches) => patches,
+            None => &self.surface,
         }
     }
 }

@@ -188,32 +188,6 @@ impl FergusonPatches {
         d
     }
 
-    /// The point `S(u, v)`.
-    pub fn point_at(&self, u: f64, v: f64) -> DVec3 {
-        let (i, s) = self.cell(u, self.nu);
-        let (j, t) = self.cell(v, self.nv);
-        let (fs, ft) = (hermite(s)[0], hermite(t)[0]);
-        let mut sum = DVec3::ZERO;
-        for a in 0..2 {
-            for b in 0..2 {
-                let n = (i + a) * self.nv + j + b;
-                sum += fs[a] * ft[b] * self.points[n]
-                    + self.h * (fs[a + 2] * ft[b] * self.du[n] + fs[a] * ft[b + 2] * self.dv[n]);
-            }
-        }
-        sum
-    }
-
-    /// The parameter range along u, `[0, h (nu - 1)]`.
-    pub fn domain_u(&self) -> (f64, f64) {
-        (0.0, self.h * (self.nu - 1) as f64)
-    }
-
-    /// The parameter range along v, `[0, h (nv - 1)]`.
-    pub fn domain_v(&self) -> (f64, f64) {
-        (0.0, self.h * (self.nv - 1) as f64)
-    }
-
     /// The patches as one bicubic B-spline surface with double interior knots, the
     /// same surface point for point.
     pub fn surface(&self) -> NurbsSurface {
@@ -270,16 +244,30 @@ impl FergusonPatches {
 }
 
 impl SurfaceEval for FergusonPatches {
+    /// The parameter range along u, `[0, h (nu - 1)]`.
     fn domain_u(&self) -> (f64, f64) {
-        FergusonPatches::domain_u(self)
+        (0.0, self.h * (self.nu - 1) as f64)
     }
 
+    /// The parameter range along v, `[0, h (nv - 1)]`.
     fn domain_v(&self) -> (f64, f64) {
-        FergusonPatches::domain_v(self)
+        (0.0, self.h * (self.nv - 1) as f64)
     }
 
+    /// The point `S(u, v)`: eq. 2.
     fn point_at(&self, u: f64, v: f64) -> DVec3 {
-        FergusonPatches::point_at(self, u, v)
+        let (i, s) = self.cell(u, self.nu);
+        let (j, t) = self.cell(v, self.nv);
+        let (fs, ft) = (hermite(s)[0], hermite(t)[0]);
+        let mut sum = DVec3::ZERO;
+        for a in 0..2 {
+            for b in 0..2 {
+                let n = (i + a) * self.nv + j + b;
+                sum += fs[a] * ft[b] * self.points[n]
+                    + self.h * (fs[a + 2] * ft[b] * self.du[n] + fs[a] * ft[b + 2] * self.dv[n]);
+            }
+        }
+        sum
     }
 
     fn second_derivatives(&self, u: f64, v: f64) -> [[DVec3; 3]; 3] {
@@ -289,22 +277,4 @@ impl SurfaceEval for FergusonPatches {
     fn scale(&self) -> f64 {
         self.scale
     }
-}
-
-/// The Ferguson surface through the grid `points[i][j]` (`i` along u, `j` along v, at
-/// least 2 x 2), a step `h` apart in both parameters: u runs from 0 to `h` times the
-/// cells along u, v likewise. Patch `(i, j)` interpolates its four corners and their
-/// spline tangents, with zero twist (eq. 3, the paper's choice).
-pub fn ferguson_surface(points: &[Vec<DVec3>], h: f64) -> Result<NurbsSurface> {
-    let nu = points.len();
-    let nv = points.first().map_or(0, Vec::len);
-    if let Some(row) = points.iter().find(|r| r.len() != nv) {
-        return Err(GeomError::LengthMismatch {
-            what: "Ferguson grid row",
-            expected: nv,
-            given: row.len(),
-        });
-    }
-    let flat = points.iter().flatten().copied().collect();
-    Ok(FergusonPatches::new(flat, nu, nv, h)?.surface())
 }
