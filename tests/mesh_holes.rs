@@ -9,7 +9,7 @@ mod panel;
 use glam::{DVec2, DVec3};
 
 use dieface::geom::inversion::SurfaceEval;
-use dieface::geom::mesh::holes::base::base_surface;
+use dieface::geom::mesh::holes::base::{base_surface, BaseForm, BaseSurface};
 use dieface::geom::mesh::holes::cracks::stitch_cracks;
 use dieface::geom::mesh::holes::ferguson::{spline_tangents, FergusonPatches};
 use dieface::geom::mesh::holes::loops::{free_edges, scan};
@@ -370,13 +370,12 @@ fn the_base_surface_follows_the_panel_round_a_hole() {
     let plane = loop_plane(&points, &node_normals).expect("a plane");
     let base = base_surface(&found.stars, &hole.nodes, &plane, 5.0).expect("a base surface");
     assert!(!base.planar);
-    let (u1, v1) = (base.surface.domain_u().1, base.surface.domain_v().1);
+    let surface = base.surface();
+    let (u1, v1) = (surface.domain_u().1, surface.domain_v().1);
     let mut worst = 0.0f64;
     for i in 0..=40 {
         for j in 0..=40 {
-            let p = base
-                .surface
-                .point_at(u1 * i as f64 / 40.0, v1 * j as f64 / 40.0);
+            let p = surface.point_at(u1 * i as f64 / 40.0, v1 * j as f64 / 40.0);
             if (p.truncate() - DVec2::new(500.0, 250.0)).length() < 45.0 {
                 worst = worst.max(panel::distance_to_surface(p));
             }
@@ -404,7 +403,6 @@ fn the_base_surface_follows_the_panel_round_a_hole() {
 /// the axis and the node, where bisection on the one-variable condition finds it).
 #[test]
 fn the_trim_loop_is_each_node_s_closest_point_on_the_surface() {
-    use dieface::geom::mesh::holes::base::BaseSurface;
     use dieface::geom::mesh::holes::plane::ProjectionPlane;
     use dieface::geom::NurbsSurface;
     let (r, w) = (500.0, 200.0);
@@ -429,8 +427,7 @@ fn the_trim_loop_is_each_node_s_closest_point_on_the_surface() {
         },
         corner: DVec2::ZERO,
         step: w / 2.0,
-        surface,
-        patches: None,
+        form: BaseForm::Bspline(surface),
         planar: false,
         known_nodes: 0,
         solved_nodes: 0,
@@ -463,7 +460,7 @@ fn the_trim_loop_is_each_node_s_closest_point_on_the_surface() {
         let s = 0.5 * (lo + hi);
         let dir = DVec2::new(p.x - c, p.y - c) / rho;
         let foot = DVec3::new(c + s * dir.x, c + s * dir.y, height(s));
-        let found = base.surface.point_at(uv.x, uv.y);
+        let found = base.point_at(*uv);
         worst = worst.max(found.distance(foot));
         assert!((distance - p.distance(foot)).abs() < 1e-9, "{distance}");
     }

@@ -357,7 +357,7 @@ fn output(block: &Block, f: Filled, stitched: (usize, usize)) -> Value {
         ));
         fields.push((
             format!("base_{}", k + 1),
-            Value::new(Data::Surface(Arc::new(hole.base.surface)), span),
+            Value::new(Data::Surface(Arc::new(hole.base.surface())), span),
         ));
     }
     feature_value(KIND, span, fields, quality, summary)

@@ -12,7 +12,7 @@ use super::plane::ProjectionPlane;
 use super::thin_plate::{solve_plate, HeightGrid, PlateError};
 use crate::geom::inversion::{project_by_newton, SurfaceEval, SurfacePoint};
 use crate::geom::mesh::stars::VertexStars;
-use crate::geom::mesh::{Face, VertexId};
+use crate::geom::mesh::{Face, Mesh, VertexId};
 use crate::geom::surface::NurbsSurface;
 
 /// The fewest and the most grid cells across a hole's longest spread.
@@ -42,17 +42,25 @@ pub struct BaseSurface {
     pub corner: DVec2,
     /// The grid's step (mm), the same along both axes.
     pub step: f64,
-    /// The surface: Ferguson patches over the grid, or the plane itself (a planar
-    /// loop), parametrised by plane position less `corner`.
-    pub surface: NurbsSurface,
-    /// The Ferguson patches `surface` is made of (`None` for a planar loop's plane),
-    /// evaluated directly where the fill projects onto the base surface and maps back.
-    pub patches: Option<FergusonPatches>,
+    /// The surface as the fill evaluates it, parametrised by plane position less
+    /// `corner`.
+    pub form: BaseForm,
     /// Whether the loop was planar and the plane taken directly.
     pub planar: bool,
     /// How many grid nodes lay on the mesh (known) and how many the plate found.
     pub known_nodes: usize,
     pub solved_nodes: usize,
+}
+
+/// What a base surface is made of.
+#[derive(Debug, Clone)]
+pub enum BaseForm {
+    /// A B-spline surface of the kernel, evaluated as it is: a planar loop's plane, a
+    /// bilinear surface over the grid.
+    Bspline(NurbsSurface),
+    /// Ferguson patches over the grid's nodes (eq. 2), evaluated from their Hermite
+    /// data: the fill projects onto them and maps back through them.
+    Patches(FergusonPatches),
 }
 
 impl BaseSurface {
@@ -72,13 +80,21 @@ impl BaseSurface {
         project_by_newton(self.evaluated(), p, (guess.x, guess.y))
     }
 
-    /// The surface as it is evaluated: the Ferguson patches where there are some (the
-    /// same surface as `surface`, at a fraction of the cost), else `surface` itself (a
-    /// planar loop's plane).
+    /// The base surface as a B-spline surface of the kernel (the Ferguson patches'
+    /// Bézier nets joined, or the plane): what the `fill` block exports and the rest of
+    /// the kernel reads. Made when asked for; the fill itself never needs it.
+    pub fn surface(&self) -> NurbsSurface {
+        match &self.form {
+            BaseForm::Bspline(surface) => surface.clone(),
+            BaseForm::Patches(patches) => patches.surface(),
+        }
+    }
+
+    /// The surface as it is evaluated.
     fn evaluated(&self) -> &dyn SurfaceEval {
-        match &self.patches {
-            Some(patches) => patches,
-            None => &self.surface,
+        match &self.form {
+            BaseForm::Bspline(surface) => surface,
+            BaseForm::Patches(patches) => patches,
         }
     }
 }
@@ -139,6 +155,65 @@ impl Grid {
     }
 }
 
+/// The flood's marks, over a mesh's faces and nodes: which the flood round one hole
+/// has come to. Kept from hole to hole (the holes one thread fills) and cleared
+/// entry by entry, so a hole costs what its own flood touches, not the whole mesh.
+#[derive(Debug, Clone, Default)]
+pub struct FloodScratch {
+    faces: Marks,
+    nodes: Marks,
+}
+
+/// Marks over the indices `0..len`, with the list of those set.
+#[derive(Debug, Clone, Default)]
+struct Marks {
+    seen: Vec<bool>,
+    set: Vec<u32>,
+}
+
+impl Marks {
+    fn new(len: usize) -> Marks {
+        Marks {
+            seen: vec![false; len],
+            set: Vec::new(),
+        }
+    }
+
+    /// Whether `i` is marked for the first time (marking it). `i` is below the length
+    /// the marks were made for: the flood's faces and nodes are the mesh's own.
+    fn first(&mut self, i: u32) -> bool {
+        let seen = &mut self.seen[i as usize];
+        let first = !*seen;
+        if first {
+            *seen = true;
+            self.set.push(i);
+        }
+        first
+    }
+
+    /// Every mark unset again, the ones set since the last clear only.
+    fn clear(&mut self) {
+        for i in self.set.drain(..) {
+            self.seen[i as usize] = false;
+        }
+    }
+}
+
+impl FloodScratch {
+    /// Marks for the faces and nodes of `mesh`, none set.
+    pub fn new(mesh: &Mesh) -> FloodScratch {
+        FloodScratch {
+            faces: Marks::new(mesh.face_count()),
+            nodes: Marks::new(mesh.vertex_count()),
+        }
+    }
+
+    fn clear(&mut self) {
+        self.faces.clear();
+        self.nodes.clear();
+    }
+}
+
 /// Each grid node's height where it meets a face round the hole, straight along the
 /// plane's normal (`None` where it meets none: over the hole, or off the panel).
 ///
@@ -153,6 +228,7 @@ fn heights_round(
     loop_nodes: &[VertexId],
     plane: &ProjectionPlane,
     grid: &Grid,
+    scratch: &mut FloodScratch,
 ) -> Vec<Option<f64>> {
     let mesh = stars.mesh();
     let (lo, hi) = (
@@ -184,43 +260,32 @@ fn heights_round(
         };
         (doubled_area.z > FLOOD_FACING * doubled_area.length()).then_some(corners)
     };
-    // Each face's state in a table over the mesh's faces: judged once, however many
-    // of its nodes the flood comes to it from. Each node is flooded from once.
-    const UNSEEN: u8 = 0;
-    const TAKEN: u8 = 1;
-    const LEFT: u8 = 2;
-    let mut state = vec![UNSEEN; mesh.face_count()];
-    let mut flooded = vec![false; mesh.vertex_count()];
+    // Each face judged once, however many of its nodes the flood comes to it from;
+    // each node flooded from once.
+    scratch.clear();
     let mut nodes: Vec<VertexId> = Vec::new();
     for &v in loop_nodes {
-        if let Some(seen) = flooded.get_mut(v.index()) {
-            if !*seen {
-                *seen = true;
-                nodes.push(v);
-            }
+        if v.index() < mesh.vertex_count() && scratch.nodes.first(v.0) {
+            nodes.push(v);
         }
     }
     while let Some(v) = nodes.pop() {
         for &f in stars.faces(v) {
-            if state[f.index()] != UNSEEN {
+            if !scratch.faces.first(f.0) {
                 continue;
             }
             // The stars list only the mesh's own faces.
             let face = mesh.faces()[f.index()];
             let Some(corners) = over(&face) else {
-                state[f.index()] = LEFT;
                 continue;
             };
-            state[f.index()] = TAKEN;
             // Triangles only reach here (the mesh is triangulated before filling); a
             // quad is read as its two triangles.
             for k in 1..face.vertex_count() - 1 {
                 grid.sample([corners[0], corners[k], corners[k + 1]], &mut known);
             }
             for &w in face.indices() {
-                let seen = &mut flooded[w as usize];
-                if !*seen {
-                    *seen = true;
+                if scratch.nodes.first(w) {
                     nodes.push(VertexId(w));
                 }
             }
@@ -236,6 +301,19 @@ pub fn base_surface(
     loop_nodes: &[VertexId],
     plane: &ProjectionPlane,
     size: f64,
+) -> Result<BaseSurface, BaseError> {
+    let mut scratch = FloodScratch::new(stars.mesh());
+    base_surface_with(stars, loop_nodes, plane, size, &mut scratch)
+}
+
+/// [`base_surface`] with the flood's marks handed in: the holes one thread fills share
+/// one set of marks instead of each clearing tables the size of the mesh.
+pub fn base_surface_with(
+    stars: &VertexStars,
+    loop_nodes: &[VertexId],
+    plane: &ProjectionPlane,
+    size: f64,
+    scratch: &mut FloodScratch,
 ) -> Result<BaseSurface, BaseError> {
     let mesh = stars.mesh();
     let flat: Vec<(DVec2, f64)> = loop_nodes
@@ -280,8 +358,7 @@ pub fn base_surface(
             plane: *plane,
             corner,
             step,
-            surface,
-            patches: None,
+            form: BaseForm::Bspline(surface),
             planar: true,
             known_nodes: 0,
             solved_nodes: 0,
@@ -293,7 +370,7 @@ pub fn base_surface(
         nx,
         ny,
     };
-    let known = heights_round(stars, loop_nodes, plane, &grid);
+    let known = heights_round(stars, loop_nodes, plane, &grid, scratch);
     let known_nodes = known.iter().filter(|h| h.is_some()).count();
     let grid = HeightGrid { nx, ny, known };
     let heights = solve_plate(&grid)?;
@@ -311,8 +388,7 @@ pub fn base_surface(
         plane: *plane,
         corner,
         step,
-        surface: patches.surface(),
-        patches: Some(patches),
+        form: BaseForm::Patches(patches),
         planar: false,
         known_nodes,
         solved_nodes: (nx + 1) * (ny + 1) - known_nodes,

@@ -94,6 +94,9 @@ pub struct Scan<'m> {
     pub stars: VertexStars<'m>,
     /// The free edges and their loops.
     pub free: FreeEdges,
+    /// Whether every node on a free edge was found simple (its edges manifold and
+    /// wound alike, its faces one fan): then the loops' edges need no further check.
+    pub nodes_sound: bool,
 }
 
 /// The free edges of `mesh` and their loops, each piece's outer boundary marked (the
@@ -126,6 +129,7 @@ pub fn scan(mesh: &Mesh, outer: Option<DVec3>) -> Scan<'_> {
         },
         || node_sets(mesh),
     );
+    let nodes_sound = simple.is_some();
     let mut free = match simple {
         Some((count, chains)) => {
             // Pieces by shared nodes: the same as by shared edges here, every node on a
@@ -158,7 +162,11 @@ pub fn scan(mesh: &Mesh, outer: Option<DVec3>) -> Scan<'_> {
         None => traced_on_topology(mesh),
     };
     mark_outer(mesh, &mut free.loops, outer);
-    Scan { stars, free }
+    Scan {
+        stars,
+        free,
+        nodes_sound,
+    }
 }
 
 /// The mesh's nodes in sets joined by its faces (each set named by its smallest node:
@@ -520,30 +528,41 @@ pub enum LoopProblem {
 /// Checks the mesh round `l`: at least three distinct nodes enclosing some area, and
 /// every edge at its nodes manifold and wound alike on both sides.
 pub fn check_loop(stars: &VertexStars, l: &FreeLoop) -> Result<(), LoopProblem> {
-    let mesh = stars.mesh();
-    let mut distinct: Vec<DVec3> = Vec::new();
-    for v in &l.nodes {
-        let p = mesh.positions()[v.index()];
-        if !distinct
-            .iter()
-            .any(|q| q.distance(p) <= 1e-9 * l.span.max(1.0))
-        {
+    check_shape(stars.mesh(), l)?;
+    check_nodes(stars, &l.nodes)
+}
+
+/// Checks that `l` has at least three distinct nodes (positions more than a part in
+/// 1e9 of its span apart) and encloses some area: the vector area of the loop as it
+/// runs, nodes that coincide adding nothing to it.
+pub fn check_shape(mesh: &Mesh, l: &FreeLoop) -> Result<(), LoopProblem> {
+    let at = |v: &VertexId| mesh.positions()[v.index()];
+    let apart = 1e-9 * l.span.max(1.0);
+    // A first node, a second apart from it, and a third apart from both: enough to
+    // know there are three, and found in one pass in the usual loop.
+    let mut distinct: Vec<DVec3> = Vec::with_capacity(3);
+    for p in l.nodes.iter().map(at) {
+        if distinct.iter().all(|q| q.distance(p) > apart) {
             distinct.push(p);
+            if distinct.len() == 3 {
+                break;
+            }
         }
     }
     if distinct.len() < 3 {
         return Err(LoopProblem::Degenerate("fewer than 3 distinct nodes"));
     }
-    let n = distinct.len();
+    let first = at(&l.nodes[0]);
+    let n = l.nodes.len();
     let area = (0..n)
-        .map(|k| (distinct[k] - distinct[0]).cross(distinct[(k + 1) % n] - distinct[0]))
+        .map(|k| (at(&l.nodes[k]) - first).cross(at(&l.nodes[(k + 1) % n]) - first))
         .sum::<DVec3>()
         .length()
         * 0.5;
     if area <= 1e-9 * l.length * l.length {
         return Err(LoopProblem::Degenerate("its nodes enclose no area"));
     }
-    check_nodes(stars, &l.nodes)
+    Ok(())
 }
 
 /// Checks every edge at `nodes`: manifold, and its two faces wound alike. An open chain

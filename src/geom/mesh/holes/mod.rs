@@ -39,8 +39,10 @@ use std::collections::BTreeSet;
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
-use self::base::{base_surface, BaseError, BaseSurface};
-use self::loops::{check_loop, check_nodes, scan, FreeEdges, FreeLoop, LoopProblem, Scan};
+use self::base::{base_surface_with, BaseError, BaseSurface, FloodScratch};
+use self::loops::{
+    check_loop, check_nodes, check_shape, scan, FreeEdges, FreeLoop, LoopProblem, Scan,
+};
 use self::patch::{mesh_region, RegionError};
 use self::plane::loop_plane;
 use self::trim::trim_loop;
@@ -260,20 +262,34 @@ pub fn fill_holes_in(mut mesh: Mesh, options: &FillOptions) -> Result<Filled, Ho
 /// found among; the first hole (in loop order) that cannot be filled is the error.
 /// The holes are filled side by side: each reads the mesh and writes only its patch.
 fn fills(mesh: &Mesh, options: &FillOptions) -> Result<(Vec<FilledHole>, FreeEdges), HoleError> {
-    let Scan { stars, free } = scan(mesh, options.outer);
+    let Scan {
+        stars,
+        free,
+        nodes_sound,
+    } = scan(mesh, options.outer);
     refuse_open_chains(&stars, &free, options)?;
     let ids = chosen(mesh, &free, options)?;
+    // Each thread's holes share one set of flood marks over the mesh.
     let holes = ids
         .par_iter()
-        .map(|&k| {
-            let l = &free.loops[k];
-            check_loop(&stars, l).map_err(|problem| HoleError::Loop {
-                loop_index: Some(k),
-                centre: l.centre,
-                problem,
-            })?;
-            fill_one(&stars, k, l, options.size)
-        })
+        .map_init(
+            || FloodScratch::new(mesh),
+            |scratch, &k| {
+                let l = &free.loops[k];
+                // The scan checked every free edge's nodes where it found them all simple.
+                let checked = if nodes_sound {
+                    check_shape(mesh, l)
+                } else {
+                    check_loop(&stars, l)
+                };
+                checked.map_err(|problem| HoleError::Loop {
+                    loop_index: Some(k),
+                    centre: l.centre,
+                    problem,
+                })?;
+                fill_one(&stars, k, l, options.size, scratch)
+            },
+        )
         .collect::<Result<Vec<_>, _>>()?;
     Ok((holes, free))
 }
@@ -328,6 +344,7 @@ fn fill_one(
     k: usize,
     l: &FreeLoop,
     size: Option<f64>,
+    scratch: &mut FloodScratch,
 ) -> Result<FilledHole, HoleError> {
     let mesh = stars.mesh();
     let refuse = |reason: String| HoleError::NotSingleValued {
@@ -370,10 +387,12 @@ fn fill_one(
     }
     let mean_edge = l.length / points.len() as f64;
     let size = size.unwrap_or(mean_edge).max(1e-6);
-    let base = base_surface(stars, &l.nodes, &plane, size).map_err(|problem| HoleError::Base {
-        loop_index: k,
-        centre: l.centre,
-        problem,
+    let base = base_surface_with(stars, &l.nodes, &plane, size, scratch).map_err(|problem| {
+        HoleError::Base {
+            loop_index: k,
+            centre: l.centre,
+            problem,
+        }
     })?;
     // The trim loop by normal projection (eq. 7-9). Where that loop crosses itself or a
     // fill triangle over it would fold (a loop far off its base surface: across a
