@@ -737,3 +737,37 @@ fn a_hole_round_a_hairpin_is_refused() {
         other => panic!("{:?}", other.map(|f| f.holes.len())),
     }
 }
+
+/// Two holes that cannot be filled (two hairpin panels side by side in one mesh): the
+/// error names the first of them in loop order, every time, however the threads that
+/// fill the holes side by side meet them.
+#[test]
+fn the_first_hole_in_loop_order_is_the_error() {
+    let all = FillOptions {
+        holes: HoleChoice::All,
+        outer: None,
+        size: None,
+    };
+    let one = folded_with_hole(20.0);
+    let moved: Vec<DVec3> = one
+        .positions()
+        .iter()
+        .map(|p| *p + DVec3::new(0.0, 500.0, 0.0))
+        .collect();
+    let mut two = one.clone();
+    two.append(&Mesh::new(moved, one.faces().to_vec()).expect("moved"))
+        .expect("appended");
+    let free = free_edges(&two, None);
+    let holes: Vec<usize> = (0..free.loops.len())
+        .filter(|&k| !free.loops[k].outer)
+        .collect();
+    assert_eq!(holes.len(), 2, "two holes, one in each panel");
+    for _ in 0..20 {
+        match fill_holes(&two, &all) {
+            Err(HoleError::NotSingleValued { loop_index, .. }) => {
+                assert_eq!(loop_index, holes[0])
+            }
+            other => panic!("{:?}", other.map(|f| f.holes.len())),
+        }
+    }
+}

@@ -269,8 +269,10 @@ fn fills(mesh: &Mesh, options: &FillOptions) -> Result<(Vec<FilledHole>, FreeEdg
     } = scan(mesh, options.outer);
     refuse_open_chains(&stars, &free, options)?;
     let ids = chosen(mesh, &free, options)?;
-    // Each thread's holes share one set of flood marks over the mesh.
-    let holes = ids
+    // Each thread's holes share one set of flood marks over the mesh. Every hole's
+    // result is kept, so that the error is the first hole in loop order that could
+    // not be filled, whichever thread met one first.
+    let filled: Vec<Result<FilledHole, HoleError>> = ids
         .par_iter()
         .map_init(
             || FloodScratch::new(mesh),
@@ -282,15 +284,17 @@ fn fills(mesh: &Mesh, options: &FillOptions) -> Result<(Vec<FilledHole>, FreeEdg
                 } else {
                     check_loop(&stars, l)
                 };
-                checked.map_err(|problem| HoleError::Loop {
-                    loop_index: Some(k),
-                    centre: l.centre,
-                    problem,
-                })?;
-                fill_one(&stars, k, l, options.size, scratch)
+                checked
+                    .map_err(|problem| HoleError::Loop {
+                        loop_index: Some(k),
+                        centre: l.centre,
+                        problem,
+                    })
+                    .and_then(|()| fill_one(&stars, k, l, options.size, scratch))
             },
         )
-        .collect::<Result<Vec<_>, _>>()?;
+        .collect();
+    let holes = filled.into_iter().collect::<Result<Vec<_>, _>>()?;
     Ok((holes, free))
 }
 
