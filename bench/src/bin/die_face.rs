@@ -226,7 +226,28 @@ fn chord_sag(shell: &Shell, meshed: &ShellMesh) -> Vec<(f64, f64)> {
                     uv.iter().map(|p| p.0).sum::<f64>() / n as f64,
                     uv.iter().map(|p| p.1).sum::<f64>() / n as f64,
                 );
-                centre = centre.max(off(c, guess));
+                let at_centre = off(c, guess);
+                if std::env::var_os("SAG").is_some() && at_centre > 0.3 {
+                    let sides: Vec<String> = (0..n)
+                        .map(|i| {
+                            format!(
+                                "{:.1}",
+                                meshed.positions[ids[i] as usize]
+                                    .distance(meshed.positions[ids[(i + 1) % n] as usize])
+                            )
+                        })
+                        .collect();
+                    eprintln!(
+                        "{}: centre {at_centre:.3} mm at ({:.1}, {:.1}, {:.1}), sides {}, uv {:?}",
+                        face.face.name,
+                        c.x,
+                        c.y,
+                        c.z,
+                        sides.join(" "),
+                        uv
+                    );
+                }
+                centre = centre.max(at_centre);
             }
             (edge, centre)
         })
