@@ -289,6 +289,7 @@ impl Band {
         };
         let columns = self.columns();
         let (nc, nr) = (columns.len(), self.rows.len());
+
         let first = side_ids(&self.sides[0]);
         let second = side_ids(&self.sides[1]);
         let left = side_ids(&self.sides[2]);
@@ -440,7 +441,10 @@ fn candidate(shell: &Shell, f: usize, size: f64, tolerance: f64) -> Option<Band>
                 })
                 .collect();
             for w in points.windows(3) {
-                least = least.min(chord_for_sag(circumradius(w[0], w[1], w[2]), tolerance));
+                least = least.min(chord_for_sag(
+                    circumradius(w[0], w[1], w[2]),
+                    ROW_SHARE * tolerance,
+                ));
             }
         }
         least
@@ -451,7 +455,7 @@ fn candidate(shell: &Shell, f: usize, size: f64, tolerance: f64) -> Option<Band>
     } else {
         Direction::V
     };
-    if in_u.min(in_v) >= 0.8 * size {
+    if in_u.min(in_v) >= size {
         return None;
     }
     let (a, b) = match across {

@@ -18,6 +18,11 @@
 //!    given ([`super::QuadOptions::keep_boundary`]) and the elements turned the way
 //!    the shell is oriented;
 //! 5. the faces' elements are joined on the shared node numbers.
+//!
+//! A face whose sections curve tighter than its element size allows (a step draw's
+//! patch across its die radius) is a band ([`super::band`]): it places the nodes on its
+//! own edges (rows spaced by the sections' curvature, columns by the size), is left out
+//! of step 3's tree, and is meshed as mapped quads in step 4.
 
 use glam::DVec3;
 use rayon::prelude::*;
