@@ -136,7 +136,9 @@ impl Band {
         (0..2)
             .map(|k| {
                 let (_, widths) = self.intervals(k);
-                widths.iter().map(|&w| (w.round() as usize).max(1)).sum()
+                widths
+                    .iter()
+                    .fold(0usize, |n, &w| n.saturating_add((w.round() as usize).max(1)))
             })
             .max()
             .unwrap_or(1)
@@ -548,8 +550,9 @@ fn candidate(shell: &Shell, f: usize, size: f64, tolerance: f64) -> Option<Band>
 /// The faces of `shell` to mesh as bands, with their rows and columns: face `f` at
 /// element size `sizes[f]`, chords sagging at most `tolerance`. Bands whose section
 /// sides meet share one set of rows; a face whose long side meets another band is
-/// meshed unstructured.
-pub fn find_bands(shell: &Shell, sizes: &[f64], tolerance: f64) -> Vec<Band> {
+/// meshed unstructured, and so is a band that would have more than `max_elements`
+/// quads (left to the unstructured mesher's own limit).
+pub fn find_bands(shell: &Shell, sizes: &[f64], tolerance: f64, max_elements: usize) -> Vec<Band> {
     let size_of = |f: usize| sizes.get(f).copied().unwrap_or(f64::INFINITY);
     let mut bands: Vec<Band> = (0..shell.faces.len())
         .filter_map(|f| candidate(shell, f, size_of(f), tolerance))
@@ -594,10 +597,12 @@ pub fn find_bands(shell: &Shell, sizes: &[f64], tolerance: f64) -> Vec<Band> {
                 }
             }
             let roots: Vec<usize> = (0..bands.len()).map(|i| root(&mut group, i)).collect();
-            set_rows(shell, &mut bands, &roots, &size_of, tolerance);
+            set_rows(shell, &mut bands, &roots, &size_of, tolerance, max_elements);
+            bands.retain(|band| !band.rows.is_empty());
             for band in &mut bands {
                 set_columns(shell, band, size_of(band.face), tolerance);
             }
+            bands.retain(|band| (band.rows.len() - 1).saturating_mul(band.count) <= max_elements);
             return bands;
         }
         let mut k = 0;
@@ -616,6 +621,7 @@ fn set_rows(
     roots: &[usize],
     size_of: &dyn Fn(usize) -> f64,
     tolerance: f64,
+    max_elements: usize,
 ) {
     for r in 0..bands.len() {
         if roots[r] != r {
@@ -641,6 +647,10 @@ fn set_rows(
             }
         }
         let total: f64 = measure.iter().sum();
+        // Too many rows (a tolerance far below the radii) is no band.
+        if !(total < max_elements as f64) {
+            continue;
+        }
         let count = (total.ceil() as usize).max(1);
         let rows = divide(&measure, count);
         for &i in &members {
@@ -729,4 +739,7 @@ fn set_columns(shell: &Shell, band: &mut Band, size: f64, tolerance: f64) {
     }
     band.vertices = inside;
     band.count = band.least_count();
+    if !band.measure.last().is_some_and(|m| m.is_finite()) {
+        band.count = usize::MAX;
+    }
 }

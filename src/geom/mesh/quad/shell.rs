@@ -135,7 +135,8 @@ pub fn quad_mesh_shell(
         .collect();
     let mut segments: Vec<usize> = spacing.iter().map(|s| s.segments()).collect();
     // The faces meshed as bands of mapped quads place the nodes on their own edges.
-    let mut bands = find_bands(shell, sizes, tolerance);
+    let face_sizes: Vec<f64> = (0..shell.faces.len()).map(size_of).collect();
+    let mut bands = find_bands(shell, &face_sizes, tolerance, options.quad.max_elements);
     let mut band_of = vec![None; shell.faces.len()];
     for (i, band) in bands.iter().enumerate() {
         band_of[band.face] = Some(i);
