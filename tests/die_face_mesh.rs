@@ -299,10 +299,18 @@ fn a_finer_product_size_refines_the_product_and_its_seam_only() {
     let count = |m: &BTreeMap<String, Arc<Mesh>>, n: &str| m[n].face_count() as f64;
     let product = count(&fine, "die_mesh/product") / count(&coarse, "die_mesh/product");
     let binder = count(&fine, "die_mesh/binder") / count(&coarse, "die_mesh/binder");
-    // Half the size: about four times the elements on the product; the binder keeps
-    // its size (it only grades in from the finer outline it does not touch).
-    assert!((3.0..5.0).contains(&product), "product x{product}");
-    assert!((0.9..1.2).contains(&binder), "binder x{binder}");
+    // Half the size: more than twice the elements on the product (at 25 mm the step
+    // draw's bands already set its outline's nodes closer than 25 mm where a row curves
+    // tightly in plan, so not the four times of a free seam); the binder keeps its size
+    // (it only grades in from the finer opening line the bands' columns bring).
+    assert!(
+        (2.5..5.0).contains(&product),
+        "product x{product}, binder x{binder}"
+    );
+    assert!(
+        (0.9..1.4).contains(&binder),
+        "product x{product}, binder x{binder}"
+    );
 }
 
 #[test]
@@ -481,7 +489,8 @@ fn a_die_radius_is_meshed_in_rows_whose_chords_sag_within_the_tolerance() {
             .collect();
         for i in 0..p.len() {
             let (a, b) = (p[i], p[(i + 1) % p.len()]);
-            if (a.z - b.z).abs() < 1e-9 && a.x > 22.0 && b.y > -8.0 {
+            let in_radius = |p: DVec3| p.x > 22.0 - 1e-6 && p.y > -8.0 - 1e-6;
+            if (a.z - b.z).abs() < 1e-9 && in_radius(a) && in_radius(b) {
                 longest_across = longest_across.max(a.distance(b));
             }
         }

@@ -136,9 +136,9 @@ impl Band {
         (0..2)
             .map(|k| {
                 let (_, widths) = self.intervals(k);
-                widths
-                    .iter()
-                    .fold(0usize, |n, &w| n.saturating_add((w.round() as usize).max(1)))
+                widths.iter().fold(0usize, |n, &w| {
+                    n.saturating_add((w.round() as usize).max(1))
+                })
             })
             .max()
             .unwrap_or(1)
@@ -599,8 +599,21 @@ pub fn find_bands(shell: &Shell, sizes: &[f64], tolerance: f64, max_elements: us
             let roots: Vec<usize> = (0..bands.len()).map(|i| root(&mut group, i)).collect();
             set_rows(shell, &mut bands, &roots, &size_of, tolerance, max_elements);
             bands.retain(|band| !band.rows.is_empty());
+            // The columns at the finest size of the band and the faces beside its long
+            // sides (a finer product refines its seam, as on any other face).
+            let mut beside = vec![f64::INFINITY; shell.edges.len()];
+            for (f, face) in shell.faces.iter().enumerate() {
+                for &(e, _) in face.loop_edges() {
+                    beside[e] = beside[e].min(size_of(f));
+                }
+            }
             for band in &mut bands {
-                set_columns(shell, band, size_of(band.face), tolerance);
+                let bound = &shell.faces[band.face].bound;
+                let size = band.sides[..2]
+                    .iter()
+                    .flat_map(|side| side.entries.iter().map(|&k| beside[bound[k].0]))
+                    .fold(size_of(band.face), f64::min);
+                set_columns(shell, band, size, tolerance);
             }
             bands.retain(|band| (band.rows.len() - 1).saturating_mul(band.count) <= max_elements);
             return bands;
