@@ -661,7 +661,7 @@ fn set_rows(
         }
         let total: f64 = measure.iter().sum();
         // Too many rows (a tolerance far below the radii) is no band.
-        if !(total < max_elements as f64) {
+        if total.is_nan() || total >= max_elements as f64 {
             continue;
         }
         let count = (total.ceil() as usize).max(1);
