@@ -65,7 +65,7 @@ fn main() {
             std::process::exit(1);
         }
     };
-    let sag = chord_sag(&shell, &meshed);
+    let sag = chord_sag(&shell, &meshed, options.quad.chord_tolerance);
     println!("| face | quads | triangles | min SJ | mean SJ | sag at edge midpoints / centres |");
     println!("|---|---:|---:|---:|---:|---:|");
     for (f, face) in shell.faces.iter().enumerate() {
@@ -182,7 +182,9 @@ fn deck_build_times(examples: &Path, size: f64, beads: bool) {
 /// tool mesh: the largest distance from an element edge's midpoint, and from an
 /// element's centre, to its face's surface (each node's foot found from the whole
 /// surface, each midpoint's and centre's by Newton from its nodes' feet), per face.
-fn chord_sag(shell: &Shell, meshed: &ShellMesh) -> Vec<(f64, f64)> {
+/// With `SAG` set, each element whose centre sags more than `tolerance`, with its
+/// sides and its nodes' parameters.
+fn chord_sag(shell: &Shell, meshed: &ShellMesh, tolerance: f64) -> Vec<(f64, f64)> {
     use dieface::geom::inversion::{closest_point_on_surface, project_to_surface_near};
     use rayon::prelude::*;
     let per_face: Vec<(f64, f64)> = shell
@@ -226,7 +228,28 @@ fn chord_sag(shell: &Shell, meshed: &ShellMesh) -> Vec<(f64, f64)> {
                     uv.iter().map(|p| p.0).sum::<f64>() / n as f64,
                     uv.iter().map(|p| p.1).sum::<f64>() / n as f64,
                 );
-                centre = centre.max(off(c, guess));
+                let at_centre = off(c, guess);
+                if std::env::var_os("SAG").is_some() && at_centre > tolerance {
+                    let sides: Vec<String> = (0..n)
+                        .map(|i| {
+                            format!(
+                                "{:.1}",
+                                meshed.positions[ids[i] as usize]
+                                    .distance(meshed.positions[ids[(i + 1) % n] as usize])
+                            )
+                        })
+                        .collect();
+                    eprintln!(
+                        "{}: centre {at_centre:.3} mm at ({:.1}, {:.1}, {:.1}), sides {}, uv {:?}",
+                        face.face.name,
+                        c.x,
+                        c.y,
+                        c.z,
+                        sides.join(" "),
+                        uv
+                    );
+                }
+                centre = centre.max(at_centre);
             }
             (edge, centre)
         })

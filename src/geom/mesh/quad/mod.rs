@@ -27,6 +27,7 @@
 //! Everything is in the plane: a surface is meshed by mapping a region drawn in its
 //! projection plane or parameters here, and the mesh back.
 
+pub mod band;
 pub mod boundary;
 pub mod cut;
 pub mod quality;

@@ -18,10 +18,16 @@
 //!    given ([`super::QuadOptions::keep_boundary`]) and the elements turned the way
 //!    the shell is oriented;
 //! 5. the faces' elements are joined on the shared node numbers.
+//!
+//! A face whose sections curve tighter than its element size allows (a step draw's
+//! patch across its die radius) is a band ([`super::band`]): it places the nodes on its
+//! own edges (rows spaced by the sections' curvature, columns by the size), is left out
+//! of step 3's tree, and is meshed as mapped quads in step 4.
 
 use glam::DVec3;
 use rayon::prelude::*;
 
+use super::band::{find_bands, Band};
 use super::sizing::chord_for_sag;
 use super::surface::{quad_mesh_surface, SurfaceMeshError, SurfaceMeshOptions, SurfaceRegion};
 use super::QuadError;
@@ -128,7 +134,46 @@ pub fn quad_mesh_shell(
         .map(|(edge, &h)| EdgeSpacing::of(&edge.curve, h, tolerance))
         .collect();
     let mut segments: Vec<usize> = spacing.iter().map(|s| s.segments()).collect();
-    even_loops(shell, &mut segments);
+    // The faces meshed as bands of mapped quads place the nodes on their own edges.
+    let face_sizes: Vec<f64> = (0..shell.faces.len()).map(size_of).collect();
+    let mut bands = find_bands(shell, &face_sizes, tolerance, options.quad.max_elements);
+    let mut band_of = vec![None; shell.faces.len()];
+    for (i, band) in bands.iter().enumerate() {
+        band_of[band.face] = Some(i);
+    }
+    let frozen: Vec<bool> = band_of.iter().map(Option::is_some).collect();
+    let mut placed: Vec<Option<Vec<DVec3>>> = vec![None; shell.edges.len()];
+    let place = |band: &Band, segments: &mut [usize], placed: &mut [Option<Vec<DVec3>>]| {
+        for (e, nodes) in band.side_nodes(shell) {
+            segments[e] = nodes.len() + 1;
+            placed[e] = Some(nodes);
+        }
+    };
+    for band in &bands {
+        place(band, &mut segments, &mut placed);
+    }
+    // Every loop even: the faces round the bands by the tree, and a face the tree
+    // cannot mend (closed in by bands, as the product is by the step draw) by one more
+    // column of a band beside it, which passes the odd count across the band.
+    for _ in 0..8 {
+        even_loops_around(shell, &mut segments, &frozen);
+        let odd = (0..shell.faces.len()).find(|&f| {
+            !frozen[f]
+                && shell.faces[f]
+                    .loop_edges()
+                    .map(|&(e, _)| segments[e])
+                    .sum::<usize>()
+                    % 2
+                    == 1
+        });
+        let Some(f) = odd else { break };
+        let beside = shell.faces[f]
+            .loop_edges()
+            .find_map(|&(e, _)| bands.iter().position(|b| b.on_long_side(shell, e)));
+        let Some(i) = beside else { break };
+        bands[i].add_column();
+        place(&bands[i], &mut segments, &mut placed);
+    }
     let seam_nodes: usize = segments.iter().sum();
     let limit = options.quad.max_elements;
     if seam_nodes > limit {
@@ -140,9 +185,13 @@ pub fn quad_mesh_shell(
     // The seam nodes: the vertices, then each edge's inner nodes.
     let mut positions = shell.vertices.clone();
     let mut edge_ids: Vec<Vec<u32>> = Vec::with_capacity(shell.edges.len());
-    for ((edge, s), &n) in shell.edges.iter().zip(&spacing).zip(&segments) {
+    for (((edge, s), &n), placed) in shell.edges.iter().zip(&spacing).zip(&segments).zip(placed) {
         let mut ids = vec![edge.start as u32];
-        for p in s.nodes(&edge.curve, n) {
+        let nodes = match placed {
+            Some(nodes) => nodes,
+            None => s.nodes(&edge.curve, n),
+        };
+        for p in nodes {
             ids.push(positions.len() as u32);
             positions.push(p);
         }
@@ -209,25 +258,30 @@ pub fn quad_mesh_shell(
             face_options.quad.size = size_of(f);
             face_options.quad.keep_boundary = true;
             let points = |ids: &Vec<u32>| ids.iter().map(|&v| positions[v as usize]).collect();
+            if let Some(i) = band_of[f] {
+                let boundary: Vec<DVec3> = points(&face_loops[0]);
+                if let Some(mesh) = bands[i].mesh(shell, &segments, &boundary) {
+                    return Ok(mesh);
+                }
+            }
             let region = SurfaceRegion {
                 outer: Some(points(&face_loops[0])),
                 holes: face_loops[1..].iter().map(points).collect(),
             };
-            quad_mesh_surface(face.face.surface(), &region, &face_options).map_err(|error| {
-                ShellMeshError::Face {
+            quad_mesh_surface(face.face.surface(), &region, &face_options)
+                .map(|m| m.mesh)
+                .map_err(|error| ShellMeshError::Face {
                     face: f,
                     name: face.face.name.clone(),
                     error,
-                }
-            })
+                })
         })
         .collect();
     let mut elements = Vec::with_capacity(shell.faces.len());
     for (index, ((face, face_loops), result)) in
         shell.faces.iter().zip(&loops).zip(meshed).enumerate()
     {
-        let surface_mesh = result?;
-        let local = &surface_mesh.mesh;
+        let local = &result?;
         // Local boundary node k is the loops' k-th seam node (outer loop, then the
         // holes); the rest are new.
         let mut global: Vec<u32> = face_loops.concat();
@@ -267,6 +321,12 @@ pub fn quad_mesh_shell(
 /// free edge has a root face instead, left even by the others (the counts round a
 /// closed group add up to an even number).
 pub fn even_loops(shell: &Shell, segments: &mut [usize]) {
+    even_loops_around(shell, segments, &vec![false; shell.faces.len()]);
+}
+
+/// [`even_loops`] over the faces not `frozen`: a frozen face (a band of mapped quads)
+/// is left out of the tree and none of its edges takes a piece.
+pub fn even_loops_around(shell: &Shell, segments: &mut [usize], frozen: &[bool]) {
     let uses = shell.edge_uses();
     let mut users: Vec<Vec<usize>> = vec![Vec::new(); shell.edges.len()];
     for (f, face) in shell.faces.iter().enumerate() {
@@ -276,10 +336,15 @@ pub fn even_loops(shell: &Shell, segments: &mut [usize]) {
     }
     let n = shell.faces.len();
     let mut parent: Vec<Option<usize>> = vec![None; n];
-    let mut seen = vec![false; n];
+    let mut seen: Vec<bool> = (0..n)
+        .map(|f| frozen.get(f).copied().unwrap_or(false))
+        .collect();
     let mut order = Vec::with_capacity(n);
     let mut queue = std::collections::VecDeque::new();
     for (f, face) in shell.faces.iter().enumerate() {
+        if seen[f] {
+            continue;
+        }
         if let Some(&(e, _)) = face.loop_edges().find(|(e, _)| uses[*e] == 1) {
             seen[f] = true;
             parent[f] = Some(e);
@@ -321,10 +386,12 @@ pub fn even_loops(shell: &Shell, segments: &mut [usize]) {
     }
     // A face of two one-piece edges: two more pieces on its longer side keep every
     // count's parity.
+    let is_frozen = |f: usize| frozen.get(f).copied().unwrap_or(false);
     for f in 0..n {
-        if total(f, segments) < 4 {
+        if !is_frozen(f) && total(f, segments) < 4 {
             if let Some(&(e, _)) = shell.faces[f]
                 .loop_edges()
+                .filter(|(e, _)| !users[*e].iter().any(|&g| is_frozen(g)))
                 .max_by_key(|(e, _)| segments[*e])
             {
                 segments[e] += 2;
