@@ -20,7 +20,7 @@
 
 use glam::DVec3;
 
-use super::sizing::chord_for_sag;
+use super::sizing::{chord_for_sag, chord_measures, circumradius};
 use crate::geom::inversion::closest_point_on_curve;
 use crate::geom::mesh::{Face, Mesh};
 use crate::geom::sew::{Shape, Shell};
@@ -378,39 +378,6 @@ fn quality_against(corners: &[DVec3], normal: DVec3) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
-/// The radius of the circle through three points (infinite on a line).
-fn circumradius(a: DVec3, b: DVec3, c: DVec3) -> f64 {
-    let (ab, bc, ca) = (a.distance(b), b.distance(c), c.distance(a));
-    let twice_area = (b - a).cross(c - a).length();
-    if twice_area <= 1e-15 * ab * bc {
-        f64::INFINITY
-    } else {
-        ab * bc * ca / (2.0 * twice_area)
-    }
-}
-
-/// Along a polyline of samples, each piece's length over the longest chord the
-/// curvature there allows at `tolerance` (at most `size`).
-fn piece_measures(points: &[DVec3], size: f64, tolerance: f64) -> Vec<f64> {
-    let allowed: Vec<f64> = (0..points.len())
-        .map(|k| {
-            if k == 0 || k + 1 >= points.len() || tolerance <= 0.0 {
-                size
-            } else {
-                size.min(chord_for_sag(
-                    circumradius(points[k - 1], points[k], points[k + 1]),
-                    tolerance,
-                ))
-            }
-        })
-        .collect();
-    points
-        .windows(2)
-        .enumerate()
-        .map(|(k, w)| w[0].distance(w[1]) / allowed[k].min(allowed[k + 1]).max(1e-9))
-        .collect()
-}
-
 /// A face that may be a band: its across direction, its domains and its sides; `None`
 /// unless it is an untrimmed patch without holes whose loop turns at its four corners
 /// and whose sections (in one parameter) curve tighter than `size` allows at
@@ -650,7 +617,7 @@ fn set_rows(
                 let points: Vec<DVec3> = (0..=SAMPLES)
                     .map(|k| band.point(surface, k as f64 / SAMPLES as f64, t))
                     .collect();
-                for (m, x) in measure.iter_mut().zip(piece_measures(
+                for (m, x) in measure.iter_mut().zip(chord_measures(
                     &points,
                     size_of(band.face),
                     ROW_SHARE * tolerance,
@@ -725,7 +692,7 @@ fn set_columns(shell: &Shell, band: &mut Band, size: f64, tolerance: f64) {
         let points: Vec<DVec3> = (0..=SAMPLES)
             .map(|k| band.point(surface, s, band.along_at(k as f64)))
             .collect();
-        for (m, x) in pieces.iter_mut().zip(piece_measures(&points, size, along)) {
+        for (m, x) in pieces.iter_mut().zip(chord_measures(&points, size, along)) {
             *m = m.max(x);
         }
     }

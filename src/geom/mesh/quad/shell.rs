@@ -28,7 +28,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 use super::band::{find_bands, Band};
-use super::sizing::chord_for_sag;
+use super::sizing::chord_measures;
 use super::surface::{quad_mesh_surface, SurfaceMeshError, SurfaceMeshOptions, SurfaceRegion};
 use super::QuadError;
 use crate::geom::curve::Curve3;
@@ -421,19 +421,7 @@ impl EdgeSpacing {
             .map(|k| t0 + (t1 - t0) * k as f64 / n as f64)
             .collect();
         let points: Vec<DVec3> = params.iter().map(|&t| curve.point_at(t)).collect();
-        let allowed_at = |k: usize| -> f64 {
-            if k == 0 || k + 1 >= points.len() || tolerance <= 0.0 {
-                return size;
-            }
-            let r = circumradius(points[k - 1], points[k], points[k + 1]);
-            size.min(chord_for_sag(r, tolerance))
-        };
-        let allowed: Vec<f64> = (0..points.len()).map(allowed_at).collect();
-        let measure = points
-            .windows(2)
-            .enumerate()
-            .map(|(k, w)| w[0].distance(w[1]) / allowed[k].min(allowed[k + 1]).max(1e-9))
-            .collect();
+        let measure = chord_measures(&points, size, tolerance);
         EdgeSpacing { params, measure }
     }
 
@@ -459,16 +447,5 @@ impl EdgeSpacing {
             out.push(curve.point_at(t));
         }
         out
-    }
-}
-
-/// The radius of the circle through three points (infinite on a line).
-fn circumradius(a: DVec3, b: DVec3, c: DVec3) -> f64 {
-    let (ab, bc, ca) = (a.distance(b), b.distance(c), c.distance(a));
-    let twice_area = (b - a).cross(c - a).length();
-    if twice_area <= 1e-15 * ab * bc {
-        f64::INFINITY
-    } else {
-        ab * bc * ca / (2.0 * twice_area)
     }
 }

@@ -8,7 +8,7 @@
 //! gently (a mesher cannot go from 1 mm to 20 mm elements across one element) and nodes
 //! no sample reached take the size their surroundings allow.
 
-use glam::DVec2;
+use glam::{DVec2, DVec3};
 
 /// How fast the size may grow with distance (mm per mm): elements about a third larger
 /// per element's length.
@@ -23,6 +23,41 @@ pub fn chord_for_sag(r: f64, t: f64) -> f64 {
     } else {
         2.0 * (2.0 * r * t - t * t).sqrt()
     }
+}
+
+/// The radius of the circle through three points (infinite on a line).
+pub fn circumradius(a: DVec3, b: DVec3, c: DVec3) -> f64 {
+    let (ab, bc, ca) = (a.distance(b), b.distance(c), c.distance(a));
+    let twice_area = (b - a).cross(c - a).length();
+    if twice_area <= 1e-15 * ab * bc {
+        f64::INFINITY
+    } else {
+        ab * bc * ca / (2.0 * twice_area)
+    }
+}
+
+/// Along a polyline of samples of a curve, each piece's length over the longest chord
+/// the curvature there allows at `tolerance` (at most `size`; the curvature read from
+/// the circle through each sample and its neighbours): summed, how many elements the
+/// curve needs, and where they go when divided evenly in this measure.
+pub fn chord_measures(points: &[DVec3], size: f64, tolerance: f64) -> Vec<f64> {
+    let allowed: Vec<f64> = (0..points.len())
+        .map(|k| {
+            if k == 0 || k + 1 >= points.len() || tolerance <= 0.0 {
+                size
+            } else {
+                size.min(chord_for_sag(
+                    circumradius(points[k - 1], points[k], points[k + 1]),
+                    tolerance,
+                ))
+            }
+        })
+        .collect();
+    points
+        .windows(2)
+        .enumerate()
+        .map(|(k, w)| w[0].distance(w[1]) / allowed[k].min(allowed[k + 1]).max(1e-9))
+        .collect()
 }
 
 /// The size wanted at a point: `size`, or less where the grid asks.
