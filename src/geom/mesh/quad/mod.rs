@@ -30,6 +30,7 @@
 pub mod band;
 pub mod boundary;
 pub mod cut;
+pub mod mend;
 pub mod quality;
 pub mod shell;
 pub mod sizing;
@@ -190,7 +191,7 @@ pub enum QuadError {
 
 /// A quad's scaled Jacobian below which it counts as folded: a corner within 6 deg of
 /// straight, or past it.
-const FOLDED: f64 = 0.1;
+pub(super) const FOLDED: f64 = 0.1;
 
 /// The quads that smoothing left folded (see [`FOLDED`]), each split into two
 /// triangles along the diagonal whose worse triangle is better than the quad: the
@@ -331,6 +332,24 @@ pub fn quad_mesh_region(region: &Region, options: &QuadOptions) -> Result<PlaneM
             &mut quads,
             &triangles,
             smooth::POOR,
+        ) > 0
+    {
+        smooth::smooth(
+            &mut points,
+            boundary_nodes,
+            &quads,
+            &triangles,
+            options.smoothing,
+        );
+    }
+    if options.smoothing > 0
+        && mend::mend_folded(
+            &mut points,
+            boundary_nodes,
+            &mut quads,
+            &mut triangles,
+            options.sizes(),
+            FOLDED,
         ) > 0
     {
         smooth::smooth(

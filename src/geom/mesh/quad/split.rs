@@ -414,13 +414,12 @@ impl Ord for Ranked {
     }
 }
 
+/// The two loops a split leaves, each counter-clockwise.
+type Halves = (Vec<u32>, Vec<u32>);
+
 /// The loop `l` (node ids, counter-clockwise) split at its best line: the two halves,
 /// the line's new nodes added to `points`.
-fn split_once(
-    points: &mut Vec<DVec2>,
-    l: &[u32],
-    sizes: Sizes,
-) -> Result<(Vec<u32>, Vec<u32>), QuadError> {
+fn split_once(points: &mut Vec<DVec2>, l: &[u32], sizes: Sizes) -> Result<Halves, QuadError> {
     let n = l.len();
     let view = LoopView::new(points, l);
     let scale = view.area.abs().sqrt().max(f64::MIN_POSITIVE);
@@ -658,6 +657,33 @@ fn finish_small(points: &[DVec2], l: &[u32]) -> (Vec<[u32; 4]>, Option<DVec2>) {
     (quads.iter().map(|q| q.map(id)).collect(), centre)
 }
 
+/// A small loop whose every way of finishing leaves a quad folded (three or more of
+/// its nodes on a nearly straight line, as where a crowded seam meets larger elements)
+/// split at its best line instead, where that line carries nodes of its own and leaves
+/// both halves smaller than the loop (so the splitting ends): the new nodes give the
+/// straight run's middle nodes elements of their own. `None` where the loop is to be
+/// finished as it is; the points are left as they were then.
+fn split_folded_small(
+    points: &mut Vec<DVec2>,
+    l: &[u32],
+    sizes: Sizes,
+) -> Result<Option<Halves>, QuadError> {
+    let p: Vec<DVec2> = l.iter().map(|&v| points[v as usize]).collect();
+    if best_small(&p).is_some_and(|(worst, _)| worst >= super::FOLDED) {
+        return Ok(None);
+    }
+    let before = points.len();
+    let Ok((first, second)) = split_once(points, l, sizes) else {
+        points.truncate(before);
+        return Ok(None);
+    };
+    if points.len() == before || first.len() >= l.len() || second.len() >= l.len() {
+        points.truncate(before);
+        return Ok(None);
+    }
+    Ok(Some((first, second)))
+}
+
 /// The loop `first` (node ids into `points`, counter-clockwise, an even count) split
 /// down to quads, pushed to `quads`; an odd loop leaves a triangle in `triangles`.
 pub fn split_down(
@@ -678,6 +704,11 @@ pub fn split_down(
             continue;
         }
         if n % 2 == 0 && n <= SMALL {
+            if let Some(halves) = split_folded_small(points, &l, sizes)? {
+                stack.push(halves.1);
+                stack.push(halves.0);
+                continue;
+            }
             let (made, extra) = finish_small(points, &l);
             if let Some(c) = extra {
                 points.push(c);
@@ -697,4 +728,55 @@ pub fn split_down(
         stack.push(first);
     }
     Ok(())
+}
+
+#[cfg(test)]
+pub(super) mod tests {
+    use super::*;
+    use crate::geom::mesh::quad::quality::scaled_jacobian_2d;
+
+    /// A 4 x 2 strip's eight nodes, counter-clockwise from its bottom left: five along
+    /// its bottom (the middle one 0.03 below the line), three along its top.
+    pub(in crate::geom::mesh::quad) fn bowed_strip() -> Vec<DVec2> {
+        vec![
+            DVec2::new(0.0, 0.0),
+            DVec2::new(1.0, 0.0),
+            DVec2::new(2.0, -0.03),
+            DVec2::new(3.0, 0.0),
+            DVec2::new(4.0, 0.0),
+            DVec2::new(4.0, 2.0),
+            DVec2::new(2.0, 2.0),
+            DVec2::new(0.0, 2.0),
+        ]
+    }
+
+    /// An eight-node loop with five nodes along its bottom (bowed a little) and three
+    /// along its top: every way of finishing it at once leaves a quad on three bottom
+    /// nodes, nearly straight; split on a line with a node of its own, all its quads
+    /// have fair corners.
+    #[test]
+    fn a_small_loop_that_would_finish_folded_is_split_on_new_nodes() {
+        let mut points = bowed_strip();
+        let at_once = best_small(&points).map(|w| w.0);
+        assert!(
+            at_once.is_some_and(|w| w < crate::geom::mesh::quad::FOLDED),
+            "{at_once:?}"
+        );
+        let (mut quads, mut triangles) = (Vec::new(), Vec::new());
+        split_down(
+            &mut points,
+            (0..8).collect(),
+            Sizes::uniform(1.0),
+            &mut quads,
+            &mut triangles,
+        )
+        .expect("split");
+        assert!(triangles.is_empty());
+        assert!(points.len() > 8, "no node was added");
+        let worst = quads
+            .iter()
+            .map(|q| scaled_jacobian_2d(&q.map(|v| points[v as usize])))
+            .fold(f64::INFINITY, f64::min);
+        assert!(worst > 0.3, "{worst}");
+    }
 }
