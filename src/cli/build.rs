@@ -215,6 +215,12 @@ pub(crate) fn run(script: &ScriptArgs, out: &OutputArgs) -> ExitCode {
         Ok(e) => Pipeline::new(e),
         Err(code) => return code,
     };
+    // Only glTF and OBJ outputs need the tessellated scene.
+    pipeline.set_scene_wanted(
+        plan.outputs
+            .iter()
+            .any(|(_, output)| matches!(output, Output::Scene(_))),
+    );
     stop_on_interrupt(INTERRUPTED);
     match plan.build(&mut pipeline, script, &mut |_, _| {}) {
         Err(msg) => {

@@ -17,6 +17,7 @@
 //! would be a third use of an edge stays free too, so the shell is never non-manifold.
 
 use glam::DVec3;
+use rayon::prelude::*;
 
 use super::curve::Curve3;
 use super::error::Result;
@@ -178,7 +179,7 @@ struct Piece {
 ///
 /// Errors: the kernel's point inversion failing on a boundary curve.
 pub fn sew(faces: Vec<Face>, tol: f64) -> Result<Shell> {
-    let boundaries: Vec<Vec<Curve3>> = faces.iter().map(|f| f.boundary(tol)).collect();
+    let boundaries: Vec<Vec<Curve3>> = faces.par_iter().map(|f| f.boundary(tol)).collect();
     // 1. Vertices.
     let mut vertices: Vec<DVec3> = Vec::new();
     let vertex = |p: DVec3, vertices: &mut Vec<DVec3>| -> usize {
@@ -203,45 +204,14 @@ pub fn sew(faces: Vec<Face>, tol: f64) -> Result<Shell> {
             .collect();
         ends.push(e);
     }
-    // 2. Split every curve at the vertices on it.
-    let mut pieces: Vec<Vec<Piece>> = Vec::with_capacity(boundaries.len());
-    for (b, e) in boundaries.iter().zip(&ends) {
-        let mut face_pieces = Vec::new();
-        for (curve, &(s, t)) in b.iter().zip(e) {
-            let mut cuts: Vec<(f64, usize)> = Vec::new();
-            let (lo, hi) = bounds(curve);
-            for (i, &p) in vertices.iter().enumerate() {
-                if i == s || i == t || !inside_box(p, lo, hi, tol) {
-                    continue;
-                }
-                let cp = closest_point_on_curve(curve, p)?;
-                let clear_of_ends = cp.point.distance(curve.start_point()) > tol
-                    && cp.point.distance(curve.end_point()) > tol;
-                if cp.distance <= tol && clear_of_ends {
-                    cuts.push((cp.t, i));
-                }
-            }
-            cuts.sort_by(|a, b| a.0.total_cmp(&b.0));
-            let mut rest = curve.clone();
-            let mut from = s;
-            for (t_cut, v) in cuts {
-                let (a, b) = rest.split_at(t_cut)?;
-                face_pieces.push(Piece {
-                    curve: a,
-                    start: from,
-                    end: v,
-                });
-                rest = b;
-                from = v;
-            }
-            face_pieces.push(Piece {
-                curve: rest,
-                start: from,
-                end: t,
-            });
-        }
-        pieces.push(face_pieces);
-    }
+    // 2. Split every curve at the vertices on it: each face's on its own, side by side,
+    // kept in face order (and the first face's error in that order, as one by one).
+    let pieces: Vec<Result<Vec<Piece>>> = boundaries
+        .par_iter()
+        .zip(&ends)
+        .map(|(b, e)| split_at_vertices(b, e, &vertices, tol))
+        .collect();
+    let pieces: Vec<Vec<Piece>> = pieces.into_iter().collect::<Result<_>>()?;
     // 3. Share coinciding pieces.
     let mut edges: Vec<Edge> = Vec::new();
     let mut uses: Vec<usize> = Vec::new();
@@ -289,6 +259,51 @@ pub fn sew(faces: Vec<Face>, tol: f64) -> Result<Shell> {
         edges,
         faces: sewn,
     })
+}
+
+/// A face's boundary curves `b` (with their end vertices `e`) split at every other
+/// vertex of `vertices` lying on them within `tol`, in order along each curve.
+fn split_at_vertices(
+    b: &[Curve3],
+    e: &[(usize, usize)],
+    vertices: &[DVec3],
+    tol: f64,
+) -> Result<Vec<Piece>> {
+    let mut face_pieces = Vec::new();
+    for (curve, &(s, t)) in b.iter().zip(e) {
+        let mut cuts: Vec<(f64, usize)> = Vec::new();
+        let (lo, hi) = bounds(curve);
+        for (i, &p) in vertices.iter().enumerate() {
+            if i == s || i == t || !inside_box(p, lo, hi, tol) {
+                continue;
+            }
+            let cp = closest_point_on_curve(curve, p)?;
+            let clear_of_ends = cp.point.distance(curve.start_point()) > tol
+                && cp.point.distance(curve.end_point()) > tol;
+            if cp.distance <= tol && clear_of_ends {
+                cuts.push((cp.t, i));
+            }
+        }
+        cuts.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut rest = curve.clone();
+        let mut from = s;
+        for (t_cut, v) in cuts {
+            let (a, b) = rest.split_at(t_cut)?;
+            face_pieces.push(Piece {
+                curve: a,
+                start: from,
+                end: v,
+            });
+            rest = b;
+            from = v;
+        }
+        face_pieces.push(Piece {
+            curve: rest,
+            start: from,
+            end: t,
+        });
+    }
+    Ok(face_pieces)
 }
 
 /// Turns faces so that every shared edge is used in opposite directions: the first

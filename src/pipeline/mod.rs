@@ -100,6 +100,8 @@ pub struct Pipeline {
     encoded: GltfCache,
     /// What this pipeline last wrote to each output.
     written: std::collections::HashMap<PathBuf, Written>,
+    /// Whether a clean build is tessellated ([`Pipeline::set_scene_wanted`]).
+    scene_wanted: bool,
 }
 
 impl Pipeline {
@@ -110,7 +112,17 @@ impl Pipeline {
             cache: SceneCache::default(),
             encoded: GltfCache::default(),
             written: Default::default(),
+            scene_wanted: true,
         }
+    }
+
+    /// Whether a clean build is tessellated into a scene (from the start it is). The
+    /// glTF and OBJ outputs, pictures and the viewer draw the scene; STEP and the FE
+    /// decks read the die model alone, so `build` writing only those leaves the
+    /// scene out (a 5 mm fender deck's 131,000 quads took 70 ms to tessellate for
+    /// nothing), and with it the scene's own checks (its size limits, the glTF range).
+    pub fn set_scene_wanted(&mut self, wanted: bool) {
+        self.scene_wanted = wanted;
     }
 
     /// Evaluates `file`; when the evaluation is clean, makes the die model and
@@ -145,7 +157,7 @@ impl Pipeline {
     }
 
     /// The rest of a build after the evaluation: the tolerance, the die model and its
-    /// tessellation (a clean evaluation only).
+    /// tessellation (a clean evaluation only; the tessellation when a scene is wanted).
     fn finish(
         &mut self,
         outcome: Outcome,
@@ -172,6 +184,10 @@ impl Pipeline {
             }
         };
         let model = self.engine.die_model(&build.outcome);
+        if !self.scene_wanted {
+            build.model = Some(model);
+            return build;
+        }
         stage(Stage::Tessellating);
         let limits = *self.engine.limits();
         self.cache

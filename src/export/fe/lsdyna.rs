@@ -34,10 +34,11 @@
 use std::fmt::Write;
 
 use glam::DVec3;
+use rayon::prelude::*;
 
 use super::{
-    comment, node_id, numbered_shells, part_id, plain_line, push_real, real, FeBead, FeModel,
-    FePart, Shell, MATERIAL_ID, STEEL_DENSITY, STEEL_POISSON_RATIO, STEEL_YOUNGS_MODULUS,
+    comment, node_id, numbered_shells, part_id, plain_line, push_int, push_real, real, FeBead,
+    FeModel, FePart, Shell, MATERIAL_ID, STEEL_DENSITY, STEEL_POISSON_RATIO, STEEL_YOUNGS_MODULUS,
 };
 
 /// The part set id every bead contact takes as its master: the blank's, which is not in
@@ -55,13 +56,22 @@ const ELFORM: u64 = 2;
 /// Decimals of a coordinate: 1e-6 mm, and a value up to 1e7 mm still fits its field.
 const COORDINATE_DECIMALS: usize = 6;
 
+/// The length of a `*NODE` line (I8, three 16-character reals, `\n`) and of an
+/// `*ELEMENT_SHELL` line (six I8, `\n`).
+const NODE_LINE: usize = 57;
+const SHELL_LINE: usize = 49;
+
+/// The `*NODE` and `*ELEMENT_SHELL` lines are written in pieces of this many, side by
+/// side on rayon's pool, and joined in order: the same text on any number of cores.
+const LINES_PER_PIECE: usize = 8192;
+
 /// The die face as an LS-DYNA keyword deck (ASCII, `\n` line ends, deterministic).
 /// Call [`FeModel::check`] first: an unchecked model is written as given.
 pub fn encode_lsdyna(model: &FeModel) -> Vec<u8> {
     // About the deck's size (a node's line is 57 bytes, a shell's 49), so the text is
     // not copied as it grows.
     let shells: usize = model.parts.iter().map(|p| p.shells.len()).sum();
-    let mut out = String::with_capacity(57 * model.nodes.len() + 49 * shells + 4096);
+    let mut out = String::with_capacity(NODE_LINE * model.nodes.len() + SHELL_LINE * shells + 4096);
     header(&mut out, model);
     for (k, part) in model.parts.iter().enumerate() {
         part_card(&mut out, k, part);
@@ -183,13 +193,23 @@ fn nodes(out: &mut String, nodes: &[DVec3]) {
     comment(out, &format!("{} nodes (mm)", nodes.len()));
     out.push_str("*NODE\n");
     out.push_str("$#   nid               x               y               z\n");
-    for (i, p) in (0u32..).zip(nodes) {
-        let _ = write!(out, "{:>8}", node_id(i));
-        for c in [p.x, p.y, p.z] {
-            push_real(out, c, 16, COORDINATE_DECIMALS);
-        }
-        out.push('\n');
-    }
+    let lines = nodes
+        .par_chunks(LINES_PER_PIECE)
+        .enumerate()
+        .map(|(piece, chunk)| {
+            let mut text = String::with_capacity(NODE_LINE * chunk.len());
+            for (i, p) in (piece * LINES_PER_PIECE..).zip(chunk) {
+                // `check` keeps the node count within `MAX_ID`, and `u32` holds it.
+                push_int(&mut text, node_id(i as u32), 8);
+                for c in [p.x, p.y, p.z] {
+                    push_real(&mut text, c, 16, COORDINATE_DECIMALS);
+                }
+                text.push('\n');
+            }
+            text
+        })
+        .collect::<Vec<String>>();
+    lines.iter().for_each(|piece| out.push_str(piece));
 }
 
 /// `*ELEMENT_SHELL`: element id, part id and four nodes (I8 each); a triangle repeats
@@ -199,20 +219,25 @@ fn elements(out: &mut String, model: &FeModel) {
     comment(out, &format!("{count} shells, numbered through the parts"));
     out.push_str("*ELEMENT_SHELL\n");
     out.push_str("$#   eid     pid      n1      n2      n3      n4\n");
-    for (eid, pid, shell) in numbered_shells(model) {
-        let [a, b, c, d] = match *shell {
-            Shell::Quad(n) => n,
-            Shell::Triangle([a, b, c]) => [a, b, c, c],
-        };
-        let _ = writeln!(
-            out,
-            "{eid:>8}{pid:>8}{:>8}{:>8}{:>8}{:>8}",
-            node_id(a),
-            node_id(b),
-            node_id(c),
-            node_id(d)
-        );
-    }
+    let shells: Vec<(u64, u64, &Shell)> = numbered_shells(model).collect();
+    let lines = shells
+        .par_chunks(LINES_PER_PIECE)
+        .map(|chunk| {
+            let mut text = String::with_capacity(SHELL_LINE * chunk.len());
+            for &(eid, pid, shell) in chunk {
+                let [a, b, c, d] = match *shell {
+                    Shell::Quad(n) => n,
+                    Shell::Triangle([a, b, c]) => [a, b, c, c],
+                };
+                for id in [eid, pid, node_id(a), node_id(b), node_id(c), node_id(d)] {
+                    push_int(&mut text, id, 8);
+                }
+                text.push('\n');
+            }
+            text
+        })
+        .collect::<Vec<String>>();
+    lines.iter().for_each(|piece| out.push_str(piece));
 }
 
 /// The bead at index `b`: its node set, its force curve (or a comment that there is

@@ -19,6 +19,7 @@
 //! column ([`Band::add_column`]), which passes the odd count on across the band.
 
 use glam::DVec3;
+use rayon::prelude::*;
 
 use super::sizing::{chord_for_sag, chord_measures, circumradius};
 use crate::geom::inversion::closest_point_on_curve;
@@ -299,9 +300,10 @@ impl Band {
         if first.len() != nc || second.len() != nc || left.len() != nr || right.len() != nr {
             return None;
         }
-        let mut positions = boundary.to_vec();
         let mut grid = vec![vec![0u32; nc]; nr];
         let mut params = vec![vec![(0.0, 0.0); nc]; nr];
+        // The inner nodes' parameters, numbered after the boundary's in row order.
+        let mut inner = Vec::new();
         for (i, &s) in self.rows.iter().enumerate() {
             for (j, column) in columns.iter().enumerate() {
                 let (b0, b1) = column.b;
@@ -316,47 +318,72 @@ impl Band {
                 } else if j + 1 == nc {
                     right[i]
                 } else {
-                    positions.push(self.point(surface, s, b));
-                    (positions.len() - 1) as u32
+                    inner.push((s, b));
+                    (boundary.len() + inner.len() - 1) as u32
                 };
             }
         }
+        // The surface evaluated side by side (a band is the last face a shell's pool
+        // finishes), each point where it is numbered.
+        let mut positions = boundary.to_vec();
+        positions.par_extend(inner.par_iter().map(|&(s, b)| self.point(surface, s, b)));
         // A quad (i, j), (i, j + 1), (i + 1, j + 1), (i + 1, j) turns clockwise in
-        // (across, along): along -(S_u x S_v) when the rows lie at fixed u.
+        // (across, along): along -(S_u x S_v) when the rows lie at fixed u. The rows
+        // of quads are checked side by side and kept in order.
         let turn = matches!(self.across, Direction::U);
-        let mut faces = Vec::with_capacity((nr - 1) * (nc - 1));
-        for i in 0..nr - 1 {
-            for j in 0..nc - 1 {
-                let mut ids = [
-                    grid[i][j],
-                    grid[i][j + 1],
-                    grid[i + 1][j + 1],
-                    grid[i + 1][j],
-                ];
-                if turn {
-                    ids.reverse();
-                }
-                let corners: Vec<DVec3> = ids.iter().map(|&v| positions[v as usize]).collect();
-                let (s, b) = (
-                    0.5 * (params[i][j].0 + params[i + 1][j + 1].0),
-                    0.25 * (params[i][j].1
-                        + params[i][j + 1].1
-                        + params[i + 1][j].1
-                        + params[i + 1][j + 1].1),
-                );
-                let a = self.a.0 + s * (self.a.1 - self.a.0);
-                let (u, v) = match self.across {
-                    Direction::U => (a, b),
-                    Direction::V => (b, a),
-                };
-                let normal = surface.normal(u, v).ok()?;
-                if quality_against(&corners, normal) < LEAST_BAND_QUALITY {
-                    return None;
-                }
-                faces.push(Face::quad(ids[0], ids[1], ids[2], ids[3]));
-            }
-        }
+        let rows: Option<Vec<Vec<Face>>> = (0..nr - 1)
+            .into_par_iter()
+            .map(|i| self.quad_row(surface, i, &grid, &params, &positions, turn))
+            .collect();
+        let faces: Vec<Face> = rows?.concat();
         Mesh::new(positions, faces).ok()
+    }
+
+    /// The quads between rows `i` and `i + 1` of the band's node `grid` (with each
+    /// node's across fraction and along parameter in `params`), turned over when
+    /// `turn`; `None` where one is poorer than [`LEAST_BAND_QUALITY`] against the
+    /// surface normal at its centre.
+    fn quad_row(
+        &self,
+        surface: &NurbsSurface,
+        i: usize,
+        grid: &[Vec<u32>],
+        params: &[Vec<(f64, f64)>],
+        positions: &[DVec3],
+        turn: bool,
+    ) -> Option<Vec<Face>> {
+        let nc = grid[i].len();
+        let mut faces = Vec::with_capacity(nc - 1);
+        for j in 0..nc - 1 {
+            let mut ids = [
+                grid[i][j],
+                grid[i][j + 1],
+                grid[i + 1][j + 1],
+                grid[i + 1][j],
+            ];
+            if turn {
+                ids.reverse();
+            }
+            let corners: Vec<DVec3> = ids.iter().map(|&v| positions[v as usize]).collect();
+            let (s, b) = (
+                0.5 * (params[i][j].0 + params[i + 1][j + 1].0),
+                0.25 * (params[i][j].1
+                    + params[i][j + 1].1
+                    + params[i + 1][j].1
+                    + params[i + 1][j + 1].1),
+            );
+            let a = self.a.0 + s * (self.a.1 - self.a.0);
+            let (u, v) = match self.across {
+                Direction::U => (a, b),
+                Direction::V => (b, a),
+            };
+            let normal = surface.normal(u, v).ok()?;
+            if quality_against(&corners, normal) < LEAST_BAND_QUALITY {
+                return None;
+            }
+            faces.push(Face::quad(ids[0], ids[1], ids[2], ids[3]));
+        }
+        Some(faces)
     }
 }
 
@@ -521,7 +548,9 @@ fn candidate(shell: &Shell, f: usize, size: f64, tolerance: f64) -> Option<Band>
 /// quads (left to the unstructured mesher's own limit).
 pub fn find_bands(shell: &Shell, sizes: &[f64], tolerance: f64, max_elements: usize) -> Vec<Band> {
     let size_of = |f: usize| sizes.get(f).copied().unwrap_or(f64::INFINITY);
+    // Each face looked at on its own, side by side, kept in face order.
     let mut bands: Vec<Band> = (0..shell.faces.len())
+        .into_par_iter()
         .filter_map(|f| candidate(shell, f, size_of(f), tolerance))
         .collect();
     // Which band side each edge is on.
@@ -574,14 +603,14 @@ pub fn find_bands(shell: &Shell, sizes: &[f64], tolerance: f64, max_elements: us
                     beside[e] = beside[e].min(size_of(f));
                 }
             }
-            for band in &mut bands {
+            bands.par_iter_mut().for_each(|band| {
                 let bound = &shell.faces[band.face].bound;
                 let size = band.sides[..2]
                     .iter()
                     .flat_map(|side| side.entries.iter().map(|&k| beside[bound[k].0]))
                     .fold(size_of(band.face), f64::min);
                 set_columns(shell, band, size, tolerance);
-            }
+            });
             bands.retain(|band| (band.rows.len() - 1).saturating_mul(band.count) <= max_elements);
             return bands;
         }
