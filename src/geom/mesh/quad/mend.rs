@@ -14,9 +14,10 @@ use glam::DVec2;
 
 use super::quality::scaled_jacobian_2d;
 use super::sizing::Sizes;
+use super::smooth::smooth;
 use super::split::split_down;
 
-/// Centroid passes over a cavity's new inner nodes after it is split again.
+/// Smoothing passes over a cavity's new inner nodes after it is split again.
 const RELAX: usize = 8;
 
 /// The polygon round inner node `i` of the counter-clockwise quads `star` (those
@@ -56,7 +57,7 @@ fn worst(points: &[DVec2], quads: &[[u32; 4]]) -> f64 {
 /// Mends every quad poorer than `folded` (plane scaled Jacobian) that has an inner
 /// node held by quads alone (the first `fixed` nodes are the boundary's): the quads
 /// round that node split down again as one polygon (at `sizes`), their new inner nodes
-/// relaxed, kept where the new worst quad beats both `folded` and the old worst. The
+/// smoothed, kept where the new worst quad beats both `folded` and the old worst. The
 /// node a mended cavity no longer uses is left out, and the nodes after it are
 /// renumbered. Returns how many quads were mended.
 pub fn mend_folded(
@@ -100,7 +101,8 @@ pub fn mend_folded(
             {
                 continue;
             }
-            relax_new(&mut trial, first_new, &made);
+            // Only the new nodes move: the polygon's own are the cavity's boundary.
+            smooth(&mut trial, first_new, &made, &[], RELAX);
             let after = worst(&trial, &made);
             if after < folded || after <= before {
                 continue;
@@ -117,24 +119,6 @@ pub fn mend_folded(
         left_out(points, quads, triangles, &dropped);
     }
     mended
-}
-
-/// The nodes from `first_new` on moved to the centre of their quads, a few times.
-fn relax_new(points: &mut [DVec2], first_new: usize, quads: &[[u32; 4]]) {
-    for _ in 0..RELAX {
-        for v in first_new..points.len() {
-            let around: Vec<&[u32; 4]> = quads.iter().filter(|q| q.contains(&(v as u32))).collect();
-            if around.is_empty() {
-                continue;
-            }
-            let centre = around
-                .iter()
-                .flat_map(|q| q.iter().map(|&w| points[w as usize]))
-                .sum::<DVec2>()
-                / (4 * around.len()) as f64;
-            points[v] = centre;
-        }
-    }
 }
 
 /// `dropped` (nodes no element uses any more) taken out of `points`, the elements'
