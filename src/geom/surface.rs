@@ -40,11 +40,21 @@ pub struct NurbsSurface {
     /// every projection onto the surface sizes its tolerances by it, and reading a large
     /// net for each took most of the time of a projection.
     scale: f64,
+    /// The diagonal of the control net's box ([`NurbsSurface::net_extent`]), kept for
+    /// the same reason: every normal sizes its degeneracy test by it, and the band
+    /// meshing asks for a normal at each of its points.
+    extent: f64,
 }
 
 /// The largest magnitude among `points`.
 fn scale_of(points: &[DVec3]) -> f64 {
     points.iter().map(|p| p.length()).fold(0.0, f64::max)
+}
+
+/// The diagonal of the bounding box of `points`.
+fn extent_of(points: &[DVec3]) -> f64 {
+    let (lo, hi) = bounds(points.iter().copied());
+    (hi - lo).length()
 }
 
 impl NurbsSurface {
@@ -84,6 +94,7 @@ impl NurbsSurface {
             count_u,
             count_v,
             scale: scale_of(&points),
+            extent: extent_of(&points),
             points,
             weights: None,
         })
@@ -128,6 +139,7 @@ impl NurbsSurface {
             count_u: counts.0,
             count_v: counts.1,
             scale: scale_of(&points),
+            extent: extent_of(&points),
             points,
             weights,
         }
@@ -346,11 +358,10 @@ impl NurbsSurface {
     }
 
     /// The diagonal of the control net's box: what [`NurbsSurface::normal_within`]
-    /// takes, worked out once for the many normals of one surface (it reads every
-    /// control point, which costs more than a normal of a large net).
+    /// takes. Worked out once when the surface is made (it reads every control point,
+    /// which costs more than a normal of a large net).
     pub fn net_extent(&self) -> f64 {
-        let (lo, hi) = self.control_bounds();
-        (hi - lo).length()
+        self.extent
     }
 
     /// [`NurbsSurface::normal`] with the net's extent ([`NurbsSurface::net_extent`])
@@ -627,6 +638,7 @@ impl NurbsSurface {
         let points: Vec<DVec3> = self.points.iter().map(|&p| f(p)).collect();
         Self {
             scale: scale_of(&points),
+            extent: extent_of(&points),
             points,
             ..self.clone()
         }
