@@ -2,7 +2,11 @@
 //! each node not on the region's boundary moved to the mean of the centres of the
 //! elements round it, the move kept only where the worst of those elements stays
 //! above its floor (never folding an element, never making a good one poor) or where
-//! it mends a folded one. Then each inner node of a poor element (scaled Jacobian below
+//! it mends a folded one. A node is moved again in the next pass only where it or a
+//! neighbour moved by more than [`SETTLED`] of its reach in this one: where nothing
+//! round it moves, its centre stays where it is, and smoothing a region again after a
+//! few elements changed (the edge swaps, the mending) moves only the nodes near them.
+//! Then each inner node of a poor element (scaled Jacobian below
 //! [`POOR`]) is moved where the worst of its elements is best, by a compass search:
 //! centroid smoothing evens a mesh out, but cannot pull a node out of a sliver its
 //! neighbours pin it in.
@@ -14,6 +18,11 @@ use super::quality::scaled_jacobian_2d;
 /// The worst scaled Jacobian a move may leave among a node's elements, unless they were
 /// worse before it.
 const FLOOR: f64 = 0.3;
+
+/// A move shorter than this share of the node's reach (its mean distance to the
+/// centres of its elements) counts as none: the node and its neighbours are not moved
+/// again for it. A thousandth of an element: 5 um on a 5 mm mesh.
+const SETTLED: f64 = 1e-3;
 
 /// Elements poorer than this (scaled Jacobian) have their inner nodes optimised.
 pub const POOR: f64 = 0.5;
@@ -79,22 +88,24 @@ pub fn smooth(
         .map(|k| jacobian_of(points, k))
         .collect();
     let mut moved_jacobians: Vec<f64> = Vec::new();
+    // The nodes to move in this pass, and those marked for the next.
+    let mut active = vec![true; points.len()];
+    let mut next = vec![false; points.len()];
     for _ in 0..passes {
         for v in fixed..points.len() {
             let around = &star[offsets[v]..offsets[v + 1]];
-            if around.is_empty() {
+            if around.is_empty() || !active[v] {
                 continue;
             }
-            let centre = around
-                .iter()
-                .map(|&k| {
-                    let e = elements[k];
-                    e.iter().map(|&w| points[w as usize]).sum::<DVec2>() / e.len() as f64
-                })
-                .sum::<DVec2>()
-                / around.len() as f64;
-            let before = least_of(around, &jacobians);
             let old = points[v];
+            let (sum, reach) = around.iter().fold((DVec2::ZERO, 0.0), |(sum, reach), &k| {
+                let e = elements[k];
+                let c = e.iter().map(|&w| points[w as usize]).sum::<DVec2>() / e.len() as f64;
+                (sum + c, reach + c.distance(old))
+            });
+            let centre = sum / around.len() as f64;
+            let reach = reach / around.len() as f64;
+            let before = least_of(around, &jacobians);
             points[v] = centre;
             moved_jacobians.clear();
             moved_jacobians.extend(around.iter().map(|&k| jacobian_of(points, k)));
@@ -110,10 +121,19 @@ pub fn smooth(
                 for (&k, &q) in around.iter().zip(&moved_jacobians) {
                     jacobians[k] = q;
                 }
+                if centre.distance(old) > SETTLED * reach {
+                    for &k in around {
+                        for &w in elements[k] {
+                            next[w as usize] = true;
+                        }
+                    }
+                }
             } else {
                 points[v] = old;
             }
         }
+        std::mem::swap(&mut active, &mut next);
+        next.fill(false);
     }
     let directions: Vec<DVec2> = (0..8)
         .map(|k| DVec2::from_angle(std::f64::consts::FRAC_PI_4 * k as f64))
@@ -196,4 +216,130 @@ fn least_of(around: &[usize], values: &[f64]) -> f64 {
         .iter()
         .map(|&k| values[k])
         .fold(f64::INFINITY, f64::min)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// An `n` x `n` grid of unit squares: the boundary's nodes first, then the inner
+    /// ones, and its quads counter-clockwise.
+    fn grid(n: usize) -> (Vec<DVec2>, usize, Vec<[u32; 4]>) {
+        let at = |i: usize, j: usize| DVec2::new(i as f64, j as f64);
+        let on_edge = |i: usize, j: usize| i == 0 || j == 0 || i == n || j == n;
+        let mut order: Vec<(usize, usize)> = Vec::new();
+        for pass in [true, false] {
+            for j in 0..=n {
+                for i in 0..=n {
+                    if on_edge(i, j) == pass {
+                        order.push((i, j));
+                    }
+                }
+            }
+        }
+        let fixed = order.iter().filter(|&&(i, j)| on_edge(i, j)).count();
+        let id = |i: usize, j: usize| order.iter().position(|&o| o == (i, j)).unwrap() as u32;
+        let mut quads = Vec::new();
+        for j in 0..n {
+            for i in 0..n {
+                quads.push([id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
+            }
+        }
+        (order.iter().map(|&(i, j)| at(i, j)).collect(), fixed, quads)
+    }
+
+    /// Plain centroid smoothing, every inner node in every pass, no quality floor: the
+    /// reference the settling is measured against.
+    fn every_node_every_pass(
+        points: &mut [DVec2],
+        fixed: usize,
+        quads: &[[u32; 4]],
+        passes: usize,
+    ) {
+        for _ in 0..passes {
+            for v in fixed..points.len() {
+                let around: Vec<&[u32; 4]> =
+                    quads.iter().filter(|q| q.contains(&(v as u32))).collect();
+                let centres = around
+                    .iter()
+                    .map(|q| q.iter().map(|&w| points[w as usize]).sum::<DVec2>() / 4.0);
+                points[v] = centres.sum::<DVec2>() / around.len() as f64;
+            }
+        }
+    }
+
+    #[test]
+    fn settled_nodes_left_alone_change_the_result_by_less_than_a_hundredth_of_an_element() {
+        let (square, fixed, quads) = grid(12);
+        // The inner nodes swirled (every element stays fair, so no move is refused).
+        let swirled: Vec<DVec2> = square
+            .iter()
+            .enumerate()
+            .map(|(k, &p)| {
+                if k < fixed {
+                    return p;
+                }
+                let phase = 0.5 * p.x + 0.3 * p.y;
+                p + 0.2 * DVec2::new(phase.sin(), (1.7 * phase).cos())
+            })
+            .collect();
+        let mut settled = swirled.clone();
+        smooth(&mut settled, fixed, &quads, &[], 10);
+        let mut reference = swirled.clone();
+        every_node_every_pass(&mut reference, fixed, &quads, 10);
+        let apart = settled
+            .iter()
+            .zip(&reference)
+            .map(|(a, b)| a.distance(*b))
+            .fold(0.0, f64::max);
+        assert!(apart < 0.01, "{apart}");
+        // And the smoothing did its work: the swirl is mostly gone.
+        let off = |p: &[DVec2]| {
+            p.iter()
+                .zip(&square)
+                .map(|(a, b)| a.distance(*b))
+                .fold(0.0, f64::max)
+        };
+        assert!(
+            off(&settled) < 0.5 * off(&swirled),
+            "{} {}",
+            off(&settled),
+            off(&swirled)
+        );
+    }
+
+    #[test]
+    fn smoothing_again_after_one_node_moved_moves_only_the_nodes_near_it() {
+        let (square, fixed, quads) = grid(24);
+        // The last inner node in the sweep's order pushed off its place: smoothed
+        // back, its neighbours following a little. Plain Gauss-Seidel carries the push
+        // a ring further out at every pass, ever smaller; settled nodes stop it where
+        // the moves fall below a thousandth of an element.
+        let pushed = square.len() - 1;
+        let mut points = square.clone();
+        points[pushed] += DVec2::new(-0.3, -0.2);
+        let mut reference = points.clone();
+        smooth(&mut points, fixed, &quads, &[], 10);
+        every_node_every_pass(&mut reference, fixed, &quads, 10);
+        assert!(points[pushed].distance(square[pushed]) < 0.05);
+        let moved = |p: &[DVec2]| -> Vec<f64> {
+            p.iter()
+                .zip(&square)
+                .filter(|(a, b)| a != b)
+                .map(|(_, b)| b.distance(square[pushed]))
+                .collect()
+        };
+        let (settled, plain) = (moved(&points), moved(&reference));
+        let reach = |d: &[f64]| d.iter().copied().fold(0.0, f64::max);
+        // Measured: 24 nodes within 5 elements of the push, against plain smoothing's
+        // 166 reaching 17 elements away.
+        assert!(reach(&settled) <= 6.0, "{}", reach(&settled));
+        assert!(reach(&plain) > 12.0, "{}", reach(&plain));
+        assert!(
+            4 * settled.len() < plain.len(),
+            "{} {}",
+            settled.len(),
+            plain.len()
+        );
+    }
 }
