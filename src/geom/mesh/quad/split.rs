@@ -332,7 +332,7 @@ fn best_visible(
     }
     let first = search(points, l, view, evenest.into_iter());
     let most = first.map_or(f64::INFINITY, |line| line.score);
-    let mut lines: Vec<Line> = Vec::new();
+    let mut pending: Vec<Pending> = Vec::new();
     for a in 0..n {
         for b in a + 2..n {
             // The area error alone first: cheap, and most lines fail it.
@@ -340,31 +340,39 @@ fn best_visible(
             if area > most || !pairs(a, b) {
                 continue;
             }
-            if area + view.length_error(a, b, scale) <= most {
-                lines.extend(scored(a, b));
+            let bound = area + view.length_error(a, b, scale);
+            if bound <= most {
+                pending.push(Pending { bound, a, b });
             }
         }
     }
-    search(points, l, view, lines.into_iter())
+    search_bounded(points, l, view, pending, scored)
 }
 
-/// The best of `lines` that sees from end to end (see [`best_visible`]).
-fn search(
+/// Whether `line` sees from end to end and passes its loop's other nodes no nearer than
+/// a share of the spacing there (a line grazing a node leaves a sliver).
+fn sees(points: &[DVec2], l: &[u32], view: &LoopView, line: &Line) -> bool {
+    let clearance = CLEARANCE * view.spacing[line.a].min(view.spacing[line.b]);
+    !blocked(points, l[line.a], l[line.b], &[l])
+        && clear_of_nodes(&view.p, line.a, line.b, clearance)
+}
+
+/// The best of the lines a heap of them pops, best first (see [`best_visible`]),
+/// each charged for its small halves; `more` is asked before each pop to push every
+/// line that could still come before the heap's best.
+fn search_heap(
     points: &[DVec2],
     l: &[u32],
     view: &LoopView,
-    lines: impl Iterator<Item = Line>,
+    heap: &mut std::collections::BinaryHeap<Ranked>,
+    mut more: impl FnMut(&mut std::collections::BinaryHeap<Ranked>),
 ) -> Option<Line> {
-    // A line must see from end to end and pass its loop's other nodes no nearer than a
-    // share of the spacing there (a line grazing a node leaves a sliver).
-    let sees = |line: &Line| {
-        let clearance = CLEARANCE * view.spacing[line.a].min(view.spacing[line.b]);
-        !blocked(points, l[line.a], l[line.b], &[l])
-            && clear_of_nodes(&view.p, line.a, line.b, clearance)
-    };
-    let mut heap: std::collections::BinaryHeap<Ranked> = lines.map(Ranked).collect();
     let mut best: Option<Line> = None;
-    while let Some(Ranked(line)) = heap.pop() {
+    loop {
+        more(heap);
+        let Some(Ranked(line)) = heap.pop() else {
+            break;
+        };
         if best.is_some_and(|b| line.score >= b.score) {
             break;
         }
@@ -375,11 +383,91 @@ fn search(
         if best.is_some_and(|b| full.score >= b.score) {
             continue;
         }
-        if sees(&full) {
+        if sees(points, l, view, &full) {
             best = Some(full);
         }
     }
     best
+}
+
+/// The best of `lines` that sees from end to end (see [`best_visible`]).
+fn search(
+    points: &[DVec2],
+    l: &[u32],
+    view: &LoopView,
+    lines: impl Iterator<Item = Line>,
+) -> Option<Line> {
+    let mut heap = lines.map(Ranked).collect();
+    search_heap(points, l, view, &mut heap, |_| {})
+}
+
+/// A pair of loop positions not scored yet, with a lower bound of its score (its area
+/// and length errors, [`LoopView::length_error`]).
+struct Pending {
+    bound: f64,
+    a: usize,
+    b: usize,
+}
+
+/// The best of the `pending` lines that sees from end to end, as [`search`] finds it
+/// among them all scored, scoring only the lines whose bound is at most the score of
+/// the best line scored so far: scoring (two arc tangents and a size look-up) was
+/// most of the splitting's time, and most candidates score well above the best.
+///
+/// The lines are taken in the same order, so the result is the same line: before
+/// each pop, every pending line whose bound is at most the heap's best score is scored
+/// and pushed. A line left pending then has a bound above that score, so its own score
+/// (never below its bound) is above it too: it can neither come before the line popped
+/// nor tie with it.
+fn search_bounded(
+    points: &[DVec2],
+    l: &[u32],
+    view: &LoopView,
+    pending: Vec<Pending>,
+    scored: impl Fn(usize, usize) -> Option<Line>,
+) -> Option<Line> {
+    // Least bound first.
+    let mut pending: std::collections::BinaryHeap<std::cmp::Reverse<OrderedBound>> = pending
+        .into_iter()
+        .map(|p| std::cmp::Reverse(OrderedBound(p)))
+        .collect();
+    let mut heap = std::collections::BinaryHeap::new();
+    search_heap(points, l, view, &mut heap, |heap| {
+        while let Some(std::cmp::Reverse(OrderedBound(next))) = pending.peek() {
+            if heap
+                .peek()
+                .is_some_and(|Ranked(top): &Ranked| next.bound > top.score)
+            {
+                break;
+            }
+            let (a, b) = (next.a, next.b);
+            pending.pop();
+            heap.extend(scored(a, b).map(Ranked));
+        }
+    })
+}
+
+/// A pending line ordered by its bound alone.
+struct OrderedBound(Pending);
+
+impl PartialEq for OrderedBound {
+    fn eq(&self, other: &Self) -> bool {
+        self.cmp(other) == std::cmp::Ordering::Equal
+    }
+}
+
+impl Eq for OrderedBound {}
+
+impl PartialOrd for OrderedBound {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for OrderedBound {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        self.0.bound.total_cmp(&other.0.bound)
+    }
 }
 
 /// A line ordered for [`std::collections::BinaryHeap`] so the best (lowest score, then
