@@ -743,6 +743,10 @@ pub fn quad_mesh_surface(
     })
 }
 
+/// A point seen in the plane: where, its parameters, and (for a sample on the
+/// projection plane) the plane's rates along u and v there.
+type Seen = (DVec2, DVec2, Option<(DVec2, DVec2)>);
+
 /// Every node's parameters. A boundary node lies on a trim loop's chord in the plane:
 /// its parameters are those of the chord's ends blended (a trim runs straight in the
 /// parameters between its points, so a node lies on the surface between two trim
@@ -761,7 +765,7 @@ fn back_to_parameters(
     // Each seen point with its parameters and, for a sample on the projection plane,
     // how the plane point moves with them (the surface's derivatives seen in the
     // plane), so Newton starts one linear step nearer (a step per node saved).
-    let seen: Vec<(DVec2, DVec2, Option<(DVec2, DVec2)>)> = samples
+    let seen: Vec<Seen> = samples
         .iter()
         .map(|(uv, d)| {
             let slopes = map
@@ -782,7 +786,7 @@ fn back_to_parameters(
         [first, .., last] => (last.0 - first.0).abs() / SAMPLES as f64,
         _ => DVec2::ZERO,
     };
-    let linear_start = |q: DVec2, (at, uv, slopes): &(DVec2, DVec2, Option<(DVec2, DVec2)>)| {
+    let linear_start = |q: DVec2, (at, uv, slopes): &Seen| {
         let Some((a, b)) = slopes else {
             return *uv;
         };
