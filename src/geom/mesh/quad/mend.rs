@@ -12,7 +12,7 @@
 
 use glam::DVec2;
 
-use super::quality::scaled_jacobian_2d;
+use super::quality::{scaled_jacobian_2d, worst_quad_2d};
 use super::sizing::Sizes;
 use super::smooth::smooth;
 use super::split::split_down;
@@ -46,14 +46,6 @@ fn cavity_polygon(quads: &[[u32; 4]], star: &[usize], i: u32) -> Option<Vec<u32>
     (at == turned[0] && distinct && !polygon.contains(&i)).then_some(polygon)
 }
 
-/// The worst plane scaled Jacobian of `quads`.
-fn worst(points: &[DVec2], quads: &[[u32; 4]]) -> f64 {
-    quads
-        .iter()
-        .map(|q| scaled_jacobian_2d(&q.map(|v| points[v as usize])))
-        .fold(f64::INFINITY, f64::min)
-}
-
 /// Mends every quad poorer than `folded` (plane scaled Jacobian) that has an inner
 /// node held by quads alone (the first `fixed` nodes are the boundary's): the quads
 /// round that node split down again as one polygon (at `sizes`), their new inner nodes
@@ -77,7 +69,7 @@ pub fn mend_folded(
     let mut mended = 0;
     for q in poor {
         // Still there, and still folded (an earlier cavity may have taken it).
-        if !quads.contains(&q) || worst(points, &[q]) >= folded {
+        if !quads.contains(&q) || worst_quad_2d(points, &[q]) >= folded {
             continue;
         }
         for i in q.into_iter().filter(|&v| v as usize >= fixed) {
@@ -91,7 +83,7 @@ pub fn mend_folded(
                 continue;
             };
             let old: Vec<[u32; 4]> = star.iter().map(|&k| quads[k]).collect();
-            let before = worst(points, &old);
+            let before = worst_quad_2d(points, &old);
             let mut trial = points.clone();
             let first_new = trial.len();
             let (mut made, mut odd) = (Vec::new(), Vec::new());
@@ -103,7 +95,7 @@ pub fn mend_folded(
             }
             // Only the new nodes move: the polygon's own are the cavity's boundary.
             smooth(&mut trial, first_new, &made, &[], RELAX);
-            let after = worst(&trial, &made);
+            let after = worst_quad_2d(&trial, &made);
             if after < folded || after <= before {
                 continue;
             }
@@ -162,7 +154,7 @@ mod tests {
         points.push(DVec2::new(2.0, 1.0));
         // 8 joined to the boundary nodes 0, 1, 3, 4, 6: the quad 1 2 3 8 is straight at 2.
         let mut quads = vec![[0, 1, 8, 7], [1, 2, 3, 8], [3, 4, 5, 8], [8, 5, 6, 7]];
-        let before = worst(&points, &quads);
+        let before = worst_quad_2d(&points, &quads);
         assert!(before < 0.1, "{before}");
         let mut triangles: Vec<[u32; 3]> = Vec::new();
         let mended = mend_folded(
@@ -174,7 +166,7 @@ mod tests {
             0.1,
         );
         assert_eq!(mended, 1);
-        let after = worst(&points, &quads);
+        let after = worst_quad_2d(&points, &quads);
         assert!(after > 0.3, "{before} -> {after}");
         // Node 2 now has a corner that is not straight, every node is used, and the
         // quads still cover the strip's area (8 mm^2 and the bow's sliver).

@@ -51,6 +51,15 @@ pub fn scaled_jacobian_2d(corners: &[DVec2]) -> f64 {
     })
 }
 
+/// The worst scaled Jacobian of plane `quads` (node ids into `points`): how the
+/// meshing steps judge a set of quads before and after a change (infinite for none).
+pub fn worst_quad_2d(points: &[DVec2], quads: &[[u32; 4]]) -> f64 {
+    quads
+        .iter()
+        .map(|q| scaled_jacobian_2d(&q.map(|v| points[v as usize])))
+        .fold(f64::INFINITY, f64::min)
+}
+
 /// The mean of a plane element's corner sines (signed, corners counter-clockwise): 1
 /// for a square, 0 for an element whose nodes lie on one line. Where the scaled
 /// Jacobian sees only the worst corner, this tells an element with one straight corner

@@ -277,13 +277,7 @@ pub fn swap_edges(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn least(points: &[DVec2], quads: &[[u32; 4]]) -> f64 {
-        quads
-            .iter()
-            .map(|q| scaled_jacobian_2d(&q.map(|v| points[v as usize])))
-            .fold(f64::INFINITY, f64::min)
-    }
+    use crate::geom::mesh::quad::quality::worst_quad_2d;
 
     #[test]
     fn the_hexagon_of_two_quads_runs_round_both() {
@@ -307,10 +301,10 @@ mod tests {
             DVec2::new(0.0, 1.0),
         ];
         let mut quads = vec![[0, 1, 2, 4], [4, 3, 5, 0]];
-        let before = least(&points, &quads);
+        let before = worst_quad_2d(&points, &quads);
         // Every node on the boundary: the swap alone mends the pair.
         assert_eq!(swap_edges(&mut points, 6, &mut quads, &[], 0.5), 1);
-        let after = least(&points, &quads);
+        let after = worst_quad_2d(&points, &quads);
         assert!(after > 0.9 && before < 0.1, "{before} -> {after}");
         // Nodes 1 and 3 now have a corner in both quads.
         assert!(quads.iter().all(|q| q.contains(&1) && q.contains(&3)));
