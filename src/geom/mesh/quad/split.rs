@@ -423,17 +423,14 @@ fn search_bounded(
     points: &[DVec2],
     l: &[u32],
     view: &LoopView,
-    pending: Vec<Pending>,
+    mut pending: Vec<Pending>,
     scored: impl Fn(usize, usize) -> Option<Line>,
 ) -> Option<Line> {
-    // Least bound first.
-    let mut pending: std::collections::BinaryHeap<std::cmp::Reverse<OrderedBound>> = pending
-        .into_iter()
-        .map(|p| std::cmp::Reverse(OrderedBound(p)))
-        .collect();
+    // Least bound last, so the next to score is popped off the end.
+    pending.sort_unstable_by(|x, y| y.bound.total_cmp(&x.bound));
     let mut heap = std::collections::BinaryHeap::new();
     search_heap(points, l, view, &mut heap, |heap| {
-        while let Some(std::cmp::Reverse(OrderedBound(next))) = pending.peek() {
+        while let Some(next) = pending.last() {
             if heap
                 .peek()
                 .is_some_and(|Ranked(top): &Ranked| next.bound > top.score)
@@ -445,29 +442,6 @@ fn search_bounded(
             heap.extend(scored(a, b).map(Ranked));
         }
     })
-}
-
-/// A pending line ordered by its bound alone.
-struct OrderedBound(Pending);
-
-impl PartialEq for OrderedBound {
-    fn eq(&self, other: &Self) -> bool {
-        self.cmp(other) == std::cmp::Ordering::Equal
-    }
-}
-
-impl Eq for OrderedBound {}
-
-impl PartialOrd for OrderedBound {
-    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
-        Some(self.cmp(other))
-    }
-}
-
-impl Ord for OrderedBound {
-    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
-        self.0.bound.total_cmp(&other.0.bound)
-    }
 }
 
 /// A line ordered for [`std::collections::BinaryHeap`] so the best (lowest score, then
@@ -821,7 +795,7 @@ pub fn split_down(
 #[cfg(test)]
 pub(super) mod tests {
     use super::*;
-    use crate::geom::mesh::quad::quality::scaled_jacobian_2d;
+    use crate::geom::mesh::quad::quality::worst_quad_2d;
 
     /// A 4 x 2 strip's eight nodes, counter-clockwise from its bottom left: five along
     /// its bottom (the middle one 0.03 below the line), three along its top.
@@ -861,10 +835,7 @@ pub(super) mod tests {
         .expect("split");
         assert!(triangles.is_empty());
         assert!(points.len() > 8, "no node was added");
-        let worst = quads
-            .iter()
-            .map(|q| scaled_jacobian_2d(&q.map(|v| points[v as usize])))
-            .fold(f64::INFINITY, f64::min);
+        let worst = worst_quad_2d(&points, &quads);
         assert!(worst > 0.3, "{worst}");
     }
 }
