@@ -318,13 +318,12 @@ pub fn quad_mesh_region(region: &Region, options: &QuadOptions) -> Result<PlaneM
         &mut quads,
         &mut triangles,
     )?;
-    smooth::smooth(
-        &mut points,
-        boundary_nodes,
-        &quads,
-        &triangles,
-        options.smoothing,
-    );
+    // The inner nodes smoothed after the split, and again after each step that
+    // changed elements (the smoothing moves only nodes near a change the second time).
+    let smoothed = |points: &mut Vec<DVec2>, quads: &[[u32; 4]], triangles: &[[u32; 3]]| {
+        smooth::smooth(points, boundary_nodes, quads, triangles, options.smoothing)
+    };
+    smoothed(&mut points, &quads, &triangles);
     if options.smoothing > 0
         && swap::swap_edges(
             &mut points,
@@ -334,13 +333,7 @@ pub fn quad_mesh_region(region: &Region, options: &QuadOptions) -> Result<PlaneM
             smooth::POOR,
         ) > 0
     {
-        smooth::smooth(
-            &mut points,
-            boundary_nodes,
-            &quads,
-            &triangles,
-            options.smoothing,
-        );
+        smoothed(&mut points, &quads, &triangles);
     }
     if options.smoothing > 0
         && mend::mend_folded(
@@ -352,13 +345,7 @@ pub fn quad_mesh_region(region: &Region, options: &QuadOptions) -> Result<PlaneM
             FOLDED,
         ) > 0
     {
-        smooth::smooth(
-            &mut points,
-            boundary_nodes,
-            &quads,
-            &triangles,
-            options.smoothing,
-        );
+        smoothed(&mut points, &quads, &triangles);
     }
     let (quads, folded) = split_folded(&points, quads);
     if !folded.is_empty() && options.smoothing > 0 {
