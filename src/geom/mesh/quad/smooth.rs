@@ -238,6 +238,7 @@ mod tests {
             }
         }
         let fixed = order.iter().filter(|&&(i, j)| on_edge(i, j)).count();
+        // Every (i, j) of the grid is in `order`, on the boundary or inside.
         let id = |i: usize, j: usize| order.iter().position(|&o| o == (i, j)).unwrap() as u32;
         let mut quads = Vec::new();
         for j in 0..n {
