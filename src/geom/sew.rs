@@ -21,7 +21,7 @@ use rayon::prelude::*;
 
 use super::curve::Curve3;
 use super::error::Result;
-use super::inversion::closest_point_on_curve;
+use super::inversion::{closest_point_on_curve, project_to_curve_locally};
 use super::surface::{Direction, NurbsSurface};
 use super::trimmed::TrimmedSurface;
 
@@ -352,12 +352,29 @@ fn orient(faces: &mut [SewnFace], edge_count: usize) {
 
 /// Whether `b` runs along `a` within `tol` (interior samples of `b` near `a`): `Some`
 /// with whether they run the same way, `None` when they do not coincide.
+///
+/// The first sample is found on `a` by the global search; each next one by Newton from
+/// the foot of the one before (the samples march along `a` when the curves coincide),
+/// and by the global search again only where that foot is farther than `tol`. A foot
+/// found locally lies on `a`, so `a` is at least that near: the answer is the global
+/// search's, without searching every span of a long outline for each sample (which made
+/// most of sewing the die face).
 fn coincide(a: &Curve3, b: &Curve3, tol: f64) -> Option<bool> {
     let (t0, t1) = b.domain();
-    let mut params = Vec::new();
+    let mut params: Vec<f64> = Vec::with_capacity(7);
     for k in 1..8 {
         let t = t0 + (t1 - t0) * k as f64 / 8.0;
-        let cp = closest_point_on_curve(a, b.point_at(t)).ok()?;
+        let target = b.point_at(t);
+        let near = match params.last() {
+            Some(&from) => project_to_curve_locally(a, target, from)
+                .ok()
+                .filter(|cp| cp.distance <= tol),
+            None => None,
+        };
+        let cp = match near {
+            Some(cp) => cp,
+            None => closest_point_on_curve(a, target).ok()?,
+        };
         if cp.distance > tol {
             return None;
         }
@@ -377,4 +394,69 @@ fn bounds(c: &Curve3) -> (DVec3, DVec3) {
 
 fn inside_box(p: DVec3, lo: DVec3, hi: DVec3, tol: f64) -> bool {
     p.cmpge(lo - tol).all() && p.cmple(hi + tol).all()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::interpolate::{interpolate, Interpolation};
+
+    /// What `coincide` answered before it marched: the global search for every sample.
+    fn coincide_globally(a: &Curve3, b: &Curve3, tol: f64) -> Option<bool> {
+        let (t0, t1) = b.domain();
+        let mut params = Vec::new();
+        for k in 1..8 {
+            let t = t0 + (t1 - t0) * k as f64 / 8.0;
+            let cp = closest_point_on_curve(a, b.point_at(t)).ok()?;
+            if cp.distance > tol {
+                return None;
+            }
+            params.push(cp.t);
+        }
+        Some(params.last() > params.first())
+    }
+
+    /// A long wavy outline of many spans, `bulge` mm off in its middle third.
+    fn outline(count: usize, bulge: f64) -> Curve3 {
+        let points: Vec<DVec3> = (0..count)
+            .map(|i| {
+                let x = 1200.0 * i as f64 / (count - 1) as f64;
+                let middle = if (400.0..=800.0).contains(&x) {
+                    bulge * ((x - 400.0) / 400.0 * std::f64::consts::PI).sin()
+                } else {
+                    0.0
+                };
+                DVec3::new(x, 40.0 * (x / 90.0).sin() + middle, 15.0 * (x / 70.0).cos())
+            })
+            .collect();
+        interpolate(&points, &Interpolation::default()).expect("distinct points interpolate")
+    }
+
+    #[test]
+    fn marching_answers_what_the_global_search_answers() {
+        let tol = 0.01;
+        let a = outline(241, 0.0);
+        // The same outline through other points (another parametrization), one bulging
+        // by ten times the tolerance, one by half of it.
+        let again = outline(301, 0.0);
+        let off = outline(301, 0.1);
+        let within = outline(301, 0.004);
+        let cases = [
+            (&a, a.clone(), Some(true)),
+            (&a, a.reversed(), Some(false)),
+            (&a, again.clone(), Some(true)),
+            (&a, again.reversed(), Some(false)),
+            (&a, off.clone(), None),
+            (&a, off.reversed(), None),
+            (&a, within.reversed(), Some(false)),
+        ];
+        for (k, (a, b, expected)) in cases.iter().enumerate() {
+            assert_eq!(coincide(a, b, tol), *expected, "case {k}");
+            assert_eq!(
+                coincide_globally(a, b, tol),
+                *expected,
+                "case {k}, the reference"
+            );
+        }
+    }
 }
