@@ -191,7 +191,9 @@ fn exact_end(pair: &Pair<Rule>) -> usize {
         match pair.as_rule() {
             // Atomic rules never contain trivia.
             Rule::number | Rule::string => return pair.as_span().end(),
-            _ => match pair.clone().into_inner().last() {
+            // From the back: `last()` would walk every child, and this runs for
+            // every span made (a long list's children, again at each level).
+            _ => match pair.clone().into_inner().next_back() {
                 Some(last) => pair = last,
                 None => return pair.as_span().end(),
             },
