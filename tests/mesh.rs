@@ -167,6 +167,21 @@ fn loop_lengths(loops: &BoundaryLoops) -> Vec<usize> {
 // ---------------------------------------------------------------------------------
 
 #[test]
+fn a_renumbered_face_keeps_its_corner_count_and_order() {
+    let quad = Face::quad(0, 1, 2, 3).renumbered(|v| 10 * v + 7);
+    assert_eq!(quad.indices(), &[7, 17, 27, 37]);
+    let triangle = Face::triangle(4, 2, 9).renumbered(|v| v + 1);
+    assert_eq!(triangle.indices(), &[5, 3, 10]);
+    assert!(triangle.is_triangle());
+    // Renumbering and turning round commute: corner 0 stays first either way.
+    let turned = Face::quad(3, 5, 8, 1);
+    assert_eq!(
+        turned.reversed().renumbered(|v| v * 2),
+        turned.renumbered(|v| v * 2).reversed()
+    );
+}
+
+#[test]
 fn index_out_of_range_is_an_error() {
     let p = vec![DVec3::ZERO, DVec3::X, DVec3::Y];
     let err = Mesh::new(p, vec![Face::triangle(0, 1, 3)]).unwrap_err();

@@ -19,12 +19,15 @@
 
 use std::sync::Arc;
 
+use rayon::prelude::*;
+
 use crate::diag::Diagnostic;
 use crate::die::model::DieFace;
 use crate::geom::imprint::imprint;
 use crate::geom::mesh::quad::shell::{quad_mesh_shell, ShellMeshError};
 use crate::geom::mesh::quad::surface::{SurfaceMeshError, SurfaceMeshOptions};
 use crate::geom::mesh::quad::QuadError;
+use crate::geom::mesh::Mesh;
 use crate::geom::sew::{sew, Face, DIE_FACE_TOLERANCE};
 
 use super::super::model::product_faces;
@@ -176,13 +179,21 @@ fn die_face_mesh(call: &Call) -> Result<Data, Diagnostic> {
     let meshed = quad_mesh_shell(&shell, &sizes, &options)
         .map_err(|e| shell_error(call, &e, &features, &owner))?;
     check_size(call, "size", "the die-face mesh", meshed.positions.len())?;
+    // Each feature's mesh made side by side; the first failure in the features' order
+    // is the one reported.
+    let meshes: Vec<Option<Result<Mesh, String>>> = (0..features.len())
+        .into_par_iter()
+        .map(|k| {
+            let mine: Vec<usize> = (0..owner.len()).filter(|&i| owner[i] == k).collect();
+            (!mine.is_empty()).then(|| meshed.mesh_of(&mine))
+        })
+        .collect();
     let mut fields = Vec::with_capacity(features.len());
-    for (k, f) in features.iter().enumerate() {
-        let mine: Vec<usize> = (0..owner.len()).filter(|&i| owner[i] == k).collect();
-        if mine.is_empty() {
+    for (f, mesh) in features.iter().zip(meshes) {
+        let Some(mesh) = mesh else {
             continue;
-        }
-        let mesh = meshed.mesh_of(&mine).map_err(|e| {
+        };
+        let mesh = mesh.map_err(|e| {
             bad_argument(
                 call,
                 "features",

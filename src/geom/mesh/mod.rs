@@ -131,6 +131,17 @@ impl Face {
         (0..n).map(move |i| (VertexId(v[i]), VertexId(v[(i + 1) % n])))
     }
 
+    /// The same face with each corner's index mapped by `new_index`, its corners in the
+    /// same order: a face moved into another mesh's numbering without a list made per
+    /// face (assembling a die face's mesh renumbers hundreds of thousands).
+    pub fn renumbered(&self, mut new_index: impl FnMut(u32) -> u32) -> Face {
+        let mut face = *self;
+        for v in &mut face.verts[..face.len as usize] {
+            *v = new_index(*v);
+        }
+        face
+    }
+
     /// The same face wound the other way (its normal flipped). Corner 0 stays first.
     pub fn reversed(&self) -> Face {
         match *self.indices() {

@@ -30,7 +30,6 @@ use rayon::prelude::*;
 use super::band::{find_bands, Band};
 use super::sizing::chord_measures;
 use super::surface::{quad_mesh_surface, SurfaceMeshError, SurfaceMeshOptions, SurfaceRegion};
-use super::QuadError;
 use crate::geom::curve::Curve3;
 use crate::geom::mesh::{Face, Mesh};
 use crate::geom::sew::Shell;
@@ -59,18 +58,13 @@ impl ShellMesh {
         let mut out = Vec::new();
         for &f in faces {
             for e in self.elements.get(f).into_iter().flatten() {
-                let ids: Vec<u32> = e
-                    .indices()
-                    .iter()
-                    .map(|&v| {
-                        if renumber[v as usize] == u32::MAX {
-                            renumber[v as usize] = positions.len() as u32;
-                            positions.push(self.positions[v as usize]);
-                        }
-                        renumber[v as usize]
-                    })
-                    .collect();
-                out.push(Face::from_slice(&ids).map_err(|e| e.to_string())?);
+                out.push(e.renumbered(|v| {
+                    if renumber[v as usize] == u32::MAX {
+                        renumber[v as usize] = positions.len() as u32;
+                        positions.push(self.positions[v as usize]);
+                    }
+                    renumber[v as usize]
+                }));
             }
         }
         Mesh::new(positions, out).map_err(|e| e.to_string())
@@ -278,9 +272,7 @@ pub fn quad_mesh_shell(
         })
         .collect();
     let mut elements = Vec::with_capacity(shell.faces.len());
-    for (index, ((face, face_loops), result)) in
-        shell.faces.iter().zip(&loops).zip(meshed).enumerate()
-    {
+    for ((face, face_loops), result) in shell.faces.iter().zip(&loops).zip(meshed) {
         let local = &result?;
         // Local boundary node k is the loops' k-th seam node (outer loop, then the
         // holes); the rest are new.
@@ -294,16 +286,14 @@ pub fn quad_mesh_shell(
             .faces()
             .iter()
             .map(|e| {
-                let renumbered: Vec<u32> =
-                    e.indices().iter().map(|&v| global[v as usize]).collect();
-                let f = Face::from_slice(&renumbered).map_err(|e| ShellMeshError::Face {
-                    face: index,
-                    name: face.face.name.clone(),
-                    error: SurfaceMeshError::Region(QuadError::Mesh(e.to_string())),
-                })?;
-                Ok(if face.reversed { f.reversed() } else { f })
+                let f = e.renumbered(|v| global[v as usize]);
+                if face.reversed {
+                    f.reversed()
+                } else {
+                    f
+                }
             })
-            .collect::<Result<_, ShellMeshError>>()?;
+            .collect();
         elements.push(faces);
     }
     Ok(ShellMesh {
