@@ -562,7 +562,14 @@ fn small_ways(n: usize) -> &'static SmallWays {
         let ways = make_small_ways(n);
         let mut sides: Vec<[usize; 2]> = Vec::new();
         let mut side = |from: usize, to: usize| {
-            let at = index_of(&mut sides, [from.min(to), from.max(to)]);
+            let key = [from.min(to), from.max(to)];
+            let at = match sides.iter().position(|s| *s == key) {
+                Some(at) => at,
+                None => {
+                    sides.push(key);
+                    sides.len() - 1
+                }
+            };
             (at, from < to)
         };
         let mut corners: Vec<SmallCorner> = Vec::new();
@@ -576,7 +583,13 @@ fn small_ways(n: usize) -> &'static SmallWays {
                             ahead: side(q[i], q[(i + 1) % 4]),
                             back: side(q[i], q[(i + 3) % 4]),
                         };
-                        let k = index_of(&mut corners, corner);
+                        let k = match corners.iter().position(|c| *c == corner) {
+                            Some(k) => k,
+                            None => {
+                                corners.push(corner);
+                                corners.len() - 1
+                            }
+                        };
                         if !mine.contains(&k) {
                             mine.push(k);
                         }
@@ -601,13 +614,12 @@ fn small_ways(n: usize) -> &'static SmallWays {
     })
 }
 
-/// The index of `item` (a side, a corner, a quad) in `distinct`, added at the end if
-/// it is not there yet.
-fn index_of<T: PartialEq>(distinct: &mut Vec<T>, item: T) -> usize {
-    match distinct.iter().position(|k| *k == item) {
+/// The index of `quad` in `distinct`, added at the end if it is not there yet.
+fn index_of(distinct: &mut Vec<[usize; 4]>, quad: [usize; 4]) -> usize {
+    match distinct.iter().position(|k| *k == quad) {
         Some(at) => at,
         None => {
-            distinct.push(item);
+            distinct.push(quad);
             distinct.len() - 1
         }
     }
