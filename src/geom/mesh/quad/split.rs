@@ -23,7 +23,7 @@
 use glam::DVec2;
 
 use super::cut::{blocked, ccw_angle, inner_angle};
-use super::quality::mean_corner_sine_2d;
+use super::quality::{mean_corner_sine_2d, scaled_jacobian_2d};
 use super::sizing::Sizes;
 use super::QuadError;
 
@@ -514,33 +514,21 @@ fn split_once(points: &mut Vec<DVec2>, l: &[u32], sizes: Sizes) -> Result<Halves
 }
 
 /// The ways of meshing a small loop of `n` nodes ([`make_small_ways`]), with the
-/// distinct corners and sides their quads have: the splitting judges them at every line
-/// it charges, and the 26 ways of eight nodes, 80 quads in all, have only 72 distinct
-/// corners on 24 distinct sides.
+/// distinct quads they use: the splitting judges them at every line it charges, and
+/// the 26 ways of eight nodes use only 28 quads among their 80.
 struct SmallWays {
     /// Each way's quads, by loop position (`n` the centre node).
     ways: Vec<Vec<[usize; 4]>>,
-    /// The distinct sides, each from its lower loop position to its higher.
-    sides: Vec<[usize; 2]>,
-    /// The distinct corners of the ways' quads.
-    corners: Vec<SmallCorner>,
-    /// Each way's corners as indices into `corners` (a way's worst element is its worst
-    /// corner: a quad's scaled Jacobian is the least of its corners' sines).
-    way_corners: Vec<Vec<usize>>,
+    /// The distinct quads, each once whichever corner it is written from (a quad's
+    /// scaled Jacobian is the least of its corners', the same from any corner).
+    quads: Vec<[usize; 4]>,
+    /// Each way's quads as indices into `quads`.
+    uses: Vec<Vec<usize>>,
     /// The distinct quads as the ways write them, from the corner they start at (the
     /// mean corner sine sums the corners in that order).
     written: Vec<[usize; 4]>,
     /// Each way's quads as indices into `written`.
     written_uses: Vec<Vec<usize>>,
-}
-
-/// A quad's corner by its two sides leaving it: the side to the next corner and the
-/// side back to the one before, each as an index into [`SmallWays::sides`] and whether
-/// it runs that side's way (from lower position to higher).
-#[derive(Clone, Copy, PartialEq)]
-struct SmallCorner {
-    ahead: (usize, bool),
-    back: (usize, bool),
 }
 
 /// The ways of meshing a small loop of `n` nodes, made once per `n`.
@@ -549,9 +537,8 @@ fn small_ways(n: usize) -> &'static SmallWays {
         [const { std::sync::OnceLock::new() }; SMALL + 1];
     static NONE: SmallWays = SmallWays {
         ways: Vec::new(),
-        sides: Vec::new(),
-        corners: Vec::new(),
-        way_corners: Vec::new(),
+        quads: Vec::new(),
+        uses: Vec::new(),
         written: Vec::new(),
         written_uses: Vec::new(),
     };
@@ -560,42 +547,18 @@ fn small_ways(n: usize) -> &'static SmallWays {
     };
     slot.get_or_init(|| {
         let ways = make_small_ways(n);
-        let mut sides: Vec<[usize; 2]> = Vec::new();
-        let mut side = |from: usize, to: usize| {
-            let key = [from.min(to), from.max(to)];
-            let at = match sides.iter().position(|s| *s == key) {
-                Some(at) => at,
-                None => {
-                    sides.push(key);
-                    sides.len() - 1
-                }
-            };
-            (at, from < to)
-        };
-        let mut corners: Vec<SmallCorner> = Vec::new();
-        let way_corners = ways
+        let mut quads: Vec<[usize; 4]> = Vec::new();
+        let uses = ways
             .iter()
             .map(|way| {
-                let mut mine: Vec<usize> = Vec::new();
-                for q in way {
-                    for i in 0..4 {
-                        let corner = SmallCorner {
-                            ahead: side(q[i], q[(i + 1) % 4]),
-                            back: side(q[i], q[(i + 3) % 4]),
-                        };
-                        let k = match corners.iter().position(|c| *c == corner) {
-                            Some(k) => k,
-                            None => {
-                                corners.push(corner);
-                                corners.len() - 1
-                            }
-                        };
-                        if !mine.contains(&k) {
-                            mine.push(k);
-                        }
-                    }
-                }
-                mine
+                way.iter()
+                    .map(|q| {
+                        // The quad written from its least corner.
+                        let first = (0..4).min_by_key(|&i| q[i]).unwrap_or(0);
+                        let key = [0, 1, 2, 3].map(|i| q[(first + i) % 4]);
+                        index_of(&mut quads, key)
+                    })
+                    .collect()
             })
             .collect();
         let mut written: Vec<[usize; 4]> = Vec::new();
@@ -605,9 +568,8 @@ fn small_ways(n: usize) -> &'static SmallWays {
             .collect();
         SmallWays {
             ways,
-            sides,
-            corners,
-            way_corners,
+            quads,
+            uses,
             written,
             written_uses,
         }
@@ -682,42 +644,28 @@ fn best_small(p: &[DVec2]) -> Option<(f64, &'static [[usize; 4]])> {
     let centre = p.iter().copied().sum::<DVec2>() / n as f64;
     let at = |i: usize| if i < n { p[i] } else { centre };
     let table = small_ways(n);
-    // Each side's vector (lower position to higher) and length once, and each corner's
-    // sine from them: the numbers `scaled_jacobian_2d` works out for each quad's
-    // corners, to the bit (a side run the other way is its vector negated, exactly),
-    // without the same side measured again for each quad it bounds.
-    let mut sides: Vec<(DVec2, f64)> = Vec::with_capacity(table.sides.len());
-    for &[a, b] in &table.sides {
-        let v = at(b) - at(a);
-        sides.push((v, v.length()));
-    }
-    let vector = |(k, forward): (usize, bool)| if forward { sides[k].0 } else { -sides[k].0 };
-    let mut sines: Vec<f64> = Vec::with_capacity(table.corners.len());
-    for c in &table.corners {
-        let l = sides[c.ahead.0].1 * sides[c.back.0].1;
-        sines.push(if l <= f64::MIN_POSITIVE {
-            -1.0
-        } else {
-            (vector(c.ahead).perp_dot(vector(c.back)) / l).min(1.0)
-        });
-    }
-    // Each way's worst element: its worst corner.
-    let mut worsts: Vec<f64> = Vec::with_capacity(table.ways.len());
-    for corners in &table.way_corners {
-        worsts.push(
-            corners
-                .iter()
-                .map(|&k| sines[k])
-                .fold(f64::INFINITY, f64::min),
-        );
-    }
+    let jacobians: Vec<f64> = table
+        .quads
+        .iter()
+        .map(|q| scaled_jacobian_2d(&q.map(at)))
+        .collect();
+    // Each way's worst element.
+    let worsts: Vec<f64> = table
+        .uses
+        .iter()
+        .map(|uses| {
+            uses.iter()
+                .map(|&k| jacobians[k])
+                .fold(f64::INFINITY, f64::min)
+        })
+        .collect();
     let best_worst = worsts.iter().copied().fold(f64::NEG_INFINITY, f64::max);
     // Between ways whose worst corners are alike (each with a straight corner where a
     // side has more nodes than the other), the one whose flattest element still spans
     // area: a quad on four nodes of one line is no element at all.
     // (A way whose worst is more than 0.02 below the best cannot win: the flattest
     // element moves the key by at most 0.01 either way.)
-    let alike: Vec<usize> = (0..worsts.len())
+    let alike: Vec<usize> = (0..table.ways.len())
         .filter(|&w| worsts[w] >= best_worst - 0.02)
         .collect();
     let chosen = match alike.as_slice() {
@@ -847,7 +795,7 @@ pub fn split_down(
 #[cfg(test)]
 pub(super) mod tests {
     use super::*;
-    use crate::geom::mesh::quad::quality::{scaled_jacobian_2d, worst_quad_2d};
+    use crate::geom::mesh::quad::quality::worst_quad_2d;
 
     /// A 4 x 2 strip's eight nodes, counter-clockwise from its bottom left: five along
     /// its bottom (the middle one 0.03 below the line), three along its top.
@@ -862,61 +810,6 @@ pub(super) mod tests {
             DVec2::new(2.0, 2.0),
             DVec2::new(0.0, 2.0),
         ]
-    }
-
-    /// Each way's worst element as `best_small` weighs it, from the distinct corners,
-    /// is the least scaled Jacobian of the way's quads judged one by one, to the bit, on
-    /// loops of six and eight nodes of every shape from fair to folded.
-    #[test]
-    fn the_ways_judged_by_their_corners_are_judged_as_quad_by_quad() {
-        // A fixed sequence of jitters (a linear congruential generator), so the loops
-        // are the same on every run.
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut jitter = |amount: f64| {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            amount * ((state >> 11) as f64 / (1u64 << 53) as f64 - 0.5)
-        };
-        for n in [6, 8] {
-            let table = small_ways(n);
-            for trial in 0..200 {
-                let amount = 0.1 + 1.5 * trial as f64 / 200.0;
-                let p: Vec<DVec2> = (0..n)
-                    .map(|i| {
-                        let angle = std::f64::consts::TAU * i as f64 / n as f64;
-                        DVec2::new(angle.cos() + jitter(amount), angle.sin() + jitter(amount))
-                    })
-                    .collect();
-                let centre = p.iter().copied().sum::<DVec2>() / n as f64;
-                let at = |i: usize| if i < n { p[i] } else { centre };
-                let quad_by_quad: Vec<f64> = table
-                    .ways
-                    .iter()
-                    .map(|way| {
-                        way.iter()
-                            .map(|q| scaled_jacobian_2d(&q.map(at)))
-                            .fold(f64::INFINITY, f64::min)
-                    })
-                    .collect();
-                let best = quad_by_quad
-                    .iter()
-                    .copied()
-                    .fold(f64::NEG_INFINITY, f64::max);
-                let (worst, way) = best_small(&p).expect("6 and 8 nodes have ways");
-                let chosen = table.ways.iter().position(|w| w.as_slice() == way);
-                let chosen = chosen.expect("the way is one of the table's");
-                assert_eq!(
-                    worst.to_bits(),
-                    quad_by_quad[chosen].to_bits(),
-                    "n {n}, trial {trial}"
-                );
-                assert!(
-                    worst >= best - 0.02,
-                    "n {n}, trial {trial}: {worst} against {best}"
-                );
-            }
-        }
     }
 
     /// An eight-node loop with five nodes along its bottom (bowed a little) and three
