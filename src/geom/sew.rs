@@ -365,12 +365,10 @@ fn coincide(a: &Curve3, b: &Curve3, tol: f64) -> Option<bool> {
     for k in 1..8 {
         let t = t0 + (t1 - t0) * k as f64 / 8.0;
         let target = b.point_at(t);
-        let near = match params.last() {
-            Some(&from) => project_to_curve_locally(a, target, from)
-                .ok()
-                .filter(|cp| cp.distance <= tol),
-            None => None,
-        };
+        let near = params
+            .last()
+            .and_then(|&from| project_to_curve_locally(a, target, from).ok())
+            .filter(|cp| cp.distance <= tol);
         let cp = match near {
             Some(cp) => cp,
             None => closest_point_on_curve(a, target).ok()?,
