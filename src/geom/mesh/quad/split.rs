@@ -70,7 +70,7 @@ fn clear_of_nodes(p: &[DVec2], a: usize, b: usize, clearance: f64) -> bool {
 #[derive(Debug, Clone, Copy)]
 struct Line {
     /// The four errors' score, without how a small half would be finished (which only
-    /// adds: see [`LoopView::small_halves_error`]).
+    /// adds: see [`LoopView::small_halves`]).
     score: f64,
     a: usize,
     b: usize,
@@ -245,12 +245,16 @@ impl LoopView {
 
 impl LoopView {
     /// How badly the halves of `line` small enough to be finished at once would be
-    /// finished ([`small_error`]; zero when neither is small).
-    fn small_halves_error(&self, line: &Line) -> f64 {
+    /// finished ([`small_error`]; zero when neither is small), with what
+    /// [`best_small`] made of each small half.
+    fn small_halves(&self, line: &Line) -> SmallHalves {
         let Line { a, b, pieces, .. } = *line;
         let n = self.p.len();
         let along = |k: usize| self.p[a].lerp(self.p[b], k as f64 / pieces as f64);
-        let mut error = 0.0;
+        let mut charged = SmallHalves {
+            error: 0.0,
+            judged: [None, None],
+        };
         if b - a + pieces <= SMALL {
             let half = SmallHalf::of(
                 self.p[a..=b]
@@ -258,7 +262,9 @@ impl LoopView {
                     .copied()
                     .chain((1..pieces).rev().map(along)),
             );
-            error += small_error(half.nodes());
+            let best = best_small(half.nodes());
+            charged.error += small_error(best);
+            charged.judged[0] = Some(best);
         }
         if n - (b - a) + pieces <= SMALL {
             let half = SmallHalf::of(
@@ -268,10 +274,25 @@ impl LoopView {
                     .copied()
                     .chain((1..pieces).map(along)),
             );
-            error += small_error(half.nodes());
+            let best = best_small(half.nodes());
+            charged.error += small_error(best);
+            charged.judged[1] = Some(best);
         }
-        error
+        charged
     }
+}
+
+/// What [`best_small`] makes of a small loop: its best way's worst element and that
+/// way's quads, or `None` where no way will do.
+type SmallBest = Option<(f64, &'static [[usize; 4]])>;
+
+/// A split line's charge for its small halves ([`LoopView::small_halves`]), and what
+/// [`best_small`] made of each half that is small (first half, second half as
+/// [`split_once`] returns them): the halves are finished with exactly those nodes, so
+/// the finishing takes the verdict instead of judging them again.
+struct SmallHalves {
+    error: f64,
+    judged: [Option<SmallBest>; 2],
 }
 
 /// The nodes of a half small enough to be finished at once, held on the stack: the
@@ -306,8 +327,8 @@ impl SmallHalf {
 /// best way's worst element, and far worse than any other error when even that
 /// element comes out folded or flat (a half of six nodes, five of them on one line),
 /// so such a line is taken only when no other sees.
-fn small_error(half: &[DVec2]) -> f64 {
-    let worst = best_small(half).map_or(-1.0, |w| w.0);
+fn small_error(best: SmallBest) -> f64 {
+    let worst = best.map_or(-1.0, |w| w.0);
     let folded = if worst < SMALL_FOLDED { 100.0 } else { 0.0 };
     SMALL_WEIGHT * (1.0 - worst) + folded
 }
@@ -338,7 +359,7 @@ fn best_visible(
     view: &LoopView,
     scale: f64,
     scored: impl Fn(usize, usize) -> Option<Line>,
-) -> Option<Line> {
+) -> Option<Chosen> {
     let n = l.len();
     // Whether a < b is a line: not a loop edge (nor a node to its own twin on a cut
     // line). Loop positions a and a + 1 are never paired.
@@ -363,7 +384,7 @@ fn best_visible(
         evenest.extend(most_even.and_then(|(_, _, b)| scored(a, b)));
     }
     let first = search(points, l, view, evenest.into_iter());
-    let most = first.map_or(f64::INFINITY, |line| line.score);
+    let most = first.map_or(f64::INFINITY, |(line, _)| line.score);
     let beyond = view.imbalance_beyond(most);
     let mut pending: Vec<Pending> = Vec::new();
     for a in 0..n {
@@ -404,29 +425,34 @@ fn search_heap(
     view: &LoopView,
     heap: &mut std::collections::BinaryHeap<Ranked>,
     mut more: impl FnMut(&mut std::collections::BinaryHeap<Ranked>),
-) -> Option<Line> {
-    let mut best: Option<Line> = None;
+) -> Option<Chosen> {
+    let mut best: Option<Chosen> = None;
     loop {
         more(heap);
         let Some(Ranked(line)) = heap.pop() else {
             break;
         };
-        if best.is_some_and(|b| line.score >= b.score) {
+        if best.is_some_and(|b| line.score >= b.0.score) {
             break;
         }
+        let charged = view.small_halves(&line);
         let full = Line {
-            score: line.score + view.small_halves_error(&line),
+            score: line.score + charged.error,
             ..line
         };
-        if best.is_some_and(|b| full.score >= b.score) {
+        if best.is_some_and(|b| full.score >= b.0.score) {
             continue;
         }
         if sees(points, l, view, &full) {
-            best = Some(full);
+            best = Some((full, charged.judged));
         }
     }
     best
 }
+
+/// The line a search picks, charged for its small halves, with what [`best_small`]
+/// made of each ([`SmallHalves::judged`]).
+type Chosen = (Line, [Option<SmallBest>; 2]);
 
 /// The best of `lines` that sees from end to end (see [`best_visible`]).
 fn search(
@@ -434,7 +460,7 @@ fn search(
     l: &[u32],
     view: &LoopView,
     lines: impl Iterator<Item = Line>,
-) -> Option<Line> {
+) -> Option<Chosen> {
     let mut heap = lines.map(Ranked).collect();
     search_heap(points, l, view, &mut heap, |_| {})
 }
@@ -463,7 +489,7 @@ fn search_bounded(
     view: &LoopView,
     mut pending: Vec<Pending>,
     scored: impl Fn(usize, usize) -> Option<Line>,
-) -> Option<Line> {
+) -> Option<Chosen> {
     // Least bound last, so the next to score is popped off the end.
     pending.sort_unstable_by(|x, y| y.bound.total_cmp(&x.bound));
     let mut heap = std::collections::BinaryHeap::new();
@@ -514,12 +540,19 @@ impl Ord for Ranked {
     }
 }
 
-/// The two loops a split leaves, each counter-clockwise.
-type Halves = (Vec<u32>, Vec<u32>);
+/// A loop (node ids, counter-clockwise) still to be split down, with what
+/// [`best_small`] made of it where the split that left it had judged it already (a
+/// small half charged to its line).
+type ToSplit = (Vec<u32>, Option<SmallBest>);
 
 /// The loop `l` (node ids, counter-clockwise) split at its best line: the two halves,
-/// the line's new nodes added to `points`.
-fn split_once(points: &mut Vec<DVec2>, l: &[u32], sizes: Sizes) -> Result<Halves, QuadError> {
+/// each with what [`best_small`] made of it if it is small (the two loops a split
+/// leaves, each counter-clockwise), the line's new nodes added to `points`.
+fn split_once(
+    points: &mut Vec<DVec2>,
+    l: &[u32],
+    sizes: Sizes,
+) -> Result<(ToSplit, ToSplit), QuadError> {
     let n = l.len();
     let view = LoopView::new(points, l);
     let scale = view.area.abs().sqrt().max(f64::MIN_POSITIVE);
@@ -537,7 +570,8 @@ fn split_once(points: &mut Vec<DVec2>, l: &[u32], sizes: Sizes) -> Result<Halves
         nodes: n,
         at: view.p[0],
     })?;
-    let Line { a, b, pieces, .. } = best;
+    let (Line { a, b, pieces, .. }, [first_judged, second_judged]) = best;
+    // The same nodes, to the bit, as the charge judged the small halves on.
     let (from, to) = (view.p[a], view.p[b]);
     let first_new = points.len() as u32;
     for k in 1..pieces {
@@ -548,7 +582,7 @@ fn split_once(points: &mut Vec<DVec2>, l: &[u32], sizes: Sizes) -> Result<Halves
     first.extend(new.iter().rev());
     let mut second: Vec<u32> = l[b..].iter().chain(&l[..=a]).copied().collect();
     second.extend(&new);
-    Ok((first, second))
+    Ok(((first, first_judged), (second, second_judged)))
 }
 
 /// The ways of meshing a small loop of `n` nodes ([`make_small_ways`]), with the
@@ -741,18 +775,17 @@ fn flattest_kept(
     best.map(|b| b.1)
 }
 
-/// A small loop finished the best way ([`best_small`]): its quads, and the centre
-/// node's position if that way has one.
-fn finish_small(points: &[DVec2], l: &[u32]) -> (Vec<[u32; 4]>, Option<DVec2>) {
-    let p: Vec<DVec2> = l.iter().map(|&v| points[v as usize]).collect();
+/// A small loop finished the best way (`best`, [`best_small`] of its nodes): its
+/// quads, and the centre node's position if that way has one.
+fn finish_small(points: &[DVec2], l: &[u32], best: SmallBest) -> (Vec<[u32; 4]>, Option<DVec2>) {
     let n = l.len();
-    let Some((_, quads)) = best_small(&p) else {
+    let Some((_, quads)) = best else {
         return (Vec::new(), None);
     };
     let centre = quads
         .iter()
         .any(|q| q.contains(&n))
-        .then(|| p.iter().copied().sum::<DVec2>() / n as f64);
+        .then(|| l.iter().map(|&v| points[v as usize]).sum::<DVec2>() / n as f64);
     let id = |i: usize| if i < n { l[i] } else { points.len() as u32 };
     (quads.iter().map(|q| q.map(id)).collect(), centre)
 }
@@ -762,14 +795,15 @@ fn finish_small(points: &[DVec2], l: &[u32]) -> (Vec<[u32; 4]>, Option<DVec2>) {
 /// split at its best line instead, where that line carries nodes of its own and leaves
 /// both halves smaller than the loop (so the splitting ends): the new nodes give the
 /// straight run's middle nodes elements of their own. `None` where the loop is to be
-/// finished as it is; the points are left as they were then.
+/// finished as it is; the points are left as they were then. `best` is [`best_small`]
+/// of the loop's nodes.
 fn split_folded_small(
     points: &mut Vec<DVec2>,
     l: &[u32],
+    best: SmallBest,
     sizes: Sizes,
-) -> Result<Option<Halves>, QuadError> {
-    let p: Vec<DVec2> = l.iter().map(|&v| points[v as usize]).collect();
-    if best_small(&p).is_some_and(|(worst, _)| worst >= super::FOLDED) {
+) -> Result<Option<(ToSplit, ToSplit)>, QuadError> {
+    if best.is_some_and(|(worst, _)| worst >= super::FOLDED) {
         return Ok(None);
     }
     let before = points.len();
@@ -777,7 +811,7 @@ fn split_folded_small(
         points.truncate(before);
         return Ok(None);
     };
-    if points.len() == before || first.len() >= l.len() || second.len() >= l.len() {
+    if points.len() == before || first.0.len() >= l.len() || second.0.len() >= l.len() {
         points.truncate(before);
         return Ok(None);
     }
@@ -793,8 +827,8 @@ pub fn split_down(
     quads: &mut Vec<[u32; 4]>,
     triangles: &mut Vec<[u32; 3]>,
 ) -> Result<(), QuadError> {
-    let mut stack = vec![first];
-    while let Some(l) = stack.pop() {
+    let mut stack: Vec<ToSplit> = vec![(first, None)];
+    while let Some((l, judged)) = stack.pop() {
         let n = l.len();
         if n < 3 {
             continue;
@@ -804,12 +838,16 @@ pub fn split_down(
             continue;
         }
         if n % 2 == 0 && n <= SMALL {
-            if let Some(halves) = split_folded_small(points, &l, sizes)? {
+            let best = judged.unwrap_or_else(|| {
+                let p: Vec<DVec2> = l.iter().map(|&v| points[v as usize]).collect();
+                best_small(&p)
+            });
+            if let Some(halves) = split_folded_small(points, &l, best, sizes)? {
                 stack.push(halves.1);
                 stack.push(halves.0);
                 continue;
             }
-            let (made, extra) = finish_small(points, &l);
+            let (made, extra) = finish_small(points, &l, best);
             if let Some(c) = extra {
                 points.push(c);
             }
@@ -873,7 +911,7 @@ pub(super) mod tests {
                 }
                 let Some(line) = scored(a, b) else { continue };
                 let full = Line {
-                    score: line.score + view.small_halves_error(&line),
+                    score: line.score + view.small_halves(&line).error,
                     ..line
                 };
                 if !sees(points, l, view, &full) {
@@ -912,7 +950,7 @@ pub(super) mod tests {
             let sizes = Sizes::uniform(2.0);
             let scored = |a: usize, b: usize| view.line(a, b, scale, sizes, LEAST_ANGLE);
             let pruned = best_visible(&points, &l, &view, scale, scored)
-                .map(|line| (line.score, line.a, line.b));
+                .map(|(line, _)| (line.score, line.a, line.b));
             let all = best_line_of_all(&points, &l, &view, scored)
                 .map(|(score, _, a, b)| (score, a, b));
             proptest::prop_assert_eq!(pruned, all);
