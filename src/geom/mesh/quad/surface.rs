@@ -23,6 +23,7 @@
 //!    normal, so a folded mesh is refused rather than returned.
 
 use glam::{DVec2, DVec3};
+use rayon::prelude::*;
 
 use super::sizing::{chord_for_sag, SizeGrid};
 use super::{quad_mesh_region, PlaneMesh, QuadError, QuadOptions, Region};
@@ -715,7 +716,7 @@ pub fn quad_mesh_surface(
     };
     let meshed = quad_mesh_region(&plane_region, &quad).map_err(SurfaceMeshError::Region)?;
     let mut uv = back_to_parameters(&map, &start_plane, &meshed, &plane_loops, &loops, &samples)?;
-    let mut positions: Vec<DVec3> = uv.iter().map(|p| surface.point_at(p.x, p.y)).collect();
+    let mut positions: Vec<DVec3> = uv.par_iter().map(|p| surface.point_at(p.x, p.y)).collect();
     if options.quad.keep_boundary {
         // The nodes given are the boundary nodes, in their order: kept exactly where
         // they were given, so a neighbouring region meshed with the same seam nodes
@@ -838,9 +839,11 @@ fn back_to_parameters(
         }
         best.map(|b| b.1)
     };
-    meshed
+    // Each node on its own, side by side (a large face's nodes are most of its
+    // meshing after the split); the first node that fails, in node order, is reported.
+    let found: Vec<Result<DVec2, SurfaceMeshError>> = meshed
         .points
-        .iter()
+        .par_iter()
         .enumerate()
         .map(|(k, &q)| {
             if k < meshed.boundary_nodes {
@@ -857,7 +860,8 @@ fn back_to_parameters(
                     at: map.surface.point_at(start.x, start.y),
                 })
         })
-        .collect()
+        .collect();
+    found.into_iter().collect()
 }
 
 /// The plane mesh's elements on the surface, turned so each normal runs along the
@@ -887,7 +891,7 @@ fn oriented_faces(
         (n.dot(along), p.iter().sum::<DVec3>() / p.len() as f64)
     };
     // The plane's winding against the surface's: the sign most elements agree on.
-    let signs: Vec<(f64, DVec3)> = elements.iter().map(|e| facing(e)).collect();
+    let signs: Vec<(f64, DVec3)> = elements.par_iter().map(|e| facing(e)).collect();
     let agree = signs.iter().filter(|s| s.0 > 0.0).count();
     let flip = agree * 2 < signs.len();
     let mut faces = Vec::with_capacity(elements.len());
