@@ -840,11 +840,12 @@ pub fn split_down(
 /// a tree of some hundreds of quads, worth a task.
 const SIDE_BY_SIDE: usize = 48;
 
-/// The two halves of a split, split down at once, each on a copy of the points: the
-/// first half's nodes added to `points` and its elements pushed, then the second's, its
-/// new nodes renumbered to follow the first's. A half splits only its own loop, which
-/// holds none of the other's new nodes, so this is what splitting them one after the
-/// other makes. The first error, in that order, is returned.
+/// The two halves of a split, split down at once, each on its own points (its loop's
+/// nodes, numbered in the order first met, then the nodes it makes): the first half's
+/// new nodes are then added to `points` and its elements pushed, then the second's. A
+/// half splits only its own loop, which holds none of the other's new nodes, and reads
+/// nothing of its node numbers but which are the same node, so this is what splitting
+/// them one after the other makes. The first error, in that order, is returned.
 fn split_halves_apart(
     points: &mut Vec<DVec2>,
     (first, second): (ToSplit, ToSplit),
@@ -852,24 +853,66 @@ fn split_halves_apart(
     side_by_side: usize,
     (quads, triangles): &mut Elements,
 ) -> Result<(), QuadError> {
-    let base = points.len();
-    let mut second_points = points.clone();
-    let tree = |points: &mut Vec<DVec2>, start: ToSplit| {
+    let shared: &[DVec2] = points;
+    let tree = |(l, judged): ToSplit| {
+        let (mut own, nodes) = on_its_own(shared, &l);
         let (mut q, mut t) = (Vec::new(), Vec::new());
-        split_tree(points, start, sizes, side_by_side, &mut (&mut q, &mut t)).map(|()| (q, t))
+        split_tree(
+            &mut own.points,
+            (own.l, judged),
+            sizes,
+            side_by_side,
+            &mut (&mut q, &mut t),
+        )
+        .map(|()| (own.points.split_off(nodes.len()), nodes, q, t))
     };
-    let (one, two) = rayon::join(|| tree(points, first), || tree(&mut second_points, second));
-    let (first_quads, first_triangles) = one?;
-    let (second_quads, second_triangles) = two?;
-    // The second half's own nodes come after the first's.
-    let shift = (points.len() - base) as u32;
-    let renumber = |v: u32| if v as usize >= base { v + shift } else { v };
-    points.extend_from_slice(&second_points[base..]);
-    quads.extend(first_quads);
-    quads.extend(second_quads.into_iter().map(|q| q.map(renumber)));
-    triangles.extend(first_triangles);
-    triangles.extend(second_triangles.into_iter().map(|t| t.map(renumber)));
+    let (one, two) = rayon::join(|| tree(first), || tree(second));
+    for (made, nodes, half_quads, half_triangles) in [one?, two?] {
+        // The half's own numbers: its loop's nodes first, then those it made.
+        let (given, base) = (nodes.len() as u32, points.len() as u32);
+        let id = |v: u32| {
+            if v < given {
+                nodes[v as usize]
+            } else {
+                base + (v - given)
+            }
+        };
+        points.extend(made);
+        quads.extend(half_quads.into_iter().map(|q| q.map(id)));
+        triangles.extend(half_triangles.into_iter().map(|t| t.map(id)));
+    }
     Ok(())
+}
+
+/// A loop on points of its own: its nodes' positions and the loop in their numbers.
+struct OwnLoop {
+    points: Vec<DVec2>,
+    l: Vec<u32>,
+}
+
+/// The loop `l` renumbered onto points of its own (each node once, in the order first
+/// met: a cut line's node walked twice stays one node), and each own node's id in
+/// `points`.
+fn on_its_own(points: &[DVec2], l: &[u32]) -> (OwnLoop, Vec<u32>) {
+    let mut own_id: std::collections::HashMap<u32, u32> = Default::default();
+    let mut nodes: Vec<u32> = Vec::with_capacity(l.len());
+    let own_l = l
+        .iter()
+        .map(|&v| {
+            *own_id.entry(v).or_insert_with(|| {
+                nodes.push(v);
+                nodes.len() as u32 - 1
+            })
+        })
+        .collect();
+    let own_points = nodes.iter().map(|&v| points[v as usize]).collect();
+    (
+        OwnLoop {
+            points: own_points,
+            l: own_l,
+        },
+        nodes,
+    )
 }
 
 /// Where a split's elements go: its quads and its triangles.
