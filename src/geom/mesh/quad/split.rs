@@ -832,8 +832,7 @@ pub fn split_down(
     quads: &mut Vec<[u32; 4]>,
     triangles: &mut Vec<[u32; 3]>,
 ) -> Result<(), QuadError> {
-    let mut out = (quads, triangles);
-    split_tree(points, (first, None), sizes, SIDE_BY_SIDE, &mut out)
+    split_tree(points, (first, None), sizes, SIDE_BY_SIDE, quads, triangles)
 }
 
 /// Halves of a split with at least this many nodes each are split down side by side:
@@ -851,7 +850,8 @@ fn split_halves_apart(
     (first, second): (ToSplit, ToSplit),
     sizes: Sizes,
     side_by_side: usize,
-    (quads, triangles): &mut Elements,
+    quads: &mut Vec<[u32; 4]>,
+    triangles: &mut Vec<[u32; 3]>,
 ) -> Result<(), QuadError> {
     let shared: &[DVec2] = points;
     let tree = |(l, judged): ToSplit| {
@@ -862,7 +862,8 @@ fn split_halves_apart(
             (own.l, judged),
             sizes,
             side_by_side,
-            &mut (&mut q, &mut t),
+            &mut q,
+            &mut t,
         )
         .map(|()| (own.points.split_off(nodes.len()), nodes, q, t))
     };
@@ -915,9 +916,6 @@ fn on_its_own(points: &[DVec2], l: &[u32]) -> (OwnLoop, Vec<u32>) {
     )
 }
 
-/// Where a split's elements go: its quads and its triangles.
-type Elements<'a> = (&'a mut Vec<[u32; 4]>, &'a mut Vec<[u32; 3]>);
-
 /// [`split_down`] from a loop with what [`best_small`] made of it, if known, the
 /// halves of a split split side by side where both have at least `side_by_side` nodes.
 fn split_tree(
@@ -925,7 +923,8 @@ fn split_tree(
     start: ToSplit,
     sizes: Sizes,
     side_by_side: usize,
-    (quads, triangles): &mut Elements,
+    quads: &mut Vec<[u32; 4]>,
+    triangles: &mut Vec<[u32; 3]>,
 ) -> Result<(), QuadError> {
     let mut stack: Vec<ToSplit> = vec![start];
     while let Some((l, judged)) = stack.pop() {
@@ -964,8 +963,14 @@ fn split_tree(
         let (first, second) = split_once(points, &l, sizes)?;
         if first.0.len().min(second.0.len()) >= side_by_side {
             // Both trees finished here, before the loops below on the stack.
-            let out = &mut (&mut **quads, &mut **triangles);
-            split_halves_apart(points, (first, second), sizes, side_by_side, out)?;
+            split_halves_apart(
+                points,
+                (first, second),
+                sizes,
+                side_by_side,
+                quads,
+                triangles,
+            )?;
             continue;
         }
         stack.push(second);
@@ -1020,14 +1025,17 @@ pub(super) mod tests {
                 ((0..boundary.len() as u32).collect(), None),
                 Sizes::uniform(1.0),
                 side_by_side,
-                &mut (&mut quads, &mut triangles),
+                &mut quads,
+                &mut triangles,
             )
+            // A plain region with an even count of distinct boundary nodes: it splits.
             .expect("split");
             (points, quads, triangles)
         };
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(2)
             .build()
+            // Two worker threads are always available to a test process.
             .expect("a pool of two threads");
         let apart = pool.install(|| split(SIDE_BY_SIDE));
         let in_turn = split(usize::MAX);
