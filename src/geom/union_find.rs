@@ -60,6 +60,73 @@ impl UnionFind {
     }
 }
 
+/// Disjoint sets over the indices `0..len` where only which indices share a set
+/// matters, not what the set is called: the smaller set is hung under the larger, so
+/// the trees stay shallow and a mesh's faces are joined in fewer steps than by
+/// [`UnionFind`], whose roots must be the smallest index. A set's root depends on the
+/// order of the unions; that two indices share it does not.
+#[derive(Debug, Clone)]
+pub struct SetsBySize {
+    /// The parent of each index (a root is its own parent).
+    parent: Vec<u32>,
+    /// The size of each root's set (meaningless for an index that is not a root).
+    size: Vec<u32>,
+}
+
+impl SetsBySize {
+    /// `len` indices, each in a set of its own (at most `u32::MAX + 1`, as a mesh's
+    /// numbering allows; an index beyond that is a caller's bug).
+    pub fn new(len: usize) -> Self {
+        assert!(
+            len <= u32::MAX as usize + 1,
+            "union-find over {len} indices: more than u32 numbers"
+        );
+        Self {
+            // len fits a u32 (checked above), so every index does.
+            parent: (0..len).map(|i| i as u32).collect(),
+            size: vec![1; len],
+        }
+    }
+
+    /// The root of the set holding `x`, halving paths on the way.
+    pub fn find(&mut self, x: usize) -> usize {
+        // x < len, which `new` checked to fit a u32.
+        let mut x = x as u32;
+        loop {
+            let parent = self.parent[x as usize];
+            if parent == x {
+                return x as usize;
+            }
+            let grand = self.parent[parent as usize];
+            self.parent[x as usize] = grand;
+            x = grand;
+        }
+    }
+
+    /// Joins the sets whose roots are `a` and `b` (as [`SetsBySize::find`] gave them),
+    /// and gives the root of the joined set.
+    pub fn join_roots(&mut self, a: usize, b: usize) -> usize {
+        if a == b {
+            return a;
+        }
+        let (big, small) = if self.size[a] >= self.size[b] {
+            (a, b)
+        } else {
+            (b, a)
+        };
+        // Both are indices below len, so u32 (checked by `new`).
+        self.parent[small] = big as u32;
+        self.size[big] += self.size[small];
+        big
+    }
+
+    /// Joins the sets holding `a` and `b`.
+    pub fn union(&mut self, a: usize, b: usize) {
+        let (ra, rb) = (self.find(a), self.find(b));
+        self.join_roots(ra, rb);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -82,5 +149,29 @@ mod tests {
         sets.union(6, 4);
         let roots: Vec<usize> = (0..7).map(|i| sets.find(i)).collect();
         assert_eq!(roots, [0, 1, 2, 1, 1, 1, 1]);
+    }
+
+    /// Joined by size, two indices share a root exactly where a chain of unions joins
+    /// them, whatever the order of the unions.
+    #[test]
+    fn sets_by_size_share_roots_as_unions_join_them() {
+        let unions = [(5, 3), (6, 5), (4, 1), (3, 3), (6, 4)];
+        for order in [unions.to_vec(), unions.iter().rev().copied().collect()] {
+            let mut by_size = SetsBySize::new(7);
+            let mut smallest = UnionFind::new(7);
+            for &(a, b) in &order {
+                by_size.union(a, b);
+                smallest.union(a, b);
+            }
+            for a in 0..7 {
+                for b in 0..7 {
+                    assert_eq!(
+                        by_size.find(a) == by_size.find(b),
+                        smallest.find(a) == smallest.find(b),
+                        "{a} and {b} after {order:?}"
+                    );
+                }
+            }
+        }
     }
 }

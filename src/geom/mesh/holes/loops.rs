@@ -16,7 +16,7 @@ use super::plane::ProjectionPlane;
 use crate::geom::mesh::stars::{Corner, VertexStars};
 use crate::geom::mesh::{FaceId, HalfEdgeId, Mesh, Topology, VertexId};
 use crate::geom::trimmed::{polygon_area, polygon_winding};
-use crate::geom::union_find::UnionFind;
+use crate::geom::union_find::{SetsBySize, UnionFind};
 
 /// A closed loop of free edges.
 #[derive(Debug, Clone, PartialEq)]
@@ -169,17 +169,21 @@ pub fn scan(mesh: &Mesh, outer: Option<DVec3>) -> Scan<'_> {
     }
 }
 
-/// The mesh's nodes in sets joined by its faces (each set named by its smallest node:
-/// the connected pieces, by shared nodes), and how many sets hold a face.
-fn node_sets(mesh: &Mesh) -> (UnionFind, usize) {
-    let mut sets = UnionFind::new(mesh.vertex_count());
+/// The mesh's nodes in sets joined by its faces (the connected pieces, by shared
+/// nodes), and how many sets hold a face. Each face's first node is found once and its
+/// other nodes joined to it; the sets are joined by size, as only which nodes share a
+/// piece matters (the pieces are numbered by the loops that meet them).
+fn node_sets(mesh: &Mesh) -> (SetsBySize, usize) {
+    let mut sets = SetsBySize::new(mesh.vertex_count());
     let mut used = vec![false; mesh.vertex_count()];
     for face in mesh.faces() {
         let v = face.indices();
         used[v[0] as usize] = true;
+        let mut root = sets.find(v[0] as usize);
         for &w in &v[1..] {
             used[w as usize] = true;
-            sets.union(v[0] as usize, w as usize);
+            let other = sets.find(w as usize);
+            root = sets.join_roots(root, other);
         }
     }
     let count = (0..used.len())
