@@ -90,10 +90,12 @@ pub fn solve_plate(grid: &HeightGrid) -> Result<Vec<f64>, PlateError> {
         return Ok(heights);
     }
     // The Laplacian at each node: +1 at each grid neighbour, -(neighbours) at itself;
-    // only the rows that hold an unknown node count.
-    let laplacians = (0..=grid.ny)
-        .flat_map(|j| (0..=grid.nx).map(move |i| (i, j)))
-        .filter_map(|(i, j)| {
+    // only the rows that hold an unknown node count. Gathered once, in node order, for
+    // the band and then the equations.
+    let is_unknown = |n: usize| unknown[n] != usize::MAX;
+    let mut rows: Vec<([(usize, f64); 5], usize)> = Vec::new();
+    for j in 0..=grid.ny {
+        for i in 0..=grid.nx {
             let mut row = [(0usize, 0.0f64); 5];
             let mut len = 0;
             for n in grid.neighbours(i, j) {
@@ -102,38 +104,40 @@ pub fn solve_plate(grid: &HeightGrid) -> Result<Vec<f64>, PlateError> {
             }
             row[len] = (grid.index(i, j), -(len as f64));
             len += 1;
-            row[..len]
-                .iter()
-                .any(|&(n, _)| grid.known[n].is_none())
-                .then_some((row, len))
-        });
+            if row[..len].iter().any(|&(n, _)| is_unknown(n)) {
+                rows.push((row, len));
+            }
+        }
+    }
     // The normal equations couple two unknowns that share a row; numbered as above
     // they lie at most two grid lines apart, and the band is the widest such gap (a
     // hole narrower than the grid has fewer unknowns between).
-    let band = laplacians
-        .clone()
+    let band = rows
+        .iter()
         .map(|(row, len)| {
-            let ids = row[..len]
+            let (lo, hi) = row[..*len]
                 .iter()
-                .filter(|(n, _)| grid.known[*n].is_none())
-                .map(|&(n, _)| unknown[n]);
-            ids.clone().max().unwrap_or(0) - ids.min().unwrap_or(0)
+                .filter(|&&(n, _)| is_unknown(n))
+                .fold((usize::MAX, 0), |(lo, hi), &(n, _)| {
+                    (lo.min(unknown[n]), hi.max(unknown[n]))
+                });
+            hi - lo
         })
         .max()
         .unwrap_or(0);
     let mut a = SymmetricBand::zeros(count, band);
     let mut rhs = vec![0.0; count];
-    for (row, len) in laplacians {
-        let row = &row[..len];
+    for (row, len) in &rows {
+        let row = &row[..*len];
         let fixed: f64 = row
             .iter()
             .filter_map(|&(n, w)| grid.known[n].map(|h| w * h))
             .sum();
-        for &(p, wp) in row.iter().filter(|(n, _)| grid.known[*n].is_none()) {
+        for &(p, wp) in row.iter().filter(|&&(n, _)| is_unknown(n)) {
             let r = unknown[p];
             rhs[r] -= wp * fixed;
             // The lower triangle only: the matrix is symmetric.
-            for &(q, wq) in row.iter().filter(|(n, _)| grid.known[*n].is_none()) {
+            for &(q, wq) in row.iter().filter(|&&(n, _)| is_unknown(n)) {
                 let c = unknown[q];
                 if c <= r {
                     a.add(r, c, wp * wq);
