@@ -1,6 +1,31 @@
 //! Disjoint sets of indices (union-find): which mesh faces form one connected piece,
 //! which grid vertices of a tessellation coincide and are welded into one.
 
+/// Checks that the indices `0..len` fit a `u32` (a mesh's numbering): more is a
+/// caller's bug.
+fn check_len(len: usize) {
+    assert!(
+        len <= u32::MAX as usize + 1,
+        "union-find over {len} indices: more than u32 numbers"
+    );
+}
+
+/// The root of `x` in the forest `parent` (a root is its own parent), halving the path
+/// on the way: each node passed is hung under its grandparent.
+fn root_halving(parent: &mut [u32], x: usize) -> usize {
+    // x indexes parent, whose length was checked to fit a u32.
+    let mut x = x as u32;
+    loop {
+        let up = parent[x as usize];
+        if up == x {
+            return x as usize;
+        }
+        let grand = parent[up as usize];
+        parent[x as usize] = grand;
+        x = grand;
+    }
+}
+
 /// Disjoint sets over the indices `0..len`, each set named by its smallest index so
 /// that results do not depend on the order of the unions.
 ///
@@ -20,10 +45,7 @@ impl UnionFind {
     /// `len` indices, each in a set of its own (at most `u32::MAX + 1`, as a mesh's
     /// numbering allows; an index beyond that is a caller's bug).
     pub fn new(len: usize) -> Self {
-        assert!(
-            len <= u32::MAX as usize + 1,
-            "union-find over {len} indices: more than u32 numbers"
-        );
+        check_len(len);
         Self {
             len,
             parent: Vec::new(),
@@ -35,17 +57,7 @@ impl UnionFind {
         if self.parent.is_empty() {
             return x;
         }
-        // x < len, checked by `new` to fit a u32.
-        let mut x = x as u32;
-        loop {
-            let parent = self.parent[x as usize];
-            if parent == x {
-                return x as usize;
-            }
-            let grand = self.parent[parent as usize];
-            self.parent[x as usize] = grand;
-            x = grand;
-        }
+        root_halving(&mut self.parent, x)
     }
 
     /// Joins the sets holding `a` and `b`; the smaller root becomes the root of both.
@@ -77,10 +89,7 @@ impl SetsBySize {
     /// `len` indices, each in a set of its own (at most `u32::MAX + 1`, as a mesh's
     /// numbering allows; an index beyond that is a caller's bug).
     pub fn new(len: usize) -> Self {
-        assert!(
-            len <= u32::MAX as usize + 1,
-            "union-find over {len} indices: more than u32 numbers"
-        );
+        check_len(len);
         Self {
             // len fits a u32 (checked above), so every index does.
             parent: (0..len).map(|i| i as u32).collect(),
@@ -90,17 +99,7 @@ impl SetsBySize {
 
     /// The root of the set holding `x`, halving paths on the way.
     pub fn find(&mut self, x: usize) -> usize {
-        // x < len, which `new` checked to fit a u32.
-        let mut x = x as u32;
-        loop {
-            let parent = self.parent[x as usize];
-            if parent == x {
-                return x as usize;
-            }
-            let grand = self.parent[parent as usize];
-            self.parent[x as usize] = grand;
-            x = grand;
-        }
+        root_halving(&mut self.parent, x)
     }
 
     /// Joins the sets whose roots are `a` and `b` (as [`SetsBySize::find`] gave them),
