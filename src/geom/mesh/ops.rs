@@ -66,12 +66,11 @@ impl Mesh {
     }
 
     /// The normal at vertex `v` alone, as [`Mesh::compute_vertex_normals`] gives it,
-    /// from `faces`, the faces using `v` in id order ([`super::Topology::vertex_faces`],
-    /// [`super::stars::VertexStars::faces`]):
+    /// from `faces`, the faces using `v` in id order ([`super::Topology::vertex_faces`]):
     /// for a few nodes (a hole's rim) without working out every node's.
-    pub fn vertex_normal(&self, v: VertexId, faces: impl IntoIterator<Item = FaceId>) -> DVec3 {
+    pub fn vertex_normal(&self, v: VertexId, faces: &[FaceId]) -> DVec3 {
         let mut sum = DVec3::ZERO;
-        for f in faces {
+        for &f in faces {
             let (Some(face), Some(normal)) = (self.faces.get(f.index()), self.face_normal(f))
             else {
                 continue;

@@ -270,7 +270,7 @@ fn heights_round(
         }
     }
     while let Some(v) = nodes.pop() {
-        for f in stars.faces(v) {
+        for &f in stars.faces(v) {
             if !scratch.faces.first(f.0) {
                 continue;
             }
@@ -338,7 +338,7 @@ pub fn base_surface_with(
     let planar = loop_nodes
         .iter()
         .flat_map(|&v| stars.faces(v))
-        .flat_map(|f| mesh.faces()[f.index()].indices())
+        .flat_map(|&f| mesh.faces()[f.index()].indices())
         .all(|&v| plane.to_plane(mesh.positions()[v as usize]).1.abs() <= PLANAR * span);
     if planar {
         let corners = |i: f64, j: f64| plane.from_plane(corner + DVec2::new(i, j), 0.0);

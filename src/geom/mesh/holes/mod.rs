@@ -371,7 +371,7 @@ fn fill_one(
     // Single-valued over the plane: every face at the loop faces the plane, and the loop
     // runs round the hole clockwise seen from it (as a hole's free edges do).
     for &v in &l.nodes {
-        for f in stars.faces(v) {
+        for &f in stars.faces(v) {
             let facing = mesh.face_normal(f).map_or(0.0, |n| n.dot(plane.normal));
             if facing <= FACING {
                 let at = mesh.face_centroid(f).unwrap_or(points[0]);
