@@ -172,6 +172,13 @@ impl Mesh {
             check_face(self.faces.len() + k, face, vertices)?;
         }
         self.normals = None;
+        // Room for the new items, the two tables grown side by side: where the
+        // allocator cannot grow a large mesh's table in place, growing it is a copy.
+        let (own_positions, own_faces) = (&mut self.positions, &mut self.faces);
+        rayon::join(
+            || own_positions.reserve(positions.len()),
+            || own_faces.reserve(faces.len()),
+        );
         self.positions.extend_from_slice(positions);
         self.faces.extend_from_slice(faces);
         Ok(())

@@ -11,6 +11,7 @@
 //! another), which a designer may override.
 
 use glam::{DVec2, DVec3};
+use rayon::prelude::*;
 
 use super::plane::ProjectionPlane;
 use crate::geom::mesh::stars::{Corner, VertexStars};
@@ -145,12 +146,13 @@ pub fn scan(mesh: &Mesh, outer: Option<DVec3>) -> Scan<'_> {
                     }
                 }
             };
+            // Pieces numbered in loop order, then the loops measured side by side.
+            let pieces_of: Vec<usize> =
+                chains.iter().map(|(nodes, _)| piece_of(nodes[0])).collect();
             let loops = chains
-                .into_iter()
-                .map(|(nodes, faces)| {
-                    let piece = piece_of(nodes[0]);
-                    measured(mesh, nodes, faces, piece)
-                })
+                .into_par_iter()
+                .zip(pieces_of)
+                .map(|((nodes, faces), piece)| measured(mesh, nodes, faces, piece))
                 .collect();
             FreeEdges {
                 count,
@@ -224,61 +226,16 @@ type Chain = (Vec<VertexId>, Vec<FaceId>);
 /// out, every edge at it with one or two faces wound alike, and its faces one fan.
 /// `None` where a node is not. The free-edge count and each loop from its first free
 /// edge in face order, in that order.
+///
+/// Each open node's free edge out is found on its own, on whichever thread of the pool
+/// is free (the scan's other pass, the pieces, usually ends about when the stars do).
 fn simple_loops(stars: &VertexStars) -> Option<(usize, Vec<Chain>)> {
     let open: Vec<VertexId> = stars.open_nodes().collect();
     // Per open node, its free edge out: (face, the node's corner in it, the next node).
-    let mut out: Vec<(FaceId, usize, VertexId)> = Vec::with_capacity(open.len());
-    let mut corners = Vec::new();
-    for &v in &open {
-        corners.clear();
-        corners.extend(stars.corners(v));
-        let (mut free_out, mut free_in) = (None, 0usize);
-        for c in &corners {
-            for w in [c.to, c.from] {
-                match edge_at(&corners, w) {
-                    EdgeAt::NotManifold | EdgeAt::WoundAlike => return None,
-                    EdgeAt::Sound => {}
-                    EdgeAt::Free => {
-                        if w == c.to {
-                            if free_out.replace(c.face).is_some() {
-                                return None;
-                            }
-                        } else {
-                            free_in += 1;
-                        }
-                    }
-                }
-            }
-        }
-        let face = free_out?;
-        if free_in != 1 {
-            return None;
-        }
-        // One fan: turning round the node from the face on the free edge out, face by
-        // face across the edges they share, reaches every face at the node (a closed
-        // fan also hung on the node would make the node's pieces the topology's job).
-        let mut at = corners.iter().find(|c| c.face == face)?;
-        let mut fan = 1;
-        while let Some(across) = corners.iter().find(|d| d.to == at.from) {
-            at = across;
-            fan += 1;
-            if fan > corners.len() {
-                return None;
-            }
-        }
-        if fan != corners.len() {
-            return None;
-        }
-        let corner = stars
-            .mesh()
-            .faces()
-            .get(face.index())?
-            .indices()
-            .iter()
-            .position(|&w| w == v.0)?;
-        let next = corners.iter().find(|c| c.face == face)?.to;
-        out.push((face, corner, next));
-    }
+    let out: Vec<(FaceId, usize, VertexId)> = open
+        .par_iter()
+        .map_init(Vec::new, |corners, &v| free_edge_out(stars, v, corners))
+        .collect::<Option<_>>()?;
     // Each loop from its lowest free edge, in face order (a half-edge's number).
     let mut starts: Vec<usize> = (0..open.len()).collect();
     starts.sort_by_key(|&i| (out[i].0, out[i].1));
@@ -303,6 +260,64 @@ fn simple_loops(stars: &VertexStars) -> Option<(usize, Vec<Chain>)> {
         loops.push((nodes, faces));
     }
     Some((open.len(), loops))
+}
+
+/// The free edge out of the open node `v` where `v` is simple (see [`simple_loops`]):
+/// its face, `v`'s corner in that face, and the node it runs to. `corners` is room for
+/// the node's corners, reused from node to node.
+fn free_edge_out(
+    stars: &VertexStars,
+    v: VertexId,
+    corners: &mut Vec<Corner>,
+) -> Option<(FaceId, usize, VertexId)> {
+    corners.clear();
+    corners.extend(stars.corners(v));
+    let (mut free_out, mut free_in) = (None, 0usize);
+    for c in corners.iter() {
+        for w in [c.to, c.from] {
+            match edge_at(corners, w) {
+                EdgeAt::NotManifold | EdgeAt::WoundAlike => return None,
+                EdgeAt::Sound => {}
+                EdgeAt::Free => {
+                    if w == c.to {
+                        if free_out.replace(c.face).is_some() {
+                            return None;
+                        }
+                    } else {
+                        free_in += 1;
+                    }
+                }
+            }
+        }
+    }
+    let face = free_out?;
+    if free_in != 1 {
+        return None;
+    }
+    // One fan: turning round the node from the face on the free edge out, face by
+    // face across the edges they share, reaches every face at the node (a closed
+    // fan also hung on the node would make the node's pieces the topology's job).
+    let mut at = corners.iter().find(|c| c.face == face)?;
+    let mut fan = 1;
+    while let Some(across) = corners.iter().find(|d| d.to == at.from) {
+        at = across;
+        fan += 1;
+        if fan > corners.len() {
+            return None;
+        }
+    }
+    if fan != corners.len() {
+        return None;
+    }
+    let corner = stars
+        .mesh()
+        .faces()
+        .get(face.index())?
+        .indices()
+        .iter()
+        .position(|&w| w == v.0)?;
+    let next = corners.iter().find(|c| c.face == face)?.to;
+    Some((face, corner, next))
 }
 
 /// A loop's figures from its nodes.
