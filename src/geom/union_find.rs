@@ -115,7 +115,8 @@ impl SetsBySize {
         };
         // Both are indices below len, so u32 (checked by `new`).
         self.parent[small] = big as u32;
-        self.size[big] += self.size[small];
+        // Saturating: a size only guides which set hangs under which.
+        self.size[big] = self.size[big].saturating_add(self.size[small]);
         big
     }
 
