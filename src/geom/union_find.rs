@@ -2,7 +2,9 @@
 //! which grid vertices of a tessellation coincide and are welded into one.
 
 /// Checks that the indices `0..len` fit a `u32` (a mesh's numbering): more is a
-/// caller's bug.
+/// caller's bug. Every caller passes a count of a mesh's nodes or faces, or of a
+/// tessellation grid's vertices, which `Mesh::new` and the tessellator keep within
+/// `u32` ids, so user input never reaches the panic.
 fn check_len(len: usize) {
     assert!(
         len <= u32::MAX as usize + 1,
