@@ -13,7 +13,8 @@ fn check_len(len: usize) {
 }
 
 /// The root of `x` in the forest `parent` (a root is its own parent), halving the path
-/// on the way: each node passed is hung under its grandparent.
+/// on the way: each node passed is hung under its grandparent. A node already hung
+/// under its root (most, once the sets have grown) is read, not written.
 fn root_halving(parent: &mut [u32], x: usize) -> usize {
     // x indexes parent, whose length was checked to fit a u32.
     let mut x = x as u32;
@@ -23,6 +24,9 @@ fn root_halving(parent: &mut [u32], x: usize) -> usize {
             return x as usize;
         }
         let grand = parent[up as usize];
+        if grand == up {
+            return up as usize;
+        }
         parent[x as usize] = grand;
         x = grand;
     }
