@@ -10,6 +10,13 @@ defaults otherwise, `selfintersection` on), and writes the last run's result to
 OUT.obj. With
 `refine`, MeshLab also refines the new faces to the mesh's mean edge length
 (`refinehole`). Prints the median time in milliseconds and the face counts.
+
+    python3 bench/reference/meshlab_close_holes.py IN.obj OUT.obj serve MAXHOLESIZE
+
+runs the same filter once for each line `run` read from standard input, printing each
+run's time in milliseconds on its own line as soon as it is done, and writes the last
+run's result to OUT.obj at the end of the input: the bench so times MeshLab and dieface
+turn about, run by run, so both meet the machine in the same state.
 """
 
 import statistics
@@ -19,25 +26,43 @@ import time
 import pymeshlab
 
 
+def closed(source: str, options: dict) -> tuple[pymeshlab.MeshSet, float]:
+    """The mesh at `source` loaded (not timed) and its holes closed: the mesh set
+    and the filter's time in milliseconds."""
+    ms = pymeshlab.MeshSet()
+    ms.load_new_mesh(source)
+    start = time.perf_counter()
+    ms.meshing_close_holes(**options)
+    return ms, (time.perf_counter() - start) * 1e3
+
+
 def main() -> None:
-    source, target, runs = sys.argv[1], sys.argv[2], int(sys.argv[3])
+    source, target = sys.argv[1], sys.argv[2]
     largest = int(sys.argv[4])
     refine = len(sys.argv) > 5 and sys.argv[5] == "refine"
-    times = []
+    options = {"maxholesize": largest}
+    if refine:
+        options["refinehole"] = True
     ms = None
+    if sys.argv[3] == "serve":
+        for line in sys.stdin:
+            if line.strip() != "run":
+                continue
+            ms, ms_time = closed(source, options)
+            print(f"{ms_time:.3f}", flush=True)
+        if ms is not None:
+            ms.save_current_mesh(target, save_vertex_normal=False)
+        return
+    runs = int(sys.argv[3])
+    before = pymeshlab.MeshSet()
+    before.load_new_mesh(source)
+    times = []
     for _ in range(runs):
-        ms = pymeshlab.MeshSet()
-        ms.load_new_mesh(source)
-        before = ms.current_mesh().face_number()
-        options = {"maxholesize": largest}
-        if refine:
-            options["refinehole"] = True
-        start = time.perf_counter()
-        ms.meshing_close_holes(**options)
-        times.append((time.perf_counter() - start) * 1e3)
+        ms, ms_time = closed(source, options)
+        times.append(ms_time)
     after = ms.current_mesh().face_number()
     ms.save_current_mesh(target, save_vertex_normal=False)
-    print(f"{statistics.median(times):.3f} {before} {after}")
+    print(f"{statistics.median(times):.3f} {before.current_mesh().face_number()} {after}")
 
 
 if __name__ == "__main__":

@@ -10,7 +10,11 @@
 //! inside Python around the filter alone (the mesh loaded before). MeshLab's filter
 //! edits the mesh it holds; dieface is timed both ways: `fill_holes_in`, handed a copy
 //! of the mesh made before the clock starts and filling it in place, and `fill_holes`,
-//! which leaves its input and returns a filled copy. Each is the median of 7 runs. Both results are then read the same way: the faces each added, their
+//! which leaves its input and returns a filled copy. They are timed turn about, 15
+//! rounds (see `side_by_side`), so the ratio is read round by round on a machine whose
+//! speed drifts; each time is the median of its 15. MeshLab with
+//! `refinehole` as well is timed in its own 7 runs. Both results are then read the
+//! same way: the faces each added, their
 //! largest distance from the analytic surface (nodes, middles and edge midpoints), the
 //! largest normal jump between an added face and the panel's face across a loop edge,
 //! the smallest angle of an added face, and the free loops left. Prints markdown for
@@ -20,17 +24,21 @@
 mod panel;
 
 use std::collections::{BTreeMap, BTreeSet};
+use std::io::{BufRead, BufReader, Write};
 use std::path::Path;
-use std::process::Command;
-use std::time::{Duration, Instant};
+use std::process::{Command, Stdio};
+use std::time::Instant;
 
 use dieface::geom::mesh::holes::{fill_holes, fill_holes_in, FillOptions, HoleChoice};
 use dieface::geom::mesh::{Face, Mesh, Topology};
-use dieface_bench::{median_time, read_obj, write_obj};
+use dieface_bench::{read_obj, write_obj};
 use glam::DVec3;
 
-/// Runs per figure; the median is reported.
+/// Runs of MeshLab with `refinehole`, timed on its own; the median is reported.
 const RUNS: usize = 7;
+
+/// Rounds of the side-by-side timing (see [`side_by_side`]).
+const ROUNDS: usize = 15;
 
 /// What a fill added and how good it is.
 #[derive(Clone)]
@@ -288,25 +296,6 @@ fn main() {
         stages(&mesh);
         return;
     }
-    let ours = median_time(
-        || {
-            fill_holes(&mesh, &options).expect("filled");
-        },
-        1,
-        RUNS,
-    );
-    // The peer's filter edits the mesh it holds; so does `fill_holes_in`, handed a copy
-    // made before its clock starts.
-    let mut in_place: Vec<Duration> = (0..RUNS)
-        .map(|_| {
-            let copy = mesh.clone();
-            let start = Instant::now();
-            fill_holes_in(copy, &options).expect("filled");
-            start.elapsed()
-        })
-        .collect();
-    in_place.sort();
-    let in_place = in_place[RUNS / 2];
     let filled = fill_holes(&mesh, &options).expect("filled");
     let ours_out = dir.join("dieface.obj");
     write_obj(&filled.mesh, &ours_out, "", 12);
@@ -332,60 +321,64 @@ fn main() {
     );
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("reference/meshlab_close_holes.py");
     let ours_measured = measure(&mesh, &read_obj(&ours_out));
+    let meshlab_out = dir.join("meshlab.obj");
+    let rounds = side_by_side(&mesh, &options, &script, &input, &meshlab_out, largest);
     let mut rows = vec![
         (
-            "dieface `fill_holes_in` (the mesh filled in place)".to_string(),
-            in_place.as_secs_f64() * 1e3,
+            "dieface `fill_holes_in` on the mesh just read, as MeshLab is run".to_string(),
+            median(&rounds.after_read),
             ours_measured.clone(),
         ),
         (
-            "dieface `fill_holes` (a filled copy)".to_string(),
-            ours.as_secs_f64() * 1e3,
+            "dieface `fill_holes` (a filled copy), after one fill".to_string(),
+            median(&rounds.copy),
+            ours_measured.clone(),
+        ),
+        (
+            "dieface `fill_holes_in` (the mesh filled in place), after two fills".to_string(),
+            median(&rounds.in_place),
             ours_measured,
         ),
+        (
+            "MeshLab `meshing_close_holes`".to_string(),
+            median(&rounds.meshlab),
+            measure(&mesh, &read_obj(&meshlab_out)),
+        ),
     ];
-    for refine in [false, true] {
-        let out = dir.join(if refine {
-            "meshlab_refined.obj"
-        } else {
-            "meshlab.obj"
-        });
-        let mut command = Command::new("python3");
-        command
-            .arg(&script)
-            .arg(&input)
-            .arg(&out)
-            .arg(RUNS.to_string())
-            .arg(largest.to_string());
-        if refine {
-            command.arg("refine");
-        }
-        let result = command.output().expect("python3 runs");
-        assert!(
-            result.status.success(),
-            "MeshLab: {}",
-            String::from_utf8_lossy(&result.stderr)
-        );
-        let text = String::from_utf8_lossy(&result.stdout);
-        let ms: f64 = text
-            .split_whitespace()
-            .next()
-            .and_then(|w| w.parse().ok())
-            .expect("MeshLab's time");
-        let name = if refine {
-            "MeshLab `meshing_close_holes`, `refinehole`"
-        } else {
-            "MeshLab `meshing_close_holes`"
-        };
-        rows.push((name.to_string(), ms, measure(&mesh, &read_obj(&out))));
-    }
+    // MeshLab refining the new faces as well, in its own runs: a slower peer, kept for
+    // its figures.
+    let refined_out = dir.join("meshlab_refined.obj");
+    let result = Command::new("python3")
+        .arg(&script)
+        .arg(&input)
+        .arg(&refined_out)
+        .arg(RUNS.to_string())
+        .arg(largest.to_string())
+        .arg("refine")
+        .output()
+        .expect("python3 runs");
+    assert!(
+        result.status.success(),
+        "MeshLab: {}",
+        String::from_utf8_lossy(&result.stderr)
+    );
+    let refined_ms: f64 = String::from_utf8_lossy(&result.stdout)
+        .split_whitespace()
+        .next()
+        .and_then(|w| w.parse().ok())
+        .expect("MeshLab's time");
+    rows.push((
+        format!("MeshLab `meshing_close_holes`, `refinehole` (its own {RUNS} runs, median)"),
+        refined_ms,
+        measure(&mesh, &read_obj(&refined_out)),
+    ));
     println!(
         "panel: {} triangles, {} nodes, {} holes (the outer edge kept)\n",
         mesh.face_count(),
         mesh.vertex_count(),
         holes.len()
     );
-    println!("| filler | time (median of {RUNS}) | vs dieface | faces added | largest deviation, R >= 500 mm / all | largest normal jump at a loop, R >= 500 mm / all | smallest angle | free loops left |");
+    println!("| filler | time (median of {ROUNDS} rounds) | vs dieface | faces added | largest deviation, R >= 500 mm / all | largest normal jump at a loop, R >= 500 mm / all | smallest angle | free loops left |");
     println!("|---|---:|---:|---:|---:|---:|---:|---:|");
     let base = rows[0].1;
     for (name, ms, m) in rows {
@@ -401,4 +394,112 @@ fn main() {
             m.loops_left
         );
     }
+    let ratio = |ours: &[f64]| {
+        let ratios: Vec<f64> = (0..ROUNDS).map(|r| rounds.meshlab[r] / ours[r]).collect();
+        let (least, most) = ratios.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &x| {
+            (lo.min(x), hi.max(x))
+        });
+        format!("median {:.1}x, {least:.1}x to {most:.1}x", median(&ratios))
+    };
+    println!(
+        "\nMeshLab / dieface `fill_holes_in`, round by round ({ROUNDS} rounds): on the mesh just read {}; after two fills {}",
+        ratio(&rounds.after_read),
+        ratio(&rounds.in_place)
+    );
+}
+
+/// The side-by-side timing's rounds: each fill's time in each round (ms).
+struct Rounds {
+    /// `fill_holes_in` on the mesh read from the OBJ file just before, as MeshLab's
+    /// filter is run (and as `dieface build` runs a script's `fill`).
+    after_read: Vec<f64>,
+    /// `fill_holes`, right after the first.
+    copy: Vec<f64>,
+    /// `fill_holes_in` again, right after that, on a copy of the mesh made just before:
+    /// fills run back to back, the machine kept busy.
+    in_place: Vec<f64>,
+    meshlab: Vec<f64>,
+}
+
+/// The median of `times`.
+fn median(times: &[f64]) -> f64 {
+    let mut sorted = times.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    sorted[sorted.len() / 2]
+}
+
+/// MeshLab's `meshing_close_holes` and dieface's `fill_holes_in` and `fill_holes` timed
+/// turn about, [`ROUNDS`] rounds: on a machine whose speed drifts, each round's runs
+/// meet it in the same state, so the ratio read round by round holds where either's
+/// own median moves.
+///
+/// A round is MeshLab's run, then `fill_holes_in`, `fill_holes` and `fill_holes_in`
+/// again, one after another. MeshLab runs in one Python process for all rounds
+/// (`serve`), which reads the OBJ file afresh before each run's clock starts, and so
+/// does dieface's first run: each filter meets a mesh just read, on one thread. The
+/// last run fills a copy made just before it, right after two fills: fills run back
+/// to back. Both `fill_holes_in` runs fill their mesh in place (MeshLab's filter edits
+/// the mesh it holds), handed it before the clock starts. MeshLab's last result is
+/// written to `out`.
+fn side_by_side(
+    mesh: &Mesh,
+    options: &FillOptions,
+    script: &Path,
+    input: &Path,
+    out: &Path,
+    largest: usize,
+) -> Rounds {
+    let mut peer = Command::new("python3")
+        .arg(script)
+        .arg(input)
+        .arg(out)
+        .arg("serve")
+        .arg(largest.to_string())
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .spawn()
+        .expect("python3 runs");
+    let mut ask = peer.stdin.take().expect("the peer's input is piped");
+    let mut answers = BufReader::new(peer.stdout.take().expect("the peer's output is piped"));
+    let mut meshlab_run = || {
+        writeln!(ask, "run").expect("the peer reads its input");
+        let mut line = String::new();
+        answers.read_line(&mut line).expect("the peer answers");
+        line.trim()
+            .parse::<f64>()
+            .unwrap_or_else(|_| panic!("MeshLab's time, not {line:?}"))
+    };
+    let read_run = || {
+        let read = read_obj(input);
+        let start = Instant::now();
+        fill_holes_in(read, options).expect("filled");
+        start.elapsed().as_secs_f64() * 1e3
+    };
+    let in_place_run = || {
+        let copy = mesh.clone();
+        let start = Instant::now();
+        fill_holes_in(copy, options).expect("filled");
+        start.elapsed().as_secs_f64() * 1e3
+    };
+    let copy_run = || {
+        let start = Instant::now();
+        fill_holes(mesh, options).expect("filled");
+        start.elapsed().as_secs_f64() * 1e3
+    };
+    let mut rounds = Rounds {
+        after_read: Vec::new(),
+        in_place: Vec::new(),
+        copy: Vec::new(),
+        meshlab: Vec::new(),
+    };
+    for _ in 0..ROUNDS {
+        rounds.meshlab.push(meshlab_run());
+        rounds.after_read.push(read_run());
+        rounds.copy.push(copy_run());
+        rounds.in_place.push(in_place_run());
+    }
+    drop(ask);
+    let status = peer.wait().expect("the peer ends");
+    assert!(status.success(), "MeshLab's script failed");
+    rounds
 }
