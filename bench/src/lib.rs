@@ -819,6 +819,14 @@ pub fn tessellation_rows(f: &Fixtures, tune: bool, verbose: bool) -> Vec<Row<'_>
     rows
 }
 
+/// The median of `values` (the upper of the middle two for an even count): the figure
+/// the benches report of repeated timings.
+pub fn median(values: &[f64]) -> f64 {
+    let mut sorted = values.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    sorted[sorted.len() / 2]
+}
+
 /// Median over `samples` runs of the time of `reps` calls of `f`, per call.
 pub fn median_time(mut f: impl FnMut(), reps: usize, samples: usize) -> Duration {
     let mut times: Vec<Duration> = (0..samples)

@@ -125,12 +125,6 @@ impl SetsBySize {
         self.size[big] = self.size[big].saturating_add(self.size[small]);
         big
     }
-
-    /// Joins the sets holding `a` and `b`.
-    pub fn union(&mut self, a: usize, b: usize) {
-        let (ra, rb) = (self.find(a), self.find(b));
-        self.join_roots(ra, rb);
-    }
 }
 
 #[cfg(test)]
@@ -166,7 +160,8 @@ mod tests {
             let mut by_size = SetsBySize::new(7);
             let mut smallest = UnionFind::new(7);
             for &(a, b) in &order {
-                by_size.union(a, b);
+                let (ra, rb) = (by_size.find(a), by_size.find(b));
+                by_size.join_roots(ra, rb);
                 smallest.union(a, b);
             }
             for a in 0..7 {

@@ -31,7 +31,7 @@ use std::time::Instant;
 
 use dieface::geom::mesh::holes::{fill_holes, fill_holes_in, FillOptions, HoleChoice};
 use dieface::geom::mesh::{Face, Mesh, Topology};
-use dieface_bench::{read_obj, write_obj};
+use dieface_bench::{median, read_obj, write_obj};
 use glam::DVec3;
 
 /// Runs of MeshLab with `refinehole`, timed on its own; the median is reported.
@@ -411,7 +411,7 @@ fn main() {
 /// The side-by-side timing's rounds: each fill's time in each round (ms).
 struct Rounds {
     /// `fill_holes_in` on the mesh read from the OBJ file just before, as MeshLab's
-    /// filter is run (and as `dieface build` runs a script's `fill`).
+    /// filter is run (and as `dieface build` fills a mesh its script has just read).
     after_read: Vec<f64>,
     /// `fill_holes`, right after the first.
     copy: Vec<f64>,
@@ -419,13 +419,6 @@ struct Rounds {
     /// fills run back to back, the machine kept busy.
     in_place: Vec<f64>,
     meshlab: Vec<f64>,
-}
-
-/// The median of `times`.
-fn median(times: &[f64]) -> f64 {
-    let mut sorted = times.to_vec();
-    sorted.sort_by(f64::total_cmp);
-    sorted[sorted.len() / 2]
 }
 
 /// MeshLab's `meshing_close_holes` and dieface's `fill_holes_in` and `fill_holes` timed

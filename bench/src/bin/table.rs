@@ -10,7 +10,7 @@
 use std::time::{Duration, Instant};
 
 use dieface_bench::{
-    eval_rows, tessellation_rows, Fixtures, Row, AGREE, CHORDAL, SAMPLES as PARAMS,
+    eval_rows, median, tessellation_rows, Fixtures, Row, AGREE, CHORDAL, SAMPLES as PARAMS,
 };
 
 const SAMPLE_MS: u64 = 40;
@@ -42,11 +42,6 @@ fn sample(f: &dyn Fn(), reps: usize) -> f64 {
     start.elapsed().as_secs_f64() / reps as f64
 }
 
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
-}
-
 /// Median time per call of both sides.
 fn time_row(row: &Row) -> (f64, f64) {
     let (ra, rb) = (calibrate(&*row.ours), calibrate(&*row.theirs));
@@ -61,7 +56,7 @@ fn time_row(row: &Row) -> (f64, f64) {
             a.push(sample(&*row.ours, ra));
         }
     }
-    (median(a), median(b))
+    (median(&a), median(&b))
 }
 
 fn fmt_time(s: f64) -> String {

@@ -11,6 +11,7 @@
 //! output written). A cold `dieface build` of the same script, timed as a whole
 //! process, is the baseline. Prints markdown for BENCHMARKS.md.
 
+use dieface_bench::median;
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Child, ChildStdout, Command, Stdio};
@@ -100,11 +101,6 @@ fn next_time(rx: &Receiver<String>) -> (f64, String) {
     }
 }
 
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(|a, b| a.total_cmp(b));
-    v[v.len() / 2]
-}
-
 fn copy_example(to: &Path) -> PathBuf {
     let from = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/fender");
     std::fs::create_dir_all(to).expect("temp folder");
@@ -147,7 +143,7 @@ fn main() {
         assert!(status.success(), "the example builds");
         cold.push(t.elapsed().as_secs_f64() * 1e3);
     }
-    let cold = median(cold);
+    let cold = median(&cold);
 
     let mut child = Command::new(&bin)
         .arg("watch")
@@ -190,7 +186,7 @@ fn main() {
         let (lo, hi) = times
             .iter()
             .fold((f64::INFINITY, 0.0f64), |(l, h), &t| (l.min(t), h.max(t)));
-        let m = median(times);
+        let m = median(&times);
         let ran = last.split_once(": ").map_or("", |(_, r)| r);
         println!(
             "| {} | {m:.1} ms | {lo:.1}-{hi:.1} ms | {cold:.1} ms | {:.1}x | {ran} |",

@@ -175,11 +175,8 @@ impl Mesh {
         // Room for the new items, the two tables grown side by side: where the
         // allocator cannot grow a large mesh's table in place, growing it is a copy.
         // A mesh made with room for them (`with_added`) needs neither.
-        let short = |spare: usize, wanted: usize| spare < wanted;
-        if short(
-            self.positions.capacity() - self.positions.len(),
-            positions.len(),
-        ) || short(self.faces.capacity() - self.faces.len(), faces.len())
+        if self.positions.capacity() - self.positions.len() < positions.len()
+            || self.faces.capacity() - self.faces.len() < faces.len()
         {
             let (own_positions, own_faces) = (&mut self.positions, &mut self.faces);
             rayon::join(
