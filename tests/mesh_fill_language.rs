@@ -4,7 +4,8 @@
 //! `fill` with each fill patch and its base surface as children; the filled mesh read
 //! back from the OBJ is manifold, wound alike, and has one free loop left (the panel's
 //! outer edge); the fills lie on the panel's analytic surface; two builds give the same
-//! bytes.
+//! bytes. A panel exported with a group per CAD patch and a normal per facet reads as
+//! the one piece it is.
 
 mod common;
 #[path = "common/panel.rs"]
@@ -12,7 +13,7 @@ mod panel;
 
 use std::path::Path;
 
-use dieface::geom::mesh::{Face, Mesh, Topology};
+use dieface::geom::mesh::{Face, FaceId, Mesh, Topology};
 
 #[test]
 fn the_inner_panel_is_stitched_and_filled_by_the_real_binary() {
@@ -103,4 +104,84 @@ fn the_inner_panel_is_stitched_and_filled_by_the_real_binary() {
         std::fs::read(dir.join("b.gltf")).expect("b"),
         "the same script gives the same bytes"
     );
+}
+
+/// The panel as an FE pre-processor exports it: a group per CAD patch (left and right
+/// halves, sharing the nodes on the line between them) and a normal per facet
+/// (`f a//k b//k c//k`).
+fn panel_obj_with_patches_and_facet_normals(mesh: &Mesh) -> String {
+    let mut text = String::new();
+    for p in mesh.positions() {
+        text.push_str(&format!("v {} {} {}\n", p.x, p.y, p.z));
+    }
+    for k in 0..mesh.face_count() {
+        let n = mesh.face_normal(FaceId(k as u32)).unwrap_or(glam::DVec3::Z);
+        text.push_str(&format!("vn {} {} {}\n", n.x, n.y, n.z));
+    }
+    let left = |f: &Face| mesh.positions()[f.indices()[0] as usize].x < panel::WIDTH / 2.0;
+    for (name, side) in [("patch_left", true), ("patch_right", false)] {
+        text.push_str(&format!("g {name}\n"));
+        for (k, f) in mesh.faces().iter().enumerate() {
+            if left(f) == side {
+                let [a, b, c] = [0, 1, 2].map(|i| f.indices()[i] + 1);
+                let n = k + 1;
+                text.push_str(&format!("f {a}//{n} {b}//{n} {c}//{n}\n"));
+            }
+        }
+    }
+    text
+}
+
+#[test]
+fn a_panel_exported_in_patches_with_facet_normals_reads_as_one_piece_and_fills() {
+    let dir = common::fresh_dir("mesh_fill_language", "patches");
+    let holes = panel::standard_holes();
+    let mesh = panel::panel(12.0, &holes);
+    std::fs::write(
+        dir.join("panel.obj"),
+        panel_obj_with_patches_and_facet_normals(&mesh),
+    )
+    .expect("the OBJ written");
+    std::fs::write(
+        dir.join("panel.die"),
+        "let panel = read_obj(\"panel.obj\")\nlet free = free_edges(panel)\nfill closed { mesh = panel }\nlet left = free_edges(closed.mesh)\n",
+    )
+    .expect("the script written");
+    let (code, stdout, stderr) = common::run_dieface(&dir, &["inspect", "--json", "panel.die"]);
+    assert_eq!(code, Some(0), "{stderr}");
+    let json: serde_json::Value = serde_json::from_str(&stdout).expect("JSON");
+    let value = |name: &str| {
+        json["declarations"]
+            .as_array()
+            .and_then(|d| d.iter().find(|d| d["name"] == name))
+            .map(|d| d["value"].clone())
+            .unwrap_or_else(|| panic!("no {name}"))
+    };
+    let read = value("panel");
+    assert_eq!(
+        read["vertices"],
+        mesh.vertex_count(),
+        "one node per `v` line"
+    );
+    let groups: Vec<&str> = read["groups"]
+        .as_array()
+        .expect("groups")
+        .iter()
+        .filter_map(|g| g["name"].as_str())
+        .collect();
+    assert_eq!(groups, ["patch_left", "patch_right"]);
+    let number = |v: &serde_json::Value, field: &str| v["fields"][field]["value"].as_f64();
+    let free = value("free");
+    assert_eq!(
+        number(&free, "pieces"),
+        Some(1.0),
+        "the patches share their nodes"
+    );
+    assert_eq!(
+        free["fields"]["loops"].as_array().map(Vec::len),
+        Some(holes.len() + 1),
+        "the holes and the outer edge, no seam between the patches"
+    );
+    let left = value("left");
+    assert_eq!(left["fields"]["loops"].as_array().map(Vec::len), Some(1));
 }

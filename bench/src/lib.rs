@@ -874,34 +874,9 @@ pub fn write_obj(
     std::fs::write(path, text).expect("the OBJ written");
 }
 
-/// Reads an OBJ file (a peer's result) as one mesh, with `tobj`, dieface's own OBJ
-/// reader: every object's faces over one list of positions.
+/// Reads an OBJ file (a peer's result, or the input a filler reads before its run) as
+/// one mesh, with dieface's own reader, as `read_obj` in a script reads it.
 pub fn read_obj(path: &std::path::Path) -> dieface::geom::mesh::Mesh {
-    use dieface::geom::mesh::{Face, Mesh};
-    let (models, _) = tobj::load_obj(path, &tobj::LoadOptions::default()).expect("the OBJ read");
-    let (mut positions, mut faces) = (Vec::new(), Vec::new());
-    for model in &models {
-        let m = &model.mesh;
-        let base = positions.len() as u32;
-        positions.extend(
-            m.positions
-                .chunks_exact(3)
-                .map(|c| DVec3::new(c[0], c[1], c[2])),
-        );
-        let mut start = 0;
-        let arities: Vec<usize> = if m.face_arities.is_empty() {
-            vec![3; m.indices.len() / 3]
-        } else {
-            m.face_arities.iter().map(|&n| n as usize).collect()
-        };
-        for n in arities {
-            let ids: Vec<u32> = m.indices[start..start + n]
-                .iter()
-                .map(|&i| base + i)
-                .collect();
-            faces.push(Face::from_slice(&ids).expect("a triangle or a quad"));
-            start += n;
-        }
-    }
-    Mesh::new(positions, faces).expect("a mesh")
+    let bytes = std::fs::read(path).expect("the OBJ read");
+    dieface::geom::mesh::obj::parse_obj(&bytes, usize::MAX).expect("an OBJ mesh")
 }

@@ -28,6 +28,7 @@ pub mod curvature;
 pub mod distance;
 pub mod holes;
 mod ids;
+pub mod obj;
 mod ops;
 pub mod quad;
 pub mod rounding;
