@@ -58,7 +58,8 @@ pub fn parse_obj(text: &[u8], max_vertices: usize) -> Result<Mesh, ObjError> {
     let mut positions: Vec<DVec3> = Vec::new();
     let mut normals: Vec<DVec3> = Vec::new();
     let mut faces: Vec<Face> = Vec::new();
-    let mut normal_at: Vec<NodeNormal> = Vec::new();
+    // Each corner's node and normal, while every corner has named one.
+    let mut corner_normals: Vec<(u32, u32)> = Vec::new();
     let mut every_corner_has_normal = true;
     // Groups in the order first named, each with its faces.
     let mut groups: Vec<(String, Vec<FaceId>)> = Vec::new();
@@ -153,7 +154,9 @@ pub fn parse_obj(text: &[u8], max_vertices: usize) -> Result<Mesh, ObjError> {
                 }
                 every_corner_has_normal &= corners.iter().all(|c| c.normal.is_some());
                 if every_corner_has_normal {
-                    note_normals(&corners, &mut normal_at);
+                    corner_normals.extend(corners.iter().filter_map(|c| Some((c.node, c.normal?))));
+                } else {
+                    corner_normals = Vec::new();
                 }
                 groups[group]
                     .1
@@ -182,8 +185,9 @@ pub fn parse_obj(text: &[u8], max_vertices: usize) -> Result<Mesh, ObjError> {
             ),
         });
     }
+    // The nodes were checked against the count just above.
     let normals = if every_corner_has_normal && !faces.is_empty() {
-        node_normals(&normal_at, &normals, count)
+        node_normals(&corner_normals, &normals, count)
     } else {
         None
     };
@@ -290,46 +294,26 @@ fn index(word: &str, count: usize, what: &str, corner: &str) -> Result<u32, Stri
         .map_err(|_| format!("the corner `{corner}` names a {what} past any mesh's size"))
 }
 
-/// The normal the corners at one node name.
-#[derive(Debug, Clone, Copy, PartialEq)]
-enum NodeNormal {
-    /// No corner at the node yet.
-    Unnamed,
-    /// Every corner at it names this normal.
-    Agreed(u32),
-    /// Two corners at it name different normals (a crease, or a flat-shaded facet).
-    Split,
-}
-
-/// Notes each corner's normal at its node in `at` (grown as nodes are met).
-fn note_normals(corners: &[Corner], at: &mut Vec<NodeNormal>) {
-    for c in corners {
-        let Some(n) = c.normal else { continue };
-        let v = c.node as usize;
-        if at.len() <= v {
-            at.resize(v + 1, NodeNormal::Unnamed);
+/// One normal per node from each corner's `(node, normal)`, where the corners at every
+/// node agreed on one (a node no face names gets the zero vector); `None` where they
+/// did not. Every node is below `nodes` and every normal index in `normals`: both were
+/// checked as the lines were read.
+fn node_normals(corners: &[(u32, u32)], normals: &[DVec3], nodes: usize) -> Option<Vec<DVec3>> {
+    // The normal each node's corners named, once one has.
+    let mut at: Vec<Option<u32>> = vec![None; nodes];
+    for &(v, n) in corners {
+        match at[v as usize] {
+            None => at[v as usize] = Some(n),
+            Some(m) if m == n => {}
+            // Two normals at one node: a crease, or a flat-shaded facet.
+            Some(_) => return None,
         }
-        at[v] = match at[v] {
-            NodeNormal::Unnamed => NodeNormal::Agreed(n),
-            NodeNormal::Agreed(m) if m == n => NodeNormal::Agreed(m),
-            _ => NodeNormal::Split,
-        };
     }
-}
-
-/// One normal per node, where the corners at every node agreed on one (a node no face
-/// names gets the zero vector); `None` where they did not.
-fn node_normals(at: &[NodeNormal], normals: &[DVec3], nodes: usize) -> Option<Vec<DVec3>> {
-    (0..nodes)
-        .map(
-            |v| match at.get(v).copied().unwrap_or(NodeNormal::Unnamed) {
-                NodeNormal::Unnamed => Some(DVec3::ZERO),
-                NodeNormal::Split => None,
-                // The corner's index was checked against the normals read before it.
-                NodeNormal::Agreed(n) => Some(normals[n as usize].normalize_or_zero()),
-            },
-        )
-        .collect()
+    Some(
+        at.into_iter()
+            .map(|n| n.map_or(DVec3::ZERO, |n| normals[n as usize].normalize_or_zero()))
+            .collect(),
+    )
 }
 
 #[cfg(test)]
@@ -403,6 +387,11 @@ mod tests {
         assert_eq!(line_of("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1//1 2//1 3//1\n"), 4);
         assert_eq!(line_of("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 2\n"), 4);
         assert_eq!(line_of("v 0 0 inf\n"), 1);
+        // A node far past the file, with a normal: refused, not a table that large.
+        assert_eq!(
+            line_of("v 0 0 0\nv 1 0 0\nvn 0 0 1\nf 1//1 2//1 4000000000//1\n"),
+            4
+        );
     }
 
     #[test]
@@ -419,6 +408,21 @@ mod tests {
     }
 
     proptest::proptest! {
+        /// Text made of OBJ's own words in any order, indices out of range or huge
+        /// included, is read or refused, never a panic.
+        #[test]
+        fn any_obj_like_text_is_read_or_refused(
+            words in proptest::collection::vec(proptest::sample::select(vec![
+                "v", "vn", "vt", "f", "g", "o", "\\", "\n", "\n", "#", "1", "2", "3", "-1", "-4",
+                "0", "0.5", "1e400", "nan", "4294967296", "4294967295", "2/1", "3//1", "1/1/1",
+                "1//9", "4294967294//1", "//", "/", "a", "\r\n", "\u{e9}",
+            ]), 0..60),
+        ) {
+            let text = words.join(" ");
+            let _ = parse_obj(text.as_bytes(), 16);
+            let _ = parse_obj(text.as_bytes(), usize::MAX);
+        }
+
         /// Any mesh written as OBJ (every corner with a texture index and its face's
         /// normal, faces split among groups) reads back with the same nodes, in order,
         /// the same faces and the same groups.
