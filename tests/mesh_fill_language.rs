@@ -106,6 +106,20 @@ fn the_inner_panel_is_stitched_and_filled_by_the_real_binary() {
     );
 }
 
+/// `dieface inspect --json panel.die` in `dir`: each declaration's value by name.
+fn inspected(dir: &Path) -> impl Fn(&str) -> serde_json::Value {
+    let (code, stdout, stderr) = common::run_dieface(dir, &["inspect", "--json", "panel.die"]);
+    assert_eq!(code, Some(0), "{stderr}");
+    let json: serde_json::Value = serde_json::from_str(&stdout).expect("JSON");
+    move |name: &str| {
+        json["declarations"]
+            .as_array()
+            .and_then(|d| d.iter().find(|d| d["name"] == name))
+            .map(|d| d["value"].clone())
+            .unwrap_or_else(|| panic!("no {name}"))
+    }
+}
+
 /// The panel as an FE pre-processor exports it: a group per CAD patch (left and right
 /// halves, sharing the nodes on the line between them) and a normal per facet
 /// (`f a//k b//k c//k`).
@@ -147,16 +161,7 @@ fn a_panel_exported_in_patches_with_facet_normals_reads_as_one_piece_and_fills()
         "let panel = read_obj(\"panel.obj\")\nlet free = free_edges(panel)\nfill closed { mesh = panel }\nlet left = free_edges(closed.mesh)\n",
     )
     .expect("the script written");
-    let (code, stdout, stderr) = common::run_dieface(&dir, &["inspect", "--json", "panel.die"]);
-    assert_eq!(code, Some(0), "{stderr}");
-    let json: serde_json::Value = serde_json::from_str(&stdout).expect("JSON");
-    let value = |name: &str| {
-        json["declarations"]
-            .as_array()
-            .and_then(|d| d.iter().find(|d| d["name"] == name))
-            .map(|d| d["value"].clone())
-            .unwrap_or_else(|| panic!("no {name}"))
-    };
+    let value = inspected(&dir);
     let read = value("panel");
     assert_eq!(
         read["vertices"],
@@ -184,4 +189,77 @@ fn a_panel_exported_in_patches_with_facet_normals_reads_as_one_piece_and_fills()
     );
     let left = value("left");
     assert_eq!(left["fields"]["loops"].as_array().map(Vec::len), Some(1));
+}
+
+/// A quad-meshed panel, 200 x 100 mm at 5 mm on a gentle dome, a 40 mm hole cut out at
+/// (100, 50) and a 0.02 mm crack at x = 150 between two patches, node for node: OBJ text.
+fn quad_panel_obj() -> (String, usize) {
+    let (columns, rows, h) = (41usize, 21usize, 5.0f64);
+    let z = |x: f64, y: f64| 0.0005 * (x - 100.0).powi(2) + 0.001 * (y - 50.0).powi(2);
+    let mut text = String::new();
+    // The nodes row by row; the seam's column twice, the right patch's copy 0.02 mm on.
+    let mut id = vec![[0usize; 2]; columns * rows];
+    let mut count = 0;
+    for j in 0..rows {
+        for i in 0..columns {
+            let (x, y) = (i as f64 * h, j as f64 * h);
+            count += 1;
+            id[j * columns + i] = [count, count];
+            text.push_str(&format!("v {x} {y} {}\n", z(x, y)));
+            if i == 30 {
+                count += 1;
+                id[j * columns + i][1] = count;
+                text.push_str(&format!("v {} {y} {}\n", x + 0.02, z(x + 0.02, y)));
+            }
+        }
+    }
+    let mut quads = 0;
+    for (name, right) in [("left", false), ("right", true)] {
+        text.push_str(&format!("g {name}\n"));
+        for j in 0..rows - 1 {
+            for i in 0..columns - 1 {
+                let (cx, cy) = ((i as f64 + 0.5) * h, (j as f64 + 0.5) * h);
+                if (i >= 30) != right || (cx - 100.0).hypot(cy - 50.0) < 20.0 {
+                    continue;
+                }
+                let side = usize::from(right);
+                let n = |a: usize, b: usize| id[b * columns + a][side];
+                let corners = [n(i, j), n(i + 1, j), n(i + 1, j + 1), n(i, j + 1)];
+                text.push_str(&format!(
+                    "f {} {} {} {}\n",
+                    corners[0], corners[1], corners[2], corners[3]
+                ));
+                quads += 1;
+            }
+        }
+    }
+    (text, quads)
+}
+
+#[test]
+fn a_quad_mesh_keeps_its_quads_when_its_crack_is_stitched_and_its_hole_filled() {
+    let dir = common::fresh_dir("mesh_fill_language", "quads");
+    let (obj, quads) = quad_panel_obj();
+    std::fs::write(dir.join("panel.obj"), obj).expect("the OBJ written");
+    std::fs::write(
+        dir.join("panel.die"),
+        "let panel = read_obj(\"panel.obj\")\nfill closed {\n    mesh = panel\n    stitch = 0.05 mm\n}\nlet filled = closed.mesh\nlet left = free_edges(filled)\n",
+    )
+    .expect("the script written");
+    let value = inspected(&dir);
+    let filled = value("filled");
+    assert_eq!(
+        filled["quads"], quads,
+        "every quad kept as it was: {filled}"
+    );
+    assert!(
+        filled["triangles"].as_u64().is_some_and(|t| t > 0),
+        "the fill's triangles"
+    );
+    let left = value("left");
+    assert_eq!(
+        left["fields"]["loops"].as_array().map(Vec::len),
+        Some(1),
+        "the crack closed and the hole filled: the outer edge alone is left"
+    );
 }

@@ -14,7 +14,9 @@
 //! }
 //! ```
 //!
-//! Its pieces: `mesh` (the filled mesh, kind `fill`), and for each hole filled
+//! The mesh's own faces are kept, quads as quads (an FE mesh's elements and their
+//! numbers are the engineer's); the fills are triangles. Its pieces: `mesh` (the filled
+//! mesh, kind `fill`), and for each hole filled
 //! `patch_K` (the fill's own triangles, `fill_patch`) and `base_K` (its base surface,
 //! `fill_base`), children of the block's node, so a reviewer sees what was added.
 
@@ -183,10 +185,11 @@ fn build_fill(block: &Block) -> Result<Value, Diagnostic> {
         "size",
         "give the element size inside the fills, such as `size = 5 mm`",
     )?;
-    let mesh: Mesh = mesh.triangulated();
-    let (mesh, stitched) = match stitch {
+    // The mesh's own faces are kept as they are, quads too: the fills add triangles on
+    // the loops' nodes, and stitching splits only the faces a crack's nodes fall on.
+    let (stitched_mesh, stitched) = match stitch {
         Some(t) => {
-            let (m, s) = stitch_cracks(&mesh, t).map_err(|e| {
+            let (m, s) = stitch_cracks(mesh, t).map_err(|e| {
                 feature_error(
                     KIND,
                     format!("the cracks could not be stitched: {e}"),
@@ -195,13 +198,13 @@ fn build_fill(block: &Block) -> Result<Value, Diagnostic> {
                     "give a smaller tolerance than the mesh's shortest edges",
                 )
             })?;
-            (m, (s.merged_nodes, s.split_edges))
+            (Some(m), (s.merged_nodes, s.split_edges))
         }
-        None => (mesh, (0, 0)),
+        None => (None, (0, 0)),
     };
+    let mesh: &Mesh = stitched_mesh.as_ref().unwrap_or(mesh);
     let options = FillOptions { holes, outer, size };
-    let filled =
-        fill_holes(&mesh, &options).map_err(|e| hole_error(block, &mesh_field.value, e))?;
+    let filled = fill_holes(mesh, &options).map_err(|e| hole_error(block, &mesh_field.value, e))?;
     Ok(output(block, filled, stitched))
 }
 

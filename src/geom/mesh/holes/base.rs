@@ -279,8 +279,7 @@ fn heights_round(
             let Some(corners) = over(&face) else {
                 continue;
             };
-            // Triangles only reach here (the mesh is triangulated before filling); a
-            // quad is read as its two triangles.
+            // A quad is read as its two triangles.
             for k in 1..face.vertex_count() - 1 {
                 grid.sample([corners[0], corners[k], corners[k + 1]], &mut known);
             }

@@ -28,7 +28,7 @@ pub struct Stitched {
 /// the splitting nodes and where along the side each lies.
 type SideSplits = BTreeMap<(u32, u32), Vec<(f64, u32)>>;
 
-/// Stitches the cracks of the triangle mesh `mesh` narrower than `tolerance` (mm).
+/// Stitches the cracks of `mesh` (triangles and quads) narrower than `tolerance` (mm).
 pub fn stitch_cracks(mesh: &Mesh, tolerance: f64) -> Result<(Mesh, Stitched)> {
     let mut report = Stitched::default();
     if tolerance <= 0.0 {
@@ -89,9 +89,15 @@ fn merge_free_nodes(mesh: &Mesh, tolerance: f64, report: &mut Stitched) -> Resul
         .iter()
         .zip(mesh.face_ids())
         .filter_map(|(f, id)| {
-            let ids: Vec<u32> = f.indices().iter().map(|&v| to(v)).collect();
+            // A side whose two nodes were merged is gone: a quad so becomes a
+            // triangle, a triangle a line (dropped).
+            let mut ids: Vec<u32> = f.indices().iter().map(|&v| to(v)).collect();
+            ids.dedup();
+            if ids.len() > 1 && ids.first() == ids.last() {
+                ids.pop();
+            }
             let distinct: BTreeSet<u32> = ids.iter().copied().collect();
-            (distinct.len() == ids.len())
+            (ids.len() >= 3 && distinct.len() == ids.len())
                 .then(|| Face::from_slice(&ids))
                 .and_then(|r| r.ok())
                 .map(|face| (face, id))

@@ -232,8 +232,8 @@ fn chosen(mesh: &Mesh, free: &FreeEdges, options: &FillOptions) -> Result<Vec<us
     Ok(ids)
 }
 
-/// Fills the holes of the triangle mesh `mesh` that `options` choose (paper 002): the
-/// filled mesh is a copy of `mesh` with the fills added.
+/// Fills the holes of `mesh` (triangles and quads) that `options` choose (paper 002):
+/// the filled mesh is a copy of `mesh` with the fills, triangles, added.
 pub fn fill_holes(mesh: &Mesh, options: &FillOptions) -> Result<Filled, HoleError> {
     let (holes, free) = fills(mesh, options)?;
     let (positions, faces) = joined(&free, &holes, mesh.vertex_count());
