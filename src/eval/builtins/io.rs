@@ -40,6 +40,8 @@ fn resolve(call: &Call, path: &str) -> Result<PathBuf, Diagnostic> {
     })
 }
 
+/// `read_obj(path)`: the file read through the root and size checks, parsed by
+/// [`parse_obj`], held to `mesh_vertices`.
 fn read_obj(call: &Call) -> Result<Data, Diagnostic> {
     let path = call.string("path")?;
     let full = resolve(call, &path)?;
@@ -54,7 +56,8 @@ fn read_obj(call: &Call) -> Result<Data, Diagnostic> {
         ObjError::TooManyVertices { .. } => {
             match check_vertex_count(call, &path, count_vertex_lines(&bytes)) {
                 Err(d) => d,
-                // Every `v` line counted is one the reader would have kept.
+                // The lines counted and the reader's count agree; were they ever not to,
+                // the reader's refusal still stands.
                 Ok(()) => bad_obj(&path, span, &e.to_string()),
             }
         }
