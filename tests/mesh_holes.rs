@@ -564,6 +564,38 @@ fn a_crack_between_patches_is_stitched() {
     assert!(gained > 0.0 && gained <= 100.0 * 0.02 + 1e-9, "{gained}");
 }
 
+/// A quad whose short free side collapses as a crack is stitched (both its nodes
+/// within the tolerance of one free node across the crack, so all three merge) is
+/// left as the triangle of its other three sides, not dropped.
+#[test]
+fn a_quad_whose_side_collapses_in_a_stitch_stays_as_a_triangle() {
+    let quad_and_triangle = Mesh::new(
+        vec![
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(0.06, 0.0, 0.0),
+            DVec3::new(0.06, 10.0, 0.0),
+            DVec3::new(0.0, 10.0, 0.0),
+            DVec3::new(0.03, -0.01, 0.0),
+            DVec3::new(-5.0, -10.0, 0.0),
+            DVec3::new(5.0, -10.0, 0.0),
+        ],
+        vec![Face::quad(0, 1, 2, 3), Face::triangle(4, 5, 6)],
+    )
+    .expect("a mesh");
+    let (stitched, report) = stitch_cracks(&quad_and_triangle, 0.05).expect("stitched");
+    assert_eq!(report.merged_nodes, 2);
+    assert_eq!(
+        stitched.triangle_and_quad_counts(),
+        (2, 0),
+        "the quad kept as a triangle"
+    );
+    let kept = stitched.total_area() - 0.5 * 10.0 * 10.0;
+    assert!(
+        (kept - 0.3).abs() < 0.01,
+        "the quad's area, less its collapsed side's: {kept}"
+    );
+}
+
 /// The largest distance of a fill's nodes and of its triangles' middles and edge
 /// midpoints from the analytic surface (mm), and the largest normal jump (deg) between
 /// a fill triangle and the analytic normal at its middle.

@@ -28,9 +28,8 @@ use crate::diag::Diagnostic;
 use crate::geom::mesh::holes::cracks::stitch_cracks;
 use crate::geom::mesh::holes::loops::LoopProblem;
 use crate::geom::mesh::holes::{
-    fill_holes, FillOptions, Filled, FilledHole, HoleChoice, HoleError,
+    fill_holes, fill_holes_in, FillOptions, Filled, FilledHole, HoleChoice, HoleError,
 };
-use crate::geom::mesh::Mesh;
 
 use super::super::builtins::{as_point3, type_error};
 use super::super::summary::round;
@@ -202,9 +201,14 @@ fn build_fill(block: &Block) -> Result<Value, Diagnostic> {
         }
         None => (None, (0, 0)),
     };
-    let mesh: &Mesh = stitched_mesh.as_ref().unwrap_or(mesh);
     let options = FillOptions { holes, outer, size };
-    let filled = fill_holes(mesh, &options).map_err(|e| hole_error(block, &mesh_field.value, e))?;
+    // A stitched mesh is this block's own and is filled in place; the mesh handed in
+    // is shared, and is filled as a copy.
+    let filled = match stitched_mesh {
+        Some(stitched_mesh) => fill_holes_in(stitched_mesh, &options),
+        None => fill_holes(mesh, &options),
+    }
+    .map_err(|e| hole_error(block, &mesh_field.value, e))?;
     Ok(output(block, filled, stitched))
 }
 
